@@ -1,0 +1,1 @@
+//! `texel_render`: wgpu passes.

@@ -1,0 +1,485 @@
+//! The components a level is made of, and no more.
+//!
+//! Each is a plain struct stored in the hecs world and written by name in a level file.
+//! Numbers are checked on the way in (see [`crate::num`]); [`Validate`] runs the same checks
+//! on values built in code, before a level is saved.
+
+use glam::{EulerRot, Mat4, Quat, Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::num;
+
+/// A person-readable name, shown in the editor's hierarchy.
+#[derive(Debug, Clone, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(transparent)]
+pub struct Name(pub String);
+
+/// Where an entity is: translation, rotation and scale.
+///
+/// `rotation` holds Euler angles in degrees `(pitch about X, yaw about Y, roll about Z)`,
+/// applied yaw first, then pitch, then roll (`R = Ry · Rx · Rz`, as in Godot). Angles are kept
+/// as written so that a level file round-trips exactly.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Transform {
+    /// Position in world units.
+    #[serde(with = "num::vec3")]
+    pub translation: Vec3,
+    /// Euler angles in degrees (X, Y, Z); see the type's docs for the order.
+    #[serde(with = "num::vec3")]
+    pub rotation: Vec3,
+    /// Per-axis scale; every component positive.
+    #[serde(with = "num::scale3")]
+    pub scale: Vec3,
+}
+
+impl Default for Transform {
+    fn default() -> Self {
+        Self {
+            translation: Vec3::ZERO,
+            rotation: Vec3::ZERO,
+            scale: Vec3::ONE,
+        }
+    }
+}
+
+impl Transform {
+    /// A transform at `translation` with no rotation and unit scale.
+    pub fn from_translation(translation: Vec3) -> Self {
+        Self {
+            translation,
+            ..Self::default()
+        }
+    }
+
+    /// The rotation as a quaternion.
+    pub fn quat(&self) -> Quat {
+        let r = self.rotation * (std::f32::consts::PI / 180.0);
+        Quat::from_euler(EulerRot::YXZ, r.y, r.x, r.z)
+    }
+
+    /// Object → world matrix.
+    pub fn matrix(&self) -> Mat4 {
+        Mat4::from_scale_rotation_translation(self.scale, self.quat(), self.translation)
+    }
+}
+
+/// Default subdivision of round primitives.
+const fn default_segments() -> u32 {
+    16
+}
+
+/// What an entity looks like: a primitive with its parameters, or a glTF mesh.
+///
+/// Primitives are centred on the origin of their transform, except `Plane`, which lies in the
+/// XZ plane facing +Y, and `Wedge`, whose slope rises from +Z (front, height 0) to −Z (back).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum Geometry {
+    /// An axis-aligned box.
+    Box {
+        /// Full size along X, Y, Z.
+        #[serde(with = "num::size3")]
+        size: Vec3,
+    },
+    /// A UV sphere.
+    Sphere {
+        /// Radius.
+        #[serde(with = "num::positive")]
+        radius: f32,
+        /// Segments around the Y axis (rings are half as many).
+        #[serde(default = "default_segments", with = "num::segments")]
+        segments: u32,
+    },
+    /// A cylinder along Y, capped.
+    Cylinder {
+        /// Radius.
+        #[serde(with = "num::positive")]
+        radius: f32,
+        /// Full height.
+        #[serde(with = "num::positive")]
+        height: f32,
+        /// Segments around the Y axis.
+        #[serde(default = "default_segments", with = "num::segments")]
+        segments: u32,
+    },
+    /// A one-sided rectangle in XZ facing +Y.
+    Plane {
+        /// Size along X and Z.
+        #[serde(with = "num::size2")]
+        size: Vec2,
+    },
+    /// A ramp: a box whose top slopes from the back (−Z, full height) to the front (+Z).
+    Wedge {
+        /// Full size along X, Y, Z.
+        #[serde(with = "num::size3")]
+        size: Vec3,
+    },
+    /// A glTF mesh (`.gltf` or `.glb`), path relative to the level file.
+    Mesh {
+        /// Path relative to the level file, with `/` separators.
+        path: String,
+    },
+}
+
+/// How a surface is shaded.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Material {
+    /// Linear RGB base colour.
+    #[serde(with = "num::colour")]
+    pub albedo: Vec3,
+    /// Linear RGB emitted light, added unlit.
+    #[serde(with = "num::colour", default = "zero3")]
+    pub emissive: Vec3,
+    /// Whether the surface blocks shadow rays.
+    #[serde(default = "yes")]
+    pub casts_shadows: bool,
+    /// Whether silhouette and crease outlines are drawn on it.
+    #[serde(default = "yes")]
+    pub outlined: bool,
+}
+
+const fn yes() -> bool {
+    true
+}
+const fn zero3() -> Vec3 {
+    Vec3::ZERO
+}
+
+impl Default for Material {
+    fn default() -> Self {
+        Self {
+            albedo: Vec3::splat(0.7),
+            emissive: Vec3::ZERO,
+            casts_shadows: true,
+            outlined: true,
+        }
+    }
+}
+
+/// A sun: parallel light from one direction, with ray-traced shadows.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct DirectionalLight {
+    /// The direction the light travels (from the sun toward the ground); normalised on use.
+    #[serde(with = "num::direction")]
+    pub direction: Vec3,
+    /// Linear RGB colour.
+    #[serde(with = "num::colour")]
+    pub colour: Vec3,
+    /// Multiplier on `colour`.
+    #[serde(with = "num::intensity")]
+    pub intensity: f32,
+}
+
+impl Default for DirectionalLight {
+    fn default() -> Self {
+        Self {
+            direction: Vec3::new(-0.4, -1.0, -0.3),
+            colour: Vec3::new(1.0, 0.95, 0.85),
+            intensity: 1.0,
+        }
+    }
+}
+
+/// A point light at the entity's translation, fading to zero at `radius`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PointLight {
+    /// Linear RGB colour.
+    #[serde(with = "num::colour")]
+    pub colour: Vec3,
+    /// Multiplier on `colour`.
+    #[serde(with = "num::intensity")]
+    pub intensity: f32,
+    /// Distance at which the light reaches zero.
+    #[serde(with = "num::positive")]
+    pub radius: f32,
+}
+
+impl Default for PointLight {
+    fn default() -> Self {
+        Self {
+            colour: Vec3::new(1.0, 0.8, 0.5),
+            intensity: 2.0,
+            radius: 8.0,
+        }
+    }
+}
+
+/// An axis-aligned volume with its own probe-grid cell size.
+///
+/// The volume is centred on the entity's translation with full size `size × scale`;
+/// rotation is ignored (the grid is world-aligned). Where volumes overlap, the highest
+/// `priority` wins; among equal priorities, the one later in the level wins.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct ProbeGridOverride {
+    /// Full size of the volume along X, Y, Z (before the transform's scale).
+    #[serde(with = "num::size3")]
+    pub size: Vec3,
+    /// Grid cell size inside the volume, in world units.
+    #[serde(with = "num::positive")]
+    pub cell_size: f32,
+    /// Cube-face resolution inside the volume; the level's when absent.
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        with = "num::opt_face_resolution"
+    )]
+    pub face_resolution: Option<u32>,
+    /// Which volume wins where several overlap (higher wins).
+    #[serde(default)]
+    pub priority: i32,
+}
+
+impl Default for ProbeGridOverride {
+    fn default() -> Self {
+        Self {
+            size: Vec3::splat(4.0),
+            cell_size: 0.5,
+            face_resolution: None,
+            priority: 0,
+        }
+    }
+}
+
+/// Where the player starts: position from the entity's translation (the feet), view angles
+/// and eye height here.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlayerStart {
+    /// Heading in degrees; 0 looks along −Z, positive turns toward −X (counter-clockwise
+    /// seen from above, like the Y rotation of a transform).
+    #[serde(with = "num::finite")]
+    pub yaw: f32,
+    /// Pitch in degrees; positive looks up. Must lie within ±89.
+    #[serde(with = "num::pitch")]
+    pub pitch: f32,
+    /// Height of the eye above the feet.
+    #[serde(with = "num::positive")]
+    pub eye_height: f32,
+}
+
+impl Default for PlayerStart {
+    fn default() -> Self {
+        Self {
+            yaw: 0.0,
+            pitch: 0.0,
+            eye_height: 1.6,
+        }
+    }
+}
+
+/// Range of cube-face resolutions a level may ask for.
+pub const FACE_RESOLUTIONS: std::ops::RangeInclusive<u32> = 8..=2048;
+/// Range of posterization band counts.
+pub const BANDS: std::ops::RangeInclusive<u32> = 2..=256;
+/// Range of segment counts for round primitives.
+pub const SEGMENTS: std::ops::RangeInclusive<u32> = 3..=256;
+
+/// How big the art pixels are: a fixed cube-face resolution, or a wanted on-screen size of
+/// a texel at the view centre (in screen pixels), from which the resolution follows.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub enum PixelScale {
+    /// Texels per cube-face edge.
+    FaceResolution(#[serde(with = "num::face_resolution")] u32),
+    /// Screen pixels per texel at the view centre.
+    PixelSize(#[serde(with = "num::positive")] f32),
+}
+
+/// Level-wide settings.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct LevelSettings {
+    /// Linear RGB sky colour (background and sky texels).
+    #[serde(with = "num::colour")]
+    pub sky: Vec3,
+    /// Linear RGB ambient light added to every lit texel.
+    #[serde(with = "num::colour")]
+    pub ambient: Vec3,
+    /// Number of OKLab lightness bands for posterization.
+    #[serde(with = "num::bands")]
+    pub bands: u32,
+    /// Art-pixel size.
+    pub pixel_scale: PixelScale,
+    /// Default probe-grid cell size, in world units.
+    #[serde(with = "num::positive")]
+    pub cell_size: f32,
+}
+
+impl Default for LevelSettings {
+    fn default() -> Self {
+        Self {
+            sky: Vec3::new(0.45, 0.62, 0.85),
+            ambient: Vec3::new(0.18, 0.2, 0.26),
+            bands: 32,
+            pixel_scale: PixelScale::PixelSize(2.5),
+            cell_size: 1.0,
+        }
+    }
+}
+
+/// Checks values built in code against the same rules the loader applies.
+pub trait Validate {
+    /// Returns `(field, message)` for the first bad value.
+    fn validate(&self) -> Result<(), (&'static str, String)>;
+}
+
+fn field<T>(name: &'static str, r: Result<T, String>) -> Result<(), (&'static str, String)> {
+    r.map(|_| ()).map_err(|m| (name, m))
+}
+
+impl Validate for Transform {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("translation", num::check_vec3(self.translation))?;
+        field("rotation", num::check_vec3(self.rotation))?;
+        field("scale", num::check_positive3(self.scale, "scale"))
+    }
+}
+
+impl Validate for Geometry {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        let segs = |s: u32| field("segments", num::check_range(s, SEGMENTS, "segments"));
+        match self {
+            Geometry::Box { size } | Geometry::Wedge { size } => {
+                field("size", num::check_positive3(*size, "size"))
+            }
+            Geometry::Sphere { radius, segments } => {
+                field("radius", num::check_positive(*radius, "radius"))?;
+                segs(*segments)
+            }
+            Geometry::Cylinder {
+                radius,
+                height,
+                segments,
+            } => {
+                field("radius", num::check_positive(*radius, "radius"))?;
+                field("height", num::check_positive(*height, "height"))?;
+                segs(*segments)
+            }
+            Geometry::Plane { size } => {
+                field("size", num::check_positive(size.x, "size"))?;
+                field("size", num::check_positive(size.y, "size"))
+            }
+            Geometry::Mesh { path } if path.trim().is_empty() => {
+                Err(("path", "mesh path is empty".to_owned()))
+            }
+            Geometry::Mesh { .. } => Ok(()),
+        }
+    }
+}
+
+impl Validate for Material {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("albedo", num::check_colour(self.albedo))?;
+        field("emissive", num::check_colour(self.emissive))
+    }
+}
+
+impl Validate for DirectionalLight {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("direction", num::check_direction(self.direction))?;
+        field("colour", num::check_colour(self.colour))?;
+        field(
+            "intensity",
+            num::check_intensity(self.intensity, "intensity"),
+        )
+    }
+}
+
+impl Validate for PointLight {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("colour", num::check_colour(self.colour))?;
+        field(
+            "intensity",
+            num::check_intensity(self.intensity, "intensity"),
+        )?;
+        field("radius", num::check_positive(self.radius, "radius"))
+    }
+}
+
+impl Validate for ProbeGridOverride {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("size", num::check_positive3(self.size, "size"))?;
+        field(
+            "cell_size",
+            num::check_positive(self.cell_size, "cell size"),
+        )?;
+        match self.face_resolution {
+            Some(n) => field(
+                "face_resolution",
+                num::check_range(n, FACE_RESOLUTIONS, "face resolution"),
+            ),
+            None => Ok(()),
+        }
+    }
+}
+
+impl Validate for PlayerStart {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("yaw", num::check_coord(self.yaw))?;
+        field("pitch", num::check_pitch(self.pitch))?;
+        field(
+            "eye_height",
+            num::check_positive(self.eye_height, "eye height"),
+        )
+    }
+}
+
+impl Validate for LevelSettings {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        field("sky", num::check_colour(self.sky))?;
+        field("ambient", num::check_colour(self.ambient))?;
+        field("bands", num::check_range(self.bands, BANDS, "bands"))?;
+        field(
+            "cell_size",
+            num::check_positive(self.cell_size, "cell size"),
+        )?;
+        match self.pixel_scale {
+            PixelScale::FaceResolution(n) => field(
+                "pixel_scale",
+                num::check_range(n, FACE_RESOLUTIONS, "face resolution"),
+            ),
+            PixelScale::PixelSize(s) => field("pixel_scale", num::check_positive(s, "pixel size")),
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn transform_matrix_applies_yaw_then_pitch() {
+        let t = Transform {
+            translation: Vec3::new(1.0, 2.0, 3.0),
+            rotation: Vec3::new(0.0, 90.0, 0.0),
+            scale: Vec3::splat(2.0),
+        };
+        // Yaw +90° about Y turns +X into −Z (right-handed).
+        let p = t.matrix().transform_point3(Vec3::X);
+        assert!((p - Vec3::new(1.0, 2.0, 1.0)).length() < 1e-5, "{p}");
+    }
+
+    #[test]
+    fn validation_names_the_field() {
+        let t = Transform {
+            scale: Vec3::new(1.0, 0.0, 1.0),
+            ..Transform::default()
+        };
+        assert_eq!(t.validate().unwrap_err().0, "scale");
+        let p = PlayerStart {
+            pitch: 120.0,
+            ..PlayerStart::default()
+        };
+        assert_eq!(p.validate().unwrap_err().0, "pitch");
+        let g = Geometry::Sphere {
+            radius: 1.0,
+            segments: 2,
+        };
+        assert_eq!(g.validate().unwrap_err().0, "segments");
+        assert!(LevelSettings::default().validate().is_ok());
+    }
+}

@@ -1,0 +1,422 @@
+//! Levels as RON text, made for version control.
+//!
+//! A level file is one `Level` value: a `version`, the level-wide `settings`, and
+//! `entities`, one row per entity listing its components by name. Writing is canonical:
+//! fixed field order, four-space indentation, one component per line, floats in their
+//! shortest round-tripping form. So loading a saved level and saving it again gives the same
+//! bytes, and a one-value edit is a one-line diff.
+//!
+//! Reading checks every value (see [`crate::num`]) and reports the first problem as a
+//! [`LevelError`] naming the file, line and column. Fields added in later versions have
+//! defaults, so older files keep loading; files of an older `version` go through
+//! [`migrate`] first.
+
+use std::path::{Path, PathBuf};
+
+use ron::extensions::Extensions;
+use ron::ser::PrettyConfig;
+use serde::{Deserialize, Serialize};
+
+use crate::components::{
+    DirectionalLight, Geometry, LevelSettings, Material, Name, PlayerStart, PointLight,
+    ProbeGridOverride, Transform, Validate,
+};
+
+/// The version this build writes.
+pub const CURRENT_VERSION: u32 = 2;
+/// The oldest version this build reads.
+pub const OLDEST_VERSION: u32 = 1;
+
+/// A whole level, as stored in a file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(rename = "Level", deny_unknown_fields)]
+pub struct Level {
+    /// Format version; always [`CURRENT_VERSION`] once loaded.
+    pub version: u32,
+    /// Level-wide settings.
+    #[serde(default)]
+    pub settings: LevelSettings,
+    /// One row per entity, in a stable order.
+    #[serde(default)]
+    pub entities: Vec<EntityRow>,
+}
+
+impl Default for Level {
+    fn default() -> Self {
+        Self {
+            version: CURRENT_VERSION,
+            settings: LevelSettings::default(),
+            entities: Vec::new(),
+        }
+    }
+}
+
+/// One entity and its components, by name. Every component is optional.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename = "Entity", deny_unknown_fields)]
+pub struct EntityRow {
+    /// Name shown in the editor.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub name: Option<Name>,
+    /// Placement.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub transform: Option<Transform>,
+    /// Shape.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<Geometry>,
+    /// Surface.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub material: Option<Material>,
+    /// Sun.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub directional_light: Option<DirectionalLight>,
+    /// Point light.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub point_light: Option<PointLight>,
+    /// Probe-grid override volume.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub probe_grid_override: Option<ProbeGridOverride>,
+    /// Player start.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub player_start: Option<PlayerStart>,
+}
+
+/// The names of the components an entity row may hold, in file order.
+pub const COMPONENT_NAMES: &[&str] = &[
+    "name",
+    "transform",
+    "geometry",
+    "material",
+    "directional_light",
+    "point_light",
+    "probe_grid_override",
+    "player_start",
+];
+
+/// What is wrong with a level, for callers that react to the kind.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum ErrorKind {
+    /// The text is not valid RON (or not UTF-8, or empty, or cut short).
+    Syntax,
+    /// An entity row names a component that does not exist.
+    UnknownComponent,
+    /// A struct has a field it does not know.
+    UnknownField,
+    /// A required field is missing.
+    MissingField,
+    /// A value has the wrong type (a string where a number belongs, …).
+    WrongType,
+    /// A value is out of its allowed range: NaN, infinite, too large, zero or negative
+    /// scale, a resolution the renderer cannot hold.
+    InvalidValue,
+    /// The `version` is not one this build reads.
+    UnknownVersion,
+}
+
+/// A level that could not be read, written or validated.
+#[derive(Debug, thiserror::Error)]
+pub enum LevelError {
+    /// The file could not be read or written.
+    #[error("{}: {source}", path.display())]
+    Io {
+        /// The file.
+        path: PathBuf,
+        /// The OS error.
+        source: std::io::Error,
+    },
+    /// The text is wrong at a known place.
+    #[error("{}:{line}:{column}: {message}", path.display())]
+    Parse {
+        /// The file.
+        path: PathBuf,
+        /// 1-based line.
+        line: usize,
+        /// 1-based column.
+        column: usize,
+        /// What kind of problem.
+        kind: ErrorKind,
+        /// What is wrong, for people.
+        message: String,
+    },
+    /// A level built in code holds a bad value (found before saving).
+    #[error("{}: entity {entity} ({name}): {component}.{field}: {message}", path.display())]
+    Invalid {
+        /// The file being saved.
+        path: PathBuf,
+        /// Index of the entity row (or `settings`).
+        entity: String,
+        /// The entity's name, or `unnamed`.
+        name: String,
+        /// Component name.
+        component: &'static str,
+        /// Field name.
+        field: &'static str,
+        /// What is wrong.
+        message: String,
+    },
+}
+
+impl LevelError {
+    /// The kind of problem, for parse errors.
+    pub fn kind(&self) -> Option<ErrorKind> {
+        match self {
+            LevelError::Parse { kind, .. } => Some(*kind),
+            LevelError::Invalid { .. } => Some(ErrorKind::InvalidValue),
+            LevelError::Io { .. } => None,
+        }
+    }
+}
+
+fn ron_options() -> ron::Options {
+    ron::Options::default().with_default_extension(Extensions::IMPLICIT_SOME)
+}
+
+fn pretty() -> PrettyConfig {
+    PrettyConfig::new()
+        .depth_limit(3)
+        .indentor("    ")
+        .new_line("\n")
+        .separator(" ")
+        .struct_names(false)
+        .separate_tuple_members(false)
+        .enumerate_arrays(false)
+}
+
+/// Just the version, read before the rest so older files can be migrated.
+#[derive(Deserialize)]
+#[serde(rename = "Level")]
+struct VersionProbe {
+    #[serde(deserialize_with = "de_version")]
+    version: u32,
+}
+
+fn de_version<'de, D: serde::Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+    let v = u32::deserialize(d)?;
+    if (OLDEST_VERSION..=CURRENT_VERSION).contains(&v) {
+        Ok(v)
+    } else {
+        Err(serde::de::Error::custom(format!(
+            "unknown level version {v} (this build reads versions {OLDEST_VERSION} to {CURRENT_VERSION})"
+        )))
+    }
+}
+
+impl Level {
+    /// Reads a level from RON text; `path` is only used to name the file in errors.
+    pub fn from_ron_str(text: &str, path: &Path) -> Result<Level, LevelError> {
+        if text.trim().is_empty() {
+            return Err(parse_error(path, 1, 1, ErrorKind::Syntax, "empty file"));
+        }
+        let probe: VersionProbe = ron_options().from_str(text).map_err(|e| spanned(path, e))?;
+        let level = if probe.version == CURRENT_VERSION {
+            ron_options()
+                .from_str::<Level>(text)
+                .map_err(|e| spanned(path, e))?
+        } else {
+            crate::migrate::from_old(text, probe.version).map_err(|e| spanned(path, e))?
+        };
+        Ok(level)
+    }
+
+    /// Reads a level file.
+    pub fn load(path: &Path) -> Result<Level, LevelError> {
+        let bytes = std::fs::read(path).map_err(|source| LevelError::Io {
+            path: path.to_owned(),
+            source,
+        })?;
+        let text = std::str::from_utf8(&bytes).map_err(|e| {
+            let (line, column) = line_col(&bytes[..e.valid_up_to()]);
+            parse_error(
+                path,
+                line,
+                column,
+                ErrorKind::Syntax,
+                "not a text file (invalid UTF-8)",
+            )
+        })?;
+        Level::from_ron_str(text, path)
+    }
+
+    /// The canonical RON text of this level (always written as [`CURRENT_VERSION`]).
+    /// `path` names the file in errors. Fails if a value is invalid.
+    pub fn to_ron_string(&self, path: &Path) -> Result<String, LevelError> {
+        self.validate(path)?;
+        let current = Level {
+            version: CURRENT_VERSION,
+            ..self.clone()
+        };
+        let mut text = ron_options()
+            .to_string_pretty(&current, pretty())
+            .map_err(|e| parse_error(path, 1, 1, ErrorKind::InvalidValue, &e.to_string()))?;
+        text.push('\n');
+        Ok(text)
+    }
+
+    /// Saves the level atomically: a failed save leaves the old file as it was.
+    pub fn save(&self, path: &Path) -> Result<(), LevelError> {
+        let text = self.to_ron_string(path)?;
+        crate::save::write_atomic(path, text.as_bytes()).map_err(|source| LevelError::Io {
+            path: path.to_owned(),
+            source,
+        })
+    }
+
+    /// Checks every value against the loader's rules.
+    pub fn validate(&self, path: &Path) -> Result<(), LevelError> {
+        let invalid =
+            |entity: String, name: &str, component, (field, message)| LevelError::Invalid {
+                path: path.to_owned(),
+                entity,
+                name: name.to_owned(),
+                component,
+                field,
+                message,
+            };
+        self.settings
+            .validate()
+            .map_err(|e| invalid("settings".into(), "level", "settings", e))?;
+        for (i, row) in self.entities.iter().enumerate() {
+            let name = row.name.as_ref().map_or("unnamed", |n| n.0.as_str());
+            row.validate()
+                .map_err(|(c, e)| invalid(i.to_string(), name, c, e))?;
+        }
+        Ok(())
+    }
+}
+
+type FieldError = (&'static str, String);
+
+impl EntityRow {
+    /// Checks every component; the error names the component and the field.
+    pub fn validate(&self) -> Result<(), (&'static str, FieldError)> {
+        fn check(
+            c: &'static str,
+            v: Option<&dyn Validate>,
+        ) -> Result<(), (&'static str, FieldError)> {
+            v.map_or(Ok(()), |v| v.validate().map_err(|e| (c, e)))
+        }
+        check("transform", self.transform.as_ref().map(|v| v as _))?;
+        check("geometry", self.geometry.as_ref().map(|v| v as _))?;
+        check("material", self.material.as_ref().map(|v| v as _))?;
+        check(
+            "directional_light",
+            self.directional_light.as_ref().map(|v| v as _),
+        )?;
+        check("point_light", self.point_light.as_ref().map(|v| v as _))?;
+        check(
+            "probe_grid_override",
+            self.probe_grid_override.as_ref().map(|v| v as _),
+        )?;
+        check("player_start", self.player_start.as_ref().map(|v| v as _))
+    }
+}
+
+fn parse_error(path: &Path, line: usize, column: usize, kind: ErrorKind, msg: &str) -> LevelError {
+    LevelError::Parse {
+        path: path.to_owned(),
+        line,
+        column,
+        kind,
+        message: msg.to_owned(),
+    }
+}
+
+/// 1-based line and column just after `prefix`.
+fn line_col(prefix: &[u8]) -> (usize, usize) {
+    let line = 1 + prefix.iter().filter(|&&b| b == b'\n').count();
+    let line_start = prefix
+        .iter()
+        .rposition(|&b| b == b'\n')
+        .map_or(0, |i| i + 1);
+    let column = 1 + String::from_utf8_lossy(&prefix[line_start..])
+        .chars()
+        .count();
+    (line, column)
+}
+
+/// Turns ron's error into ours, with a message a level author understands.
+fn spanned(path: &Path, e: ron::error::SpannedError) -> LevelError {
+    use ron::Error as R;
+    let (kind, message) = match &e.code {
+        R::NoSuchStructField {
+            found,
+            outer,
+            expected,
+        } if outer.as_deref() == Some("Entity") => (
+            ErrorKind::UnknownComponent,
+            format!(
+                "unknown component `{found}` (known components: {})",
+                expected.join(", ")
+            ),
+        ),
+        R::NoSuchStructField {
+            found,
+            outer,
+            expected,
+        } => (
+            ErrorKind::UnknownField,
+            format!(
+                "unknown field `{found}` in {} (expected one of: {})",
+                outer.as_deref().unwrap_or("this value"),
+                expected.join(", ")
+            ),
+        ),
+        R::MissingStructField { field, outer } => (
+            ErrorKind::MissingField,
+            format!(
+                "missing field `{field}` in {}",
+                outer.as_deref().unwrap_or("this value")
+            ),
+        ),
+        R::NoSuchEnumVariant {
+            found, expected, ..
+        } => (
+            ErrorKind::UnknownField,
+            format!(
+                "unknown kind `{found}` (expected one of: {})",
+                expected.join(", ")
+            ),
+        ),
+        R::Message(m) if m.starts_with("unknown level version") => {
+            (ErrorKind::UnknownVersion, m.clone())
+        }
+        R::Message(m) => (ErrorKind::InvalidValue, m.clone()),
+        R::InvalidValueForType { .. }
+        | R::ExpectedDifferentLength { .. }
+        | R::ExpectedArray
+        | R::ExpectedBoolean
+        | R::ExpectedFloat
+        | R::ExpectedInteger
+        | R::ExpectedString
+        | R::ExpectedMap
+        | R::ExpectedStructLike
+        | R::ExpectedNamedStructLike(_)
+        | R::ExpectedUnit
+        | R::ExpectedOption
+        | R::IntegerOutOfBounds => (
+            ErrorKind::WrongType,
+            format!("wrong type: {}", lower_first(&e.code.to_string())),
+        ),
+        R::Eof => (
+            ErrorKind::Syntax,
+            "unexpected end of file (is it truncated?)".to_owned(),
+        ),
+        R::ExpectedStringEnd => (
+            ErrorKind::Syntax,
+            "unterminated string (is the file truncated?)".to_owned(),
+        ),
+        code => (
+            ErrorKind::Syntax,
+            format!("syntax error: {}", lower_first(&code.to_string())),
+        ),
+    };
+    parse_error(path, e.span.start.line, e.span.start.col, kind, &message)
+}
+
+fn lower_first(s: &str) -> String {
+    let mut c = s.chars();
+    match c.next() {
+        Some(f) => f.to_lowercase().chain(c).collect(),
+        None => String::new(),
+    }
+}

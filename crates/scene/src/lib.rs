@@ -1,0 +1,21 @@
+//! `texel_scene` is the document every other part of Texel works on: the components a level
+//! is made of, stored in a [`hecs`] world ([`Scene`]); levels as versioned, canonical RON text
+//! ([`Level`]) with errors that name the file, line and column; atomic saves; CPU meshes for
+//! the primitives; and glTF import. It knows nothing of the GPU, so the renderer, the
+//! runtime, the editor and the tests all share one definition of a level.
+
+pub mod assets;
+pub mod components;
+pub mod gltf_import;
+pub mod level;
+pub mod mesh;
+pub mod migrate;
+pub mod num;
+pub mod primitives;
+pub mod save;
+pub mod scene;
+
+pub use components::*;
+pub use level::{CURRENT_VERSION, EntityRow, ErrorKind, Level, LevelError};
+pub use mesh::TriMesh;
+pub use scene::{KindCounts, Scene};

@@ -1,0 +1,303 @@
+//! Checked numbers for level files.
+//!
+//! Every float a level holds passes through one of these checks, both when a file is read
+//! (as `#[serde(with = ...)]` helpers, so the parser's error carries the line and column of
+//! the bad value) and when a level built in code is validated before it is saved. A level
+//! never holds NaN, an infinity, or a value so large that the renderer's math breaks down.
+
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Deserializer, Serialize, Serializer, de::Error as _};
+
+/// Largest magnitude of any coordinate or size, in world units. Levels are at most a few
+/// kilometres across; past this, f32 positions lose the precision a texel needs.
+pub const MAX_COORD: f32 = 1.0e6;
+/// Largest colour channel or light intensity (linear units).
+pub const MAX_INTENSITY: f32 = 1.0e4;
+
+/// Checks one float is finite and within `±MAX_COORD`.
+pub fn check_coord(v: f32) -> Result<f32, String> {
+    if !v.is_finite() {
+        Err(format!("NaN or infinite number ({v})"))
+    } else if v.abs() > MAX_COORD {
+        Err(format!("number {v} is too large (limit ±{MAX_COORD})"))
+    } else {
+        Ok(v)
+    }
+}
+
+/// Checks a length, size or radius: finite, > 0 and at most `MAX_COORD`.
+pub fn check_positive(v: f32, what: &str) -> Result<f32, String> {
+    let v = check_coord(v)?;
+    if v <= 0.0 {
+        Err(format!("{what} must be positive, got {v:?}"))
+    } else {
+        Ok(v)
+    }
+}
+
+/// Checks a colour channel or an intensity: finite, >= 0 and at most `MAX_INTENSITY`.
+pub fn check_intensity(v: f32, what: &str) -> Result<f32, String> {
+    if !v.is_finite() {
+        return Err(format!("NaN or infinite number ({v})"));
+    }
+    if !(0.0..=MAX_INTENSITY).contains(&v) {
+        return Err(format!("{what} must be in 0..={MAX_INTENSITY}, got {v:?}"));
+    }
+    Ok(v)
+}
+
+/// Checks an integer lies in `range`.
+pub fn check_range<T: PartialOrd + std::fmt::Display + Copy>(
+    v: T,
+    range: std::ops::RangeInclusive<T>,
+    what: &str,
+) -> Result<T, String> {
+    if range.contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "{what} must be in {}..={}, got {v}",
+            range.start(),
+            range.end()
+        ))
+    }
+}
+
+fn check3(v: Vec3, f: impl Fn(f32) -> Result<f32, String>) -> Result<Vec3, String> {
+    Ok(Vec3::new(f(v.x)?, f(v.y)?, f(v.z)?))
+}
+
+/// Checks every component with [`check_coord`].
+pub fn check_vec3(v: Vec3) -> Result<Vec3, String> {
+    check3(v, check_coord)
+}
+
+/// Checks every component with [`check_positive`].
+pub fn check_positive3(v: Vec3, what: &str) -> Result<Vec3, String> {
+    check3(v, |c| check_positive(c, what))
+}
+
+/// Checks every component with [`check_intensity`].
+pub fn check_colour(v: Vec3) -> Result<Vec3, String> {
+    check3(v, |c| check_intensity(c, "colour channel"))
+}
+
+/// Checks a direction: finite and not (near) zero.
+pub fn check_direction(v: Vec3) -> Result<Vec3, String> {
+    let v = check_vec3(v)?;
+    if v.length_squared() < 1e-12 {
+        Err("direction must not be zero".to_owned())
+    } else {
+        Ok(v)
+    }
+}
+
+fn ser3<S: Serializer>(v: &Vec3, s: S) -> Result<S::Ok, S::Error> {
+    (v.x, v.y, v.z).serialize(s)
+}
+
+fn de3<'de, D: Deserializer<'de>>(
+    d: D,
+    check: impl Fn(Vec3) -> Result<Vec3, String>,
+) -> Result<Vec3, D::Error> {
+    let (x, y, z) = <(f32, f32, f32)>::deserialize(d)?;
+    check(Vec3::new(x, y, z)).map_err(D::Error::custom)
+}
+
+macro_rules! vec3_with {
+    ($(#[$doc:meta])* $name:ident, $check:expr) => {
+        $(#[$doc])*
+        pub mod $name {
+            use super::*;
+            /// Writes the vector as a tuple `(x, y, z)`.
+            pub fn serialize<S: Serializer>(v: &Vec3, s: S) -> Result<S::Ok, S::Error> {
+                ser3(v, s)
+            }
+            /// Reads a tuple `(x, y, z)` and checks it.
+            pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec3, D::Error> {
+                de3(d, $check)
+            }
+        }
+    };
+}
+
+vec3_with!(
+    /// A position or offset: finite, within `±MAX_COORD`.
+    vec3,
+    check_vec3
+);
+vec3_with!(
+    /// A scale or size: every component positive.
+    scale3,
+    |v| check_positive3(v, "scale")
+);
+vec3_with!(
+    /// A box-like size: every component positive.
+    size3,
+    |v| check_positive3(v, "size")
+);
+vec3_with!(
+    /// A linear RGB colour.
+    colour,
+    check_colour
+);
+vec3_with!(
+    /// A direction, normalised on use.
+    direction,
+    check_direction
+);
+
+/// A 2D size: both components positive.
+pub mod size2 {
+    use super::*;
+    /// Writes `(x, y)`.
+    pub fn serialize<S: Serializer>(v: &Vec2, s: S) -> Result<S::Ok, S::Error> {
+        (v.x, v.y).serialize(s)
+    }
+    /// Reads `(x, y)` and checks both are positive.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec2, D::Error> {
+        let (x, y) = <(f32, f32)>::deserialize(d)?;
+        let c = |v| check_positive(v, "size").map_err(D::Error::custom);
+        Ok(Vec2::new(c(x)?, c(y)?))
+    }
+}
+
+macro_rules! f32_with {
+    ($(#[$doc:meta])* $name:ident, $check:expr) => {
+        $(#[$doc])*
+        pub mod $name {
+            use super::*;
+            /// Writes the number.
+            pub fn serialize<S: Serializer>(v: &f32, s: S) -> Result<S::Ok, S::Error> {
+                v.serialize(s)
+            }
+            /// Reads the number and checks it.
+            pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<f32, D::Error> {
+                let v = f32::deserialize(d)?;
+                let check: fn(f32) -> Result<f32, String> = $check;
+                check(v).map_err(D::Error::custom)
+            }
+        }
+    };
+}
+
+f32_with!(
+    /// Any finite number within `±MAX_COORD` (angles, offsets).
+    finite,
+    check_coord
+);
+f32_with!(
+    /// A positive length (radius, height, cell size).
+    positive,
+    |v| check_positive(v, "length")
+);
+f32_with!(
+    /// A light intensity or other non-negative amount.
+    intensity,
+    |v| check_intensity(v, "intensity")
+);
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn rejects_non_finite_and_huge() {
+        assert!(check_coord(f32::NAN).unwrap_err().contains("NaN"));
+        assert!(check_coord(f32::INFINITY).unwrap_err().contains("infinite"));
+        assert!(check_coord(2.0e6).unwrap_err().contains("too large"));
+        assert_eq!(check_coord(-3.5), Ok(-3.5));
+    }
+
+    #[test]
+    fn positive_rejects_zero_and_negative() {
+        assert!(
+            check_positive(0.0, "scale")
+                .unwrap_err()
+                .contains("positive")
+        );
+        assert!(check_positive(-1.0, "scale").is_err());
+        assert!(check_positive3(Vec3::new(1.0, 0.0, 1.0), "scale").is_err());
+        assert_eq!(check_positive(0.25, "scale"), Ok(0.25));
+    }
+
+    #[test]
+    fn colours_and_directions() {
+        assert!(check_colour(Vec3::new(0.5, -0.1, 0.0)).is_err());
+        assert!(check_direction(Vec3::ZERO).is_err());
+        assert!(check_direction(Vec3::Y).is_ok());
+        assert!(check_range(300u32, 2..=256, "bands").is_err());
+        assert_eq!(check_range(32u32, 2..=256, "bands"), Ok(32));
+    }
+}
+
+macro_rules! u32_with {
+    ($(#[$doc:meta])* $name:ident, $range:expr, $what:literal) => {
+        $(#[$doc])*
+        pub mod $name {
+            use super::*;
+            /// Writes the number.
+            pub fn serialize<S: Serializer>(v: &u32, s: S) -> Result<S::Ok, S::Error> {
+                v.serialize(s)
+            }
+            /// Reads the number and checks its range.
+            pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+                let v = u32::deserialize(d)?;
+                check_range(v, $range, $what).map_err(D::Error::custom)
+            }
+        }
+    };
+}
+
+u32_with!(
+    /// Segments of a round primitive.
+    segments,
+    crate::components::SEGMENTS,
+    "segments"
+);
+u32_with!(
+    /// Posterization bands.
+    bands,
+    crate::components::BANDS,
+    "bands"
+);
+u32_with!(
+    /// A cube-face resolution.
+    face_resolution,
+    crate::components::FACE_RESOLUTIONS,
+    "face resolution"
+);
+
+/// An optional cube-face resolution.
+pub mod opt_face_resolution {
+    use super::*;
+    /// Writes the number (the field is skipped when absent).
+    pub fn serialize<S: Serializer>(v: &Option<u32>, s: S) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+    /// Reads the number and checks its range.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Option<u32>, D::Error> {
+        Option::<u32>::deserialize(d)?
+            .map(|v| {
+                check_range(v, crate::components::FACE_RESOLUTIONS, "face resolution")
+                    .map_err(D::Error::custom)
+            })
+            .transpose()
+    }
+}
+
+/// Checks a pitch angle in degrees: finite and within ±89.
+pub fn check_pitch(v: f32) -> Result<f32, String> {
+    let v = check_coord(v)?;
+    if v.abs() > 89.0 {
+        Err(format!("pitch must be within ±89 degrees, got {v:?}"))
+    } else {
+        Ok(v)
+    }
+}
+
+f32_with!(
+    /// A pitch angle in degrees, within ±89.
+    pitch,
+    check_pitch
+);

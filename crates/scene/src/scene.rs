@@ -1,0 +1,244 @@
+//! The live scene: a hecs world holding the level's entities, in a stable order.
+//!
+//! hecs is used as a library: callers query [`Scene::world`] with ordinary functions. The
+//! scene only adds what a level file needs on top: the level settings and the order in which
+//! entities are written, so that saving never reshuffles rows.
+
+use std::path::Path;
+
+use hecs::{Entity, EntityBuilder, World};
+
+use crate::components::{
+    DirectionalLight, Geometry, LevelSettings, Material, Name, PlayerStart, PointLight,
+    ProbeGridOverride, Transform,
+};
+use crate::level::{EntityRow, Level, LevelError};
+
+/// A level loaded into a hecs world.
+#[derive(Default)]
+pub struct Scene {
+    /// Level-wide settings.
+    pub settings: LevelSettings,
+    world: World,
+    order: Vec<Entity>,
+}
+
+impl Scene {
+    /// An empty scene with default settings.
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// Spawns every row of `level`, in order.
+    pub fn from_level(level: &Level) -> Self {
+        let mut scene = Scene {
+            settings: level.settings,
+            ..Scene::default()
+        };
+        for row in &level.entities {
+            scene.spawn(row.clone());
+        }
+        scene
+    }
+
+    /// Loads a level file into a new scene.
+    pub fn load(path: &Path) -> Result<Self, LevelError> {
+        Level::load(path).map(|l| Scene::from_level(&l))
+    }
+
+    /// Saves the scene atomically as a level file.
+    pub fn save(&self, path: &Path) -> Result<(), LevelError> {
+        self.to_level().save(path)
+    }
+
+    /// The level this scene holds, rows in the scene's order.
+    pub fn to_level(&self) -> Level {
+        Level {
+            settings: self.settings,
+            entities: self.entities().filter_map(|e| self.row(e)).collect(),
+            ..Level::default()
+        }
+    }
+
+    /// The world, for queries.
+    pub fn world(&self) -> &World {
+        &self.world
+    }
+
+    /// The world, for editing components in place. Spawn and despawn through the scene, so
+    /// the entity order stays right.
+    pub fn world_mut(&mut self) -> &mut World {
+        &mut self.world
+    }
+
+    /// Live entities in level order.
+    pub fn entities(&self) -> impl Iterator<Item = Entity> + '_ {
+        self.order
+            .iter()
+            .copied()
+            .filter(|e| self.world.contains(*e))
+    }
+
+    /// Number of live entities.
+    pub fn len(&self) -> usize {
+        self.world.len() as usize
+    }
+
+    /// Whether the scene has no entities.
+    pub fn is_empty(&self) -> bool {
+        self.world.is_empty()
+    }
+
+    /// Spawns an entity with `row`'s components at the end of the order.
+    pub fn spawn(&mut self, row: EntityRow) -> Entity {
+        let e = self.world.spawn(build(row).build());
+        self.order.push(e);
+        e
+    }
+
+    /// Spawns an entity at `index` in the order (clamped), e.g. to undo a delete.
+    pub fn spawn_at(&mut self, index: usize, row: EntityRow) -> Entity {
+        let e = self.world.spawn(build(row).build());
+        self.order.retain(|o| self.world.contains(*o));
+        self.order.insert(index.min(self.order.len()), e);
+        e
+    }
+
+    /// Position of `e` in the order.
+    pub fn index_of(&self, e: Entity) -> Option<usize> {
+        self.entities().position(|o| o == e)
+    }
+
+    /// Removes an entity, returning its components.
+    pub fn despawn(&mut self, e: Entity) -> Option<EntityRow> {
+        let row = self.row(e)?;
+        self.world.despawn(e).ok()?;
+        self.order.retain(|o| *o != e);
+        Some(row)
+    }
+
+    /// A copy of every level component `e` has.
+    pub fn row(&self, e: Entity) -> Option<EntityRow> {
+        let r = self.world.entity(e).ok()?;
+        Some(EntityRow {
+            name: r.get::<&Name>().map(|c| (*c).clone()),
+            transform: r.get::<&Transform>().map(|c| *c),
+            geometry: r.get::<&Geometry>().map(|c| (*c).clone()),
+            material: r.get::<&Material>().map(|c| *c),
+            directional_light: r.get::<&DirectionalLight>().map(|c| *c),
+            point_light: r.get::<&PointLight>().map(|c| *c),
+            probe_grid_override: r.get::<&ProbeGridOverride>().map(|c| *c),
+            player_start: r.get::<&PlayerStart>().map(|c| *c),
+        })
+    }
+
+    /// Replaces every level component of `e` with `row`'s (components `row` lacks are
+    /// removed). Other components, not part of levels, are kept.
+    pub fn set_row(&mut self, e: Entity, row: EntityRow) -> Result<(), hecs::NoSuchEntity> {
+        if !self.world.contains(e) {
+            return Err(hecs::NoSuchEntity);
+        }
+        remove_each(&mut self.world, e);
+        self.world
+            .insert(e, build(row).build())
+            .map_err(|_| hecs::NoSuchEntity)
+    }
+}
+
+fn remove_each(world: &mut World, e: Entity) {
+    let _ = world.remove_one::<Name>(e);
+    let _ = world.remove_one::<Transform>(e);
+    let _ = world.remove_one::<Geometry>(e);
+    let _ = world.remove_one::<Material>(e);
+    let _ = world.remove_one::<DirectionalLight>(e);
+    let _ = world.remove_one::<PointLight>(e);
+    let _ = world.remove_one::<ProbeGridOverride>(e);
+    let _ = world.remove_one::<PlayerStart>(e);
+}
+
+fn build(row: EntityRow) -> EntityBuilder {
+    let mut b = EntityBuilder::new();
+    if let Some(c) = row.name {
+        b.add(c);
+    }
+    if let Some(c) = row.transform {
+        b.add(c);
+    }
+    if let Some(c) = row.geometry {
+        b.add(c);
+    }
+    if let Some(c) = row.material {
+        b.add(c);
+    }
+    if let Some(c) = row.directional_light {
+        b.add(c);
+    }
+    if let Some(c) = row.point_light {
+        b.add(c);
+    }
+    if let Some(c) = row.probe_grid_override {
+        b.add(c);
+    }
+    if let Some(c) = row.player_start {
+        b.add(c);
+    }
+    b
+}
+
+/// How many entities of each kind a scene holds (for summaries).
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct KindCounts {
+    /// All entities.
+    pub entities: usize,
+    /// Entities with primitive geometry.
+    pub primitives: usize,
+    /// Entities with a glTF mesh.
+    pub meshes: usize,
+    /// Directional lights.
+    pub directional_lights: usize,
+    /// Point lights.
+    pub point_lights: usize,
+    /// Probe-grid overrides.
+    pub probe_overrides: usize,
+    /// Player starts.
+    pub player_starts: usize,
+}
+
+impl Scene {
+    /// Counts entities by kind.
+    pub fn kind_counts(&self) -> KindCounts {
+        let w = &self.world;
+        let mut k = KindCounts {
+            entities: self.len(),
+            ..KindCounts::default()
+        };
+        for g in w.query::<&Geometry>().iter() {
+            match g {
+                Geometry::Mesh { .. } => k.meshes += 1,
+                _ => k.primitives += 1,
+            }
+        }
+        k.directional_lights = w.query::<&DirectionalLight>().iter().count();
+        k.point_lights = w.query::<&PointLight>().iter().count();
+        k.probe_overrides = w.query::<&ProbeGridOverride>().iter().count();
+        k.player_starts = w.query::<&PlayerStart>().iter().count();
+        k
+    }
+}
+
+impl std::fmt::Display for KindCounts {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} entities: {} primitives, {} meshes, {} directional lights, {} point lights, \
+             {} probe-grid overrides, {} player starts",
+            self.entities,
+            self.primitives,
+            self.meshes,
+            self.directional_lights,
+            self.point_lights,
+            self.probe_overrides,
+            self.player_starts
+        )
+    }
+}

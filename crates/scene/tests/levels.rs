@@ -1,0 +1,334 @@
+//! Level files: canonical round trips, the broken-level catalogue, migration, saves.
+
+use std::path::{Path, PathBuf};
+
+use glam::Vec3;
+use texel_scene::{ErrorKind, Level, LevelError, Scene};
+
+fn data(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data")
+        .join(rel)
+}
+
+fn bundled_levels() -> Vec<PathBuf> {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels");
+    let mut v: Vec<_> = std::fs::read_dir(&dir)
+        .expect("assets/levels exists")
+        .map(|e| e.expect("dir entry").path())
+        .filter(|p| p.extension().is_some_and(|e| e == "ron"))
+        .collect();
+    v.sort();
+    v
+}
+
+#[test]
+fn every_bundled_level_saves_back_byte_identical() {
+    let levels = bundled_levels();
+    let names: Vec<_> = levels
+        .iter()
+        .filter_map(|p| p.file_name()?.to_str().map(str::to_owned))
+        .collect();
+    for want in ["colonnade.ron", "sandbox.ron", "stone_circle.ron"] {
+        assert!(names.iter().any(|n| n == want), "{want} is bundled");
+    }
+    for path in levels {
+        let text = std::fs::read_to_string(&path).unwrap();
+        let level = Level::load(&path).unwrap_or_else(|e| panic!("{e}"));
+        let again = level.to_ron_string(&path).unwrap();
+        assert_eq!(text, again, "{} is not canonical", path.display());
+        // Through the ECS and back too.
+        let via_scene = Scene::from_level(&level).to_level();
+        assert_eq!(via_scene, level, "{}", path.display());
+    }
+}
+
+#[test]
+fn stone_circle_has_what_the_issue_asks_for() {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels/stone_circle.ron");
+    let k = Scene::load(&path).unwrap().kind_counts();
+    assert!(k.primitives >= 16, "ground plus about fifteen stones: {k}");
+    assert_eq!(
+        (k.directional_lights, k.point_lights, k.player_starts),
+        (1, 1, 1)
+    );
+}
+
+/// (file, kind, line, column, words the message must contain)
+const CATALOGUE: &[(&str, Option<ErrorKind>, usize, usize, &str)] = &[
+    ("empty.ron", Some(ErrorKind::Syntax), 1, 1, "empty file"),
+    (
+        "whitespace_only.ron",
+        Some(ErrorKind::Syntax),
+        1,
+        1,
+        "empty file",
+    ),
+    (
+        "truncated.ron",
+        Some(ErrorKind::Syntax),
+        23,
+        19,
+        "truncated",
+    ),
+    (
+        "garbage.ron",
+        Some(ErrorKind::Syntax),
+        2,
+        2,
+        "not a text file",
+    ),
+    (
+        "syntax_error.ron",
+        Some(ErrorKind::Syntax),
+        7,
+        9,
+        "expected comma",
+    ),
+    (
+        "not_a_level.ron",
+        Some(ErrorKind::WrongType),
+        1,
+        1,
+        "struct `Level`",
+    ),
+    (
+        "unknown_component.ron",
+        Some(ErrorKind::UnknownComponent),
+        20,
+        13,
+        "unknown component `sparkle`",
+    ),
+    (
+        "unknown_field.ron",
+        Some(ErrorKind::UnknownField),
+        15,
+        114,
+        "unknown field `shiny` in Material",
+    ),
+    (
+        "unknown_geometry.ron",
+        Some(ErrorKind::UnknownField),
+        20,
+        23,
+        "unknown kind `Cone`",
+    ),
+    (
+        "wrong_type.ron",
+        Some(ErrorKind::WrongType),
+        20,
+        37,
+        "wrong type: expected float",
+    ),
+    (
+        "missing_field.ron",
+        Some(ErrorKind::MissingField),
+        25,
+        69,
+        "missing field `cell_size`",
+    ),
+    (
+        "nan.ron",
+        Some(ErrorKind::InvalidValue),
+        19,
+        52,
+        "NaN or infinite number",
+    ),
+    (
+        "infinite.ron",
+        Some(ErrorKind::InvalidValue),
+        19,
+        52,
+        "NaN or infinite number",
+    ),
+    (
+        "huge_overflow.ron",
+        Some(ErrorKind::InvalidValue),
+        19,
+        53,
+        "NaN or infinite number",
+    ),
+    (
+        "huge_finite.ron",
+        Some(ErrorKind::InvalidValue),
+        19,
+        52,
+        "too large",
+    ),
+    (
+        "zero_scale.ron",
+        Some(ErrorKind::InvalidValue),
+        19,
+        103,
+        "scale must be positive, got 0.0",
+    ),
+    (
+        "negative_scale.ron",
+        Some(ErrorKind::InvalidValue),
+        19,
+        104,
+        "scale must be positive, got -2.0",
+    ),
+    (
+        "negative_radius.ron",
+        Some(ErrorKind::InvalidValue),
+        20,
+        38,
+        "must be positive, got -1.0",
+    ),
+    (
+        "unknown_version.ron",
+        Some(ErrorKind::UnknownVersion),
+        2,
+        14,
+        "unknown level version 99",
+    ),
+    (
+        "missing_version.ron",
+        Some(ErrorKind::MissingField),
+        36,
+        1,
+        "missing field `version`",
+    ),
+    (
+        "bad_bands.ron",
+        Some(ErrorKind::InvalidValue),
+        6,
+        16,
+        "bands must be in 2..=256",
+    ),
+    (
+        "bad_face_resolution.ron",
+        Some(ErrorKind::InvalidValue),
+        25,
+        91,
+        "face resolution must be in 8..=2048",
+    ),
+    (
+        "zero_direction.ron",
+        Some(ErrorKind::InvalidValue),
+        29,
+        58,
+        "direction must not be zero",
+    ),
+    (
+        "pitch_out_of_range.ron",
+        Some(ErrorKind::InvalidValue),
+        34,
+        45,
+        "pitch must be within ±89",
+    ),
+    (
+        "negative_colour.ron",
+        Some(ErrorKind::InvalidValue),
+        15,
+        47,
+        "colour channel must be in 0..=",
+    ),
+];
+
+#[test]
+fn broken_levels_give_the_message_they_must() {
+    for &(file, kind, line, column, words) in CATALOGUE {
+        let path = data(&format!("levels/{file}"));
+        let err = Level::load(&path).expect_err(file);
+        let text = err.to_string();
+        let prefix = format!("{}:{line}:{column}: ", path.display());
+        assert!(
+            text.starts_with(&prefix),
+            "{file}: `{text}` should start with `{prefix}`"
+        );
+        assert!(
+            text.contains(words),
+            "{file}: `{text}` should say `{words}`"
+        );
+        assert_eq!(err.kind(), kind, "{file}: {text}");
+    }
+}
+
+#[test]
+fn the_catalogue_base_is_valid() {
+    // Each broken file is this one with one thing wrong.
+    Level::load(&data("valid_base.ron")).unwrap();
+}
+
+#[test]
+fn a_missing_file_names_it() {
+    let path = data("levels/does_not_exist.ron");
+    let err = Level::load(&path).unwrap_err();
+    assert!(matches!(err, LevelError::Io { .. }));
+    assert!(err.to_string().starts_with(&path.display().to_string()));
+}
+
+#[test]
+fn version_1_migrates_quaternions_to_degrees() {
+    let path = data("levels_v1/quaternion_rotation.ron");
+    let level = Level::load(&path).unwrap_or_else(|e| panic!("{e}"));
+    assert_eq!(level.version, texel_scene::CURRENT_VERSION);
+    let close = |a: Vec3, b: Vec3| (a - b).length() < 1e-3;
+    let yawed = level.entities[0].transform.unwrap();
+    assert!(
+        close(yawed.rotation, Vec3::new(0.0, 45.0, 0.0)),
+        "{}",
+        yawed.rotation
+    );
+    let tipped = level.entities[1].transform.unwrap();
+    assert!(
+        close(tipped.rotation, Vec3::new(90.0, 0.0, 0.0)),
+        "{}",
+        tipped.rotation
+    );
+    assert_eq!(tipped.scale, Vec3::new(2.0, 0.5, 1.0));
+    let text = level.to_ron_string(&path).unwrap();
+    assert!(text.contains("version: 2"));
+    assert_eq!(Level::from_ron_str(&text, &path).unwrap(), level);
+}
+
+#[test]
+fn older_files_without_new_optional_fields_still_load() {
+    // A hand-written level that leaves out every field with a default.
+    let text = r#"(
+        version: 2,
+        entities: [
+            (geometry: Sphere(radius: 1.0), material: (albedo: (1.0, 0.0, 0.0))),
+            (probe_grid_override: (size: (1.0, 1.0, 1.0), cell_size: 0.25)),
+        ],
+    )"#;
+    let level = Level::from_ron_str(text, Path::new("old.ron")).unwrap();
+    let m = level.entities[0].material.unwrap();
+    assert!(m.casts_shadows && m.outlined && m.emissive == Vec3::ZERO);
+    assert_eq!(level.entities[1].probe_grid_override.unwrap().priority, 0);
+    assert_eq!(level.settings, texel_scene::LevelSettings::default());
+}
+
+#[test]
+fn saving_an_invalid_level_fails_and_keeps_the_old_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("level.ron");
+    let good = Level::load(&data("valid_base.ron")).unwrap();
+    good.save(&path).unwrap();
+    let before = std::fs::read(&path).unwrap();
+
+    let mut bad = good.clone();
+    bad.entities[1].transform.as_mut().unwrap().translation.y = f32::NAN;
+    let err = bad.save(&path).unwrap_err();
+    let msg = err.to_string();
+    assert!(
+        msg.contains("entity 1 (Ball): transform.translation"),
+        "{msg}"
+    );
+    assert_eq!(std::fs::read(&path).unwrap(), before);
+    assert_eq!(
+        std::fs::read_dir(dir.path()).unwrap().count(),
+        1,
+        "no temp file left"
+    );
+}
+
+#[test]
+fn saving_to_a_missing_folder_names_the_file() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("missing/level.ron");
+    let err = Level::default().save(&path).unwrap_err();
+    assert!(err.to_string().contains("missing/level.ron"), "{err}");
+}

@@ -1,0 +1,7 @@
+//! `texel_runtime` joins the scene, the probe system and the renderer into something that
+//! plays a level: it loads levels and their assets, turns the hecs world into the plain data
+//! the renderer consumes, and drives the frame loop. The `texel-run` binary is a thin
+//! wrapper over [`cli`], so tests and the editor reuse the same code.
+
+pub mod cli;
+pub mod load;

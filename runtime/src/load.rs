@@ -1,0 +1,40 @@
+//! Loading a level together with every asset it refers to.
+
+use std::path::{Path, PathBuf};
+
+use texel_scene::assets::{AssetError, MeshLibrary, load_meshes};
+use texel_scene::{Level, LevelError, Scene};
+
+/// A level with its meshes, ready to play.
+pub struct LoadedLevel {
+    /// Where it was loaded from.
+    pub path: PathBuf,
+    /// The live scene.
+    pub scene: Scene,
+    /// The glTF meshes it refers to.
+    pub meshes: MeshLibrary,
+}
+
+/// Why a level could not be loaded.
+#[derive(Debug, thiserror::Error)]
+pub enum LoadError {
+    /// The level file itself is bad.
+    #[error(transparent)]
+    Level(#[from] LevelError),
+    /// A mesh it refers to is bad.
+    #[error(transparent)]
+    Asset(#[from] AssetError),
+}
+
+/// Loads `path` and every asset it refers to.
+pub fn load_level(path: &Path) -> Result<LoadedLevel, LoadError> {
+    let level = Level::load(path)?;
+    // The text is read again only to point asset errors at the line that names them.
+    let text = std::fs::read_to_string(path).ok();
+    let meshes = load_meshes(&level, path, text.as_deref())?;
+    Ok(LoadedLevel {
+        path: path.to_owned(),
+        scene: Scene::from_level(&level),
+        meshes,
+    })
+}
