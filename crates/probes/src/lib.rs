@@ -2,3 +2,24 @@
 //! snapping of probe origins (with probe-grid override volumes), the probe lifecycle and
 //! crossfade, and per-frame update plans. It exists so that all of this math can be tested
 //! without a GPU and without the scene ECS: it depends on `glam` alone.
+//!
+//! Modules, in the order a frame uses them:
+//! - [`grid`]: snap the camera to the probe grid, honouring override volumes;
+//! - [`probe_set`]: eye / grid / previous probes, their storage slots and the crossfade;
+//! - [`visibility`]: which faces of a probe can reach the camera frustum;
+//! - [`schedule`]: which faces to capture and shade this frame, within a budget;
+//! - [`cube`]: the cube-face convention, texel directions, splat quads, face matrices;
+//! - [`bayer`]: the 4×4 dither that splits pixels between previous and grid;
+//! - [`resolution`]: face resolution from an on-screen pixel size.
+//!
+//! A frame:
+//! `grid::resolve_grid` → `ProbeSet::begin_frame` → `Scheduler::plan` → (GPU work) →
+//! `Scheduler::commit` → `ProbeSet::advance_fade(plan.readiness())`.
+
+pub mod bayer;
+pub mod cube;
+pub mod grid;
+pub mod probe_set;
+pub mod resolution;
+pub mod schedule;
+pub mod visibility;

@@ -1,0 +1,285 @@
+use super::*;
+use crate::grid::{GridCell, ProbeKey};
+use crate::probe_set::FadeConfig;
+use crate::visibility::{CameraView, frustum};
+use glam::IVec3;
+
+const DT: f32 = 1.0 / 60.0;
+const FAR: f32 = 100.0;
+
+fn key(x: i32) -> ProbeKey {
+    ProbeKey {
+        cell: GridCell {
+            index: IVec3::new(x, 0, 0),
+            cell_size: 1.0,
+        },
+        face_resolution: 16,
+    }
+}
+
+fn view_at(position: Vec3, yaw: f32, fov_y: f32) -> Frustum {
+    frustum(&CameraView {
+        position,
+        forward: Vec3::new(yaw.sin(), -0.1, yaw.cos()),
+        up: Vec3::Y,
+        fov_y,
+        aspect: 16.0 / 9.0,
+        near: 0.1,
+        far: FAR,
+    })
+    .unwrap()
+}
+
+struct Rig {
+    probes: ProbeSet,
+    scheduler: Scheduler,
+    generation: u64,
+}
+
+impl Rig {
+    fn new(max_faces: u32) -> Rig {
+        let camera = Vec3::new(0.2, 0.1, -0.3);
+        Rig {
+            probes: ProbeSet::new(camera, key(0), FadeConfig::default()).unwrap(),
+            scheduler: Scheduler::new(max_faces, FAR).unwrap(),
+            generation: 0,
+        }
+    }
+
+    /// One whole frame; returns its plan.
+    fn frame(&mut self, camera: Vec3, cell: i32, yaw: f32, fov_y: f32) -> UpdatePlan {
+        self.probes.begin_frame(camera, key(cell), DT);
+        let plan = self
+            .scheduler
+            .plan(&view_at(camera, yaw, fov_y), &self.probes, self.generation);
+        self.scheduler.commit(&plan);
+        self.probes.advance_fade(plan.readiness());
+        plan
+    }
+}
+
+#[test]
+fn eye_is_captured_every_frame() {
+    let mut rig = Rig::new(12);
+    let camera = Vec3::new(0.2, 0.1, -0.3);
+    for _ in 0..3 {
+        let plan = rig.frame(camera, 0, 0.3, 1.2);
+        assert!(!plan.eye.visible.is_empty());
+        assert_eq!(plan.eye.capture, plan.eye.visible);
+        assert_eq!(plan.counts.eye, plan.eye.visible.count());
+        assert!(
+            plan.work[..plan.counts.eye as usize]
+                .iter()
+                .all(|w| w.role == Role::Eye)
+        );
+    }
+}
+
+#[test]
+fn grid_faces_are_captured_once_while_the_view_holds() {
+    let mut rig = Rig::new(12);
+    let camera = Vec3::new(0.2, 0.1, -0.3);
+    let first = rig.frame(camera, 0, 0.3, 1.2);
+    assert_eq!(first.grid.capture, first.grid.visible);
+    assert!(first.previous.is_none());
+    for _ in 0..5 {
+        let plan = rig.frame(camera, 0, 0.3, 1.2);
+        assert_eq!(plan.counts.grid, 0);
+        assert_eq!(plan.grid.draw, plan.grid.visible);
+    }
+}
+
+#[test]
+fn rotating_in_place_only_captures_newly_visible_faces() {
+    let mut rig = Rig::new(12);
+    let camera = Vec3::new(0.2, 0.1, -0.3);
+    let mut ever_visible = FaceMask::EMPTY;
+    let mut captures = [0u32; 6];
+    for step in 0..=72 {
+        let yaw = step as f32 * 10.0_f32.to_radians();
+        let plan = rig.frame(camera, 0, yaw, 1.0);
+        let newly = plan.grid.visible.difference(ever_visible);
+        assert_eq!(plan.grid.capture, newly, "step {step}");
+        assert_eq!(plan.grid.draw, plan.grid.visible);
+        assert!(plan.previous.is_none());
+        for f in plan.grid.capture.iter() {
+            captures[f.index()] += 1;
+        }
+        ever_visible = ever_visible.union(plan.grid.visible);
+    }
+    assert!(captures.iter().all(|&c| c <= 1), "{captures:?}");
+    assert!(
+        ever_visible.count() >= 5,
+        "a full turn sees the ring and the floor"
+    );
+}
+
+#[test]
+fn crossing_spreads_the_new_grid_over_frames() {
+    let mut rig = Rig::new(7);
+    let yaw = 0.0;
+    let fov = 2.2; // Wide: the eye sees 5 faces, leaving 2 for stable probes.
+    let inside = Vec3::new(0.45, 0.1, 0.0);
+    for _ in 0..10 {
+        rig.frame(inside, 0, yaw, fov);
+    }
+    let settled = rig.frame(inside, 0, yaw, fov);
+    assert!(settled.grid.missing.is_empty());
+    let eye_faces = settled.eye.visible.count();
+    assert!(eye_faces >= 5, "{eye_faces}");
+
+    let crossed = Vec3::new(0.55, 0.1, 0.0);
+    let plan = rig.frame(crossed, 1, yaw, fov);
+    assert!(plan.counts.total() <= 7, "no spike on the crossing frame");
+    let previous = plan.previous.expect("fade started");
+    assert_eq!(
+        previous.capture,
+        FaceMask::EMPTY,
+        "previous is already shaded"
+    );
+    assert_eq!(previous.draw, previous.visible, "previous keeps drawing");
+    assert!(
+        !plan.grid.missing.is_empty(),
+        "the new grid needs more than one frame"
+    );
+    assert!(!plan.readiness().grid);
+    assert_eq!(rig.probes.fade_t(), 0.0);
+
+    let mut frames = 1;
+    while !rig.frame(crossed, 1, yaw, fov).readiness().grid {
+        assert_eq!(rig.probes.fade_t(), 0.0, "the fade waits for the grid");
+        frames += 1;
+        assert!(frames < 10);
+    }
+    assert!(frames >= 2);
+    rig.frame(crossed, 1, yaw, fov);
+    assert!(
+        rig.probes.fade_t() > 0.0,
+        "fading once the grid is complete"
+    );
+}
+
+#[test]
+fn budget_is_respected_and_everything_arrives() {
+    let mut rig = Rig::new(8);
+    let mut camera = Vec3::new(0.0, 0.1, 0.0);
+    let mut last = None;
+    for i in 0..240 {
+        // Walk along +x through several cells, turning, at ~3 u/s.
+        camera.x += 3.0 * DT;
+        let cell = camera.x.round() as i32;
+        let plan = rig.frame(camera, cell, i as f32 * 0.05, 1.3);
+        assert!(plan.counts.total() <= 8, "frame {i}: {:?}", plan.counts);
+        assert_eq!(plan.work.len() as u32, plan.counts.total());
+        last = Some(cell);
+    }
+    let cell = last.unwrap();
+    for _ in 0..60 {
+        rig.frame(camera, cell, 12.0, 1.3);
+    }
+    let plan = rig.frame(camera, cell, 12.0, 1.3);
+    assert!(plan.previous.is_none());
+    assert!(plan.grid.missing.is_empty() && plan.grid.stale.is_empty());
+    assert_eq!(plan.grid.draw, plan.grid.visible);
+    assert_eq!(plan.counts.deferred, 0);
+}
+
+#[test]
+fn scene_changes_recapture_but_keep_drawing() {
+    let mut rig = Rig::new(7);
+    let camera = Vec3::new(0.1, 0.1, 0.1);
+    for _ in 0..5 {
+        rig.frame(camera, 0, 0.8, 2.2);
+    }
+    rig.generation += 1;
+    let plan = rig.frame(camera, 0, 0.8, 2.2);
+    assert_eq!(
+        plan.grid.draw, plan.grid.visible,
+        "stale faces stay on screen"
+    );
+    assert!(plan.grid.missing.is_empty());
+    assert!(plan.counts.grid > 0);
+    assert!(!plan.grid.stale.is_empty(), "budget spreads the re-capture");
+    assert!(plan.readiness().grid, "stale is not missing");
+    let mut frames = 0;
+    while !rig.frame(camera, 0, 0.8, 2.2).grid.stale.is_empty() {
+        frames += 1;
+        assert!(frames < 10);
+    }
+    let again = rig.frame(camera, 0, 0.8, 2.2);
+    assert_eq!(again.counts.grid, 0);
+}
+
+#[test]
+fn a_scene_changing_every_frame_cannot_stall_a_crossing() {
+    let mut rig = Rig::new(7);
+    let (yaw, fov) = (0.0, 2.2);
+    for _ in 0..10 {
+        rig.generation += 1;
+        rig.frame(Vec3::new(0.45, 0.1, 0.0), 0, yaw, fov);
+    }
+    let mut frames = 0;
+    loop {
+        rig.generation += 1;
+        let plan = rig.frame(Vec3::new(0.55, 0.1, 0.0), 1, yaw, fov);
+        if plan.readiness().grid {
+            break;
+        }
+        let previous = plan.previous.unwrap();
+        assert!(
+            !previous.stale.is_empty(),
+            "the previous probe is stale, yet waits"
+        );
+        frames += 1;
+        assert!(frames < 10, "grid never got its faces");
+    }
+}
+
+#[test]
+fn returning_to_a_cell_reuses_its_slot() {
+    let mut rig = Rig::new(12);
+    let a = Vec3::new(0.0, 0.1, 0.0);
+    let b = Vec3::new(1.0, 0.1, 0.0);
+    for _ in 0..40 {
+        rig.frame(a, 0, 0.0, 1.0);
+    }
+    for _ in 0..40 {
+        rig.frame(b, 1, 0.0, 1.0);
+    }
+    assert!(!rig.probes.previous_active());
+    let plan = rig.frame(a, 0, 0.0, 1.0);
+    assert_eq!(plan.grid.probe.origin, Vec3::ZERO);
+    assert_eq!(
+        plan.counts.grid, 0,
+        "cell 0's faces are still in the other slot"
+    );
+    assert_eq!(plan.grid.draw, plan.grid.visible);
+}
+
+#[test]
+fn commit_records_stamps() {
+    let mut rig = Rig::new(12);
+    rig.generation = 9;
+    let plan = rig.frame(Vec3::ZERO, 0, 0.0, 1.0);
+    let w = plan.work.iter().find(|w| w.role == Role::Grid).unwrap();
+    let stamp = rig.scheduler.stamp(w.slot, w.face).unwrap();
+    assert_eq!(stamp.origin, Vec3::ZERO);
+    assert_eq!(stamp.face_resolution, 16);
+    assert_eq!(stamp.scene_generation, 9);
+    rig.scheduler.invalidate_all();
+    assert_eq!(rig.scheduler.stamp(w.slot, w.face), None);
+}
+
+#[test]
+fn rejects_bad_settings() {
+    assert_eq!(
+        Scheduler::new(6, 10.0),
+        Err(ScheduleError::BudgetTooSmall(6))
+    );
+    assert_eq!(
+        Scheduler::new(7, 0.0),
+        Err(ScheduleError::CaptureRange(0.0))
+    );
+    assert!(Scheduler::new(7, f32::NAN).is_err());
+    assert_eq!(Scheduler::new(7, 1.0).unwrap().max_faces(), 7);
+}

@@ -1,0 +1,427 @@
+//! Which cube faces of a probe can contribute to the camera's view.
+//!
+//! A face of a probe at `o` covers the pyramid of points whose direction from `o` falls in
+//! that face, out to the capture range. Splat quads of border texels reach a little past
+//! the face edge, so the pyramid is widened to `|u|, |v| <= extent` ([`splat_extent`]).
+//! A face is needed when this truncated pyramid intersects the camera frustum (near..far).
+//!
+//! The test is a full separating-axis test between the two convex bodies (face normals of
+//! both and the cross products of their edge directions), with a small slack that keeps
+//! touching pairs: it never culls a face that intersects the frustum, and culls every face
+//! that is clearly apart from it. Probe origin and camera may differ (grid and previous
+//! probes).
+
+use std::fmt;
+
+use glam::Vec3;
+
+use crate::cube::{Face, FaceMask, direction_from_face_uv};
+
+/// Largest splat-quad half-size, in texels, that visibility allows for.
+pub const MAX_QUAD_HALF_SIZE_TEXELS: f32 = 2.5;
+
+/// Slack, world units, before a vertex counts as outside a plane (keeps the test
+/// conservative under rounding).
+const PLANE_EPSILON: f32 = 1e-4;
+
+/// Half-size in face coordinates of a face pyramid widened so that splat quads of
+/// half-size up to [`MAX_QUAD_HALF_SIZE_TEXELS`] stay inside: `1 + 4 / n`.
+pub fn splat_extent(face_resolution: u32) -> f32 {
+    let n = face_resolution.max(1) as f32;
+    1.0 + (2.0 * MAX_QUAD_HALF_SIZE_TEXELS - 1.0) / n
+}
+
+/// A camera as far as visibility is concerned.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct CameraView {
+    /// Camera position.
+    pub position: Vec3,
+    /// View direction (any length > 0).
+    pub forward: Vec3,
+    /// Up hint (not parallel to `forward`).
+    pub up: Vec3,
+    /// Vertical field of view, radians, in `(0, π)`.
+    pub fov_y: f32,
+    /// Width / height (> 0).
+    pub aspect: f32,
+    /// Near plane distance (> 0).
+    pub near: f32,
+    /// Far plane distance (> near).
+    pub far: f32,
+}
+
+/// A [`CameraView`] that does not describe a frustum.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum ViewError {
+    /// A field is NaN or infinite.
+    NonFinite,
+    /// `forward` is zero or `up` is parallel to it.
+    DegenerateBasis,
+    /// `fov_y` is outside `(0, π)`.
+    FieldOfView(f32),
+    /// `aspect` is not positive.
+    Aspect(f32),
+    /// Not `0 < near < far`.
+    ClipRange {
+        /// Near distance.
+        near: f32,
+        /// Far distance.
+        far: f32,
+    },
+}
+
+impl fmt::Display for ViewError {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        match self {
+            ViewError::NonFinite => write!(f, "camera has a non-finite field"),
+            ViewError::DegenerateBasis => write!(f, "camera forward is zero or parallel to up"),
+            ViewError::FieldOfView(v) => write!(f, "fov_y {v} must be in (0, pi)"),
+            ViewError::Aspect(v) => write!(f, "aspect {v} must be > 0"),
+            ViewError::ClipRange { near, far } => {
+                write!(f, "need 0 < near < far, got near {near}, far {far}")
+            }
+        }
+    }
+}
+
+impl std::error::Error for ViewError {}
+
+/// A plane `normal · p + d = 0`; the inside is `normal · p + d >= 0`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Plane {
+    /// Unit normal pointing inside.
+    pub normal: Vec3,
+    /// Offset.
+    pub d: f32,
+}
+
+impl Plane {
+    /// The plane through `point` with inward `normal` (normalized here).
+    pub fn through(point: Vec3, normal: Vec3) -> Plane {
+        let normal = normal.normalize();
+        Plane {
+            normal,
+            d: -normal.dot(point),
+        }
+    }
+
+    /// Signed distance of `p` (positive inside).
+    pub fn distance(&self, p: Vec3) -> f32 {
+        self.normal.dot(p) + self.d
+    }
+}
+
+/// A convex body: inward face planes, corner points and edge directions.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ConvexHull<const P: usize, const V: usize, const E: usize> {
+    /// Bounding planes, normals inward.
+    pub planes: [Plane; P],
+    /// Corner points.
+    pub vertices: [Vec3; V],
+    /// Directions of its edges (one per parallel family).
+    pub edges: [Vec3; E],
+}
+
+impl<const P: usize, const V: usize, const E: usize> ConvexHull<P, V, E> {
+    /// Whether `p` is inside (or on) every plane.
+    pub fn contains(&self, p: Vec3) -> bool {
+        self.planes
+            .iter()
+            .all(|pl| pl.distance(p) >= -PLANE_EPSILON)
+    }
+
+    /// Separating-axis test over both bodies' face normals and all edge-pair cross
+    /// products: exact for convex bodies up to a slack of `1e-4` world units, which only ever
+    /// keeps a touching pair (never drops an intersecting one).
+    pub fn may_intersect<const Q: usize, const W: usize, const F: usize>(
+        &self,
+        other: &ConvexHull<Q, W, F>,
+    ) -> bool {
+        let face_axes = self.planes.iter().chain(&other.planes).map(|p| p.normal);
+        let edge_axes = self
+            .edges
+            .iter()
+            .flat_map(|a| other.edges.iter().map(move |b| a.cross(*b)))
+            .filter(|axis| axis.length_squared() > 1e-10)
+            .map(Vec3::normalize);
+        let mut axes = face_axes.chain(edge_axes);
+        !axes.any(|axis| separates(axis, &self.vertices, &other.vertices))
+    }
+}
+
+/// Whether the projections of `a` and `b` on `axis` are disjoint (beyond the slack).
+fn separates(axis: Vec3, a: &[Vec3], b: &[Vec3]) -> bool {
+    let (a_min, a_max) = project(axis, a);
+    let (b_min, b_max) = project(axis, b);
+    a_max < b_min - PLANE_EPSILON || b_max < a_min - PLANE_EPSILON
+}
+
+fn project(axis: Vec3, points: &[Vec3]) -> (f32, f32) {
+    points
+        .iter()
+        .fold((f32::INFINITY, f32::NEG_INFINITY), |(lo, hi), p| {
+            let d = axis.dot(*p);
+            (lo.min(d), hi.max(d))
+        })
+}
+
+/// The camera frustum: planes near, far, left, right, bottom, top; 8 corners; 6 edge
+/// directions (4 side edges, right, up).
+pub type Frustum = ConvexHull<6, 8, 6>;
+
+/// A face pyramid: 4 side planes through the apex and the depth cap; apex + 4 corners;
+/// 6 edge directions (4 side edges, the cap's u and v).
+pub type FacePyramid = ConvexHull<5, 5, 6>;
+
+fn validate(view: &CameraView) -> Result<(), ViewError> {
+    let scalars = [view.fov_y, view.aspect, view.near, view.far];
+    let finite = view.position.is_finite() && view.forward.is_finite() && view.up.is_finite();
+    if !finite || scalars.iter().any(|s| !s.is_finite()) {
+        return Err(ViewError::NonFinite);
+    }
+    if view.forward.cross(view.up).length_squared() < 1e-12 {
+        return Err(ViewError::DegenerateBasis);
+    }
+    if !(view.fov_y > 0.0 && view.fov_y < std::f32::consts::PI) {
+        return Err(ViewError::FieldOfView(view.fov_y));
+    }
+    if view.aspect <= 0.0 {
+        return Err(ViewError::Aspect(view.aspect));
+    }
+    if !(view.near > 0.0 && view.far > view.near) {
+        return Err(ViewError::ClipRange {
+            near: view.near,
+            far: view.far,
+        });
+    }
+    Ok(())
+}
+
+/// Builds the frustum of `view`, validating it.
+pub fn frustum(view: &CameraView) -> Result<Frustum, ViewError> {
+    validate(view)?;
+    let f = view.forward.normalize();
+    let r = f.cross(view.up).normalize();
+    let u = r.cross(f);
+    let th = (view.fov_y * 0.5).tan();
+    let tw = th * view.aspect;
+    let o = view.position;
+    let planes = [
+        Plane::through(o + f * view.near, f),
+        Plane::through(o + f * view.far, -f),
+        Plane::through(o, r + f * tw),
+        Plane::through(o, -r + f * tw),
+        Plane::through(o, u + f * th),
+        Plane::through(o, -u + f * th),
+    ];
+    let corner = |dist: f32, sx: f32, sy: f32| o + (f + r * (sx * tw) + u * (sy * th)) * dist;
+    let mut vertices = [Vec3::ZERO; 8];
+    for (i, v) in vertices.iter_mut().enumerate() {
+        let dist = if i < 4 { view.near } else { view.far };
+        let sx = if i & 1 == 0 { -1.0 } else { 1.0 };
+        let sy = if i & 2 == 0 { -1.0 } else { 1.0 };
+        *v = corner(dist, sx, sy);
+    }
+    let edges = [
+        vertices[4] - vertices[0],
+        vertices[5] - vertices[1],
+        vertices[6] - vertices[2],
+        vertices[7] - vertices[3],
+        r,
+        u,
+    ];
+    Ok(Frustum {
+        planes,
+        vertices,
+        edges,
+    })
+}
+
+/// The pyramid of `face` of a probe at `origin`, out to Chebyshev depth `depth_limit`,
+/// widened to `|u|, |v| <= extent`.
+pub fn face_pyramid(origin: Vec3, face: Face, depth_limit: f32, extent: f32) -> FacePyramid {
+    let (a, s, t) = (face.axis(), face.u_axis(), face.v_axis());
+    let planes = [
+        Plane::through(origin, a * extent + s),
+        Plane::through(origin, a * extent - s),
+        Plane::through(origin, a * extent + t),
+        Plane::through(origin, a * extent - t),
+        Plane::through(origin + a * depth_limit, -a),
+    ];
+    let corner = |u: f32, v: f32| origin + direction_from_face_uv(face, u, v) * depth_limit;
+    let vertices = [
+        origin,
+        corner(-extent, -extent),
+        corner(extent, -extent),
+        corner(extent, extent),
+        corner(-extent, extent),
+    ];
+    let edges = [
+        vertices[1] - origin,
+        vertices[2] - origin,
+        vertices[3] - origin,
+        vertices[4] - origin,
+        s,
+        t,
+    ];
+    FacePyramid {
+        planes,
+        vertices,
+        edges,
+    }
+}
+
+/// Whether `face` of the probe at `origin` may contribute to `frustum`.
+pub fn face_visible(
+    frustum: &Frustum,
+    origin: Vec3,
+    face: Face,
+    depth_limit: f32,
+    extent: f32,
+) -> bool {
+    face_pyramid(origin, face, depth_limit, extent).may_intersect(frustum)
+}
+
+/// The faces of the probe at `origin` that may contribute to `frustum`.
+pub fn visible_faces(frustum: &Frustum, origin: Vec3, depth_limit: f32, extent: f32) -> FaceMask {
+    Face::ALL
+        .into_iter()
+        .filter(|&f| face_visible(frustum, origin, f, depth_limit, extent))
+        .collect()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::f32::consts::FRAC_PI_3;
+
+    fn view(forward: Vec3, fov_y: f32, aspect: f32) -> CameraView {
+        CameraView {
+            position: Vec3::ZERO,
+            forward,
+            up: Vec3::Y,
+            fov_y,
+            aspect,
+            near: 0.1,
+            far: 100.0,
+        }
+    }
+
+    fn faces(v: &CameraView, origin: Vec3) -> Vec<Face> {
+        let f = frustum(v).unwrap();
+        visible_faces(&f, origin, 100.0, 1.0).iter().collect()
+    }
+
+    #[test]
+    fn narrow_view_down_an_axis_sees_one_face() {
+        // 60° vertical, 1.5 aspect: half-angles 30° and ~41°, both inside the +Z face.
+        let v = view(Vec3::Z, FRAC_PI_3, 1.5);
+        assert_eq!(faces(&v, Vec3::ZERO), vec![Face::PosZ]);
+    }
+
+    #[test]
+    fn wide_or_diagonal_views_see_neighbours() {
+        let v = view(Vec3::new(1.0, 0.0, 1.0), FRAC_PI_3, 1.5);
+        assert_eq!(faces(&v, Vec3::ZERO), vec![Face::PosX, Face::PosZ]);
+        let v = view(Vec3::Z, 2.0, 1.0);
+        let seen = faces(&v, Vec3::ZERO);
+        assert_eq!(seen.len(), 5, "{seen:?}");
+        assert!(!seen.contains(&Face::NegZ));
+    }
+
+    #[test]
+    fn an_offset_probe_sees_faces_the_eye_does_not() {
+        // Probe 0.5 in front of the camera: its -Z face covers what lies behind it,
+        // which the camera sees.
+        let v = view(Vec3::Z, FRAC_PI_3, 1.5);
+        let seen = faces(&v, Vec3::new(0.0, 0.0, 0.5));
+        assert!(seen.contains(&Face::NegZ) && seen.contains(&Face::PosZ));
+        // Probe behind and to the side: +X face of a probe far to the left is visible.
+        let seen = faces(&v, Vec3::new(-5.0, 0.0, -1.0));
+        assert!(seen.contains(&Face::PosX));
+        assert!(!seen.contains(&Face::NegX));
+    }
+
+    #[test]
+    fn extent_widens_the_pyramid() {
+        // Looking just past the +Z/+X edge from a probe on the axis.
+        let mut v = view(Vec3::new(1.0, 0.0, 1.2), 0.05, 1.0);
+        v.position = Vec3::ZERO;
+        let f = frustum(&v).unwrap();
+        assert!(!face_visible(&f, Vec3::ZERO, Face::PosX, 100.0, 1.0));
+        assert!(face_visible(&f, Vec3::ZERO, Face::PosX, 100.0, 1.3));
+        assert_eq!(splat_extent(8), 1.5);
+    }
+
+    #[test]
+    fn depth_limit_truncates() {
+        let mut v = view(Vec3::Z, 0.2, 1.0);
+        v.position = Vec3::new(0.0, 0.0, 0.0);
+        let f = frustum(&v).unwrap();
+        // Probe 50 units to the side looking back at the camera axis needs range >= ~50.
+        assert!(!face_visible(
+            &f,
+            Vec3::new(50.0, 0.0, 60.0),
+            Face::NegX,
+            10.0,
+            1.0
+        ));
+        assert!(face_visible(
+            &f,
+            Vec3::new(50.0, 0.0, 60.0),
+            Face::NegX,
+            60.0,
+            1.0
+        ));
+    }
+
+    #[test]
+    fn frustum_planes_contain_its_corners_and_axis() {
+        let v = CameraView {
+            position: Vec3::new(1.0, 2.0, 3.0),
+            ..view(Vec3::new(0.3, -0.2, -1.0), 1.0, 1.7)
+        };
+        let f = frustum(&v).unwrap();
+        for c in f.vertices {
+            assert!(f.contains(c));
+        }
+        assert!(f.contains(v.position + v.forward.normalize() * 50.0));
+        assert!(!f.contains(v.position - v.forward.normalize()));
+    }
+
+    #[test]
+    fn rejects_degenerate_views() {
+        let ok = view(Vec3::Z, 1.0, 1.0);
+        let bad = |v: CameraView| frustum(&v).unwrap_err();
+        assert_eq!(
+            bad(CameraView { up: Vec3::Z, ..ok }),
+            ViewError::DegenerateBasis
+        );
+        assert_eq!(
+            bad(CameraView {
+                forward: Vec3::ZERO,
+                ..ok
+            }),
+            ViewError::DegenerateBasis
+        );
+        assert_eq!(
+            bad(CameraView { fov_y: 3.2, ..ok }),
+            ViewError::FieldOfView(3.2)
+        );
+        assert_eq!(
+            bad(CameraView { aspect: 0.0, ..ok }),
+            ViewError::Aspect(0.0)
+        );
+        assert!(matches!(
+            bad(CameraView { far: 0.05, ..ok }),
+            ViewError::ClipRange { .. }
+        ));
+        assert_eq!(
+            bad(CameraView {
+                near: f32::NAN,
+                ..ok
+            }),
+            ViewError::NonFinite
+        );
+    }
+}
