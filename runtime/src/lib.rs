@@ -4,4 +4,5 @@
 //! wrapper over [`cli`], so tests and the editor reuse the same code.
 
 pub mod cli;
+pub mod extract;
 pub mod load;

@@ -739,6 +739,40 @@ struct Session {
     xvfb: Option<Xvfb>,
     /// Whether starting Xvfb was already attempted.
     xvfb_tried: bool,
+    /// Tests counted so far from libtest's `test result:` lines.
+    tally: Tally,
+}
+
+/// Passed and failed test counts, summed over every test binary.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+struct Tally {
+    passed: u64,
+    failed: u64,
+}
+
+impl Tally {
+    /// Adds the counts of one libtest summary line
+    /// (`test result: ok. 9 passed; 0 failed; 0 ignored; ...`); other lines are ignored.
+    fn add_line(&mut self, line: &str) {
+        let Some(rest) = line.trim_start().strip_prefix("test result: ") else {
+            return;
+        };
+        let count = |word: &str| {
+            rest.split(';')
+                .find_map(|part| {
+                    part.trim()
+                        .strip_suffix(word)?
+                        .trim()
+                        .rsplit(' ')
+                        .next()?
+                        .parse::<u64>()
+                        .ok()
+                })
+                .unwrap_or(0)
+        };
+        self.passed += count("passed");
+        self.failed += count("failed");
+    }
 }
 
 impl Session {
@@ -767,6 +801,7 @@ impl Session {
             runtime_dir,
             xvfb: None,
             xvfb_tried: false,
+            tally: Tally::default(),
         })
     }
 
@@ -805,9 +840,12 @@ impl Session {
         {
             command.env("DISPLAY", display);
         }
-        let status = command
-            .status()
-            .map_err(|error| Failure::new(format!("could not start cargo: {error}")))?;
+        let status = if step.args.first().is_some_and(|a| a == "test") {
+            self.run_counting(command)
+        } else {
+            command.status()
+        }
+        .map_err(|error| Failure::new(format!("could not start cargo: {error}")))?;
         if status.success() {
             return Ok(());
         }
@@ -820,6 +858,25 @@ impl Session {
             message: format!("`{}` failed ({status})", step.describe()),
             exit_code,
         })
+    }
+}
+
+impl Session {
+    /// Runs a `cargo test`, echoing its standard output line by line and counting tests.
+    fn run_counting(&mut self, mut command: Command) -> io::Result<std::process::ExitStatus> {
+        use io::BufRead as _;
+        let mut child = command.stdout(std::process::Stdio::piped()).spawn()?;
+        if let Some(out) = child.stdout.take() {
+            let stdout = io::stdout();
+            for line in io::BufReader::new(out).lines() {
+                let line = line?;
+                self.tally.add_line(&line);
+                let mut lock = stdout.lock();
+                writeln!(lock, "{line}")?;
+                lock.flush()?;
+            }
+        }
+        child.wait()
     }
 }
 
@@ -1004,6 +1061,11 @@ fn run_tests() -> Result<(), Failure> {
         }
     }
     print_summary(&results, total.elapsed());
+    // One closing line over every test binary, so CI reads the whole run's count.
+    println!(
+        "tests: {} passed, {} failed",
+        session.tally.passed, session.tally.failed
+    );
     Ok(())
 }
 
@@ -1076,6 +1138,24 @@ fn format_duration(duration: Duration) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn tally_sums_libtest_summaries() {
+        let mut t = Tally::default();
+        t.add_line("test result: ok. 9 passed; 0 failed; 0 ignored; 0 measured; 0 filtered out; finished in 0.02s");
+        t.add_line(
+            "test result: FAILED. 3 passed; 2 failed; 0 ignored; 0 measured; 0 filtered out",
+        );
+        t.add_line("running 5 tests");
+        t.add_line("test foo ... ok");
+        assert_eq!(
+            t,
+            Tally {
+                passed: 12,
+                failed: 2
+            }
+        );
+    }
 
     fn parse(args: &[&str]) -> Result<Cli, UsageError> {
         parse_args(&strings(args))

@@ -207,13 +207,19 @@ impl Level {
         if text.trim().is_empty() {
             return Err(parse_error(path, 1, 1, ErrorKind::Syntax, "empty file"));
         }
+        // One pass for files of the current version (the common case); the version alone
+        // is read only when that fails or the file is older.
+        let first = ron_options().from_str::<Level>(text);
+        if let Ok(level) = &first
+            && level.version == CURRENT_VERSION
+        {
+            return first.map_err(|e| spanned(path, e));
+        }
         let probe: VersionProbe = ron_options().from_str(text).map_err(|e| spanned(path, e))?;
-        let level = if probe.version == CURRENT_VERSION {
-            ron_options()
-                .from_str::<Level>(text)
-                .map_err(|e| spanned(path, e))?
-        } else {
-            crate::migrate::from_old(text, probe.version).map_err(|e| spanned(path, e))?
+        let level = match first {
+            Ok(level) if probe.version == CURRENT_VERSION => level,
+            Err(e) if probe.version == CURRENT_VERSION => return Err(spanned(path, e)),
+            _ => crate::migrate::from_old(text, probe.version).map_err(|e| spanned(path, e))?,
         };
         Ok(level)
     }

@@ -1,0 +1,24 @@
+//! Fuzzes the level loader: any bytes must give a level or a positioned error, never a
+//! panic; and any level that loads must save and load back to itself.
+#![no_main]
+
+use std::path::Path;
+
+use libfuzzer_sys::fuzz_target;
+use texel_scene::{Level, LevelError};
+
+fuzz_target!(|data: &[u8]| {
+    let path = Path::new("fuzz.ron");
+    let Ok(text) = std::str::from_utf8(data) else {
+        return;
+    };
+    match Level::from_ron_str(text, path) {
+        Ok(level) => {
+            let saved = level.to_ron_string(path).expect("a loaded level is valid");
+            let back = Level::from_ron_str(&saved, path).expect("a saved level loads");
+            assert_eq!(back, level);
+        }
+        Err(LevelError::Parse { line, column, .. }) => assert!(line >= 1 && column >= 1),
+        Err(e) => panic!("unexpected error kind: {e}"),
+    }
+});

@@ -1,0 +1,123 @@
+//! `texel-run` end to end: exit codes, summaries and `path:line:column:` errors.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn repo(rel: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("..").join(rel)
+}
+
+fn texel_run(args: &[&str]) -> Output {
+    Command::new(env!("CARGO_BIN_EXE_texel-run"))
+        .args(args)
+        .env("RUST_BACKTRACE", "1")
+        .output()
+        .expect("texel-run starts")
+}
+
+fn stderr(o: &Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+#[test]
+fn check_passes_every_bundled_level() {
+    for name in ["stone_circle", "colonnade", "sandbox"] {
+        let path = repo(&format!("assets/levels/{name}.ron"));
+        let out = texel_run(&["check", path.to_str().unwrap()]);
+        let stdout = String::from_utf8_lossy(&out.stdout);
+        assert!(out.status.success(), "{name}: {}", stderr(&out));
+        assert_eq!(stdout.lines().count(), 1, "one-line summary: {stdout}");
+        assert!(
+            stdout.contains("entities:") && stdout.contains("player starts"),
+            "{stdout}"
+        );
+    }
+}
+
+#[test]
+fn sandbox_summary_counts_its_mesh() {
+    let out = texel_run(&["check", repo("assets/levels/sandbox.ron").to_str().unwrap()]);
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        stdout.contains("1 meshes") && stdout.contains("1 probe-grid overrides"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("1 mesh files"), "{stdout}");
+}
+
+#[test]
+fn check_reports_bad_levels_with_status_2_and_no_panic() {
+    let dir = repo("crates/scene/tests/data/levels");
+    let mut seen = 0;
+    for entry in std::fs::read_dir(&dir).unwrap() {
+        let path = entry.unwrap().path();
+        let out = texel_run(&["check", path.to_str().unwrap()]);
+        let err = stderr(&out);
+        assert_eq!(out.status.code(), Some(2), "{}: {err}", path.display());
+        assert!(
+            !err.contains("panicked") && !err.contains("backtrace"),
+            "{err}"
+        );
+        let prefix = format!("{}:", path.display());
+        assert!(err.starts_with(&prefix), "{err}");
+        // `path:line:column: message` — both numbers present.
+        let rest: Vec<&str> = err[prefix.len()..].splitn(3, ':').collect();
+        assert!(
+            rest.len() == 3 && rest[0].parse::<usize>().is_ok() && rest[1].parse::<usize>().is_ok(),
+            "{err}"
+        );
+        assert_eq!(err.lines().count(), 1, "one line: {err}");
+        seen += 1;
+    }
+    assert!(seen >= 15, "the catalogue has {seen} files");
+}
+
+#[test]
+fn a_missing_mesh_points_at_the_line_that_names_it() {
+    let path = repo("crates/scene/tests/data/levels/missing_mesh.ron");
+    let out = texel_run(&["check", path.to_str().unwrap()]);
+    let err = stderr(&out);
+    assert!(err.starts_with(&format!("{}:20:", path.display())), "{err}");
+    assert!(err.contains("no_such_mesh.glb"), "{err}");
+}
+
+#[test]
+fn a_missing_level_file_is_status_2() {
+    let out = texel_run(&["check", "no/such/level.ron"]);
+    assert_eq!(out.status.code(), Some(2));
+    assert!(
+        stderr(&out).starts_with("no/such/level.ron: "),
+        "{}",
+        stderr(&out)
+    );
+}
+
+#[test]
+fn help_works() {
+    for args in [&["--help"][..], &["check", "--help"], &["fmt", "--help"]] {
+        let out = texel_run(args);
+        assert!(out.status.success());
+        assert!(String::from_utf8_lossy(&out.stdout).contains("Usage"));
+    }
+}
+
+#[test]
+fn fmt_check_accepts_canonical_and_fmt_rewrites_the_rest() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = dir.path().join("l.ron");
+    std::fs::copy(repo("crates/scene/tests/data/valid_base.ron"), &path).unwrap();
+    let p = path.to_str().unwrap();
+    assert!(texel_run(&["fmt", "--check", p]).status.success());
+    let squashed = std::fs::read_to_string(&path)
+        .unwrap()
+        .replace("\n        ", " ");
+    std::fs::write(&path, &squashed).unwrap();
+    assert_eq!(texel_run(&["fmt", "--check", p]).status.code(), Some(1));
+    assert_eq!(
+        std::fs::read_to_string(&path).unwrap(),
+        squashed,
+        "--check changes nothing"
+    );
+    assert!(texel_run(&["fmt", p]).status.success());
+    assert!(texel_run(&["fmt", "--check", p]).status.success());
+}
