@@ -34,6 +34,50 @@ pub enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Render a level offscreen to PNGs plus stats.json (pass times and counters per frame).
+    Render(RenderArgs),
+    /// Open a window and walk through a level (exit status 1 without a display or GPU).
+    Play {
+        /// The level file (.ron).
+        level: PathBuf,
+        /// Window size, WIDTHxHEIGHT.
+        #[arg(long, default_value = "1280x720")]
+        size: String,
+    },
+}
+
+/// Options of `texel-run render`.
+#[derive(Debug, clap::Args)]
+pub struct RenderArgs {
+    /// The level file (.ron).
+    pub level: PathBuf,
+    /// One camera: x,y,z,yaw,pitch (degrees). Default: the level's player start.
+    #[arg(long, conflicts_with = "path", allow_hyphen_values = true)]
+    pub camera: Option<String>,
+    /// A camera path file (.ron) to fly along.
+    #[arg(long)]
+    pub path: Option<PathBuf>,
+    /// Frames to render (default: the path's, or 1).
+    #[arg(long)]
+    pub frames: Option<u32>,
+    /// Output size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "640x360")]
+    pub size: String,
+    /// Cube-face resolution (default: the level's).
+    #[arg(long)]
+    pub face_res: Option<u32>,
+    /// Scheduling: ours or paper.
+    #[arg(long, default_value = "ours")]
+    pub schedule: String,
+    /// Vertical field of view in degrees.
+    #[arg(long, default_value_t = 60.0)]
+    pub fov: f32,
+    /// Write a PNG of every frame (default: only the last).
+    #[arg(long)]
+    pub all_frames: bool,
+    /// Output folder for PNGs and stats.json.
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// Exit status for a bad level or asset.
@@ -44,6 +88,33 @@ pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
         Command::Check { level } => check(&level),
         Command::Fmt { levels, check } => fmt(&levels, check),
+        Command::Play { level, size } => play(&level, &size),
+        Command::Render(args) => render(&args),
+    }
+}
+
+fn play(path: &std::path::Path, size: &str) -> ExitCode {
+    let size = match crate::play::parse_size(size) {
+        Ok(s) => s,
+        Err(e) => {
+            eprintln!("texel-run play: {e}");
+            return ExitCode::FAILURE;
+        }
+    };
+    let options = crate::play::PlayOptions {
+        size,
+        ..Default::default()
+    };
+    match crate::play::play(path, options) {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) if e.is::<crate::load::LoadError>() => {
+            eprintln!("{e}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+        Err(e) => {
+            eprintln!("texel-run play: {e:#}");
+            ExitCode::FAILURE
+        }
     }
 }
 
@@ -95,4 +166,72 @@ fn fmt(paths: &[PathBuf], check_only: bool) -> ExitCode {
         }
     }
     status
+}
+
+fn render(args: &RenderArgs) -> ExitCode {
+    match render_inner(args) {
+        Ok(record) => {
+            let median = record.median_frame_ms;
+            println!(
+                "{}: {} frames, median {median:.1} ms, stats in {}",
+                args.level.display(),
+                record.frames.len(),
+                args.out.join("stats.json").display()
+            );
+            ExitCode::SUCCESS
+        }
+        Err(e) if e.is::<crate::load::LoadError>() => {
+            eprintln!("{e}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+        Err(e) => {
+            eprintln!("texel-run render: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn render_inner(args: &RenderArgs) -> anyhow::Result<crate::headless::RunRecord> {
+    use crate::path::{CameraPath, Keyframe};
+    use texel_render::input::Schedule;
+    let (w, h) = crate::play::parse_size(&args.size).map_err(anyhow::Error::msg)?;
+    let schedule = match args.schedule.as_str() {
+        "ours" => Schedule::Ours,
+        "paper" => Schedule::Paper,
+        other => anyhow::bail!("--schedule must be `ours` or `paper`, got `{other}`"),
+    };
+    let mut path = match (&args.camera, &args.path) {
+        (Some(c), _) => {
+            let v: Vec<f32> = c
+                .split(',')
+                .map(|x| x.trim().parse::<f32>())
+                .collect::<Result<_, _>>()
+                .map_err(|e| anyhow::anyhow!("--camera x,y,z,yaw,pitch: {e}"))?;
+            let [x, y, z, yaw, pitch] = v[..] else {
+                anyhow::bail!("--camera takes five numbers: x,y,z,yaw,pitch");
+            };
+            Some(CameraPath::still(
+                Keyframe {
+                    position: (x, y, z),
+                    yaw,
+                    pitch,
+                },
+                1,
+            ))
+        }
+        (None, Some(p)) => Some(CameraPath::load(p)?),
+        (None, None) => None,
+    };
+    if let (Some(n), Some(p)) = (args.frames, path.as_mut()) {
+        p.frames = n;
+    }
+    let opts = crate::headless::RenderOptions {
+        size: glam::UVec2::new(w, h),
+        fov_y: args.fov.clamp(1.0, 170.0).to_radians(),
+        face_res: args.face_res,
+        schedule,
+        out: args.out.clone(),
+        all_frames: args.all_frames,
+    };
+    crate::headless::render(&args.level, path.as_ref(), &opts)
 }

@@ -3,6 +3,11 @@
 //! the renderer consumes, and drives the frame loop. The `texel-run` binary is a thin
 //! wrapper over [`cli`], so tests and the editor reuse the same code.
 
+pub mod camera;
 pub mod cli;
+pub mod driver;
 pub mod extract;
+pub mod headless;
 pub mod load;
+pub mod path;
+pub mod play;

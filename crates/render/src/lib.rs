@@ -1,7 +1,22 @@
 //! `texel_render` is Texel's renderer: it rasterizes the scene into cubemap probes, shades
 //! each texel once (lights, ray-traced shadows, OKLab posterization, outlines), culls the
 //! texels worth drawing and splats them as world-space quads, all on wgpu. It consumes a
-//! plain `FrameInput` and never sees hecs, egui or winit, so its tests can build a frame by
-//! hand and the same passes serve the runtime, the editor and the evaluator.
+//! plain [`input::FrameInput`] and never sees hecs, egui or winit, so its tests can build a
+//! frame by hand and the same passes serve the runtime, the editor and the evaluator.
 //!
-//! The passes arrive with the core-renderer issue; the crate is thin until then.
+//! Modules: [`context`] opens the GPU; [`input`] is the data it consumes; [`gpu_scene`] and
+//! [`bvh`] upload the scene; [`probe_store`] holds the probe textures; [`passes`] are the
+//! passes, one per WGSL file in `shaders/`; [`frame`] orders them; [`stats`] is what a frame
+//! reports.
+
+pub mod bvh;
+pub mod context;
+pub mod frame;
+pub mod gpu_scene;
+pub mod input;
+pub mod passes;
+pub mod probe_store;
+pub mod shader;
+pub mod stats;
+pub mod target;
+pub mod view;

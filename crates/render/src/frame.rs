@@ -1,0 +1,406 @@
+//! The renderer: owns the passes and the probe store, and orders one frame
+//! (capture → shade → cull → background + splat → visible). This is the only file that
+//! knows the pass order.
+
+use std::time::Instant;
+
+use texel_probes::probe_set::Slot;
+
+use crate::context::{GpuContext, GpuError};
+use crate::gpu_scene::GpuScene;
+use crate::input::{FrameInput, SceneInput};
+use crate::passes::background::BackgroundPass;
+use crate::passes::capture::CapturePass;
+use crate::passes::cull::{CullPass, DrawArgs};
+use crate::passes::shade::ShadePass;
+use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
+use crate::passes::visible::VisiblePass;
+use crate::probe_store::ProbeStore;
+use crate::shader::ShaderError;
+use crate::stats::{Counters, FrameStats, PassTime};
+use crate::target::{OFFSCREEN_FORMAT, OffscreenTarget, read_buffer};
+use crate::view::ViewGlobals;
+
+/// Why a frame could not be rendered.
+#[derive(Debug, thiserror::Error)]
+pub enum RenderError {
+    /// A shader failed to assemble.
+    #[error(transparent)]
+    Shader(#[from] ShaderError),
+    /// The GPU failed.
+    #[error(transparent)]
+    Gpu(#[from] GpuError),
+    /// `render` was called before `set_scene`.
+    #[error("no scene uploaded: call Renderer::set_scene first")]
+    NoScene,
+    /// The frame asks for something the renderer cannot do.
+    #[error("invalid frame: {0}")]
+    InvalidFrame(String),
+}
+
+/// Names of the timed stages, in order.
+pub const STAGES: [&str; 5] = ["capture", "shade", "cull", "splat", "visible"];
+
+/// Screen-sized targets besides the colour target.
+struct Screen {
+    size: (u32, u32),
+    depth: wgpu::TextureView,
+    keys: wgpu::Texture,
+    keys_view: wgpu::TextureView,
+}
+
+impl Screen {
+    fn new(ctx: &GpuContext, size: (u32, u32)) -> Self {
+        let tex = |label, format, usage| {
+            ctx.device.create_texture(&wgpu::TextureDescriptor {
+                label: Some(label),
+                size: wgpu::Extent3d {
+                    width: size.0,
+                    height: size.1,
+                    depth_or_array_layers: 1,
+                },
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format,
+                usage,
+                view_formats: &[],
+            })
+        };
+        use wgpu::TextureUsages as U;
+        let depth = tex("frame::depth", SPLAT_DEPTH_FORMAT, U::RENDER_ATTACHMENT);
+        let keys = tex(
+            "frame::keys",
+            KEY_FORMAT,
+            U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
+        );
+        Screen {
+            size,
+            depth: depth.create_view(&Default::default()),
+            keys_view: keys.create_view(&Default::default()),
+            keys,
+        }
+    }
+}
+
+/// Everything long-lived on the GPU side.
+pub struct Renderer {
+    capture: CapturePass,
+    shade: ShadePass,
+    cull: CullPass,
+    splat: SplatPass,
+    background: BackgroundPass,
+    visible: VisiblePass,
+    store: ProbeStore,
+    scene: Option<GpuScene>,
+    view: wgpu::Buffer,
+    screen: Option<Screen>,
+    offscreen: Option<OffscreenTarget>,
+    queries: Option<wgpu::QuerySet>,
+}
+
+impl Renderer {
+    /// Builds every pass for a colour target of `colour` format.
+    pub fn new(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
+        let d = &ctx.device;
+        let queries = ctx.timestamps.then(|| {
+            d.create_query_set(&wgpu::QuerySetDescriptor {
+                label: Some("frame::timestamps"),
+                ty: wgpu::QueryType::Timestamp,
+                count: STAGES.len() as u32 + 1,
+            })
+        });
+        Ok(Renderer {
+            capture: CapturePass::new(d)?,
+            shade: ShadePass::new(d)?,
+            cull: CullPass::new(d)?,
+            splat: SplatPass::new(d, colour)?,
+            background: BackgroundPass::new(d, colour)?,
+            visible: VisiblePass::new(d)?,
+            store: ProbeStore::new(ctx, 16),
+            scene: None,
+            view: d.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("frame::view"),
+                size: size_of::<ViewGlobals>() as u64,
+                usage: wgpu::BufferUsages::UNIFORM
+                    | wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
+            screen: None,
+            offscreen: None,
+            queries,
+        })
+    }
+
+    /// A renderer for offscreen frames ([`Renderer::render_offscreen`]).
+    pub fn headless(ctx: &GpuContext) -> Result<Self, RenderError> {
+        Self::new(ctx, OFFSCREEN_FORMAT)
+    }
+
+    /// Uploads the scene (meshes, materials, lights, shadow BVH).
+    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) {
+        self.scene = Some(GpuScene::upload(ctx, scene));
+    }
+
+    /// The probe textures (for tests and debug views).
+    pub fn probes(&self) -> &ProbeStore {
+        &self.store
+    }
+
+    /// The splat list of the last frame and its indirect arguments (for tests).
+    pub fn splat_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
+        (&self.cull.splats, &self.cull.args)
+    }
+
+    /// The per-pixel texel keys of the last frame (for tests and picking).
+    pub fn keys_texture(&self) -> Option<&wgpu::Texture> {
+        self.screen.as_ref().map(|s| &s.keys)
+    }
+
+    /// Renders `input` into a texture of the renderer's own and reads it back as RGBA8.
+    pub fn render_offscreen(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+    ) -> Result<(FrameStats, Vec<u8>), RenderError> {
+        let size = (input.size.x, input.size.y);
+        if self.offscreen.as_ref().is_none_or(|t| t.size != size) {
+            self.offscreen = Some(OffscreenTarget::new(ctx, size.0, size.1));
+        }
+        let target = self.offscreen.take().ok_or(RenderError::NoScene)?;
+        let result = self.render(ctx, input, &target.view);
+        let pixels = target.read_rgba(ctx);
+        self.offscreen = Some(target);
+        Ok((result?, pixels?))
+    }
+
+    /// Renders one frame into `target` (a view of `input.size`) and returns its cost and work.
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+        target: &wgpu::TextureView,
+    ) -> Result<FrameStats, RenderError> {
+        let started = Instant::now();
+        validate(input)?;
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        for p in [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
+            .into_iter()
+            .flatten()
+        {
+            self.store.ensure(ctx, p.slot, p.face_resolution);
+        }
+        for c in &input.captures {
+            self.store.ensure(ctx, c.slot, c.face_resolution);
+        }
+        let slot_n = Slot::ALL.map(|s| self.store.slot(s).n);
+        let globals = ViewGlobals::new(input, slot_n);
+        ctx.queue
+            .write_buffer(&self.view, 0, bytemuck::bytes_of(&globals));
+        self.cull.ensure_capacity(&ctx.device, globals.max_n);
+        self.visible.ensure_capacity(&ctx.device, globals.max_n);
+        let size = (input.size.x, input.size.y);
+        if self.screen.as_ref().is_none_or(|s| s.size != size) {
+            self.screen = Some(Screen::new(ctx, size));
+        }
+        let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
+
+        let mut stages = Stages::new(ctx, self.queries.as_ref());
+        let (d, q) = (&ctx.device, &ctx.queue);
+        stages.run(|enc| {
+            self.capture
+                .record(d, q, enc, &input.captures, &self.store, scene)
+        });
+        let mut texels_shaded = 0;
+        stages.run(|enc| {
+            texels_shaded =
+                self.shade
+                    .record(d, q, enc, &input.captures, &self.store, scene, &input.look);
+        });
+        stages.run(|enc| {
+            self.cull
+                .record(d, q, enc, &self.view, &self.store, globals.max_n)
+        });
+        let splat_bind = self.splat.bind_group(d, &self.view, &self.cull.splats);
+        let bg_bind = self
+            .background
+            .bind_group(d, &self.view, self.store.slot(Slot::Eye));
+        stages.run(|enc| {
+            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("frame::draw"),
+                color_attachments: &[
+                    Some(colour_attachment(target)),
+                    Some(colour_attachment(&screen.keys_view)),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &screen.depth,
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            self.background.draw(&mut pass, &bg_bind);
+            self.splat.draw(&mut pass, &splat_bind, &self.cull.args);
+        });
+        stages.run(|enc| self.visible.record(d, enc, &screen.keys_view, size));
+        let (passes, gpu_timestamps, readback) =
+            stages.finish(&self.cull.args, &self.visible.bits, self.visible.bytes())?;
+        let args: DrawArgs = *bytemuck::from_bytes(&readback[..size_of::<DrawArgs>()]);
+        let bits: &[u32] = bytemuck::cast_slice(&readback[size_of::<DrawArgs>()..]);
+        Ok(FrameStats {
+            passes,
+            gpu_timestamps,
+            frame_ms: started.elapsed().as_secs_f64() * 1e3,
+            counters: Counters {
+                faces_captured: input.captures.len() as u32,
+                texels_shaded,
+                quads_splatted: u64::from(args.instance_count),
+                screen_visible_texels: bits.iter().map(|w| u64::from(w.count_ones())).sum(),
+            },
+        })
+    }
+}
+
+fn colour_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> {
+    wgpu::RenderPassColorAttachment {
+        view,
+        depth_slice: None,
+        resolve_target: None,
+        ops: wgpu::Operations {
+            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+            store: wgpu::StoreOp::Store,
+        },
+    }
+}
+
+fn validate(input: &FrameInput) -> Result<(), RenderError> {
+    let bad = |m: &str| Err(RenderError::InvalidFrame(m.to_owned()));
+    if input.size.x == 0 || input.size.y == 0 || input.size.x > 8192 || input.size.y > 8192 {
+        return bad("output size must be 1..=8192 on each side");
+    }
+    let c = &input.camera;
+    if !c.position.is_finite() || !c.forward.is_finite() || c.forward.length_squared() < 1e-12 {
+        return bad("camera position and direction must be finite, direction non-zero");
+    }
+    let n_ok = |n: u32| (8..=2048).contains(&n);
+    let all_n = [input.eye.face_resolution, input.grid.face_resolution]
+        .into_iter()
+        .chain(input.previous.map(|p| p.face_resolution))
+        .chain(input.captures.iter().map(|c| c.face_resolution));
+    if !all_n.into_iter().all(n_ok) {
+        return bad("face resolutions must be within 8..=2048");
+    }
+    Ok(())
+}
+
+/// Times the stages of a frame: GPU timestamps between stages in one submission when the
+/// adapter has them, else one submission per stage timed on the CPU.
+struct Stages<'a> {
+    ctx: &'a GpuContext,
+    queries: Option<&'a wgpu::QuerySet>,
+    encoder: wgpu::CommandEncoder,
+    cpu_ms: Vec<f64>,
+    index: u32,
+}
+
+impl<'a> Stages<'a> {
+    fn new(ctx: &'a GpuContext, queries: Option<&'a wgpu::QuerySet>) -> Self {
+        let mut encoder = ctx.device.create_command_encoder(&Default::default());
+        if let Some(q) = queries {
+            encoder.write_timestamp(q, 0);
+        }
+        Stages {
+            ctx,
+            queries,
+            encoder,
+            cpu_ms: Vec::new(),
+            index: 0,
+        }
+    }
+
+    fn run(&mut self, f: impl FnOnce(&mut wgpu::CommandEncoder)) {
+        self.index += 1;
+        match self.queries {
+            Some(q) => {
+                f(&mut self.encoder);
+                self.encoder.write_timestamp(q, self.index);
+            }
+            None => {
+                let t = Instant::now();
+                f(&mut self.encoder);
+                let done = std::mem::replace(
+                    &mut self.encoder,
+                    self.ctx.device.create_command_encoder(&Default::default()),
+                );
+                self.ctx.queue.submit([done.finish()]);
+                let _ = self.ctx.wait_idle();
+                self.cpu_ms.push(t.elapsed().as_secs_f64() * 1e3);
+            }
+        }
+    }
+
+    /// Submits, copies `args` and `bits` back, and returns per-stage times.
+    fn finish(
+        mut self,
+        args: &wgpu::Buffer,
+        bits: &wgpu::Buffer,
+        bits_bytes: u64,
+    ) -> Result<(Vec<PassTime>, bool, Vec<u8>), GpuError> {
+        let args_bytes = size_of::<DrawArgs>() as u64;
+        let stamps_bytes = 8 * u64::from(self.index + 1);
+        let stamps_at = (args_bytes + bits_bytes).next_multiple_of(256);
+        let readback = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("frame::readback"),
+            size: stamps_at + stamps_bytes,
+            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+            mapped_at_creation: false,
+        });
+        self.encoder
+            .copy_buffer_to_buffer(args, 0, &readback, 0, args_bytes);
+        self.encoder
+            .copy_buffer_to_buffer(bits, 0, &readback, args_bytes, bits_bytes);
+        let resolve = self.queries.map(|q| {
+            let buf = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("frame::timestamps"),
+                size: stamps_bytes,
+                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
+                mapped_at_creation: false,
+            });
+            self.encoder
+                .resolve_query_set(q, 0..self.index + 1, &buf, 0);
+            self.encoder
+                .copy_buffer_to_buffer(&buf, 0, &readback, stamps_at, stamps_bytes);
+            buf
+        });
+        self.ctx.queue.submit([self.encoder.finish()]);
+        let bytes = read_buffer(self.ctx, &readback)?;
+        drop(resolve);
+        let times: Vec<f64> = match self.queries {
+            Some(_) => {
+                let stamps: &[u64] = bytemuck::cast_slice(&bytes[stamps_at as usize..]);
+                let period = f64::from(self.ctx.queue.get_timestamp_period());
+                stamps
+                    .windows(2)
+                    .map(|w| w[1].saturating_sub(w[0]) as f64 * period / 1e6)
+                    .collect()
+            }
+            None => self.cpu_ms,
+        };
+        let passes = STAGES
+            .iter()
+            .zip(times)
+            .map(|(pass, ms)| PassTime { pass, ms })
+            .collect();
+        Ok((
+            passes,
+            self.queries.is_some(),
+            bytes[..stamps_at as usize].to_vec(),
+        ))
+    }
+}

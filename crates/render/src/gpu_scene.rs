@@ -1,0 +1,197 @@
+//! The scene on the GPU: one vertex buffer of world-space triangles (meshes are static, so
+//! they are transformed once at upload), one record per object (material and entity id),
+//! the lights, and the shadow BVH over every shadow-casting triangle.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat3, Vec3};
+use wgpu::util::DeviceExt;
+
+use crate::bvh::{GpuBvh, build_bvh};
+use crate::context::GpuContext;
+use crate::input::SceneInput;
+
+/// Largest number of directional lights the shade pass reads.
+pub const MAX_SUNS: usize = 4;
+
+/// One capture vertex (32 bytes).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct Vertex {
+    /// World position.
+    pub position: [f32; 3],
+    /// Index into the object buffer.
+    pub object: u32,
+    /// World normal.
+    pub normal: [f32; 3],
+    /// Vertex colour, RGBA8 (linear), multiplied into the albedo.
+    pub colour: u32,
+}
+
+/// One object's material and id (32 bytes; `shaders/lib/scene.wgsl` `Object`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuObject {
+    /// Linear albedo.
+    pub albedo: [f32; 3],
+    /// Bit 0: outlined; bit 1: emissive (drawn unlit).
+    pub flags: u32,
+    /// Linear emissive colour.
+    pub emissive: [f32; 3],
+    /// Entity id (non-zero).
+    pub id: u32,
+}
+
+/// A point light (32 bytes; WGSL `PointLight`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuPointLight {
+    /// World position.
+    pub position: [f32; 3],
+    /// Fade-out radius.
+    pub radius: f32,
+    /// Colour × intensity.
+    pub colour: [f32; 4],
+}
+
+/// Object flag: outlines are drawn on it.
+pub const FLAG_OUTLINED: u32 = 1;
+/// Object flag: drawn unlit with its emissive colour.
+pub const FLAG_EMISSIVE: u32 = 2;
+
+/// The uploaded scene.
+pub struct GpuScene {
+    /// Capture vertices.
+    pub vertices: wgpu::Buffer,
+    /// Number of vertices (non-indexed triangle list).
+    pub vertex_count: u32,
+    /// Object records.
+    pub objects: wgpu::Buffer,
+    /// Point lights (at least one record; `point_count` says how many are real).
+    pub points: wgpu::Buffer,
+    /// Number of point lights.
+    pub point_count: u32,
+    /// Directional lights, `(direction toward the light, colour)`.
+    pub suns: Vec<(Vec3, Vec3)>,
+    /// Shadow BVH nodes.
+    pub bvh_nodes: wgpu::Buffer,
+    /// Shadow BVH triangles.
+    pub bvh_triangles: wgpu::Buffer,
+    /// Shadow-casting triangles in the BVH.
+    pub shadow_triangles: usize,
+}
+
+fn pack_colour(c: [f32; 4]) -> u32 {
+    let b = |v: f32| (v.clamp(0.0, 1.0) * 255.0).round() as u32;
+    b(c[0]) | (b(c[1]) << 8) | (b(c[2]) << 16) | (b(c[3]) << 24)
+}
+
+impl GpuScene {
+    /// Uploads `scene`: transforms every mesh to world space and builds the shadow BVH.
+    pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> GpuScene {
+        let mut vertices = Vec::new();
+        let mut objects = Vec::with_capacity(scene.objects.len().max(1));
+        let mut casters: Vec<[Vec3; 3]> = Vec::new();
+        for (index, o) in scene.objects.iter().enumerate() {
+            let normal_m = Mat3::from_mat4(o.transform).inverse().transpose();
+            let flip = o.transform.determinant() < 0.0;
+            let m = &o.material;
+            let emissive = m.emissive.max_element() > 0.0;
+            objects.push(GpuObject {
+                albedo: m.albedo.to_array(),
+                flags: u32::from(m.outlined) * FLAG_OUTLINED + u32::from(emissive) * FLAG_EMISSIVE,
+                emissive: m.emissive.to_array(),
+                id: o.id,
+            });
+            for tri in o.mesh.indices.chunks_exact(3) {
+                let order = if flip { [0, 2, 1] } else { [0, 1, 2] };
+                let mut world = [Vec3::ZERO; 3];
+                for (k, &c) in order.iter().enumerate() {
+                    let i = tri[c] as usize;
+                    let p = o.transform.transform_point3(o.mesh.positions[i]);
+                    let n = (normal_m * o.mesh.normals[i]).normalize_or_zero();
+                    world[k] = p;
+                    vertices.push(Vertex {
+                        position: p.to_array(),
+                        object: index as u32,
+                        normal: n.to_array(),
+                        colour: pack_colour(o.mesh.colors.get(i).copied().unwrap_or([1.0; 4])),
+                    });
+                }
+                if m.casts_shadows {
+                    casters.push(world);
+                }
+            }
+        }
+        if objects.is_empty() {
+            objects.push(GpuObject::zeroed());
+        }
+        let vertex_count = vertices.len() as u32;
+        if vertices.is_empty() {
+            vertices.push(Vertex::zeroed());
+        }
+        let mut points: Vec<GpuPointLight> = scene
+            .points
+            .iter()
+            .map(|p| GpuPointLight {
+                position: p.position.to_array(),
+                radius: p.radius,
+                colour: p.colour.extend(0.0).to_array(),
+            })
+            .collect();
+        let point_count = points.len() as u32;
+        if points.is_empty() {
+            points.push(GpuPointLight::zeroed());
+        }
+        let suns = scene
+            .suns
+            .iter()
+            .take(MAX_SUNS)
+            .map(|s| (-s.direction.normalize_or_zero(), s.colour))
+            .collect();
+        let bvh: GpuBvh = build_bvh(&casters);
+        let (bvh_nodes, bvh_triangles) = bvh.upload(&ctx.device);
+        let storage = |label, contents: &[u8], usage| {
+            ctx.device
+                .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+                    label: Some(label),
+                    contents,
+                    usage,
+                })
+        };
+        GpuScene {
+            vertices: storage(
+                "scene::vertices",
+                bytemuck::cast_slice(&vertices),
+                wgpu::BufferUsages::VERTEX,
+            ),
+            vertex_count,
+            objects: storage(
+                "scene::objects",
+                bytemuck::cast_slice(&objects),
+                wgpu::BufferUsages::STORAGE,
+            ),
+            points: storage(
+                "scene::points",
+                bytemuck::cast_slice(&points),
+                wgpu::BufferUsages::STORAGE,
+            ),
+            point_count,
+            suns,
+            bvh_nodes,
+            bvh_triangles,
+            shadow_triangles: casters.len(),
+        }
+    }
+
+    /// The vertex layout of [`Vertex`].
+    pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+        const ATTRS: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Uint32, 2 => Float32x3, 3 => Uint32
+        ];
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &ATTRS,
+        }
+    }
+}

@@ -1,0 +1,193 @@
+//! The plain data the renderer consumes: what the scene is ([`SceneInput`], uploaded when it
+//! changes) and what to draw this frame ([`FrameInput`]). Built by the runtime from the hecs
+//! world and the probe system, or by hand in tests.
+
+use std::sync::Arc;
+
+use glam::{Mat4, UVec2, Vec3};
+use texel_probes::cube::{Face, FaceMask};
+use texel_probes::probe_set::{Role, Slot};
+use texel_scene::TriMesh;
+
+/// How a surface is shaded.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct MaterialInput {
+    /// Linear RGB base colour.
+    pub albedo: Vec3,
+    /// Linear RGB emitted light (drawn unlit).
+    pub emissive: Vec3,
+    /// Whether it blocks shadow rays.
+    pub casts_shadows: bool,
+    /// Whether outlines are drawn on it.
+    pub outlined: bool,
+}
+
+/// One drawable object: a mesh placed in the world. Its `id` is unique per entity.
+#[derive(Debug, Clone)]
+pub struct ObjectInput {
+    /// Object-space mesh.
+    pub mesh: Arc<TriMesh>,
+    /// Object → world.
+    pub transform: Mat4,
+    /// Surface.
+    pub material: MaterialInput,
+    /// Entity id, unique, non-zero (0 means sky).
+    pub id: u32,
+}
+
+/// A directional light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SunInput {
+    /// Direction the light travels (normalised by the renderer).
+    pub direction: Vec3,
+    /// Linear RGB colour × intensity.
+    pub colour: Vec3,
+}
+
+/// A point light.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct PointLightInput {
+    /// World position.
+    pub position: Vec3,
+    /// Linear RGB colour × intensity.
+    pub colour: Vec3,
+    /// Distance at which it fades to zero.
+    pub radius: f32,
+}
+
+/// Everything static about the scene; upload again when it changes.
+#[derive(Debug, Clone, Default)]
+pub struct SceneInput {
+    /// Drawable objects.
+    pub objects: Vec<ObjectInput>,
+    /// Directional lights.
+    pub suns: Vec<SunInput>,
+    /// Point lights.
+    pub points: Vec<PointLightInput>,
+}
+
+/// A perspective camera.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Camera {
+    /// Eye position.
+    pub position: Vec3,
+    /// Unit view direction.
+    pub forward: Vec3,
+    /// Vertical field of view, radians.
+    pub fov_y: f32,
+    /// Near plane distance.
+    pub near: f32,
+    /// Far plane distance.
+    pub far: f32,
+}
+
+impl Camera {
+    /// A camera at `position` looking along `forward` with a 60° vertical field of view.
+    pub fn looking(position: Vec3, forward: Vec3) -> Self {
+        Camera {
+            position,
+            forward: forward.normalize(),
+            fov_y: 60f32.to_radians(),
+            near: 0.05,
+            far: 400.0,
+        }
+    }
+
+    /// A camera from yaw and pitch in degrees (yaw 0 looks along −Z, positive yaw turns
+    /// toward −X; positive pitch looks up), as the level's player start stores them.
+    pub fn from_yaw_pitch(position: Vec3, yaw_deg: f32, pitch_deg: f32) -> Self {
+        let (y, p) = (yaw_deg.to_radians(), pitch_deg.to_radians());
+        let forward = Vec3::new(-y.sin() * p.cos(), p.sin(), -y.cos() * p.cos());
+        Self::looking(position, forward)
+    }
+
+    /// World → view matrix (right-handed, Y up).
+    pub fn view(&self) -> Mat4 {
+        let up = if self.forward.y.abs() > 0.999 {
+            Vec3::Z
+        } else {
+            Vec3::Y
+        };
+        glam::camera::rh::view::look_to_mat4(self.position, self.forward, up)
+    }
+
+    /// View → clip matrix (depth 0..1).
+    pub fn projection(&self, aspect: f32) -> Mat4 {
+        // wgpu's NDC: depth 0..1, Y up (the DirectX convention).
+        glam::camera::rh::proj::directx::perspective(self.fov_y, aspect, self.near, self.far)
+    }
+}
+
+/// How the probe texels are scheduled and drawn.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Schedule {
+    /// Ours: cached shading, per-texel culling, eye texels the grid probe covers skipped.
+    #[default]
+    Ours,
+    /// The paper's reference schedule: every texel of every drawn face splatted.
+    Paper,
+}
+
+/// A probe as drawn this frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ProbeView {
+    /// The part it plays.
+    pub role: Role,
+    /// Where its data lives.
+    pub slot: Slot,
+    /// Its origin.
+    pub origin: Vec3,
+    /// Texels per face edge.
+    pub face_resolution: u32,
+    /// Faces to splat.
+    pub draw: FaceMask,
+}
+
+/// One face to capture and shade before drawing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CaptureInput {
+    /// Destination slot.
+    pub slot: Slot,
+    /// The face.
+    pub face: Face,
+    /// Probe origin to capture from.
+    pub origin: Vec3,
+    /// Texels per face edge.
+    pub face_resolution: u32,
+}
+
+/// The look of the level.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Look {
+    /// Linear RGB sky colour.
+    pub sky: Vec3,
+    /// Linear RGB ambient light.
+    pub ambient: Vec3,
+    /// OKLab lightness bands.
+    pub bands: u32,
+    /// Haze density per world unit (0 = none).
+    pub haze: f32,
+}
+
+/// What to draw this frame.
+#[derive(Debug, Clone, PartialEq)]
+pub struct FrameInput {
+    /// The camera.
+    pub camera: Camera,
+    /// Output size in pixels.
+    pub size: UVec2,
+    /// Level look.
+    pub look: Look,
+    /// The eye probe.
+    pub eye: ProbeView,
+    /// The grid probe.
+    pub grid: ProbeView,
+    /// The previous probe, during a crossfade.
+    pub previous: Option<ProbeView>,
+    /// Crossfade progress: 0 = previous draws everything, 1 = grid does.
+    pub fade_t: f32,
+    /// Faces to capture and shade first.
+    pub captures: Vec<CaptureInput>,
+    /// Scheduling and culling method.
+    pub schedule: Schedule,
+}

@@ -1,0 +1,190 @@
+//! Capture: rasterizes the scene into the cube faces the plan asks for (`shaders/capture.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+use texel_probes::cube::face_view_projection;
+
+use super::{UNIFORM_STRIDE, entry, storage, uniform};
+use crate::gpu_scene::GpuScene;
+use crate::input::CaptureInput;
+use crate::probe_store::{ALBEDO_FORMAT, DEPTH_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore};
+use crate::shader;
+
+/// Near and far planes of a capture, world units. Beyond `CAPTURE_FAR` is sky.
+pub const CAPTURE_NEAR: f32 = 0.02;
+/// See [`CAPTURE_NEAR`].
+pub const CAPTURE_FAR: f32 = 500.0;
+/// Most faces captured in one frame (three probes × six faces).
+pub const MAX_CAPTURES: usize = 18;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct FaceParams {
+    view_proj: [[f32; 4]; 4],
+    origin: [f32; 4],
+}
+
+/// The capture pass.
+pub struct CapturePass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    faces: wgpu::Buffer,
+}
+
+impl CapturePass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "capture.wgsl")?;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("capture::layout"),
+            entries: &[entry(0, vf, uniform(true)), entry(1, vf, storage(true))],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("capture::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let target = |format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        };
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("capture::pipeline"),
+            layout: Some(&pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[Some(GpuScene::vertex_layout())],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &[target(GEO_FORMAT), target(ID_FORMAT), target(ALBEDO_FORMAT)],
+            }),
+            // Both sides: the face projection flips Y (and so the winding), and planes are
+            // one-sided surfaces that must still occlude from below.
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: Some(wgpu::DepthStencilState {
+                format: DEPTH_FORMAT,
+                depth_write_enabled: Some(true),
+                depth_compare: Some(wgpu::CompareFunction::Less),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        let faces = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("capture::faces"),
+            size: UNIFORM_STRIDE * MAX_CAPTURES as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(CapturePass {
+            pipeline,
+            layout,
+            faces,
+        })
+    }
+
+    /// Records one render pass per capture (at most [`MAX_CAPTURES`]).
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        captures: &[CaptureInput],
+        store: &ProbeStore,
+        scene: &GpuScene,
+    ) {
+        let captures = &captures[..captures.len().min(MAX_CAPTURES)];
+        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
+        for (i, c) in captures.iter().enumerate() {
+            let p = FaceParams {
+                view_proj: face_view_projection(c.origin, c.face, CAPTURE_NEAR, CAPTURE_FAR)
+                    .to_cols_array_2d(),
+                origin: c.origin.extend(1.0).to_array(),
+            };
+            let at = i * UNIFORM_STRIDE as usize;
+            bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
+        }
+        if bytes.is_empty() {
+            return;
+        }
+        queue.write_buffer(&self.faces, 0, &bytes);
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("capture::bind"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.faces,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(size_of::<FaceParams>() as u64),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: scene.objects.as_entire_binding(),
+                },
+            ],
+        });
+        for (i, c) in captures.iter().enumerate() {
+            let slot = store.slot(c.slot);
+            let f = c.face.index();
+            fn colour(
+                view: &wgpu::TextureView,
+                clear: wgpu::Color,
+            ) -> Option<wgpu::RenderPassColorAttachment<'_>> {
+                Some(wgpu::RenderPassColorAttachment {
+                    view,
+                    depth_slice: None,
+                    resolve_target: None,
+                    ops: wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(clear),
+                        store: wgpu::StoreOp::Store,
+                    },
+                })
+            }
+            let sky = wgpu::Color {
+                r: 0.0,
+                g: 0.0,
+                b: 0.0,
+                a: 1.0e9,
+            };
+            let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+                label: Some("capture::face"),
+                color_attachments: &[
+                    colour(&slot.geo.layer_views[f], sky),
+                    colour(&slot.ids.layer_views[f], wgpu::Color::TRANSPARENT),
+                    colour(&slot.albedo.layer_views[f], wgpu::Color::TRANSPARENT),
+                ],
+                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                    view: &slot.depth.layer_views[f],
+                    depth_ops: Some(wgpu::Operations {
+                        load: wgpu::LoadOp::Clear(1.0),
+                        store: wgpu::StoreOp::Discard,
+                    }),
+                    stencil_ops: None,
+                }),
+                timestamp_writes: None,
+                occlusion_query_set: None,
+                multiview_mask: None,
+            });
+            if scene.vertex_count == 0 {
+                continue;
+            }
+            pass.set_pipeline(&self.pipeline);
+            pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
+            pass.set_vertex_buffer(0, scene.vertices.slice(..));
+            pass.draw(0..scene.vertex_count, 0..1);
+        }
+    }
+}

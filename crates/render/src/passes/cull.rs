@@ -1,0 +1,201 @@
+//! Cull: compacts the texels worth drawing into a splat list with indirect draw arguments
+//! (`shaders/cull.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{ARRAY, FLOAT, UINT, entry, storage, texture, uniform};
+use crate::probe_store::ProbeStore;
+use crate::shader;
+use texel_probes::probe_set::Slot;
+
+/// Bytes per splat record (four corners with packed extras).
+pub const SPLAT_BYTES: u64 = 64;
+/// Most splats one frame may hold (128 MiB of records, the binding limit lavapipe has).
+pub const MAX_SPLATS: u64 = (128 << 20) / SPLAT_BYTES;
+
+/// `wgpu`'s indexed indirect arguments.
+#[repr(C)]
+#[derive(Clone, Copy, Debug, Pod, Zeroable)]
+pub struct DrawArgs {
+    /// Indices per instance (6: two triangles over 4 corners).
+    pub index_count: u32,
+    /// Splats written by the cull pass.
+    pub instance_count: u32,
+    /// 0.
+    pub first_index: u32,
+    /// 0.
+    pub base_vertex: i32,
+    /// 0.
+    pub first_instance: u32,
+}
+
+/// The cull pass and the splat list it fills.
+pub struct CullPass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    textures_layout: wgpu::BindGroupLayout,
+    /// The splat records.
+    pub splats: wgpu::Buffer,
+    /// Indirect draw arguments (`DrawArgs`).
+    pub args: wgpu::Buffer,
+    capacity: u64,
+}
+
+impl CullPass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "cull.wgsl")?;
+        let c = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("cull::layout"),
+            entries: &[
+                entry(0, c, uniform(false)),
+                entry(1, c, storage(false)),
+                entry(2, c, storage(false)),
+            ],
+        });
+        let textures_layout = probe_textures_layout(device, c);
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("cull::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout), Some(&textures_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("cull::pipeline"),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let args = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull::args"),
+            size: size_of::<DrawArgs>() as u64,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::INDIRECT
+                | wgpu::BufferUsages::COPY_DST
+                | wgpu::BufferUsages::COPY_SRC,
+            mapped_at_creation: false,
+        });
+        Ok(CullPass {
+            pipeline,
+            layout,
+            textures_layout,
+            splats: splat_buffer(device, 1024),
+            args,
+            capacity: 1024,
+        })
+    }
+
+    /// Grows the splat list to hold every texel of three slots of `max_n` (up to
+    /// [`MAX_SPLATS`]).
+    pub fn ensure_capacity(&mut self, device: &wgpu::Device, max_n: u32) {
+        let want = (18 * u64::from(max_n) * u64::from(max_n)).min(MAX_SPLATS);
+        if want > self.capacity {
+            self.splats = splat_buffer(device, want);
+            self.capacity = want;
+        }
+    }
+
+    /// Records the cull dispatch over all slots and faces.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        view: &wgpu::Buffer,
+        store: &ProbeStore,
+        max_n: u32,
+    ) {
+        let reset = DrawArgs {
+            index_count: 6,
+            instance_count: 0,
+            first_index: 0,
+            base_vertex: 0,
+            first_instance: 0,
+        };
+        queue.write_buffer(&self.args, 0, bytemuck::bytes_of(&reset));
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("cull::bind"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: view.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.splats.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: self.args.as_entire_binding(),
+                },
+            ],
+        });
+        let textures = probe_textures_bind_group(device, &self.textures_layout, store);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("cull::pass"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.set_bind_group(1, &textures, &[]);
+        let groups = max_n.div_ceil(8);
+        pass.dispatch_workgroups(groups, groups, 18);
+    }
+}
+
+fn splat_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("cull::splats"),
+        size: count * SPLAT_BYTES,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+        mapped_at_creation: false,
+    })
+}
+
+/// Geo, ids and lit of the three slots, bindings 0–8 (`cull.wgsl` group 1).
+pub fn probe_textures_layout(
+    device: &wgpu::Device,
+    stages: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayout {
+    let mut entries = Vec::new();
+    for (kind, sample) in [(0, FLOAT), (1, UINT), (2, FLOAT)] {
+        for s in 0..3 {
+            entries.push(entry(kind * 3 + s, stages, texture(sample, ARRAY)));
+        }
+    }
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some("cull::probe_textures"),
+        entries: &entries,
+    })
+}
+
+/// The bind group of [`probe_textures_layout`].
+pub fn probe_textures_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    store: &ProbeStore,
+) -> wgpu::BindGroup {
+    let mut entries = Vec::new();
+    for kind in 0..3u32 {
+        for slot in Slot::ALL {
+            let t = store.slot(slot);
+            let view = match kind {
+                0 => &t.geo.array_view,
+                1 => &t.ids.array_view,
+                _ => &t.lit.array_view,
+            };
+            entries.push(wgpu::BindGroupEntry {
+                binding: kind * 3 + slot.index() as u32,
+                resource: wgpu::BindingResource::TextureView(view),
+            });
+        }
+    }
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some("cull::probe_textures"),
+        layout,
+        entries: &entries,
+    })
+}

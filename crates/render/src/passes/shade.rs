@@ -1,0 +1,233 @@
+//! Shade: lights the captured faces, once per texel (`shaders/shade.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::{ARRAY, FLOAT, UINT, UNIFORM_STRIDE, entry, storage, texture, uniform};
+use crate::gpu_scene::{GpuScene, MAX_SUNS};
+use crate::input::{CaptureInput, Look};
+use crate::passes::capture::MAX_CAPTURES;
+use crate::probe_store::{LIT_FORMAT, ProbeStore};
+use crate::shader;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ShadeFace {
+    origin: [f32; 3],
+    face: u32,
+    n: u32,
+    _pad: [u32; 3],
+}
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Sun {
+    to_light: [f32; 4],
+    colour: [f32; 4],
+}
+
+/// `ShadeGlobals` in `shaders/shade.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct ShadeGlobals {
+    suns: [Sun; MAX_SUNS],
+    ambient: [f32; 4],
+    sky: [f32; 4],
+    sun_count: u32,
+    point_count: u32,
+    bands: u32,
+    shadows: u32,
+}
+
+/// The shade pass.
+pub struct ShadePass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    bvh_layout: wgpu::BindGroupLayout,
+    faces: wgpu::Buffer,
+    globals: wgpu::Buffer,
+}
+
+impl ShadePass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "shade.wgsl")?;
+        let c = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shade::layout"),
+            entries: &[
+                entry(0, c, uniform(true)),
+                entry(1, c, uniform(false)),
+                entry(2, c, texture(FLOAT, ARRAY)),
+                entry(3, c, texture(UINT, ARRAY)),
+                entry(4, c, texture(FLOAT, ARRAY)),
+                entry(
+                    5,
+                    c,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: LIT_FORMAT,
+                        view_dimension: ARRAY,
+                    },
+                ),
+                entry(6, c, storage(true)),
+                entry(7, c, storage(true)),
+            ],
+        });
+        let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shade::bvh_layout"),
+            entries: &[entry(0, c, storage(true)), entry(1, c, storage(true))],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("shade::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout), Some(&bvh_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("shade::pipeline"),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let buffer = |label, size| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            })
+        };
+        Ok(ShadePass {
+            pipeline,
+            layout,
+            bvh_layout,
+            faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_CAPTURES as u64),
+            globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
+        })
+    }
+
+    /// Records the lighting of every captured face; returns the texels shaded.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        captures: &[CaptureInput],
+        store: &ProbeStore,
+        scene: &GpuScene,
+        look: &Look,
+    ) -> u64 {
+        let captures = &captures[..captures.len().min(MAX_CAPTURES)];
+        if captures.is_empty() {
+            return 0;
+        }
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals(scene, look)));
+        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
+        for (i, c) in captures.iter().enumerate() {
+            let f = ShadeFace {
+                origin: c.origin.to_array(),
+                face: c.face.index() as u32,
+                n: store.slot(c.slot).n,
+                _pad: [0; 3],
+            };
+            let at = i * UNIFORM_STRIDE as usize;
+            bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
+        }
+        queue.write_buffer(&self.faces, 0, &bytes);
+        let bvh = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shade::bvh"),
+            layout: &self.bvh_layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: scene.bvh_nodes.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: scene.bvh_triangles.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("shade::pass"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(1, &bvh, &[]);
+        let mut texels = 0u64;
+        for (i, c) in captures.iter().enumerate() {
+            let slot = store.slot(c.slot);
+            let bind = self.slot_bind_group(device, store, c, scene);
+            pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
+            let groups = slot.n.div_ceil(8);
+            pass.dispatch_workgroups(groups, groups, 1);
+            texels += u64::from(slot.n) * u64::from(slot.n);
+        }
+        texels
+    }
+
+    fn slot_bind_group(
+        &self,
+        device: &wgpu::Device,
+        store: &ProbeStore,
+        c: &CaptureInput,
+        scene: &GpuScene,
+    ) -> wgpu::BindGroup {
+        let slot = store.slot(c.slot);
+        let tex = |b, v| wgpu::BindGroupEntry {
+            binding: b,
+            resource: wgpu::BindingResource::TextureView(v),
+        };
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shade::slot"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                        buffer: &self.faces,
+                        offset: 0,
+                        size: wgpu::BufferSize::new(size_of::<ShadeFace>() as u64),
+                    }),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.globals.as_entire_binding(),
+                },
+                tex(2, &slot.geo.array_view),
+                tex(3, &slot.ids.array_view),
+                tex(4, &slot.albedo.array_view),
+                tex(5, &slot.lit.array_view),
+                wgpu::BindGroupEntry {
+                    binding: 6,
+                    resource: scene.objects.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 7,
+                    resource: scene.points.as_entire_binding(),
+                },
+            ],
+        })
+    }
+}
+
+fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
+    let mut suns = [Sun::zeroed(); MAX_SUNS];
+    for (s, (to_light, colour)) in suns.iter_mut().zip(&scene.suns) {
+        s.to_light = to_light.extend(0.0).to_array();
+        s.colour = colour.extend(0.0).to_array();
+    }
+    let v4 = |v: Vec3| v.extend(1.0).to_array();
+    ShadeGlobals {
+        suns,
+        ambient: v4(look.ambient),
+        sky: v4(look.sky),
+        sun_count: scene.suns.len() as u32,
+        point_count: scene.point_count,
+        bands: look.bands.max(2),
+        shadows: 1,
+    }
+}

@@ -1,0 +1,104 @@
+//! Visible: counts the distinct probe texels the final frame shows (`shaders/visible.wgsl`).
+
+use super::{UINT, entry, storage, texture};
+use crate::shader;
+
+/// The visible-texel counting pass and its bitset.
+pub struct VisiblePass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    /// One bit per texel key.
+    pub bits: wgpu::Buffer,
+    words: u64,
+}
+
+impl VisiblePass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "visible.wgsl")?;
+        let c = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("visible::layout"),
+            entries: &[
+                entry(0, c, texture(UINT, wgpu::TextureViewDimension::D2)),
+                entry(1, c, storage(false)),
+            ],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("visible::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("visible::pipeline"),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        Ok(VisiblePass {
+            pipeline,
+            layout,
+            bits: bits_buffer(device, 1),
+            words: 1,
+        })
+    }
+
+    /// Bytes of the bitset.
+    pub fn bytes(&self) -> u64 {
+        self.words * 4
+    }
+
+    /// Sizes the bitset for texel keys over faces of `max_n`.
+    pub fn ensure_capacity(&mut self, device: &wgpu::Device, max_n: u32) {
+        let words = (18 * u64::from(max_n) * u64::from(max_n)).div_ceil(32);
+        if words != self.words {
+            self.bits = bits_buffer(device, words);
+            self.words = words;
+        }
+    }
+
+    /// Clears the bitset and marks the keys of `keys`.
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        keys: &wgpu::TextureView,
+        size: (u32, u32),
+    ) {
+        encoder.clear_buffer(&self.bits, 0, None);
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("visible::bind"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(keys),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.bits.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("visible::pass"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
+    }
+}
+
+fn bits_buffer(device: &wgpu::Device, words: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("visible::bits"),
+        size: words * 4,
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}

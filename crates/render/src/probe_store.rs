@@ -1,0 +1,152 @@
+//! Where probes live on the GPU: one set of six-layer texture arrays per slot (eye, and the
+//! two stable slots that take turns as grid and previous), each at its own face resolution.
+//!
+//! | texture | format | contents |
+//! |---|---|---|
+//! | `geo` | `rgba32float` | world normal (xyz), Chebyshev depth from the origin (w; `SKY_DEPTH` = sky) |
+//! | `ids` | `r32uint` | entity id (0 = sky) |
+//! | `albedo` | `rgba8unorm` | albedo × vertex colour (rgb), object flags (a) |
+//! | `depth` | `depth32float` | capture depth test |
+//! | `lit` | `rgba16float` | shaded, posterized, outlined colour (rgb); similar-neighbour bits (a) |
+
+use texel_probes::probe_set::Slot;
+
+use crate::context::GpuContext;
+
+/// Formats of the slot textures.
+pub const GEO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
+/// Entity ids.
+pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+/// Albedo.
+pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Capture depth.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Lit colour.
+pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+
+/// One texture array and a view per layer.
+pub struct LayeredTexture {
+    /// The six-layer texture.
+    pub texture: wgpu::Texture,
+    /// All six layers, for shaders.
+    pub array_view: wgpu::TextureView,
+    /// One view per layer (face), for render attachments.
+    pub layer_views: Vec<wgpu::TextureView>,
+}
+
+impl LayeredTexture {
+    fn new(
+        ctx: &GpuContext,
+        label: &str,
+        n: u32,
+        format: wgpu::TextureFormat,
+        usage: wgpu::TextureUsages,
+    ) -> Self {
+        let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some(label),
+            size: wgpu::Extent3d {
+                width: n,
+                height: n,
+                depth_or_array_layers: 6,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format,
+            usage,
+            view_formats: &[],
+        });
+        let array_view = texture.create_view(&wgpu::TextureViewDescriptor {
+            label: Some(label),
+            dimension: Some(wgpu::TextureViewDimension::D2Array),
+            ..Default::default()
+        });
+        let layer_views = (0..6)
+            .map(|layer| {
+                texture.create_view(&wgpu::TextureViewDescriptor {
+                    label: Some(label),
+                    dimension: Some(wgpu::TextureViewDimension::D2),
+                    base_array_layer: layer,
+                    array_layer_count: Some(1),
+                    ..Default::default()
+                })
+            })
+            .collect();
+        LayeredTexture {
+            texture,
+            array_view,
+            layer_views,
+        }
+    }
+}
+
+/// The textures of one slot.
+pub struct SlotTextures {
+    /// Texels per face edge.
+    pub n: u32,
+    /// Normal and depth.
+    pub geo: LayeredTexture,
+    /// Entity ids.
+    pub ids: LayeredTexture,
+    /// Albedo and flags.
+    pub albedo: LayeredTexture,
+    /// Capture depth buffer.
+    pub depth: LayeredTexture,
+    /// Lit colour.
+    pub lit: LayeredTexture,
+}
+
+impl SlotTextures {
+    /// Allocates a slot of `n × n` faces.
+    pub fn new(ctx: &GpuContext, slot: Slot, n: u32) -> Self {
+        use wgpu::TextureUsages as U;
+        let gbuf = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        let name = |what: &str| format!("probes::{slot:?}::{what}");
+        SlotTextures {
+            n,
+            geo: LayeredTexture::new(ctx, &name("geo"), n, GEO_FORMAT, gbuf),
+            ids: LayeredTexture::new(ctx, &name("ids"), n, ID_FORMAT, gbuf),
+            albedo: LayeredTexture::new(ctx, &name("albedo"), n, ALBEDO_FORMAT, gbuf),
+            depth: LayeredTexture::new(ctx, &name("depth"), n, DEPTH_FORMAT, U::RENDER_ATTACHMENT),
+            lit: LayeredTexture::new(
+                ctx,
+                &name("lit"),
+                n,
+                LIT_FORMAT,
+                U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+            ),
+        }
+    }
+}
+
+/// The three slots. A slot is reallocated when asked for another face resolution.
+pub struct ProbeStore {
+    slots: [SlotTextures; 3],
+    /// Bumped whenever any slot is reallocated (bind groups must be rebuilt).
+    pub generation: u64,
+}
+
+impl ProbeStore {
+    /// Three slots of `n × n` faces.
+    pub fn new(ctx: &GpuContext, n: u32) -> Self {
+        ProbeStore {
+            slots: Slot::ALL.map(|s| SlotTextures::new(ctx, s, n)),
+            generation: 0,
+        }
+    }
+
+    /// The textures of `slot`.
+    pub fn slot(&self, slot: Slot) -> &SlotTextures {
+        &self.slots[slot.index()]
+    }
+
+    /// Makes sure `slot` holds faces of `n` texels; returns whether it was reallocated.
+    pub fn ensure(&mut self, ctx: &GpuContext, slot: Slot, n: u32) -> bool {
+        if self.slots[slot.index()].n == n {
+            return false;
+        }
+        self.slots[slot.index()] = SlotTextures::new(ctx, slot, n);
+        self.generation += 1;
+        true
+    }
+}

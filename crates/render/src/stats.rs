@@ -1,0 +1,49 @@
+//! What a frame cost and how much work it did.
+
+use serde::Serialize;
+
+/// Deterministic work counts of one frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize)]
+pub struct Counters {
+    /// Cube faces rasterized (capture pass).
+    pub faces_captured: u32,
+    /// Texels lit by the shade pass.
+    pub texels_shaded: u64,
+    /// Quads drawn by the splat pass.
+    pub quads_splatted: u64,
+    /// Distinct probe texels that colour at least one pixel of the final frame.
+    pub screen_visible_texels: u64,
+}
+
+/// Time of one pass, in milliseconds.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PassTime {
+    /// Pass name (`capture`, `shade`, `cull`, `splat`, …).
+    pub pass: &'static str,
+    /// Milliseconds.
+    pub ms: f64,
+}
+
+/// Cost and work of one frame.
+#[derive(Debug, Clone, Default, PartialEq, Serialize)]
+pub struct FrameStats {
+    /// Per-pass times, in pass order.
+    pub passes: Vec<PassTime>,
+    /// Whether `passes` are GPU timestamps (true) or CPU wall times around each pass.
+    pub gpu_timestamps: bool,
+    /// Wall time of the whole frame on the CPU, including waiting for the GPU, ms.
+    pub frame_ms: f64,
+    /// Work counts.
+    pub counters: Counters,
+}
+
+impl FrameStats {
+    /// Milliseconds of `pass`, or 0.
+    pub fn pass_ms(&self, pass: &str) -> f64 {
+        self.passes
+            .iter()
+            .filter(|p| p.pass == pass)
+            .map(|p| p.ms)
+            .sum()
+    }
+}

@@ -1,0 +1,292 @@
+//! The frame driver: turns a loaded level and a camera into what the renderer consumes.
+//!
+//! Once, at load: the hecs world becomes a [`SceneInput`] (one object per entity with
+//! geometry, its id the entity's position in the level + 1) and the level's probe-grid
+//! settings. Per frame: the camera is snapped to the grid ([`resolve_grid`]), the probe set
+//! advances its crossfade ([`ProbeSet`]), the scheduler picks which faces to capture
+//! ([`Scheduler`]), and all of it becomes a [`FrameInput`].
+//!
+//! Two schedules share the probe logic. **Ours** captures what the scheduler plans: the eye
+//! probe's visible faces every frame, a stable probe's faces only when they are missing (new
+//! origin, newly visible), within a budget so a cell crossing is spread over frames. The
+//! **paper** schedule, for comparison, re-captures and re-lights the grid probe's visible faces
+//! every frame, all three probes on the crossing frame, and grid and previous on alternate
+//! frames during a fade, as the reference does.
+
+use std::sync::Arc;
+
+use glam::{UVec2, Vec3};
+use texel_probes::cube::{Face, FaceMask};
+use texel_probes::grid::{GridDefaults, GridError, GridOverride, resolve_grid};
+use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
+use texel_probes::schedule::{ProbePlan, Scheduler, UpdatePlan};
+use texel_probes::visibility::{CameraView, frustum};
+use texel_render::input::{
+    Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
+    SceneInput, Schedule, SunInput,
+};
+use texel_scene::primitives::primitive_mesh;
+use texel_scene::{
+    DirectionalLight, Geometry, Material, PlayerStart, PointLight, Scene, Transform,
+};
+
+use crate::extract::{Viewport, grid_settings};
+use crate::load::LoadedLevel;
+
+/// Faces captured per frame at most in our schedule (eye faces count against it).
+pub const FACE_BUDGET: u32 = 8;
+/// Far distance of face visibility and captures.
+pub const CAPTURE_FAR: f32 = texel_render::passes::capture::CAPTURE_FAR;
+
+/// Why a frame could not be planned.
+#[derive(Debug, thiserror::Error)]
+pub enum DriverError {
+    /// The camera or the level's grid settings are unusable.
+    #[error("probe grid: {0}")]
+    Grid(#[from] GridError),
+    /// The camera does not describe a view.
+    #[error("camera: {0}")]
+    View(String),
+}
+
+/// Per-level, per-frame probe logic.
+pub struct FrameDriver {
+    scene: SceneInput,
+    look: Look,
+    defaults: GridDefaults,
+    overrides: Vec<GridOverride>,
+    probes: Option<ProbeSet>,
+    scheduler: Scheduler,
+    size: UVec2,
+    start: Camera,
+    frame_index: u64,
+    fade_frame: u64,
+}
+
+impl FrameDriver {
+    /// A driver for `level` on an output of `size` pixels with a vertical field of view of
+    /// `fov_y` radians.
+    pub fn new(level: &LoadedLevel, size: UVec2, fov_y: f32) -> Result<Self, DriverError> {
+        let viewport = Viewport {
+            height: size.y,
+            fov_y,
+        };
+        let (defaults, overrides) = grid_settings(&level.scene, viewport);
+        let s = &level.scene.settings;
+        let mut start = start_camera(&level.scene);
+        start.fov_y = fov_y;
+        Ok(FrameDriver {
+            scene: scene_input(level),
+            look: Look {
+                sky: s.sky,
+                ambient: s.ambient,
+                bands: s.bands,
+                haze: 0.0,
+            },
+            defaults,
+            overrides,
+            probes: None,
+            scheduler: Scheduler::new(FACE_BUDGET, CAPTURE_FAR)
+                .map_err(|e| DriverError::View(e.to_string()))?,
+            size,
+            start,
+            frame_index: 0,
+            fade_frame: 0,
+        })
+    }
+
+    /// The scene to upload to the renderer.
+    pub fn scene_input(&self) -> &SceneInput {
+        &self.scene
+    }
+
+    /// The camera at the level's player start (or looking at the origin from +Z).
+    pub fn start_camera(&self) -> Camera {
+        self.start
+    }
+
+    /// Output size.
+    pub fn size(&self) -> UVec2 {
+        self.size
+    }
+
+    /// Plans one frame for `camera`, `dt` seconds after the last.
+    pub fn frame(
+        &mut self,
+        camera: Camera,
+        dt: f32,
+        schedule: Schedule,
+    ) -> Result<FrameInput, DriverError> {
+        let choice = resolve_grid(camera.position, &self.defaults, &self.overrides)?;
+        let event = match &mut self.probes {
+            Some(p) => p.begin_frame(camera.position, choice.key, dt),
+            None => {
+                let set = ProbeSet::new(camera.position, choice.key, FadeConfig::default())
+                    .map_err(|e| DriverError::View(e.to_string()))?;
+                self.probes = Some(set);
+                TransitionEvent::CrossingStarted
+            }
+        };
+        let probes = self
+            .probes
+            .as_ref()
+            .ok_or_else(|| DriverError::View("no probes".into()))?;
+        let view = CameraView {
+            position: camera.position,
+            forward: camera.forward,
+            up: if camera.forward.y.abs() > 0.999 {
+                Vec3::Z
+            } else {
+                Vec3::Y
+            },
+            fov_y: camera.fov_y,
+            aspect: self.size.x as f32 / self.size.y.max(1) as f32,
+            near: camera.near,
+            far: camera.far.min(CAPTURE_FAR),
+        };
+        let frustum = frustum(&view).map_err(|e| DriverError::View(e.to_string()))?;
+        let plan = self.scheduler.plan(&frustum, probes, 0);
+        if event == TransitionEvent::CrossingStarted {
+            self.fade_frame = 0;
+        }
+        let captures = match schedule {
+            Schedule::Ours => plan.work.iter().map(capture_of).collect(),
+            Schedule::Paper => self.paper_captures(&plan, event),
+        };
+        let input = FrameInput {
+            camera,
+            size: self.size,
+            look: self.look,
+            eye: probe_view(&plan.eye),
+            grid: probe_view(&plan.grid),
+            previous: plan.previous.as_ref().map(probe_view),
+            fade_t: probes.fade_t(),
+            captures,
+            schedule,
+        };
+        self.scheduler.commit(&plan);
+        if let Some(p) = &mut self.probes {
+            p.advance_fade(plan.readiness());
+        }
+        self.frame_index += 1;
+        self.fade_frame += 1;
+        Ok(input)
+    }
+
+    /// The reference's schedule: eye and grid every frame; previous as well on the crossing
+    /// frame; grid and previous alternating while a fade runs.
+    fn paper_captures(&self, plan: &UpdatePlan, event: TransitionEvent) -> Vec<CaptureInput> {
+        let mut out: Vec<CaptureInput> = Vec::new();
+        let mut add = |p: &ProbePlan, mask: FaceMask| {
+            for face in Face::ALL {
+                if mask.contains(face) {
+                    out.push(CaptureInput {
+                        slot: p.probe.slot,
+                        face,
+                        origin: p.probe.origin,
+                        face_resolution: p.probe.face_resolution,
+                    });
+                }
+            }
+        };
+        add(&plan.eye, plan.eye.visible);
+        let crossing = event == TransitionEvent::CrossingStarted;
+        let odd = self.fade_frame % 2 == 1;
+        match &plan.previous {
+            Some(prev) if crossing => {
+                add(&plan.grid, plan.grid.visible);
+                add(prev, prev.visible);
+            }
+            Some(prev) if odd => add(prev, prev.visible),
+            _ => add(&plan.grid, plan.grid.visible),
+        }
+        // Faces our scheduler needs (newly visible ones) must be there too.
+        for w in &plan.work {
+            let c = capture_of(w);
+            if !out.contains(&c) {
+                out.push(c);
+            }
+        }
+        out
+    }
+}
+
+fn capture_of(w: &texel_probes::schedule::FaceWork) -> CaptureInput {
+    CaptureInput {
+        slot: w.slot,
+        face: w.face,
+        origin: w.origin,
+        face_resolution: w.face_resolution,
+    }
+}
+
+fn probe_view(p: &ProbePlan) -> ProbeView {
+    ProbeView {
+        role: p.probe.role,
+        slot: p.probe.slot,
+        origin: p.probe.origin,
+        face_resolution: p.probe.face_resolution,
+        draw: if p.probe.role == Role::Eye {
+            p.visible
+        } else {
+            p.draw
+        },
+    }
+}
+
+/// The camera at the player start, or at (0, 1.6, 10) looking at the origin.
+pub fn start_camera(scene: &Scene) -> Camera {
+    let w = scene.world();
+    for e in scene.entities() {
+        if let Ok(start) = w.get::<&PlayerStart>(e) {
+            let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
+            let eye = t.translation + Vec3::Y * start.eye_height;
+            return Camera::from_yaw_pitch(eye, start.yaw, start.pitch);
+        }
+    }
+    Camera::looking(Vec3::new(0.0, 1.6, 10.0), -Vec3::Z)
+}
+
+/// The renderer's view of the scene: one object per entity with geometry, lights.
+pub fn scene_input(level: &LoadedLevel) -> SceneInput {
+    let scene = &level.scene;
+    let w = scene.world();
+    let mut out = SceneInput::default();
+    for (index, e) in scene.entities().enumerate() {
+        let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
+        if let Ok(g) = w.get::<&Geometry>(e) {
+            let mesh = match &*g {
+                Geometry::Mesh { path } => level.meshes.get(path).cloned(),
+                other => primitive_mesh(other).map(Arc::new),
+            };
+            let m = w.get::<&Material>(e).map(|m| *m).unwrap_or_default();
+            if let Some(mesh) = mesh {
+                out.objects.push(ObjectInput {
+                    mesh,
+                    transform: t.matrix(),
+                    material: MaterialInput {
+                        albedo: m.albedo,
+                        emissive: m.emissive,
+                        casts_shadows: m.casts_shadows,
+                        outlined: m.outlined,
+                    },
+                    id: index as u32 + 1,
+                });
+            }
+        }
+        if let Ok(sun) = w.get::<&DirectionalLight>(e) {
+            out.suns.push(SunInput {
+                direction: sun.direction,
+                colour: sun.colour * sun.intensity,
+            });
+        }
+        if let Ok(p) = w.get::<&PointLight>(e) {
+            out.points.push(PointLightInput {
+                position: t.translation,
+                colour: p.colour * p.intensity,
+                radius: p.radius,
+            });
+        }
+    }
+    out
+}

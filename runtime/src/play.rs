@@ -1,0 +1,853 @@
+//! The windowed "play" shell: a winit window, a wgpu surface, the first-person camera and an
+//! egui overlay with frame times and work counters, on top of whatever draws the frame.
+//!
+//! The frame itself comes from a [`FrameSource`]; [`frame_source`] is the one place that
+//! chooses it, so the renderer plugs in there. Controls: click to capture the mouse, WASD to
+//! move, Shift to run, Space/E and Ctrl/Q to rise and sink in fly mode, F to toggle flying,
+//! Tab to switch the schedule, F3 to hide the overlay, Esc to release the mouse and Esc
+//! again (or closing the window) to quit.
+
+use std::path::Path;
+use std::sync::Arc;
+use std::time::Instant;
+
+use anyhow::{Context as _, anyhow, bail};
+use glam::{UVec2, Vec2};
+use texel_render::context::{GpuContext, new_instance};
+use texel_render::frame::Renderer;
+use texel_render::input::{Camera, Schedule};
+use texel_render::stats::FrameStats;
+use winit::application::ApplicationHandler;
+use winit::dpi::PhysicalSize;
+use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseButton, WindowEvent};
+use winit::event_loop::{ActiveEventLoop, EventLoop};
+use winit::keyboard::{KeyCode, PhysicalKey};
+use winit::window::{CursorGrabMode, Window, WindowId};
+
+use crate::camera::{InputState, WalkCamera};
+use crate::driver::FrameDriver;
+use crate::load::{LoadedLevel, load_level};
+
+/// Vertical field of view of the play camera, degrees.
+pub const FOV_Y_DEG: f32 = 60.0;
+/// Seconds over which the overlay averages frames per second.
+pub const FPS_WINDOW: f32 = 0.5;
+/// The controls, as the overlay lists them.
+pub const KEY_HELP: [&str; 2] = [
+    "click: mouse look · WASD: move · Shift: run · Space/E, Ctrl/Q: up, down (fly)",
+    "F: walk/fly · Tab: schedule · F3: overlay · Esc: release mouse, again to quit",
+];
+
+/// How to run [`play`].
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct PlayOptions {
+    /// Requested inner size of the window in physical pixels (the window system may differ).
+    pub size: (u32, u32),
+    /// Quit by itself after presenting this many frames (for tests); `None` runs until the
+    /// window is closed.
+    pub exit_after_frames: Option<u32>,
+}
+
+impl Default for PlayOptions {
+    fn default() -> Self {
+        PlayOptions {
+            size: (1280, 720),
+            exit_after_frames: None,
+        }
+    }
+}
+
+/// Parses a window size written `WIDTHxHEIGHT` (e.g. `1280x720`); both sides 1..=16384.
+pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    let bad = || format!("invalid size `{text}`: expected WIDTHxHEIGHT, e.g. 1280x720");
+    let (w, h) = text.trim().split_once(['x', 'X']).ok_or_else(bad)?;
+    let side = |s: &str| {
+        s.trim()
+            .parse::<u32>()
+            .ok()
+            .filter(|v| (1..=16384).contains(v))
+    };
+    Ok((side(w).ok_or_else(bad)?, side(h).ok_or_else(bad)?))
+}
+
+/// What a [`FrameSource`] is asked to draw.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRequest {
+    /// The eye.
+    pub camera: Camera,
+    /// Seconds since the previous frame.
+    pub dt: f32,
+    /// Scheduling method chosen with Tab.
+    pub schedule: Schedule,
+    /// Target size in pixels; it changes when the window is resized.
+    pub size: UVec2,
+}
+
+/// Draws one frame of the level into the window's texture (covering all of it); the
+/// overlay is drawn on top afterwards. [`frame_source`] picks the one `play` uses.
+pub trait FrameSource {
+    /// Draws `request` into `target`, an sRGB view of `request.size` pixels, and submits
+    /// the work.
+    fn draw(
+        &mut self,
+        ctx: &GpuContext,
+        request: &FrameRequest,
+        target: &wgpu::TextureView,
+    ) -> anyhow::Result<FrameStats>;
+}
+
+/// What draws the level in the window: the one place the renderer plugs into the shell.
+/// `format` is the (sRGB) format of the views `draw` receives.
+pub fn frame_source(
+    ctx: &GpuContext,
+    level: Arc<LoadedLevel>,
+    format: wgpu::TextureFormat,
+    size: UVec2,
+) -> anyhow::Result<Box<dyn FrameSource>> {
+    let fov_y = FOV_Y_DEG.to_radians();
+    let driver = FrameDriver::new(&level, size, fov_y)?;
+    let mut renderer = Renderer::new(ctx, format)?;
+    renderer.set_scene(ctx, driver.scene_input());
+    Ok(Box::new(RendererSource {
+        renderer,
+        driver,
+        level,
+        size,
+        fov_y,
+    }))
+}
+
+/// The probe renderer, fed by a [`FrameDriver`].
+struct RendererSource {
+    renderer: Renderer,
+    driver: FrameDriver,
+    level: Arc<LoadedLevel>,
+    size: UVec2,
+    fov_y: f32,
+}
+
+impl FrameSource for RendererSource {
+    fn draw(
+        &mut self,
+        ctx: &GpuContext,
+        request: &FrameRequest,
+        target: &wgpu::TextureView,
+    ) -> anyhow::Result<FrameStats> {
+        if (request.size, request.camera.fov_y) != (self.size, self.fov_y) {
+            // The face resolution follows the viewport: plan afresh (probes re-capture).
+            self.driver = FrameDriver::new(&self.level, request.size, request.camera.fov_y)?;
+            (self.size, self.fov_y) = (request.size, request.camera.fov_y);
+        }
+        let input = self
+            .driver
+            .frame(request.camera, request.dt, request.schedule)?;
+        Ok(self.renderer.render(ctx, &input, target)?)
+    }
+}
+
+/// Opens a window on `level_path` and plays it until the window closes (or, with
+/// [`PlayOptions::exit_after_frames`], until that many frames are shown).
+///
+/// A level that cannot be loaded returns its [`crate::load::LoadError`] (downcast it to tell
+/// it apart); no display, no GPU or a GPU that cannot present returns an error too, never a
+/// panic. May be called from any thread on X11 and Wayland, but only once per process
+/// (winit allows one event loop).
+pub fn play(level_path: &Path, options: PlayOptions) -> anyhow::Result<()> {
+    let level = load_level(level_path)?;
+    let event_loop = new_event_loop()?;
+    let mut app = App::new(level, options);
+    event_loop
+        .run_app(&mut app)
+        .context("the window's event loop failed")?;
+    match app.error.take() {
+        Some(e) => Err(e),
+        None => Ok(()),
+    }
+}
+
+fn new_event_loop() -> anyhow::Result<EventLoop<()>> {
+    let mut builder = EventLoop::builder();
+    #[cfg(all(
+        unix,
+        not(any(target_os = "macos", target_os = "ios", target_os = "android"))
+    ))]
+    {
+        // Tests and tools run the loop off the main thread; X11 and Wayland allow it.
+        winit::platform::x11::EventLoopBuilderExtX11::with_any_thread(&mut builder, true);
+    }
+    builder.build().map_err(|e| {
+        anyhow!(
+            "cannot open a window: {e} (play needs a display: run it in a desktop session, \
+             or under Xvfb with DISPLAY set)"
+        )
+    })
+}
+
+/// A movement key, held or not.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum MoveKey {
+    Forward,
+    Back,
+    Left,
+    Right,
+    Up,
+    Down,
+    Run,
+}
+
+impl MoveKey {
+    fn flag(self, input: &mut InputState) -> &mut bool {
+        match self {
+            MoveKey::Forward => &mut input.forward,
+            MoveKey::Back => &mut input.back,
+            MoveKey::Left => &mut input.left,
+            MoveKey::Right => &mut input.right,
+            MoveKey::Up => &mut input.up,
+            MoveKey::Down => &mut input.down,
+            MoveKey::Run => &mut input.run,
+        }
+    }
+}
+
+/// What a key does in the play shell.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum KeyAction {
+    /// Sets one movement flag while held.
+    Move(MoveKey),
+    ToggleFly,
+    ToggleSchedule,
+    ToggleOverlay,
+    Escape,
+}
+
+fn key_action(code: KeyCode) -> Option<KeyAction> {
+    use KeyAction::*;
+    Some(match code {
+        KeyCode::KeyW | KeyCode::ArrowUp => Move(MoveKey::Forward),
+        KeyCode::KeyS | KeyCode::ArrowDown => Move(MoveKey::Back),
+        KeyCode::KeyA | KeyCode::ArrowLeft => Move(MoveKey::Left),
+        KeyCode::KeyD | KeyCode::ArrowRight => Move(MoveKey::Right),
+        KeyCode::Space | KeyCode::KeyE => Move(MoveKey::Up),
+        KeyCode::ControlLeft | KeyCode::ControlRight | KeyCode::KeyQ => Move(MoveKey::Down),
+        KeyCode::ShiftLeft | KeyCode::ShiftRight => Move(MoveKey::Run),
+        KeyCode::KeyF => ToggleFly,
+        KeyCode::Tab => ToggleSchedule,
+        KeyCode::F3 => ToggleOverlay,
+        KeyCode::Escape => Escape,
+        _ => return None,
+    })
+}
+
+/// Frames per second averaged over [`FPS_WINDOW`] seconds.
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+struct FpsMeter {
+    frames: u32,
+    elapsed: f32,
+    fps: f32,
+}
+
+impl FpsMeter {
+    fn tick(&mut self, dt: f32) -> f32 {
+        self.frames += 1;
+        self.elapsed += dt;
+        if self.elapsed >= FPS_WINDOW {
+            self.fps = self.frames as f32 / self.elapsed;
+            *self = FpsMeter {
+                fps: self.fps,
+                ..FpsMeter::default()
+            };
+        }
+        self.fps
+    }
+}
+
+fn schedule_name(s: Schedule) -> &'static str {
+    match s {
+        Schedule::Ours => "ours",
+        Schedule::Paper => "paper",
+    }
+}
+
+/// The overlay's lines: rate, per-pass times, counters, modes and the controls.
+fn overlay_lines(
+    stats: &FrameStats,
+    fps: f32,
+    schedule: Schedule,
+    camera: &WalkCamera,
+) -> Vec<String> {
+    let clock = if stats.gpu_timestamps { "GPU" } else { "CPU" };
+    let eye = camera.eye();
+    let mut lines = vec![
+        format!(
+            "{fps:5.1} fps   frame {:.2} ms   schedule: {}   {}",
+            stats.frame_ms,
+            schedule_name(schedule),
+            if camera.fly { "fly" } else { "walk" }
+        ),
+        format!(
+            "eye ({:.2}, {:.2}, {:.2})   yaw {:.1}°   pitch {:.1}°",
+            eye.x, eye.y, eye.z, camera.yaw_deg, camera.pitch_deg
+        ),
+    ];
+    lines.extend(
+        stats
+            .passes
+            .iter()
+            .map(|p| format!("  {:<10} {:8.3} ms ({clock})", p.pass, p.ms)),
+    );
+    let c = &stats.counters;
+    lines.push(format!(
+        "faces captured {}   texels shaded {}",
+        c.faces_captured, c.texels_shaded
+    ));
+    lines.push(format!(
+        "quads splatted {}   visible texels {}",
+        c.quads_splatted, c.screen_visible_texels
+    ));
+    lines.extend(KEY_HELP.map(str::to_owned));
+    lines
+}
+
+fn draw_overlay(ctx: &egui::Context, lines: &[String]) {
+    egui::Area::new(egui::Id::unique("play::overlay"))
+        .anchor(egui::Align2::LEFT_TOP, egui::vec2(8.0, 8.0))
+        .interactable(false)
+        .show(ctx, |ui| {
+            egui::Frame::new()
+                .fill(egui::Color32::from_black_alpha(170))
+                .inner_margin(8.0)
+                .corner_radius(4.0)
+                .show(ui, |ui| {
+                    for line in lines {
+                        let text = egui::RichText::new(line)
+                            .monospace()
+                            .color(egui::Color32::WHITE);
+                        ui.add(egui::Label::new(text).extend());
+                    }
+                });
+        });
+}
+
+/// Everything that exists once the window is open.
+struct Running {
+    egui_renderer: egui_wgpu::Renderer,
+    egui_state: egui_winit::State,
+    source: Box<dyn FrameSource>,
+    surface: wgpu::Surface<'static>,
+    config: wgpu::SurfaceConfiguration,
+    ctx: GpuContext,
+    window: Arc<Window>,
+}
+
+impl Running {
+    fn reconfigure(&mut self, size: PhysicalSize<u32>) {
+        if size.width == 0 || size.height == 0 {
+            return; // minimised: keep the old configuration and draw nothing
+        }
+        self.config.width = size.width;
+        self.config.height = size.height;
+        self.surface.configure(&self.ctx.device, &self.config);
+    }
+}
+
+struct App {
+    level: Arc<LoadedLevel>,
+    options: PlayOptions,
+    running: Option<Running>,
+    error: Option<anyhow::Error>,
+    camera: WalkCamera,
+    input: InputState,
+    mouse_delta: Vec2,
+    schedule: Schedule,
+    overlay: bool,
+    grabbed: bool,
+    /// Factor on raw mouse motion (see [`confined_motion_doubles`]).
+    motion_scale: f32,
+    frames: u32,
+    last_frame: Option<Instant>,
+    fps: FpsMeter,
+}
+
+impl App {
+    fn new(level: LoadedLevel, options: PlayOptions) -> Self {
+        App {
+            camera: WalkCamera::from_scene(&level.scene),
+            level: Arc::new(level),
+            options,
+            running: None,
+            error: None,
+            input: InputState::default(),
+            mouse_delta: Vec2::ZERO,
+            schedule: Schedule::Ours,
+            overlay: true,
+            grabbed: false,
+            motion_scale: 1.0,
+            frames: 0,
+            last_frame: None,
+            fps: FpsMeter::default(),
+        }
+    }
+
+    fn fail(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
+        self.error.get_or_insert(error);
+        event_loop.exit();
+    }
+
+    fn title(&self) -> String {
+        let name = self
+            .level
+            .path
+            .file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| self.level.path.display().to_string());
+        format!("Texel — {name}")
+    }
+
+    fn open(&self, event_loop: &ActiveEventLoop) -> anyhow::Result<Running> {
+        let (w, h) = self.options.size;
+        let attributes = Window::default_attributes()
+            .with_title(self.title())
+            .with_inner_size(PhysicalSize::new(w, h));
+        let window = Arc::new(
+            event_loop
+                .create_window(attributes)
+                .context("cannot create the window")?,
+        );
+        let instance = new_instance();
+        let surface = instance
+            .create_surface(window.clone())
+            .context("cannot create a wgpu surface for the window")?;
+        let ctx = pollster::block_on(GpuContext::with_instance(instance, Some(&surface)))?;
+        let config = surface_config(&surface, &ctx, window.inner_size())?;
+        surface.configure(&ctx.device, &config);
+        let size = UVec2::new(config.width, config.height);
+        let format = view_format(&config);
+        let source = frame_source(&ctx, self.level.clone(), format, size)?;
+        let egui_ctx = egui::Context::default();
+        let max_texture = ctx.device.limits().max_texture_dimension_2d as usize;
+        let egui_state = egui_winit::State::new(
+            egui_ctx,
+            egui::ViewportId::ROOT,
+            &window,
+            Some(window.scale_factor() as f32),
+            window.theme(),
+            Some(max_texture),
+        );
+        let egui_renderer =
+            egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
+        eprintln!("play: {} on {}", self.title(), ctx.describe());
+        Ok(Running {
+            egui_renderer,
+            egui_state,
+            source,
+            surface,
+            config,
+            ctx,
+            window,
+        })
+    }
+
+    /// Captures the mouse for looking around (hidden, locked or else confined), or lets go.
+    fn set_grab(&mut self, event_loop: &ActiveEventLoop, grab: bool) {
+        let Some(r) = &self.running else { return };
+        self.motion_scale = 1.0;
+        if grab {
+            let mode = match r.window.set_cursor_grab(CursorGrabMode::Locked) {
+                Ok(()) => Ok(CursorGrabMode::Locked),
+                Err(_) => r
+                    .window
+                    .set_cursor_grab(CursorGrabMode::Confined)
+                    .map(|()| CursorGrabMode::Confined),
+            };
+            match mode {
+                Ok(CursorGrabMode::Confined) if confined_motion_doubles(event_loop) => {
+                    self.motion_scale = 0.5;
+                }
+                Ok(_) => {}
+                // Raw mouse motion still turns the view; the cursor may just leave the window.
+                Err(e) => eprintln!("play: cannot grab the cursor: {e}"),
+            }
+        } else if let Err(e) = r.window.set_cursor_grab(CursorGrabMode::None) {
+            eprintln!("play: cannot release the cursor: {e}");
+        }
+        r.window.set_cursor_visible(!grab);
+        self.grabbed = grab;
+        self.mouse_delta = Vec2::ZERO;
+    }
+
+    fn on_key(&mut self, event_loop: &ActiveEventLoop, event: &KeyEvent) {
+        let PhysicalKey::Code(code) = event.physical_key else {
+            return;
+        };
+        let pressed = event.state == ElementState::Pressed;
+        let Some(action) = key_action(code) else {
+            return;
+        };
+        if let KeyAction::Move(key) = action {
+            *key.flag(&mut self.input) = pressed;
+            return;
+        }
+        if !pressed || event.repeat {
+            return;
+        }
+        match action {
+            KeyAction::ToggleFly => self.camera.toggle_fly(),
+            KeyAction::ToggleSchedule => {
+                self.schedule = match self.schedule {
+                    Schedule::Ours => Schedule::Paper,
+                    Schedule::Paper => Schedule::Ours,
+                }
+            }
+            KeyAction::ToggleOverlay => self.overlay = !self.overlay,
+            KeyAction::Escape if self.grabbed => self.set_grab(event_loop, false),
+            KeyAction::Escape => event_loop.exit(),
+            KeyAction::Move(_) => {}
+        }
+    }
+
+    /// Draws and presents one frame; returns whether one was presented.
+    fn redraw(&mut self) -> anyhow::Result<bool> {
+        let now = Instant::now();
+        let dt = self
+            .last_frame
+            .map_or(0.0, |t| now.duration_since(t).as_secs_f32());
+        self.last_frame = Some(now);
+        self.camera
+            .update(&self.input, std::mem::take(&mut self.mouse_delta), dt);
+        let fps = self.fps.tick(dt);
+
+        let Some(r) = &mut self.running else {
+            return Ok(false);
+        };
+        let inner = r.window.inner_size();
+        if inner.width == 0 || inner.height == 0 {
+            return Ok(false);
+        }
+        let (frame, suboptimal) = match r.surface.get_current_texture() {
+            wgpu::CurrentSurfaceTexture::Success(f) => (f, false),
+            // Drawn anyway; the surface is configured afresh after presenting.
+            wgpu::CurrentSurfaceTexture::Suboptimal(f) => (f, true),
+            wgpu::CurrentSurfaceTexture::Timeout | wgpu::CurrentSurfaceTexture::Occluded => {
+                return Ok(false);
+            }
+            wgpu::CurrentSurfaceTexture::Outdated | wgpu::CurrentSurfaceTexture::Lost => {
+                r.reconfigure(inner);
+                return Ok(false);
+            }
+            wgpu::CurrentSurfaceTexture::Validation => {
+                bail!("the window surface reported a validation error")
+            }
+        };
+        let target = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(view_format(&r.config)),
+            ..Default::default()
+        });
+        let size = UVec2::new(frame.texture.width(), frame.texture.height());
+        let request = FrameRequest {
+            camera: self.camera.camera(FOV_Y_DEG.to_radians()),
+            dt,
+            schedule: self.schedule,
+            size,
+        };
+        let stats = r.source.draw(&r.ctx, &request, &target)?;
+        let lines = self
+            .overlay
+            .then(|| overlay_lines(&stats, fps, self.schedule, &self.camera));
+        paint_overlay(r, lines.as_deref(), &target, size);
+        r.window.pre_present_notify();
+        r.ctx.queue.present(frame);
+        if suboptimal || (r.config.width, r.config.height) != (inner.width, inner.height) {
+            r.reconfigure(inner);
+        }
+        Ok(true)
+    }
+}
+
+/// Runs egui for the overlay (or for nothing, so its textures stay in step) and paints it
+/// over `target`.
+fn paint_overlay(
+    r: &mut Running,
+    lines: Option<&[String]>,
+    target: &wgpu::TextureView,
+    size: UVec2,
+) {
+    let raw = r.egui_state.take_egui_input(&r.window);
+    let egui_ctx = r.egui_state.egui_ctx().clone();
+    let mut out = egui_ctx.run_pass(raw, |ctx| {
+        if let Some(lines) = lines {
+            draw_overlay(ctx, lines);
+        }
+    });
+    let (device, queue) = (&r.ctx.device, &r.ctx.queue);
+    for (id, deltas) in &out.textures_delta.set {
+        for delta in deltas {
+            r.egui_renderer.update_texture(device, queue, *id, delta);
+        }
+    }
+    let jobs = egui_ctx.tessellate(std::mem::take(&mut out.shapes), out.pixels_per_point);
+    let screen = egui_wgpu::ScreenDescriptor {
+        size_in_pixels: size.to_array(),
+        pixels_per_point: out.pixels_per_point,
+    };
+    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
+        label: Some("play::overlay"),
+    });
+    let mut commands = r
+        .egui_renderer
+        .update_buffers(device, queue, &mut encoder, &jobs, &screen);
+    {
+        let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("play::overlay"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            ..Default::default()
+        });
+        r.egui_renderer
+            .render(&mut pass.forget_lifetime(), &jobs, &screen);
+    }
+    commands.push(encoder.finish());
+    queue.submit(commands);
+    for id in &out.textures_delta.free {
+        r.egui_renderer.free_texture(id);
+    }
+    out.textures_delta.clear();
+}
+
+/// Whether raw mouse motion arrives twice while the cursor is confined: winit 0.30's X11
+/// backend grabs the pointer with `owner_events`, so the X server sends each raw motion both
+/// to the root window's selection and to the grab (winit issues #2846 and #3773; measured
+/// under Xvfb: a 2-pixel move gave two 2-pixel `MouseMotion` events).
+fn confined_motion_doubles(event_loop: &ActiveEventLoop) -> bool {
+    #[cfg(all(
+        unix,
+        not(any(target_os = "macos", target_os = "ios", target_os = "android"))
+    ))]
+    {
+        winit::platform::x11::ActiveEventLoopExtX11::is_x11(event_loop)
+    }
+    #[cfg(not(all(
+        unix,
+        not(any(target_os = "macos", target_os = "ios", target_os = "android"))
+    )))]
+    {
+        let _ = event_loop;
+        false
+    }
+}
+
+/// The format frames are drawn in: the surface's, as sRGB (the renderer and the overlay
+/// write linear colour and let the view encode it).
+fn view_format(config: &wgpu::SurfaceConfiguration) -> wgpu::TextureFormat {
+    config.format.add_srgb_suffix()
+}
+
+/// A FIFO configuration for `surface`, preferring an sRGB format, else viewing the chosen
+/// one as sRGB.
+fn surface_config(
+    surface: &wgpu::Surface<'_>,
+    ctx: &GpuContext,
+    size: PhysicalSize<u32>,
+) -> anyhow::Result<wgpu::SurfaceConfiguration> {
+    let (w, h) = (size.width.max(1), size.height.max(1));
+    let mut config = surface
+        .get_default_config(&ctx.adapter, w, h)
+        .ok_or_else(|| anyhow!("the GPU `{}` cannot present to this window", ctx.describe()))?;
+    let caps = surface.get_capabilities(&ctx.adapter);
+    if let Some(srgb) = caps.formats.iter().find(|f| f.is_srgb()) {
+        config.format = *srgb;
+    }
+    // FIFO is the one mode every surface supports, and it paces the loop to the display.
+    config.present_mode = wgpu::PresentMode::Fifo;
+    config.usage = wgpu::TextureUsages::RENDER_ATTACHMENT;
+    let srgb = config.format.add_srgb_suffix();
+    if srgb != config.format {
+        config.view_formats.push(srgb);
+    }
+    Ok(config)
+}
+
+impl ApplicationHandler for App {
+    fn resumed(&mut self, event_loop: &ActiveEventLoop) {
+        if self.running.is_some() {
+            return;
+        }
+        match self.open(event_loop) {
+            Ok(r) => {
+                r.window.request_redraw();
+                self.running = Some(r);
+            }
+            Err(e) => self.fail(event_loop, e),
+        }
+    }
+
+    fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
+        if let Some(r) = &mut self.running {
+            // The overlay takes no input; egui only needs sizes, scale and time.
+            let _ = r.egui_state.on_window_event(&r.window, &event);
+        }
+        match event {
+            WindowEvent::CloseRequested => event_loop.exit(),
+            WindowEvent::Resized(size) => {
+                if let Some(r) = &mut self.running {
+                    r.reconfigure(size);
+                }
+            }
+            WindowEvent::Focused(false) => {
+                self.input = InputState::default();
+                if self.grabbed {
+                    self.set_grab(event_loop, false);
+                }
+            }
+            WindowEvent::MouseInput {
+                state: ElementState::Pressed,
+                button: MouseButton::Left,
+                ..
+            } if !self.grabbed => self.set_grab(event_loop, true),
+            WindowEvent::KeyboardInput { event, .. } => self.on_key(event_loop, &event),
+            WindowEvent::RedrawRequested => match self.redraw() {
+                Ok(true) => {
+                    self.frames += 1;
+                    if self
+                        .options
+                        .exit_after_frames
+                        .is_some_and(|n| self.frames >= n)
+                    {
+                        event_loop.exit();
+                    }
+                }
+                Ok(false) => {}
+                Err(e) => self.fail(event_loop, e),
+            },
+            _ => {}
+        }
+    }
+
+    fn device_event(&mut self, _: &ActiveEventLoop, _: DeviceId, event: DeviceEvent) {
+        if let DeviceEvent::MouseMotion { delta: (x, y) } = event
+            && self.grabbed
+        {
+            self.mouse_delta += Vec2::new(x as f32, y as f32) * self.motion_scale;
+        }
+    }
+
+    fn about_to_wait(&mut self, _: &ActiveEventLoop) {
+        if let Some(r) = &self.running {
+            r.window.request_redraw();
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use texel_render::stats::PassTime;
+
+    #[test]
+    fn sizes_parse() {
+        assert_eq!(parse_size("1280x720"), Ok((1280, 720)));
+        assert_eq!(parse_size(" 640X480 "), Ok((640, 480)));
+        for bad in [
+            "", "1280", "0x720", "x720", "1280x", "-1x5", "99999x10", "axb",
+        ] {
+            assert!(parse_size(bad).is_err(), "{bad}");
+        }
+    }
+
+    #[test]
+    fn keys_map_to_actions() {
+        let mut input = InputState::default();
+        for code in [
+            KeyCode::KeyW,
+            KeyCode::KeyA,
+            KeyCode::ShiftLeft,
+            KeyCode::KeyQ,
+        ] {
+            match key_action(code) {
+                Some(KeyAction::Move(key)) => *key.flag(&mut input) = true,
+                other => panic!("{code:?}: {other:?}"),
+            }
+        }
+        let want = InputState {
+            forward: true,
+            left: true,
+            run: true,
+            down: true,
+            ..InputState::default()
+        };
+        assert_eq!(input, want);
+        assert_eq!(key_action(KeyCode::KeyF), Some(KeyAction::ToggleFly));
+        assert_eq!(key_action(KeyCode::Tab), Some(KeyAction::ToggleSchedule));
+        assert_eq!(key_action(KeyCode::F3), Some(KeyAction::ToggleOverlay));
+        assert_eq!(key_action(KeyCode::Escape), Some(KeyAction::Escape));
+        assert_eq!(key_action(KeyCode::KeyZ), None);
+    }
+
+    #[test]
+    fn fps_averages_over_half_a_second() {
+        let mut m = FpsMeter::default();
+        let mut shown = 0.0;
+        for _ in 0..30 {
+            shown = m.tick(1.0 / 60.0);
+        }
+        assert!((shown - 60.0).abs() < 0.5, "{shown}");
+        // Holds its value between windows.
+        assert_eq!(m.tick(0.01), shown);
+    }
+
+    #[test]
+    fn overlay_lists_passes_counters_and_modes() {
+        let stats = FrameStats {
+            passes: vec![
+                PassTime {
+                    pass: "capture",
+                    ms: 1.5,
+                },
+                PassTime {
+                    pass: "splat",
+                    ms: 12.25,
+                },
+            ],
+            gpu_timestamps: true,
+            frame_ms: 14.0,
+            counters: texel_render::stats::Counters {
+                faces_captured: 6,
+                texels_shaded: 1234,
+                quads_splatted: 999,
+                screen_visible_texels: 77,
+            },
+        };
+        let mut camera = WalkCamera::from_start(glam::Vec3::ZERO, &Default::default());
+        camera.toggle_fly();
+        let text = overlay_lines(&stats, 59.9, Schedule::Paper, &camera).join("\n");
+        for want in [
+            "59.9 fps",
+            "frame 14.00 ms",
+            "schedule: paper",
+            "fly",
+            "eye (0.00, 1.60, 0.00)",
+            "capture",
+            "12.250 ms (GPU)",
+            "faces captured 6",
+            "texels shaded 1234",
+            "quads splatted 999",
+            "visible texels 77",
+            KEY_HELP[0],
+            KEY_HELP[1],
+        ] {
+            assert!(text.contains(want), "missing `{want}` in\n{text}");
+        }
+        camera.toggle_fly();
+        let walk = overlay_lines(&FrameStats::default(), 0.0, Schedule::Ours, &camera).join("\n");
+        assert!(
+            walk.contains("schedule: ours") && walk.contains("walk"),
+            "{walk}"
+        );
+    }
+}

@@ -1,0 +1,47 @@
+// Background: a fullscreen triangle drawn before the splats. Each pixel shows the eye probe's
+// lit texel in its view direction (the sky where the eye probe saw none), so any pixel no
+// quad covers still gets the right colour. crates/render/src/passes/background.rs.
+
+#include "lib/common.wgsl"
+#include "lib/view.wgsl"
+
+@group(0) @binding(0) var<uniform> view: ViewGlobals;
+@group(0) @binding(1) var eye_ids: texture_2d_array<u32>;
+@group(0) @binding(2) var eye_lit: texture_2d_array<f32>;
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs(@builtin(vertex_index) vi: u32) -> VsOut {
+    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
+    var out: VsOut;
+    out.clip = vec4(xy, 1.0, 1.0);
+    out.ndc = xy;
+    return out;
+}
+
+struct FsOut {
+    @location(0) colour: vec4<f32>,
+    @location(1) key: u32,
+}
+
+@fragment
+fn fs(in: VsOut) -> FsOut {
+    let far = view.inv_view_proj * vec4(in.ndc, 1.0, 1.0);
+    let dir = far.xyz / far.w - view.camera.xyz;
+    let eye = view.slots[view.eye_slot];
+    let fu = cube_face_uv(dir);
+    if (eye.draw_mask & (1u << fu.face)) == 0u {
+        return FsOut(vec4(view.sky.rgb, 1.0), 0u);
+    }
+    let t = texel_of_uv(fu.uv, eye.n);
+    let lit = textureLoad(eye_lit, t, fu.face, 0);
+    var key = 0u;
+    if textureLoad(eye_ids, t, fu.face, 0).r != 0u {
+        key = texel_key(view.eye_slot, fu.face, t, view.max_n) + 1u;
+    }
+    return FsOut(vec4(lit.rgb, 1.0), key);
+}

@@ -1,0 +1,138 @@
+// Shared WGSL: the cube-face convention (the same as texel_probes::cube, pinned by tests on
+// both sides), OKLab colour, and the 4×4 Bayer matrix.
+//
+// Faces: 0 +X, 1 −X, 2 +Y, 3 −Y, 4 +Z, 5 −Z. Face coordinates (u, v) in [−1, 1], v down:
+//   +X (1, −v, −u)   −X (−1, −v, u)   +Y (u, 1, v)   −Y (u, −1, −v)   +Z (u, −v, 1)   −Z (−u, −v, −1)
+// On ties X wins over Y, Y over Z.
+
+const SKY_DEPTH: f32 = 1.0e9;
+
+fn cube_dir(face: u32, u: f32, v: f32) -> vec3<f32> {
+    switch face {
+        case 0u: { return vec3(1.0, -v, -u); }
+        case 1u: { return vec3(-1.0, -v, u); }
+        case 2u: { return vec3(u, 1.0, v); }
+        case 3u: { return vec3(u, -1.0, -v); }
+        case 4u: { return vec3(u, -v, 1.0); }
+        default: { return vec3(-u, -v, -1.0); }
+    }
+}
+
+struct FaceUv {
+    face: u32,
+    uv: vec2<f32>,
+}
+
+fn cube_face_uv(r: vec3<f32>) -> FaceUv {
+    let a = abs(r);
+    if a.x >= a.y && a.x >= a.z {
+        if r.x >= 0.0 { return FaceUv(0u, vec2(-r.z, -r.y) / a.x); }
+        return FaceUv(1u, vec2(r.z, -r.y) / a.x);
+    }
+    if a.y >= a.z {
+        if r.y >= 0.0 { return FaceUv(2u, vec2(r.x, r.z) / a.y); }
+        return FaceUv(3u, vec2(r.x, -r.z) / a.y);
+    }
+    if r.z >= 0.0 { return FaceUv(4u, vec2(r.x, -r.y) / a.z); }
+    return FaceUv(5u, vec2(-r.x, -r.y) / a.z);
+}
+
+// Texel (column, row) of face coordinates on a face of n texels, clamped to the face.
+fn texel_of_uv(uv: vec2<f32>, n: u32) -> vec2<u32> {
+    let t = floor((uv * 0.5 + 0.5) * f32(n));
+    return vec2<u32>(clamp(t, vec2(0.0), vec2(f32(n) - 1.0)));
+}
+
+// Face coordinates of a texel centre.
+fn texel_center_uv(texel: vec2<u32>, n: u32) -> vec2<f32> {
+    return (vec2<f32>(texel) + 0.5) * (2.0 / f32(n)) - 1.0;
+}
+
+fn chebyshev(r: vec3<f32>) -> f32 {
+    let a = abs(r);
+    return max(a.x, max(a.y, a.z));
+}
+
+// Equation (1) of the paper: the world point at Chebyshev depth d along r from o.
+fn probe_point(o: vec3<f32>, r: vec3<f32>, d: f32) -> vec3<f32> {
+    return o + r * (d / chebyshev(r));
+}
+
+// --- colour ---
+
+fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {
+    return select(pow((c + 0.055) / 1.055, vec3(2.4)), c / 12.92, c <= vec3(0.04045));
+}
+
+fn oklab_from_linear(c: vec3<f32>) -> vec3<f32> {
+    let l = 0.4122214708 * c.r + 0.5363325363 * c.g + 0.0514459929 * c.b;
+    let m = 0.2119034982 * c.r + 0.6806995451 * c.g + 0.1073969566 * c.b;
+    let s = 0.0883024619 * c.r + 0.2817188376 * c.g + 0.6299787005 * c.b;
+    let l3 = pow(max(l, 0.0), 1.0 / 3.0);
+    let m3 = pow(max(m, 0.0), 1.0 / 3.0);
+    let s3 = pow(max(s, 0.0), 1.0 / 3.0);
+    return vec3(
+        0.2104542553 * l3 + 0.7936177850 * m3 - 0.0040720468 * s3,
+        1.9779984951 * l3 - 2.4285922050 * m3 + 0.4505937099 * s3,
+        0.0259040371 * l3 + 0.7827717662 * m3 - 0.8086757660 * s3,
+    );
+}
+
+fn linear_from_oklab(c: vec3<f32>) -> vec3<f32> {
+    let l3 = c.x + 0.3963377774 * c.y + 0.2158037573 * c.z;
+    let m3 = c.x - 0.1055613458 * c.y - 0.0638541728 * c.z;
+    let s3 = c.x - 0.0894841775 * c.y - 1.2914855480 * c.z;
+    let l = l3 * l3 * l3;
+    let m = m3 * m3 * m3;
+    let s = s3 * s3 * s3;
+    return vec3(
+        4.0767416621 * l - 3.3077115913 * m + 0.2309699292 * s,
+        -1.2684380046 * l + 2.6097574011 * m - 0.3413193965 * s,
+        -0.0041960863 * l - 0.7034186147 * m + 1.7076147010 * s,
+    );
+}
+
+// Quantizes OKLab lightness to `bands` steps, after shifting it by `shift` bands.
+fn posterize(c: vec3<f32>, bands: u32, shift: f32) -> vec3<f32> {
+    var lab = oklab_from_linear(max(c, vec3(0.0)));
+    let b = f32(bands);
+    lab.x = clamp(round(lab.x * b + shift) / b, 0.0, 1.0);
+    return max(linear_from_oklab(lab), vec3(0.0));
+}
+
+// --- dither ---
+
+// (value + 0.5) / 16 of the 4×4 Bayer matrix at a pixel.
+fn bayer_threshold(p: vec2<u32>) -> f32 {
+    let m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
+    return (f32(m[(p.y % 4u) * 4u + (p.x % 4u)]) + 0.5) / 16.0;
+}
+
+// --- scene records (crates/render/src/gpu_scene.rs) ---
+
+struct Object {
+    albedo: vec3<f32>,
+    flags: u32,
+    emissive: vec3<f32>,
+    id: u32,
+}
+
+struct PointLight {
+    position: vec3<f32>,
+    radius: f32,
+    colour: vec4<f32>,
+}
+
+const FLAG_OUTLINED: u32 = 1u;
+const FLAG_EMISSIVE: u32 = 2u;
+
+// --- splat keys: a dense index over (slot, face, texel) with faces of `max_n` texels ---
+
+fn texel_key(slot: u32, face: u32, t: vec2<u32>, max_n: u32) -> u32 {
+    return ((slot * 6u + face) * max_n + t.y) * max_n + t.x;
+}
+
+fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
+    let x = clamp(c, vec3(0.0), vec3(1.0));
+    return select(1.055 * pow(x, vec3(1.0 / 2.4)) - 0.055, x * 12.92, x <= vec3(0.0031308));
+}

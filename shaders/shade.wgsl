@@ -1,0 +1,160 @@
+// Shade: lights one captured cube face, once per texel. Camera-independent, so the result is
+// cached until the probe's origin or the scene changes. Per texel: sun and point lights with
+// ray-traced shadows, ambient, emissive; OKLab posterization; silhouette (id) and crease
+// (normal) outlines as one-band lightness shifts, found across cube-face seams too; and four
+// "similar neighbour" bits the splat pass uses to size quads. crates/render/src/passes/shade.rs.
+
+#include "lib/common.wgsl"
+#include "lib/bvh.wgsl"
+
+struct ShadeFace {
+    origin: vec3<f32>,
+    face: u32,
+    n: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+struct Sun {
+    to_light: vec4<f32>,
+    colour: vec4<f32>,
+}
+
+struct ShadeGlobals {
+    suns: array<Sun, 4>,
+    ambient: vec4<f32>,
+    sky: vec4<f32>,
+    sun_count: u32,
+    point_count: u32,
+    bands: u32,
+    shadows: u32,
+}
+
+@group(0) @binding(0) var<uniform> sf: ShadeFace;
+@group(0) @binding(1) var<uniform> globals: ShadeGlobals;
+@group(0) @binding(2) var geo_tex: texture_2d_array<f32>;
+@group(0) @binding(3) var id_tex: texture_2d_array<u32>;
+@group(0) @binding(4) var albedo_tex: texture_2d_array<f32>;
+@group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(6) var<storage, read> objects: array<Object>;
+@group(0) @binding(7) var<storage, read> points: array<PointLight>;
+@group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
+
+// Offsets of the four neighbours, in the order of the similar bits: left, right, up, down.
+const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
+
+struct Sample {
+    geo: vec4<f32>,
+    id: u32,
+}
+
+fn load(face: u32, t: vec2<u32>) -> Sample {
+    return Sample(textureLoad(geo_tex, t, face, 0), textureLoad(id_tex, t, face, 0).r);
+}
+
+// The neighbour of texel `t` one step along `o`, on the neighbouring face past a seam.
+fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
+    let n = sf.n;
+    let q = vec2<i32>(t) + o;
+    if all(q >= vec2(0)) && all(q < vec2(i32(n))) {
+        return load(sf.face, vec2<u32>(q));
+    }
+    // Past the edge: continue the face plane and re-project onto the cube.
+    let uv = (vec2<f32>(q) + 0.5) * (2.0 / f32(n)) - 1.0;
+    let f = cube_face_uv(cube_dir(sf.face, uv.x, uv.y));
+    return load(f.face, texel_of_uv(f.uv, n));
+}
+
+fn lighting(p: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
+    var light = globals.ambient.rgb;
+    let start = p + normal * 0.02;
+    for (var i = 0u; i < globals.sun_count; i++) {
+        let s = globals.suns[i];
+        let ndl = dot(normal, s.to_light.xyz);
+        if ndl > 0.0 && (globals.shadows == 0u || !bvh_any_hit(start, s.to_light.xyz, 1.0e4)) {
+            light += s.colour.rgb * ndl;
+        }
+    }
+    for (var i = 0u; i < globals.point_count; i++) {
+        let l = points[i];
+        let to = l.position - p;
+        let dist = length(to);
+        if dist >= l.radius || dist < 1.0e-4 {
+            continue;
+        }
+        let dir = to / dist;
+        let ndl = dot(normal, dir);
+        if ndl > 0.0 && (globals.shadows == 0u || !bvh_any_hit(start, dir, dist - 0.02)) {
+            let fall = 1.0 - dist / l.radius;
+            light += l.colour.rgb * ndl * fall * fall;
+        }
+    }
+    return light;
+}
+
+@compute @workgroup_size(8, 8)
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let n = sf.n;
+    let t = gid.xy;
+    if t.x >= n || t.y >= n {
+        return;
+    }
+    let me = load(sf.face, t);
+    if me.id == 0u {
+        textureStore(lit_out, t, sf.face, vec4(posterize(globals.sky.rgb, globals.bands, 0.0), 0.0));
+        return;
+    }
+    let uv = texel_center_uv(t, n);
+    let ray = cube_dir(sf.face, uv.x, uv.y);
+    let d = me.geo.w;
+    let p = probe_point(sf.origin, ray, d);
+    let normal = me.geo.xyz;
+    let alb = textureLoad(albedo_tex, t, sf.face, 0);
+    let flags = u32(round(alb.a * 255.0));
+    var colour: vec3<f32>;
+    if (flags & FLAG_EMISSIVE) != 0u {
+        colour = objects[me.id - 1u].emissive;
+    } else {
+        colour = alb.rgb * lighting(p, normal);
+    }
+
+    // Outlines and similar-neighbour bits from the four neighbours.
+    let facing = dot(normal, -normalize(ray));
+    var darken = false;
+    var lighten = false;
+    var similar = 0u;
+    // Depth step between neighbours on a surface tilted ~37° from the face plane.
+    let tolerance = d * (2.0 / f32(n)) * 0.75;
+    for (var k = 0u; k < 4u; k++) {
+        let nb = neighbour(t, NEIGHBOURS[k]);
+        if nb.id == me.id && abs(nb.geo.w - d) <= tolerance {
+            similar |= 1u << k;
+        }
+        if (flags & FLAG_OUTLINED) == 0u {
+            continue;
+        }
+        if nb.id != me.id {
+            // Silhouette: the nearer side (the occluder) is outlined.
+            if nb.id == 0u || d <= nb.geo.w {
+                darken = true;
+            }
+        } else if dot(normal, nb.geo.xyz) < 0.7 {
+            // Crease: the side that faces the probe more is lit, the other darkened.
+            let nb_facing = dot(nb.geo.xyz, -normalize(ray));
+            if facing >= nb_facing {
+                lighten = true;
+            } else {
+                darken = true;
+            }
+        }
+    }
+    var shift = 0.0;
+    if darken {
+        shift = -1.0;
+    } else if lighten {
+        shift = 1.0;
+    }
+    textureStore(lit_out, t, sf.face, vec4(posterize(colour, globals.bands, shift), f32(similar)));
+}

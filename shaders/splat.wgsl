@@ -1,0 +1,70 @@
+// Splat: draws the culled texels as world-space quads (4 vertices, indexed, corners pulled
+// from the cull pass's list). Eye quads are pushed back in depth so grid and previous quads
+// win where both exist; grid and previous split the screen with complementary 4×4 Bayer
+// patterns while a crossfade runs. Writes the colour and the texel key of every pixel.
+// crates/render/src/passes/splat.rs.
+
+#include "lib/common.wgsl"
+#include "lib/view.wgsl"
+
+struct Splat {
+    c0: vec4<f32>,
+    c1: vec4<f32>,
+    c2: vec4<f32>,
+    c3: vec4<f32>,
+}
+
+@group(0) @binding(0) var<uniform> view: ViewGlobals;
+@group(0) @binding(1) var<storage, read> splats: array<Splat>;
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) colour: vec4<f32>,
+    @location(1) @interpolate(flat) key: u32,
+    @location(2) @interpolate(flat) role: u32,
+}
+
+@vertex
+fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
+    var out: VsOut;
+    if ii >= arrayLength(&splats) {
+        out.clip = vec4(0.0, 0.0, 2.0, 1.0);
+        return out;
+    }
+    let s = splats[ii];
+    var corner: vec3<f32>;
+    switch vi {
+        case 0u: { corner = s.c0.xyz; }
+        case 1u: { corner = s.c1.xyz; }
+        case 2u: { corner = s.c2.xyz; }
+        default: { corner = s.c3.xyz; }
+    }
+    let role = bitcast<u32>(s.c2.w);
+    var clip = view.view_proj * vec4(corner, 1.0);
+    if role == ROLE_EYE {
+        clip.z = min(clip.z + view.eye_bias * clip.w, clip.w);
+    }
+    out.clip = clip;
+    let c = unpack4x8unorm(bitcast<u32>(s.c1.w));
+    out.colour = vec4(srgb_to_linear(c.rgb), 1.0);
+    out.key = bitcast<u32>(s.c0.w);
+    out.role = role;
+    return out;
+}
+
+struct FsOut {
+    @location(0) colour: vec4<f32>,
+    @location(1) key: u32,
+}
+
+@fragment
+fn fs(in: VsOut) -> FsOut {
+    if in.role != ROLE_EYE {
+        let threshold = bayer_threshold(vec2<u32>(in.clip.xy));
+        let grid_wins = threshold < view.fade_t;
+        if (in.role == ROLE_GRID) != grid_wins {
+            discard;
+        }
+    }
+    return FsOut(in.colour, in.key);
+}

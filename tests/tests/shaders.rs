@@ -1,0 +1,44 @@
+//! Every WGSL shader parses and validates with naga, with no GPU: a broken shader cannot
+//! slip through to a machine that only finds out when the pass is first built.
+
+use naga::valid::{Capabilities, ValidationFlags, Validator};
+use texel_render::shader::{SOURCES, assemble, pass_shaders};
+
+#[test]
+fn every_pass_shader_validates() {
+    let mut checked = 0;
+    for name in pass_shaders() {
+        let src = assemble(name).unwrap_or_else(|e| panic!("{name}: {e}"));
+        let module = naga::front::wgsl::parse_str(&src)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+        Validator::new(ValidationFlags::all(), Capabilities::empty())
+            .validate(&module)
+            .unwrap_or_else(|e| panic!("{name}: {}", e.emit_to_string(&src)));
+        checked += 1;
+    }
+    assert!(checked >= 6, "only {checked} pass shaders found");
+}
+
+#[test]
+fn every_shader_file_on_disk_is_embedded() {
+    let dir = texel_tests::repo_root().join("shaders");
+    let mut on_disk = Vec::new();
+    for sub in ["", "lib/"] {
+        for e in std::fs::read_dir(dir.join(sub)).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_some_and(|x| x == "wgsl") {
+                on_disk.push(format!("{sub}{}", p.file_name().unwrap().to_string_lossy()));
+            }
+        }
+    }
+    for f in &on_disk {
+        assert!(
+            SOURCES.iter().any(|(n, _)| n == f),
+            "shaders/{f} is not in shader::SOURCES"
+        );
+    }
+    for (n, src) in SOURCES {
+        let disk = std::fs::read_to_string(dir.join(n)).unwrap();
+        assert_eq!(&disk, src, "{n} differs from the embedded copy");
+    }
+}
