@@ -1,6 +1,6 @@
-// Background: a fullscreen triangle drawn before the splats. Each pixel shows the eye probe's
-// lit texel in its view direction (the sky where the eye probe saw none), so any pixel no
-// quad covers still gets the right colour. crates/render/src/passes/background.rs.
+// Background: a fullscreen triangle at the far plane, drawn after the splats with a depth
+// test, so it shades only the pixels no quad covered. Each shows the eye probe's lit texel in
+// its view direction (the sky where the eye probe saw none). crates/render/src/passes/background.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"

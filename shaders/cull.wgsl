@@ -27,6 +27,15 @@ struct DrawArgs {
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var<storage, read_write> splats: array<Splat>;
 @group(0) @binding(2) var<storage, read_write> args: DrawArgs;
+// The drawn (slot, face) pairs; the dispatch's z runs over them.
+struct CullWork {
+    count: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+    faces: array<vec4<u32>, 18>,
+}
+@group(0) @binding(3) var<uniform> work: CullWork;
 @group(1) @binding(0) var geo0: texture_2d_array<f32>;
 @group(1) @binding(1) var geo1: texture_2d_array<f32>;
 @group(1) @binding(2) var geo2: texture_2d_array<f32>;
@@ -79,11 +88,17 @@ fn stable_shows(slot: u32, p: vec3<f32>, id: u32) -> bool {
     return abs(dn - d) <= d * (2.0 / f32(s.n)) * 3.5;
 }
 
+// Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
+// cells below fade_t, the previous probe the rest.
+fn draws_pixels(role: u32) -> bool {
+    return (role == ROLE_GRID && view.fade_t > 0.0) || (role == ROLE_PREVIOUS && view.fade_t < 1.0);
+}
+
+// Whether every stable probe drawing pixels this frame shows the eye texel's surface.
 fn eye_texel_covered(p: vec3<f32>, id: u32) -> bool {
     var covered = false;
     for (var s = 0u; s < 3u; s++) {
-        let role = view.slots[s].role;
-        if role == ROLE_GRID || (role == ROLE_PREVIOUS && view.fade_t < 1.0) {
+        if draws_pixels(view.slots[s].role) {
             if !stable_shows(s, p, id) {
                 return false;
             }
@@ -115,8 +130,11 @@ fn half_size(similar: bool, cos_theta: f32) -> f32 {
 
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let slot = gid.z / 6u;
-    let face = gid.z % 6u;
+    if gid.z >= work.count {
+        return;
+    }
+    let slot = work.faces[gid.z].x;
+    let face = work.faces[gid.z].y;
     let s = view.slots[slot];
     let t = gid.xy;
     if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n {
@@ -134,6 +152,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     // World size of a texel here (|ray| ≥ 1 stretches it off the face centre).
     let texel_world = d * (2.0 / f32(s.n)) * length(ray);
     if view.schedule == 0u {
+        if s.role != ROLE_EYE && !draws_pixels(s.role) {
+            return;
+        }
         if !in_frustum(p, 2.5 * texel_world) {
             return;
         }

@@ -57,8 +57,15 @@ struct FsOut {
     @location(1) key: u32,
 }
 
+// Without a crossfade: no discard, so the depth test can run before the shader.
 @fragment
 fn fs(in: VsOut) -> FsOut {
+    return FsOut(in.colour, in.key);
+}
+
+// During a crossfade: grid and previous split the pixels with complementary Bayer patterns.
+@fragment
+fn fs_dither(in: VsOut) -> FsOut {
     if in.role != ROLE_EYE {
         let threshold = bayer_threshold(vec2<u32>(in.clip.xy));
         let grid_wins = threshold < view.fade_t;

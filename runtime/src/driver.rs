@@ -34,7 +34,10 @@ use crate::extract::{Viewport, grid_settings};
 use crate::load::LoadedLevel;
 
 /// Faces captured per frame at most in our schedule (eye faces count against it).
-pub const FACE_BUDGET: u32 = 8;
+pub const FACE_BUDGET: u32 = 9;
+/// Stable-probe faces captured per frame at most: a cell crossing adds at most this many
+/// faces to a frame, and the new grid probe completes over the following frames.
+pub const STABLE_FACES_PER_FRAME: u32 = 2;
 /// Far distance of face visibility and captures.
 pub const CAPTURE_FAR: f32 = texel_render::passes::capture::CAPTURE_FAR;
 
@@ -87,7 +90,8 @@ impl FrameDriver {
             overrides,
             probes: None,
             scheduler: Scheduler::new(FACE_BUDGET, CAPTURE_FAR)
-                .map_err(|e| DriverError::View(e.to_string()))?,
+                .map_err(|e| DriverError::View(e.to_string()))?
+                .with_stable_faces_per_frame(STABLE_FACES_PER_FRAME),
             size,
             start,
             frame_index: 0,

@@ -19,6 +19,7 @@ use texel_render::input::{Camera, Schedule};
 use texel_render::stats::FrameStats;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
+use winit::error::EventLoopError;
 use winit::event::{DeviceEvent, DeviceId, ElementState, KeyEvent, MouseButton, WindowEvent};
 use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
@@ -26,6 +27,7 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 
 use crate::camera::{InputState, WalkCamera};
 use crate::driver::FrameDriver;
+use crate::headless::schedule_name;
 use crate::load::{LoadedLevel, load_level};
 
 /// Vertical field of view of the play camera, degrees.
@@ -175,11 +177,14 @@ fn new_event_loop() -> anyhow::Result<EventLoop<()>> {
         // Tests and tools run the loop off the main thread; X11 and Wayland allow it.
         winit::platform::x11::EventLoopBuilderExtX11::with_any_thread(&mut builder, true);
     }
-    builder.build().map_err(|e| {
-        anyhow!(
+    builder.build().map_err(|e| match e {
+        EventLoopError::RecreationAttempt => {
+            anyhow!("cannot open a window: play runs once per process (winit's one event loop)")
+        }
+        e => anyhow!(
             "cannot open a window: {e} (play needs a display: run it in a desktop session, \
              or under Xvfb with DISPLAY set)"
-        )
+        ),
     })
 }
 
@@ -258,13 +263,6 @@ impl FpsMeter {
             };
         }
         self.fps
-    }
-}
-
-fn schedule_name(s: Schedule) -> &'static str {
-    match s {
-        Schedule::Ours => "ours",
-        Schedule::Paper => "paper",
     }
 }
 

@@ -103,9 +103,13 @@ fn posterize(c: vec3<f32>, bands: u32, shift: f32) -> vec3<f32> {
 // --- dither ---
 
 // (value + 0.5) / 16 of the 4×4 Bayer matrix at a pixel.
+// The matrix is packed four bits an entry, row by row (rows 0–1 in the first word), so no
+// array is built per fragment.
 fn bayer_threshold(p: vec2<u32>) -> f32 {
-    let m = array<u32, 16>(0u, 8u, 2u, 10u, 12u, 4u, 14u, 6u, 3u, 11u, 1u, 9u, 15u, 7u, 13u, 5u);
-    return (f32(m[(p.y % 4u) * 4u + (p.x % 4u)]) + 0.5) / 16.0;
+    let i = (p.y % 4u) * 4u + (p.x % 4u);
+    let words = vec2<u32>(0x6e4ca280u, 0x5d7f91b3u);
+    let v = (words[i / 8u] >> ((i % 8u) * 4u)) & 15u;
+    return (f32(v) + 0.5) / 16.0;
 }
 
 // --- scene records (crates/render/src/gpu_scene.rs) ---

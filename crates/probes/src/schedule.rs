@@ -160,6 +160,7 @@ impl std::error::Error for ScheduleError {}
 #[derive(Clone, Debug, PartialEq)]
 pub struct Scheduler {
     max_faces: u32,
+    stable_cap: Option<u32>,
     capture_far: f32,
     stamps: [[Option<CaptureStamp>; 6]; 3],
 }
@@ -176,9 +177,19 @@ impl Scheduler {
         }
         Ok(Scheduler {
             max_faces,
+            stable_cap: None,
             capture_far,
             stamps: [[None; 6]; 3],
         })
+    }
+
+    /// Caps the stable (grid and previous) faces captured per frame at `n` (at least 1),
+    /// whatever the eye leaves of the budget: a cell crossing then costs at most `n` extra
+    /// faces in any frame, and the new grid probe fills in over the next frames while the
+    /// previous probe keeps drawing.
+    pub fn with_stable_faces_per_frame(mut self, n: u32) -> Self {
+        self.stable_cap = Some(n.max(1));
+        self
     }
 
     /// The per-frame capture budget.
@@ -217,6 +228,9 @@ impl Scheduler {
             work: Vec::new(),
         };
         let eye = self.plan_eye(&mut pass, &probes.eye());
+        if let Some(cap) = self.stable_cap {
+            pass.budget = pass.budget.min(cap);
+        }
         let mut grid = self.needs(&pass, &probes.grid());
         let mut previous = probes.previous().map(|p| self.needs(&pass, &p));
         let mut order = vec![&mut grid];

@@ -39,7 +39,7 @@ pub enum RenderError {
 }
 
 /// Names of the timed stages, in order.
-pub const STAGES: [&str; 5] = ["capture", "shade", "cull", "splat", "visible"];
+pub const STAGES: [&str; 6] = ["capture", "shade", "cull", "splat", "background", "visible"];
 
 /// Screen-sized targets besides the colour target.
 struct Screen {
@@ -218,35 +218,25 @@ impl Renderer {
                 self.shade
                     .record(d, q, enc, &input.captures, &self.store, scene, &input.look);
         });
+        let drawn = drawn_faces(input);
         stages.run(|enc| {
+            let (view, store) = (&self.view, &self.store);
             self.cull
-                .record(d, q, enc, &self.view, &self.store, globals.max_n)
+                .record(d, q, enc, view, store, globals.max_n, &drawn);
         });
         let splat_bind = self.splat.bind_group(d, &self.view, &self.cull.splats);
         let bg_bind = self
             .background
             .bind_group(d, &self.view, self.store.slot(Slot::Eye));
+        let dither = input.previous.is_some() && input.fade_t < 1.0;
         stages.run(|enc| {
-            let mut pass = enc.begin_render_pass(&wgpu::RenderPassDescriptor {
-                label: Some("frame::draw"),
-                color_attachments: &[
-                    Some(colour_attachment(target)),
-                    Some(colour_attachment(&screen.keys_view)),
-                ],
-                depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                    view: &screen.depth,
-                    depth_ops: Some(wgpu::Operations {
-                        load: wgpu::LoadOp::Clear(1.0),
-                        store: wgpu::StoreOp::Discard,
-                    }),
-                    stencil_ops: None,
-                }),
-                timestamp_writes: None,
-                occlusion_query_set: None,
-                multiview_mask: None,
-            });
+            let mut pass = begin_draw(enc, target, screen, true);
+            self.splat
+                .draw(&mut pass, &splat_bind, &self.cull.args, dither);
+        });
+        stages.run(|enc| {
+            let mut pass = begin_draw(enc, target, screen, false);
             self.background.draw(&mut pass, &bg_bind);
-            self.splat.draw(&mut pass, &splat_bind, &self.cull.args);
         });
         stages.run(|enc| self.visible.record(d, enc, &screen.keys_view, size));
         let (passes, gpu_timestamps, readback) =
@@ -267,16 +257,57 @@ impl Renderer {
     }
 }
 
-fn colour_attachment(view: &wgpu::TextureView) -> wgpu::RenderPassColorAttachment<'_> {
-    wgpu::RenderPassColorAttachment {
-        view,
-        depth_slice: None,
-        resolve_target: None,
-        ops: wgpu::Operations {
-            load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
-            store: wgpu::StoreOp::Store,
-        },
-    }
+/// The on-screen render pass: colour and key targets, splat depth. The first pass of a frame
+/// (`first`) clears them; later ones load.
+fn begin_draw<'e>(
+    enc: &'e mut wgpu::CommandEncoder,
+    target: &wgpu::TextureView,
+    screen: &Screen,
+    first: bool,
+) -> wgpu::RenderPass<'e> {
+    let attach = |view| {
+        Some(wgpu::RenderPassColorAttachment {
+            view,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: if first {
+                    wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT)
+                } else {
+                    wgpu::LoadOp::Load
+                },
+                store: wgpu::StoreOp::Store,
+            },
+        })
+    };
+    enc.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("frame::draw"),
+        color_attachments: &[attach(target), attach(&screen.keys_view)],
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: &screen.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: if first {
+                    wgpu::LoadOp::Clear(1.0)
+                } else {
+                    wgpu::LoadOp::Load
+                },
+                store: wgpu::StoreOp::Store,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    })
+}
+
+/// The (slot, face) pairs the frame splats.
+fn drawn_faces(input: &FrameInput) -> Vec<(Slot, texel_probes::cube::Face)> {
+    [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
+        .into_iter()
+        .flatten()
+        .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f)))
+        .collect()
 }
 
 fn validate(input: &FrameInput) -> Result<(), RenderError> {

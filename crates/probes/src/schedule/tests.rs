@@ -283,3 +283,34 @@ fn rejects_bad_settings() {
     assert!(Scheduler::new(7, f32::NAN).is_err());
     assert_eq!(Scheduler::new(7, 1.0).unwrap().max_faces(), 7);
 }
+
+#[test]
+fn a_stable_cap_limits_each_crossing_frame() {
+    let mut rig = Rig::new(18);
+    rig.scheduler = Scheduler::new(18, FAR)
+        .unwrap()
+        .with_stable_faces_per_frame(2);
+    let wide = 100f32.to_radians();
+    // Settle in cell 0, then cross into cell 1.
+    for _ in 0..10 {
+        rig.frame(Vec3::new(0.2, 0.1, -0.3), 0, 0.3, wide);
+    }
+    let mut frames = 0;
+    loop {
+        let plan = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+        assert!(
+            plan.counts.grid + plan.counts.previous <= 2,
+            "{:?}",
+            plan.counts
+        );
+        frames += 1;
+        if plan.grid.missing.is_empty() {
+            break;
+        }
+        assert!(frames < 10, "the new grid probe never completes");
+    }
+    assert!(
+        frames >= 2,
+        "a wide view needs more than two faces: the cap spread them"
+    );
+}

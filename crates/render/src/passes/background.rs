@@ -51,7 +51,8 @@ impl BackgroundPass {
             depth_stencil: Some(wgpu::DepthStencilState {
                 format: SPLAT_DEPTH_FORMAT,
                 depth_write_enabled: Some(false),
-                depth_compare: Some(wgpu::CompareFunction::Always),
+                // At the far plane: only where no splat wrote depth.
+                depth_compare: Some(wgpu::CompareFunction::LessEqual),
                 stencil: Default::default(),
                 bias: Default::default(),
             }),

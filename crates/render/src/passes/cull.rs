@@ -6,6 +6,7 @@ use bytemuck::{Pod, Zeroable};
 use super::{ARRAY, FLOAT, UINT, entry, storage, texture, uniform};
 use crate::probe_store::ProbeStore;
 use crate::shader;
+use texel_probes::cube::Face;
 use texel_probes::probe_set::Slot;
 
 /// Bytes per splat record (four corners with packed extras).
@@ -39,6 +40,16 @@ pub struct CullPass {
     /// Indirect draw arguments (`DrawArgs`).
     pub args: wgpu::Buffer,
     capacity: u64,
+    work: wgpu::Buffer,
+}
+
+/// `CullWork` in `cull.wgsl`: the drawn (slot, face) pairs.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct CullWork {
+    count: u32,
+    _pad: [u32; 3],
+    faces: [[u32; 4]; 18],
 }
 
 impl CullPass {
@@ -52,6 +63,7 @@ impl CullPass {
                 entry(0, c, uniform(false)),
                 entry(1, c, storage(false)),
                 entry(2, c, storage(false)),
+                entry(3, c, uniform(false)),
             ],
         });
         let textures_layout = probe_textures_layout(device, c);
@@ -77,7 +89,14 @@ impl CullPass {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
+        let work = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull::work"),
+            size: size_of::<CullWork>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         Ok(CullPass {
+            work,
             pipeline,
             layout,
             textures_layout,
@@ -97,7 +116,8 @@ impl CullPass {
         }
     }
 
-    /// Records the cull dispatch over all slots and faces.
+    /// Records the cull dispatch over the drawn faces, `(slot, face)` pairs.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         device: &wgpu::Device,
@@ -106,7 +126,14 @@ impl CullPass {
         view: &wgpu::Buffer,
         store: &ProbeStore,
         max_n: u32,
+        drawn: &[(Slot, Face)],
     ) {
+        let mut work = CullWork::zeroed();
+        for (i, (slot, face)) in drawn.iter().take(18).enumerate() {
+            work.faces[i] = [slot.index() as u32, face.index() as u32, 0, 0];
+            work.count = i as u32 + 1;
+        }
+        queue.write_buffer(&self.work, 0, bytemuck::bytes_of(&work));
         let reset = DrawArgs {
             index_count: 6,
             instance_count: 0,
@@ -131,6 +158,10 @@ impl CullPass {
                     binding: 2,
                     resource: self.args.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: self.work.as_entire_binding(),
+                },
             ],
         });
         let textures = probe_textures_bind_group(device, &self.textures_layout, store);
@@ -142,7 +173,9 @@ impl CullPass {
         pass.set_bind_group(0, &bind, &[]);
         pass.set_bind_group(1, &textures, &[]);
         let groups = max_n.div_ceil(8);
-        pass.dispatch_workgroups(groups, groups, 18);
+        if work.count > 0 {
+            pass.dispatch_workgroups(groups, groups, work.count);
+        }
     }
 }
 

@@ -25,6 +25,7 @@ pub fn targets(colour: wgpu::TextureFormat) -> [Option<wgpu::ColorTargetState>; 
 /// The splat pass.
 pub struct SplatPass {
     pipeline: wgpu::RenderPipeline,
+    dither_pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     indices: wgpu::Buffer,
 }
@@ -46,33 +47,37 @@ impl SplatPass {
             bind_group_layouts: &[Some(&layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("splat::pipeline"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
-                module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &targets(colour),
-            }),
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SPLAT_DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+        let pipeline_for = |fragment: &str| {
+            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some("splat::pipeline"),
+                layout: Some(&pl),
+                vertex: wgpu::VertexState {
+                    module: &module,
+                    entry_point: Some("vs"),
+                    compilation_options: Default::default(),
+                    buffers: &[],
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &module,
+                    entry_point: Some(fragment),
+                    compilation_options: Default::default(),
+                    targets: &targets(colour),
+                }),
+                primitive: wgpu::PrimitiveState::default(),
+                depth_stencil: Some(wgpu::DepthStencilState {
+                    format: SPLAT_DEPTH_FORMAT,
+                    depth_write_enabled: Some(true),
+                    depth_compare: Some(wgpu::CompareFunction::Less),
+                    stencil: Default::default(),
+                    bias: Default::default(),
+                }),
+                multisample: Default::default(),
+                multiview_mask: None,
+                cache: None,
+            })
+        };
+        let pipeline = pipeline_for("fs");
+        let dither_pipeline = pipeline_for("fs_dither");
         let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("splat::indices"),
             contents: bytemuck::cast_slice(&[0u16, 1, 2, 0, 2, 3]),
@@ -80,6 +85,7 @@ impl SplatPass {
         });
         Ok(SplatPass {
             pipeline,
+            dither_pipeline,
             layout,
             indices,
         })
@@ -108,14 +114,20 @@ impl SplatPass {
         })
     }
 
-    /// Draws the splats whose count the cull pass wrote into `args`.
+    /// Draws the splats whose count the cull pass wrote into `args`; `dither` while a
+    /// crossfade runs (grid and previous split the pixels with Bayer patterns).
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         bind: &wgpu::BindGroup,
         args: &wgpu::Buffer,
+        dither: bool,
     ) {
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(if dither {
+            &self.dither_pipeline
+        } else {
+            &self.pipeline
+        });
         pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed_indirect(args, 0);
