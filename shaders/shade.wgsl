@@ -11,7 +11,8 @@ struct ShadeFace {
     origin: vec3<f32>,
     face: u32,
     n: u32,
-    _pad0: u32,
+    // 1 for the eye probe: only texels whose direction lies in the view are lit.
+    view_cull: u32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -29,6 +30,8 @@ struct ShadeGlobals {
     point_count: u32,
     bands: u32,
     shadows: u32,
+    // The view frustum's side planes (normals inward), for view-culled faces.
+    planes: array<vec4<f32>, 4>,
 }
 
 @group(0) @binding(0) var<uniform> sf: ShadeFace;
@@ -39,6 +42,7 @@ struct ShadeGlobals {
 @group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
+@group(0) @binding(8) var<storage, read_write> shaded: atomic<u32>;
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 
@@ -94,13 +98,40 @@ fn lighting(p: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
     return light;
 }
 
+// Whether the texel's direction, from the eye (the camera), is within the view, with a margin
+// of a few texels so expanded quads at the border still have their colour.
+fn in_view(t: vec2<u32>) -> bool {
+    let uv = texel_center_uv(t, sf.n);
+    let dir = normalize(cube_dir(sf.face, uv.x, uv.y));
+    let p = sf.origin + dir;
+    let margin = 6.0 / f32(sf.n);
+    for (var i = 0u; i < 4u; i++) {
+        if dot(globals.planes[i].xyz, p) + globals.planes[i].w < -margin {
+            return false;
+        }
+    }
+    return true;
+}
+
+var<workgroup> group_count: atomic<u32>;
+
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let n = sf.n;
     let t = gid.xy;
-    if t.x >= n || t.y >= n {
-        return;
+    let lights_it = t.x < n && t.y < n && (sf.view_cull == 0u || in_view(t));
+    if lights_it {
+        shade_texel(t);
+        atomicAdd(&group_count, 1u);
     }
+    workgroupBarrier();
+    if li == 0u {
+        atomicAdd(&shaded, atomicLoad(&group_count));
+    }
+}
+
+fn shade_texel(t: vec2<u32>) {
+    let n = sf.n;
     let me = load(sf.face, t);
     if me.id == 0u {
         textureStore(lit_out, t, sf.face, vec4(posterize(globals.sky.rgb, globals.bands, 0.0), 0.0));

@@ -40,14 +40,21 @@ fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut
         default: { corner = s.c3.xyz; }
     }
     let role = bitcast<u32>(s.c2.w);
+    let key = bitcast<u32>(s.c0.w);
     var clip = view.view_proj * vec4(corner, 1.0);
+    // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
+    // depth and be resolved by draw order, which the cull pass's atomics leave unspecified;
+    // a tiny per-texel offset makes the winner a function of the texel alone.
+    let tie = f32((key * 2654435761u) >> 24u) * 1.0e-9;
+    var bias = tie;
     if role == ROLE_EYE {
-        clip.z = min(clip.z + view.eye_bias * clip.w, clip.w);
+        bias += view.eye_bias;
     }
+    clip.z = min(clip.z + bias * clip.w, clip.w);
     out.clip = clip;
     let c = unpack4x8unorm(bitcast<u32>(s.c1.w));
     out.colour = vec4(srgb_to_linear(c.rgb), 1.0);
-    out.key = bitcast<u32>(s.c0.w);
+    out.key = key;
     out.role = role;
     return out;
 }

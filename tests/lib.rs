@@ -1,7 +1,16 @@
 //! Cross-crate integration tests for Texel live in this package's `tests/` folder; this
-//! library only holds helpers they share (paths into the repository).
+//! library holds what they share: repository paths, golden-image comparison, and a small
+//! harness that plays a level through the runtime's frame driver on the GPU.
 
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
+
+use glam::UVec2;
+use texel_render::context::GpuContext;
+use texel_render::frame::Renderer;
+use texel_render::input::{Camera, FrameInput, Schedule};
+use texel_render::stats::FrameStats;
+use texel_runtime::driver::FrameDriver;
+use texel_runtime::load::load_level;
 
 /// The repository root (the folder that holds `assets/` and `shaders/`).
 pub fn repo_root() -> PathBuf {
@@ -9,4 +18,99 @@ pub fn repo_root() -> PathBuf {
         .parent()
         .map(PathBuf::from)
         .unwrap_or_default()
+}
+
+/// Compares an RGBA8 image with `tests/golden/<name>.png`.
+///
+/// Pixel art is flat colour, so the comparison is near-exact: a pixel differs if any channel
+/// is off by more than 2, and at most `max_diff_fraction` of the pixels may differ. A missing
+/// reference fails (set `TEXEL_UPDATE_GOLDEN=1` to write it); a failure writes
+/// `<name>_actual.png` and `<name>_diff.png` beside the reference (ignored by git).
+pub fn check_golden(name: &str, pixels: &[u8], size: UVec2, max_diff_fraction: f64) {
+    let dir = repo_root().join("tests/golden");
+    let reference = dir.join(format!("{name}.png"));
+    let save = |path: &Path, px: &[u8]| {
+        image::save_buffer(path, px, size.x, size.y, image::ColorType::Rgba8)
+            .unwrap_or_else(|e| panic!("writing {}: {e}", path.display()))
+    };
+    if std::env::var_os("TEXEL_UPDATE_GOLDEN").is_some() {
+        std::fs::create_dir_all(&dir).expect("tests/golden");
+        save(&reference, pixels);
+        return;
+    }
+    let Ok(golden) = image::open(&reference) else {
+        panic!(
+            "missing golden image {}; run with TEXEL_UPDATE_GOLDEN=1 to create it",
+            reference.display()
+        );
+    };
+    let golden = golden.to_rgba8();
+    assert_eq!(
+        (golden.width(), golden.height()),
+        (size.x, size.y),
+        "{name}: size differs from the golden image"
+    );
+    let mut diff = vec![0u8; pixels.len()];
+    let mut differing = 0usize;
+    for (i, (a, b)) in pixels.chunks(4).zip(golden.as_raw().chunks(4)).enumerate() {
+        let off = a.iter().zip(b).take(3).any(|(x, y)| x.abs_diff(*y) > 2);
+        if off {
+            differing += 1;
+            diff[i * 4..i * 4 + 4].copy_from_slice(&[255, 0, 255, 255]);
+        } else {
+            diff[i * 4..i * 4 + 4].copy_from_slice(&[a[0] / 3, a[1] / 3, a[2] / 3, 255]);
+        }
+    }
+    let fraction = differing as f64 / (size.x * size.y) as f64;
+    if fraction > max_diff_fraction {
+        save(&dir.join(format!("{name}_actual.png")), pixels);
+        save(&dir.join(format!("{name}_diff.png")), &diff);
+        panic!(
+            "{name}: {differing} pixels ({:.3}%) differ from {} (allowed {:.3}%); see {name}_actual.png and {name}_diff.png",
+            fraction * 100.0,
+            reference.display(),
+            max_diff_fraction * 100.0
+        );
+    }
+}
+
+/// A level played through the runtime's frame driver on a headless GPU.
+pub struct Harness {
+    /// The GPU.
+    pub ctx: GpuContext,
+    /// The renderer.
+    pub renderer: Renderer,
+    /// The driver (probe logic).
+    pub driver: FrameDriver,
+}
+
+impl Harness {
+    /// Loads `level` (relative to the repository) for an output of `size` with faces of
+    /// `face_res` texels; `None` when there is no GPU and `TEXEL_REQUIRE_GPU` is unset.
+    pub fn new(level: &str, size: UVec2, face_res: u32) -> Option<Harness> {
+        let ctx = texel_render::context::test_context()?;
+        let mut loaded = load_level(&repo_root().join(level)).expect("level loads");
+        loaded.scene.settings.pixel_scale = texel_scene::PixelScale::FaceResolution(face_res);
+        let driver = FrameDriver::new(&loaded, size, 60f32.to_radians()).expect("driver");
+        let mut renderer = Renderer::headless(&ctx).expect("renderer");
+        renderer.set_scene(&ctx, driver.scene_input());
+        Some(Harness {
+            ctx,
+            renderer,
+            driver,
+        })
+    }
+
+    /// Plans and renders one frame; returns its input, stats and RGBA8 pixels.
+    pub fn frame(&mut self, camera: Camera, dt: f32) -> (FrameInput, FrameStats, Vec<u8>) {
+        let input = self
+            .driver
+            .frame(camera, dt, Schedule::Ours)
+            .expect("frame plans");
+        let (stats, px) = self
+            .renderer
+            .render_offscreen(&self.ctx, &input)
+            .expect("frame renders");
+        (input, stats, px)
+    }
 }

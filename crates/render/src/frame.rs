@@ -11,7 +11,7 @@ use crate::gpu_scene::GpuScene;
 use crate::input::{FrameInput, SceneInput};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
-use crate::passes::cull::{CullPass, DrawArgs};
+use crate::passes::cull::{CullPass, DrawArgs, SPLAT_BYTES};
 use crate::passes::shade::ShadePass;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::visible::VisiblePass;
@@ -33,9 +33,23 @@ pub enum RenderError {
     /// `render` was called before `set_scene`.
     #[error("no scene uploaded: call Renderer::set_scene first")]
     NoScene,
+    /// The device rejected a shader or pipeline (a bug, or a device lacking a feature).
+    #[error("the GPU rejected a render pipeline: {0}")]
+    Pipeline(String),
     /// The frame asks for something the renderer cannot do.
     #[error("invalid frame: {0}")]
     InvalidFrame(String),
+}
+
+/// One splat quad of a frame, as read back by [`Renderer::read_splats`].
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SplatRecord {
+    /// Dense texel index `((slot · 6 + face) · max_n + y) · max_n + x`.
+    pub key: u32,
+    /// 0 eye, 1 grid, 2 previous.
+    pub role: u32,
+    /// World-space corners (top-left, top-right, bottom-right, bottom-left in face space).
+    pub corners: [[f32; 3]; 4],
 }
 
 /// Names of the timed stages, in order.
@@ -100,8 +114,18 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// Builds every pass for a colour target of `colour` format.
+    /// Builds every pass for a colour target of `colour` format. A shader or pipeline the
+    /// device rejects is an error, not a panic.
     pub fn new(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let built = Self::build(ctx, colour);
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Pipeline(e.to_string()));
+        }
+        built
+    }
+
+    fn build(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
         let d = &ctx.device;
         let queries = ctx.timestamps.then(|| {
             d.create_query_set(&wgpu::QuerySetDescriptor {
@@ -148,9 +172,37 @@ impl Renderer {
         &self.store
     }
 
-    /// The splat list of the last frame and its indirect arguments (for tests).
-    pub fn splat_buffers(&self) -> (&wgpu::Buffer, &wgpu::Buffer) {
-        (&self.cull.splats, &self.cull.args)
+    /// The splat list of the last frame, read back (for tests and debugging): which texel
+    /// each quad draws and its world-space corners.
+    pub fn read_splats(&self, ctx: &GpuContext) -> Result<Vec<SplatRecord>, GpuError> {
+        let copy = |src: &wgpu::Buffer, bytes: u64| {
+            let dst = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("frame::splat_readback"),
+                size: bytes.max(4),
+                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+                mapped_at_creation: false,
+            });
+            let mut enc = ctx.device.create_command_encoder(&Default::default());
+            enc.copy_buffer_to_buffer(src, 0, &dst, 0, bytes);
+            ctx.queue.submit([enc.finish()]);
+            read_buffer(ctx, &dst)
+        };
+        let args_bytes = copy(&self.cull.args, size_of::<DrawArgs>() as u64)?;
+        let args: DrawArgs = *bytemuck::from_bytes(&args_bytes);
+        let count = u64::from(args.instance_count).min(self.cull.splats.size() / SPLAT_BYTES);
+        if count == 0 {
+            return Ok(Vec::new());
+        }
+        let raw = copy(&self.cull.splats, count * SPLAT_BYTES)?;
+        let words: &[[f32; 16]] = bytemuck::cast_slice(&raw);
+        Ok(words
+            .iter()
+            .map(|w| SplatRecord {
+                key: w[3].to_bits() - 1,
+                role: w[11].to_bits(),
+                corners: [0, 4, 8, 12].map(|i| [w[i], w[i + 1], w[i + 2]]),
+            })
+            .collect())
     }
 
     /// The per-pixel texel keys of the last frame (for tests and picking).
@@ -212,11 +264,11 @@ impl Renderer {
             self.capture
                 .record(d, q, enc, &input.captures, &self.store, scene)
         });
-        let mut texels_shaded = 0;
         stages.run(|enc| {
-            texels_shaded =
-                self.shade
-                    .record(d, q, enc, &input.captures, &self.store, scene, &input.look);
+            let (captures, store, look) = (&input.captures, &self.store, &input.look);
+            let planes = globals.side_planes();
+            self.shade
+                .record(d, q, enc, captures, store, scene, look, planes);
         });
         let drawn = drawn_faces(input);
         stages.run(|enc| {
@@ -239,10 +291,19 @@ impl Renderer {
             self.background.draw(&mut pass, &bg_bind);
         });
         stages.run(|enc| self.visible.record(d, enc, &screen.keys_view, size));
-        let (passes, gpu_timestamps, readback) =
-            stages.finish(&self.cull.args, &self.visible.bits, self.visible.bytes())?;
-        let args: DrawArgs = *bytemuck::from_bytes(&readback[..size_of::<DrawArgs>()]);
-        let bits: &[u32] = bytemuck::cast_slice(&readback[size_of::<DrawArgs>()..]);
+        let copies = [
+            (&self.cull.args, size_of::<DrawArgs>() as u64),
+            (&self.shade.shaded, 4),
+            (&self.visible.bits, self.visible.bytes()),
+        ];
+        let (passes, gpu_timestamps, readback) = stages.finish(&copies)?;
+        let (args_bytes, rest) = readback.split_at(size_of::<DrawArgs>());
+        let args: DrawArgs = *bytemuck::from_bytes(args_bytes);
+        let (shaded, bits) = rest.split_at(4);
+        let texels_shaded = u64::from(u32::from_le_bytes([
+            shaded[0], shaded[1], shaded[2], shaded[3],
+        ]));
+        let bits: &[u32] = bytemuck::cast_slice(bits);
         Ok(FrameStats {
             passes,
             gpu_timestamps,
@@ -376,26 +437,27 @@ impl<'a> Stages<'a> {
         }
     }
 
-    /// Submits, copies `args` and `bits` back, and returns per-stage times.
+    /// Submits, copies each `(buffer, bytes)` back (concatenated, in order), and returns the
+    /// per-stage times.
     fn finish(
         mut self,
-        args: &wgpu::Buffer,
-        bits: &wgpu::Buffer,
-        bits_bytes: u64,
+        copies: &[(&wgpu::Buffer, u64)],
     ) -> Result<(Vec<PassTime>, bool, Vec<u8>), GpuError> {
-        let args_bytes = size_of::<DrawArgs>() as u64;
         let stamps_bytes = 8 * u64::from(self.index + 1);
-        let stamps_at = (args_bytes + bits_bytes).next_multiple_of(256);
+        let copied: u64 = copies.iter().map(|(_, n)| n).sum();
+        let stamps_at = copied.next_multiple_of(256);
         let readback = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("frame::readback"),
             size: stamps_at + stamps_bytes,
             usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
             mapped_at_creation: false,
         });
-        self.encoder
-            .copy_buffer_to_buffer(args, 0, &readback, 0, args_bytes);
-        self.encoder
-            .copy_buffer_to_buffer(bits, 0, &readback, args_bytes, bits_bytes);
+        let mut at = 0;
+        for (buffer, bytes) in copies {
+            self.encoder
+                .copy_buffer_to_buffer(buffer, 0, &readback, at, *bytes);
+            at += bytes;
+        }
         let resolve = self.queries.map(|q| {
             let buf = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("frame::timestamps"),

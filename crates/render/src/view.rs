@@ -66,6 +66,16 @@ pub fn frustum_planes(m: Mat4) -> [Vec4; 6] {
 }
 
 impl ViewGlobals {
+    /// The four side planes of the view frustum (left, right, bottom, top).
+    pub fn side_planes(&self) -> [[f32; 4]; 4] {
+        [
+            self.planes[0],
+            self.planes[1],
+            self.planes[2],
+            self.planes[3],
+        ]
+    }
+
     /// The view data of `input`; `slot_n` is each slot's current face resolution.
     pub fn new(input: &FrameInput, slot_n: [u32; 3]) -> Self {
         let size = input.size;

@@ -9,6 +9,7 @@ use crate::input::{CaptureInput, Look};
 use crate::passes::capture::MAX_CAPTURES;
 use crate::probe_store::{LIT_FORMAT, ProbeStore};
 use crate::shader;
+use texel_probes::probe_set::Slot;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -16,7 +17,8 @@ struct ShadeFace {
     origin: [f32; 3],
     face: u32,
     n: u32,
-    _pad: [u32; 3],
+    view_cull: u32,
+    _pad: [u32; 2],
 }
 
 #[repr(C)]
@@ -37,6 +39,7 @@ pub struct ShadeGlobals {
     point_count: u32,
     bands: u32,
     shadows: u32,
+    planes: [[f32; 4]; 4],
 }
 
 /// The shade pass.
@@ -46,6 +49,8 @@ pub struct ShadePass {
     bvh_layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
     globals: wgpu::Buffer,
+    /// Texels lit this frame (one `u32`, counted on the GPU).
+    pub shaded: wgpu::Buffer,
 }
 
 impl ShadePass {
@@ -72,6 +77,7 @@ impl ShadePass {
                 ),
                 entry(6, c, storage(true)),
                 entry(7, c, storage(true)),
+                entry(8, c, storage(false)),
             ],
         });
         let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -105,10 +111,19 @@ impl ShadePass {
             bvh_layout,
             faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_CAPTURES as u64),
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
+            shaded: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shade::shaded"),
+                size: 4,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::COPY_SRC
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         })
     }
 
-    /// Records the lighting of every captured face; returns the texels shaded.
+    /// Records the lighting of every captured face (eye faces only where the view can see;
+    /// `planes` are the view's side planes). The texels lit are counted in [`Self::shaded`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -119,19 +134,24 @@ impl ShadePass {
         store: &ProbeStore,
         scene: &GpuScene,
         look: &Look,
-    ) -> u64 {
+        planes: [[f32; 4]; 4],
+    ) {
+        encoder.clear_buffer(&self.shaded, 0, None);
         let captures = &captures[..captures.len().min(MAX_CAPTURES)];
         if captures.is_empty() {
-            return 0;
+            return;
         }
-        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals(scene, look)));
+        let mut g = globals(scene, look);
+        g.planes = planes;
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
         for (i, c) in captures.iter().enumerate() {
             let f = ShadeFace {
                 origin: c.origin.to_array(),
                 face: c.face.index() as u32,
                 n: store.slot(c.slot).n,
-                _pad: [0; 3],
+                view_cull: u32::from(c.slot == Slot::Eye),
+                _pad: [0; 2],
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
@@ -157,16 +177,13 @@ impl ShadePass {
         });
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(1, &bvh, &[]);
-        let mut texels = 0u64;
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
             let bind = self.slot_bind_group(device, store, c, scene);
             pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
             let groups = slot.n.div_ceil(8);
             pass.dispatch_workgroups(groups, groups, 1);
-            texels += u64::from(slot.n) * u64::from(slot.n);
         }
-        texels
     }
 
     fn slot_bind_group(
@@ -209,6 +226,10 @@ impl ShadePass {
                     binding: 7,
                     resource: scene.points.as_entire_binding(),
                 },
+                wgpu::BindGroupEntry {
+                    binding: 8,
+                    resource: self.shaded.as_entire_binding(),
+                },
             ],
         })
     }
@@ -229,5 +250,6 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         point_count: scene.point_count,
         bands: look.bands.max(2),
         shadows: 1,
+        planes: [[0.0; 4]; 4],
     }
 }
