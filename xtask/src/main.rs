@@ -40,7 +40,14 @@ use std::time::{Duration, Instant};
 const MAIN_JOB: MainJob = MainJob {
     package: "texel_runtime",
     bin: "texel-run",
-    default_args: &["check", "assets/levels/stone_circle.ron"],
+    default_args: &[
+        "render",
+        "assets/levels/stone_circle.ron",
+        "--size",
+        "1280x720",
+        "--out",
+        "target/stone_circle",
+    ],
     needs_display: false,
 };
 
@@ -103,6 +110,8 @@ fn test_steps() -> Vec<Step> {
     let test_env = vec![
         ("RUST_TEST_THREADS".to_owned(), "1".to_owned()),
         ("TEXEL_REQUIRE_GPU".to_owned(), "1".to_owned()),
+        // Window tests fail instead of skipping when no display could be provided.
+        ("TEXEL_REQUIRE_DISPLAY".to_owned(), "1".to_owned()),
     ];
     vec![
         Step::cargo(&["fmt", "--all", "--", "--check"]),
@@ -1359,8 +1368,8 @@ mod tests {
             [
                 "cargo fmt --all -- --check",
                 "cargo clippy --workspace --all-targets -- -D warnings",
-                "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 cargo test --workspace --all-targets",
-                "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 cargo test --workspace --doc",
+                "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 cargo test --workspace --all-targets",
+                "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 cargo test --workspace --doc",
             ]
         );
         let display: Vec<bool> = steps.iter().map(|step| step.needs_display).collect();

@@ -8,7 +8,7 @@ use texel_probes::probe_set::Slot;
 
 use crate::context::{GpuContext, GpuError};
 use crate::gpu_scene::GpuScene;
-use crate::input::{FrameInput, SceneInput};
+use crate::input::{FrameInput, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, SPLAT_BYTES};
@@ -267,8 +267,10 @@ impl Renderer {
         stages.run(|enc| {
             let (captures, store, look) = (&input.captures, &self.store, &input.look);
             let planes = globals.side_planes();
-            self.shade
-                .record(d, q, enc, captures, store, scene, look, planes);
+            // The paper's schedule lights whole faces, as the reference does.
+            let view_cull = input.schedule == Schedule::Ours;
+            let shade = &self.shade;
+            shade.record(d, q, enc, captures, store, scene, look, planes, view_cull);
         });
         let drawn = drawn_faces(input);
         stages.run(|enc| {

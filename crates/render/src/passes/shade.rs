@@ -122,8 +122,8 @@ impl ShadePass {
         })
     }
 
-    /// Records the lighting of every captured face (eye faces only where the view can see;
-    /// `planes` are the view's side planes). The texels lit are counted in [`Self::shaded`].
+    /// Records the lighting of every captured face (eye faces only where the view can see
+    /// when `view_cull`; `planes` are the view's side planes). The texels lit are counted in [`Self::shaded`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -135,6 +135,7 @@ impl ShadePass {
         scene: &GpuScene,
         look: &Look,
         planes: [[f32; 4]; 4],
+        view_cull: bool,
     ) {
         encoder.clear_buffer(&self.shaded, 0, None);
         let captures = &captures[..captures.len().min(MAX_CAPTURES)];
@@ -150,7 +151,7 @@ impl ShadePass {
                 origin: c.origin.to_array(),
                 face: c.face.index() as u32,
                 n: store.slot(c.slot).n,
-                view_cull: u32::from(c.slot == Slot::Eye),
+                view_cull: u32::from(c.slot == Slot::Eye && view_cull),
                 _pad: [0; 2],
             };
             let at = i * UNIFORM_STRIDE as usize;
