@@ -181,3 +181,54 @@ fn inside_a_closed_room_no_pixel_is_left_uncovered() {
         assert_eq!(px.len(), (size.x * size.y * 4) as usize);
     }
 }
+
+#[test]
+fn picking_names_the_entity_under_a_pixel() {
+    let size = UVec2::new(160, 90);
+    let Some(mut h) = Harness::new("assets/levels/stone_circle.ron", size, 32) else {
+        return;
+    };
+    settled(&mut h, cam(0.0, 1.6, 13.0, 0.0, -5.0));
+    // Level order: 1 is the ground (bottom of the view); the sky (top row) is nothing.
+    let ground = h.renderer.pick(&h.ctx, UVec2::new(80, 88)).unwrap();
+    assert_eq!(ground, Some(1));
+    assert_eq!(h.renderer.pick(&h.ctx, UVec2::new(80, 1)).unwrap(), None);
+    assert_eq!(h.renderer.pick(&h.ctx, UVec2::new(500, 1)).unwrap(), None);
+    // Somewhere in the middle band there are stones (ids above 1).
+    let stones = (40..120)
+        .step_by(4)
+        .filter_map(|x| h.renderer.pick(&h.ctx, UVec2::new(x, 45)).unwrap())
+        .filter(|id| *id > 1)
+        .count();
+    assert!(stones > 0, "no stone picked across the middle of the view");
+}
+
+#[test]
+fn frame_ids_agree_with_picking_and_mark_eye_pixels() {
+    let size = UVec2::new(160, 90);
+    let Some(mut h) = Harness::new("assets/levels/stone_circle.ron", size, 32) else {
+        return;
+    };
+    settled(&mut h, cam(0.0, 1.6, 13.0, 0.0, -5.0));
+    let ids = h.renderer.read_frame_ids(&h.ctx).unwrap();
+    assert_eq!(ids.entity.len(), (size.x * size.y) as usize);
+    for (x, y) in [(80, 88), (80, 1), (60, 45), (100, 50)] {
+        let picked = h
+            .renderer
+            .pick(&h.ctx, UVec2::new(x, y))
+            .unwrap()
+            .unwrap_or(0);
+        assert_eq!(
+            ids.entity[(y * size.x + x) as usize],
+            picked,
+            "pixel ({x}, {y})"
+        );
+    }
+    let eye = ids.from_eye.iter().filter(|e| **e).count();
+    // Settled in one cell, the grid probe draws almost everything.
+    assert!(
+        eye * 5 < ids.from_eye.len(),
+        "{eye} of {} pixels from the eye",
+        ids.from_eye.len()
+    );
+}

@@ -52,6 +52,17 @@ pub struct SplatRecord {
     pub corners: [[f32; 3]; 4],
 }
 
+/// Per-pixel provenance of a frame ([`Renderer::read_frame_ids`]).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct FrameIds {
+    /// Frame size.
+    pub size: glam::UVec2,
+    /// Entity id per pixel, row-major (0 = sky or nothing).
+    pub entity: Vec<u32>,
+    /// Whether each pixel came from the eye probe.
+    pub from_eye: Vec<bool>,
+}
+
 /// Names of the timed stages, in order.
 pub const STAGES: [&str; 6] = ["capture", "shade", "cull", "splat", "background", "visible"];
 
@@ -203,6 +214,92 @@ impl Renderer {
                 corners: [0, 4, 8, 12].map(|i| [w[i], w[i + 1], w[i + 2]]),
             })
             .collect())
+    }
+
+    /// The entity id (`ObjectInput::id`) shown at `pixel` of the last frame, or `None` for
+    /// sky or outside the frame: the pixel's texel key names a probe texel, whose captured
+    /// object index names the object.
+    pub fn pick(&self, ctx: &GpuContext, pixel: glam::UVec2) -> Result<Option<u32>, GpuError> {
+        let (Some(screen), Some(scene)) = (self.screen.as_ref(), self.scene.as_ref()) else {
+            return Ok(None);
+        };
+        if pixel.x >= screen.size.0 || pixel.y >= screen.size.1 {
+            return Ok(None);
+        }
+        let key = read_texel_u32(ctx, &screen.keys, 0, pixel)?;
+        if key == 0 {
+            return Ok(None);
+        }
+        let max_n = Slot::ALL
+            .map(|s| self.store.slot(s).n)
+            .into_iter()
+            .max()
+            .unwrap_or(1);
+        let k = key - 1;
+        let (x, y) = (k % max_n, (k / max_n) % max_n);
+        let layer = k / (max_n * max_n);
+        let (slot, face) = (Slot::ALL[(layer / 6) as usize % 3], layer % 6);
+        let ids = &self.store.slot(slot).ids.texture;
+        let object = read_texel_u32(ctx, ids, face, glam::UVec2::new(x, y))?;
+        Ok(object
+            .checked_sub(1)
+            .and_then(|i| scene.object_ids.get(i as usize).copied()))
+    }
+
+    /// Per pixel of the last frame: the entity id shown (0 = sky or nothing) and whether the
+    /// pixel's colour came from the eye probe (its quads or the background fill). Reads the
+    /// key target and the probes' id textures back to the CPU (for the evaluator).
+    pub fn read_frame_ids(&self, ctx: &GpuContext) -> Result<FrameIds, GpuError> {
+        let (Some(screen), Some(scene)) = (self.screen.as_ref(), self.scene.as_ref()) else {
+            return Ok(FrameIds::default());
+        };
+        let keys = crate::target::read_texture_layer(ctx, &screen.keys, 0, 4)?;
+        let max_n = Slot::ALL
+            .map(|s| self.store.slot(s).n)
+            .into_iter()
+            .max()
+            .unwrap_or(1);
+        // ids[slot][face] read lazily: only layers some pixel refers to.
+        let mut layers: Vec<Option<Vec<u8>>> = vec![None; 18];
+        let mut out = FrameIds {
+            size: glam::UVec2::new(screen.size.0, screen.size.1),
+            entity: Vec::with_capacity(keys.len() / 4),
+            from_eye: Vec::with_capacity(keys.len() / 4),
+        };
+        for k in keys.chunks_exact(4) {
+            let key = u32::from_le_bytes([k[0], k[1], k[2], k[3]]);
+            if key == 0 {
+                out.entity.push(0);
+                out.from_eye.push(false);
+                continue;
+            }
+            let k = key - 1;
+            let (x, y) = (k % max_n, (k / max_n) % max_n);
+            let layer = (k / (max_n * max_n)) as usize % 18;
+            let slot = Slot::ALL[layer / 6];
+            let tex = self.store.slot(slot);
+            if layers[layer].is_none() {
+                let face = (layer % 6) as u32;
+                layers[layer] = Some(crate::target::read_texture_layer(
+                    ctx,
+                    &tex.ids.texture,
+                    face,
+                    4,
+                )?);
+            }
+            let ids = layers[layer].as_deref().unwrap_or_default();
+            let i = ((y * tex.n + x) * 4) as usize;
+            let object = ids
+                .get(i..i + 4)
+                .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
+            let entity = object
+                .checked_sub(1)
+                .and_then(|o| scene.object_ids.get(o as usize).copied())
+                .unwrap_or(0);
+            out.entity.push(entity);
+            out.from_eye.push(slot == Slot::Eye);
+        }
+        Ok(out)
     }
 
     /// The per-pixel texel keys of the last frame (for tests and picking).
@@ -371,6 +468,50 @@ fn drawn_faces(input: &FrameInput) -> Vec<(Slot, texel_probes::cube::Face)> {
         .flatten()
         .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f)))
         .collect()
+}
+
+/// One `u32` texel of an `R32Uint` texture layer.
+fn read_texel_u32(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    layer: u32,
+    at: glam::UVec2,
+) -> Result<u32, GpuError> {
+    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("frame::pick"),
+        size: 4,
+        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
+        mapped_at_creation: false,
+    });
+    let mut enc = ctx.device.create_command_encoder(&Default::default());
+    enc.copy_texture_to_buffer(
+        wgpu::TexelCopyTextureInfo {
+            texture,
+            mip_level: 0,
+            origin: wgpu::Origin3d {
+                x: at.x,
+                y: at.y,
+                z: layer,
+            },
+            aspect: wgpu::TextureAspect::All,
+        },
+        wgpu::TexelCopyBufferInfo {
+            buffer: &buffer,
+            layout: wgpu::TexelCopyBufferLayout {
+                offset: 0,
+                bytes_per_row: None,
+                rows_per_image: None,
+            },
+        },
+        wgpu::Extent3d {
+            width: 1,
+            height: 1,
+            depth_or_array_layers: 1,
+        },
+    );
+    ctx.queue.submit([enc.finish()]);
+    let bytes = read_buffer(ctx, &buffer)?;
+    Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
 }
 
 fn validate(input: &FrameInput) -> Result<(), RenderError> {

@@ -78,6 +78,8 @@ pub struct GpuScene {
     pub bvh_triangles: wgpu::Buffer,
     /// Shadow-casting triangles in the BVH.
     pub shadow_triangles: usize,
+    /// Entity id of each object, by object index.
+    pub object_ids: Vec<u32>,
 }
 
 fn pack_colour(c: [f32; 4]) -> u32 {
@@ -180,6 +182,7 @@ impl GpuScene {
             bvh_nodes,
             bvh_triangles,
             shadow_triangles: casters.len(),
+            object_ids: scene.objects.iter().map(|o| o.id).collect(),
         }
     }
 
