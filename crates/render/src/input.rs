@@ -79,6 +79,8 @@ pub struct Camera {
     pub near: f32,
     /// Far plane distance.
     pub far: f32,
+    /// `Some(h)`: an orthographic camera whose view is `h` world units tall (`fov_y` unused).
+    pub ortho_height: Option<f32>,
 }
 
 impl Camera {
@@ -90,6 +92,7 @@ impl Camera {
             fov_y: 60f32.to_radians(),
             near: 0.05,
             far: 400.0,
+            ortho_height: None,
         }
     }
 
@@ -114,7 +117,14 @@ impl Camera {
     /// View → clip matrix (depth 0..1).
     pub fn projection(&self, aspect: f32) -> Mat4 {
         // wgpu's NDC: depth 0..1, Y up (the DirectX convention).
-        glam::camera::rh::proj::directx::perspective(self.fov_y, aspect, self.near, self.far)
+        use glam::camera::rh::proj::directx;
+        match self.ortho_height {
+            Some(h) => {
+                let (hw, hh) = (h * 0.5 * aspect, h * 0.5);
+                directx::orthographic(-hw, hw, -hh, hh, self.near, self.far)
+            }
+            None => directx::perspective(self.fov_y, aspect, self.near, self.far),
+        }
     }
 }
 
