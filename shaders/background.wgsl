@@ -8,6 +8,7 @@
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var eye_ids: texture_2d_array<u32>;
 @group(0) @binding(2) var eye_lit: texture_2d_array<f32>;
+@group(0) @binding(3) var eye_geo: texture_2d_array<f32>;
 
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
@@ -40,8 +41,11 @@ fn fs(in: VsOut) -> FsOut {
     let t = texel_of_uv(fu.uv, eye.n);
     let lit = textureLoad(eye_lit, t, fu.face, 0);
     var key = 0u;
+    var colour = lit.rgb;
     if textureLoad(eye_ids, t, fu.face, 0).r != 0u {
         key = texel_key(view.eye_slot, fu.face, t, view.max_n) + 1u;
+        let d = textureLoad(eye_geo, t, fu.face, 0).w;
+        colour = hazed(colour, d * length(dir) / chebyshev(dir));
     }
-    return FsOut(vec4(lit.rgb, 1.0), key);
+    return FsOut(vec4(colour, 1.0), key);
 }

@@ -175,7 +175,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let top = uv.y - half_size((bits & 4u) != 0u, cos_theta) * h;
     let bottom = uv.y + half_size((bits & 8u) != 0u, cos_theta) * h;
     let key = texel_key(slot, face, t, view.max_n) + 1u;
-    let colour = pack4x8unorm(vec4(linear_to_srgb(lit.rgb), 1.0));
+    let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
     out.c0 = vec4(probe_point(s.origin, cube_dir(face, left, top), d), bitcast<f32>(key));
     out.c1 = vec4(probe_point(s.origin, cube_dir(face, right, top), d), bitcast<f32>(colour));

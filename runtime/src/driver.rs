@@ -84,7 +84,7 @@ impl FrameDriver {
                 sky: s.sky,
                 ambient: s.ambient,
                 bands: s.bands,
-                haze: 0.0,
+                haze: s.haze,
             },
             defaults,
             overrides,

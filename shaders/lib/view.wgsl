@@ -27,6 +27,17 @@ struct ViewGlobals {
     eye_bias: f32,
     eye_slot: u32,
     grid_slot: u32,
+    // Haze density per world unit (0 = none).
+    haze: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+// The colour `c` seen from `dist` world units away through the haze.
+fn hazed(c: vec3<f32>, dist: f32) -> vec3<f32> {
+    let f = 1.0 - exp(-view.haze * dist);
+    return mix(c, view.sky.rgb, f);
 }
 
 const ROLE_EYE: u32 = 0u;

@@ -21,7 +21,7 @@ pub struct SlotView {
     _pad: [u32; 2],
 }
 
-/// `ViewGlobals` in WGSL (384 bytes).
+/// `ViewGlobals` in WGSL (400 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ViewGlobals {
@@ -39,6 +39,8 @@ pub struct ViewGlobals {
     eye_bias: f32,
     eye_slot: u32,
     grid_slot: u32,
+    haze: f32,
+    _pad2: [u32; 3],
 }
 
 /// Role numbers of `lib/view.wgsl`.
@@ -121,6 +123,8 @@ impl ViewGlobals {
             eye_bias: EYE_BIAS,
             eye_slot: Slot::Eye.index() as u32,
             grid_slot: input.grid.slot.index() as u32,
+            haze: input.look.haze.max(0.0),
+            _pad2: [0; 3],
         }
     }
 }

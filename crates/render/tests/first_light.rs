@@ -40,3 +40,33 @@ fn boxes_render_with_sky_ground_and_boxes() {
         );
     }
 }
+
+#[test]
+fn haze_pulls_far_surfaces_toward_the_sky() {
+    let Some(ctx) = test_context() else { return };
+    let mut r = Renderer::headless(&ctx).unwrap();
+    r.set_scene(&ctx, &common::boxes_scene());
+    let size = UVec2::new(160, 90);
+    let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.1, -1.0));
+    let mut clear = common::frame(cam, Vec3::new(0.0, 2.0, 3.0), 32, size, Schedule::Ours);
+    let (_, sharp) = r.render_offscreen(&ctx, &clear).unwrap();
+    clear.look.haze = 0.15;
+    let (_, hazy) = r.render_offscreen(&ctx, &clear).unwrap();
+    let px = |img: &[u8], x: u32, y: u32| {
+        let i = ((y * size.x + x) * 4) as usize;
+        [img[i], img[i + 1], img[i + 2]].map(i32::from)
+    };
+    let sky = px(&sharp, 80, 1);
+    let dist = |a: [i32; 3], b: [i32; 3]| (0..3).map(|i| (a[i] - b[i]).abs()).sum::<i32>();
+    // Ground just below the horizon is far; at the bottom edge it is near.
+    let (far_sharp, far_hazy) = (px(&sharp, 10, 47), px(&hazy, 10, 47));
+    let (near_sharp, near_hazy) = (px(&sharp, 10, 88), px(&hazy, 10, 88));
+    assert!(
+        dist(far_hazy, sky) + 20 < dist(far_sharp, sky),
+        "far ground moves toward the sky: {far_sharp:?} → {far_hazy:?} (sky {sky:?})"
+    );
+    assert!(
+        dist(near_hazy, near_sharp) < dist(far_hazy, far_sharp),
+        "near ground changes less than far ground"
+    );
+}

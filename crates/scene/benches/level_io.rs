@@ -69,6 +69,11 @@ fn level_io(c: &mut Criterion) {
 
     let mut g = c.benchmark_group("level_10k");
     g.sample_size(20);
+    let text = std::fs::read_to_string(&path).expect("read");
+    g.bench_function("parse", |b| {
+        b.iter(|| black_box(Level::from_ron_str(&text, &path).expect("parse")))
+    });
+    g.bench_function("spawn", |b| b.iter(|| black_box(Scene::from_level(&level))));
     g.bench_function("load", |b| {
         b.iter(|| black_box(Scene::load(&path).expect("load")))
     });

@@ -307,6 +307,14 @@ pub struct LevelSettings {
     /// Default probe-grid cell size, in world units.
     #[serde(with = "num::positive")]
     pub cell_size: f32,
+    /// Distance haze: the share of sky colour mixed in at distance `d` is `1 − e^(−haze·d)`
+    /// (0 = none; left out of the file when 0).
+    #[serde(default, skip_serializing_if = "is_zero", with = "num::haze")]
+    pub haze: f32,
+}
+
+fn is_zero(v: &f32) -> bool {
+    *v == 0.0
 }
 
 impl Default for LevelSettings {
@@ -317,6 +325,7 @@ impl Default for LevelSettings {
             bands: 32,
             pixel_scale: PixelScale::PixelSize(2.5),
             cell_size: 1.0,
+            haze: 0.0,
         }
     }
 }

@@ -301,3 +301,20 @@ f32_with!(
     pitch,
     check_pitch
 );
+
+/// Checks a haze density per world unit: finite, within 0..=10.
+pub fn check_haze(v: f32) -> Result<f32, String> {
+    if !v.is_finite() {
+        return Err(format!("NaN or infinite number ({v})"));
+    }
+    if !(0.0..=10.0).contains(&v) {
+        return Err(format!("haze must be in 0..=10, got {v:?}"));
+    }
+    Ok(v)
+}
+
+f32_with!(
+    /// A haze density per world unit, within 0..=10.
+    haze,
+    check_haze
+);

@@ -150,14 +150,16 @@ fn settings() -> impl Strategy<Value = LevelSettings> {
             positive().prop_map(PixelScale::PixelSize)
         ],
         positive(),
+        prop_oneof![Just(0.0f32), 0.0f32..=10.0],
     )
         .prop_map(
-            |(sky, ambient, bands, pixel_scale, cell_size)| LevelSettings {
+            |(sky, ambient, bands, pixel_scale, cell_size, haze)| LevelSettings {
                 sky,
                 ambient,
                 bands,
                 pixel_scale,
                 cell_size,
+                haze,
             },
         )
 }

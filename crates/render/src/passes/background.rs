@@ -25,6 +25,7 @@ impl BackgroundPass {
                 entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, uniform(false)),
                 entry(1, f, texture(UINT, ARRAY)),
                 entry(2, f, texture(FLOAT, ARRAY)),
+                entry(3, f, texture(FLOAT, ARRAY)),
             ],
         });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -85,6 +86,10 @@ impl BackgroundPass {
                 wgpu::BindGroupEntry {
                     binding: 2,
                     resource: wgpu::BindingResource::TextureView(&eye.lit.array_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: wgpu::BindingResource::TextureView(&eye.geo.array_view),
                 },
             ],
         })
