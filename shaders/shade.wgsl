@@ -13,7 +13,8 @@ struct ShadeFace {
     n: u32,
     // 1 for the eye probe: only texels whose direction lies in the view are lit.
     view_cull: u32,
-    _pad1: u32,
+    // Bit f: face f of this probe holds data for this origin (neighbours are read there only).
+    valid_mask: u32,
     _pad2: u32,
 }
 
@@ -68,6 +69,11 @@ fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
     // Past the edge: continue the face plane and re-project onto the cube.
     let uv = (vec2<f32>(q) + 0.5) * (2.0 / f32(n)) - 1.0;
     let f = cube_face_uv(cube_dir(sf.face, uv.x, uv.y));
+    if (sf.valid_mask & (1u << f.face)) == 0u {
+        // Not captured for this origin (yet): no outline and no expansion across the seam;
+        // the border is shaded again when that face arrives.
+        return load(sf.face, t);
+    }
     return load(f.face, texel_of_uv(f.uv, n));
 }
 
@@ -121,6 +127,32 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation
     let t = gid.xy;
     let lights_it = t.x < n && t.y < n && (sf.view_cull == 0u || in_view(t));
     if lights_it {
+        shade_texel(t);
+        atomicAdd(&group_count, 1u);
+    }
+    workgroupBarrier();
+    if li == 0u {
+        atomicAdd(&shaded, atomicLoad(&group_count));
+    }
+}
+
+// Re-shades only the four edges of a face, after a neighbouring face was captured: the
+// texels whose outlines and neighbour bits look across that seam.
+@compute @workgroup_size(64)
+fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    let n = sf.n;
+    let i = gid.x;
+    let lights_it = i < 4u * n;
+    if lights_it {
+        let side = i / n;
+        let k = i % n;
+        var t: vec2<u32>;
+        switch side {
+            case 0u: { t = vec2(k, 0u); }
+            case 1u: { t = vec2(k, n - 1u); }
+            case 2u: { t = vec2(0u, k); }
+            default: { t = vec2(n - 1u, k); }
+        }
         shade_texel(t);
         atomicAdd(&group_count, 1u);
     }

@@ -157,18 +157,19 @@ impl FrameDriver {
             Schedule::Ours => plan.work.iter().map(capture_of).collect(),
             Schedule::Paper => self.paper_captures(&plan, event),
         };
+        self.scheduler.commit(&plan);
+        let view = |p: &ProbePlan| self.probe_view(p, &captures);
         let input = FrameInput {
             camera,
             size: self.size,
             look: self.look,
-            eye: probe_view(&plan.eye),
-            grid: probe_view(&plan.grid),
-            previous: plan.previous.as_ref().map(probe_view),
+            eye: view(&plan.eye),
+            grid: view(&plan.grid),
+            previous: plan.previous.as_ref().map(view),
             fade_t: probes.fade_t(),
             captures,
             schedule,
         };
-        self.scheduler.commit(&plan);
         if let Some(p) = &mut self.probes {
             p.advance_fade(plan.readiness());
         }
@@ -224,17 +225,35 @@ fn capture_of(w: &texel_probes::schedule::FaceWork) -> CaptureInput {
     }
 }
 
-fn probe_view(p: &ProbePlan) -> ProbeView {
-    ProbeView {
-        role: p.probe.role,
-        slot: p.probe.slot,
-        origin: p.probe.origin,
-        face_resolution: p.probe.face_resolution,
-        draw: if p.probe.role == Role::Eye {
-            p.visible
-        } else {
-            p.draw
-        },
+impl FrameDriver {
+    /// The renderer's view of a probe: what to draw, and which faces hold data for its
+    /// origin (captured this frame, or earlier for the same origin and resolution).
+    fn probe_view(&self, p: &ProbePlan, captures: &[CaptureInput]) -> ProbeView {
+        let mut valid = FaceMask::EMPTY;
+        for face in Face::ALL {
+            let now = captures
+                .iter()
+                .any(|c| c.slot == p.probe.slot && c.face == face);
+            let kept = p.probe.role != Role::Eye
+                && self.scheduler.stamp(p.probe.slot, face).is_some_and(|s| {
+                    s.origin == p.probe.origin && s.face_resolution == p.probe.face_resolution
+                });
+            if now || kept {
+                valid.insert(face);
+            }
+        }
+        ProbeView {
+            role: p.probe.role,
+            slot: p.probe.slot,
+            origin: p.probe.origin,
+            face_resolution: p.probe.face_resolution,
+            draw: if p.probe.role == Role::Eye {
+                p.visible
+            } else {
+                p.draw
+            },
+            valid,
+        }
     }
 }
 

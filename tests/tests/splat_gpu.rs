@@ -232,3 +232,29 @@ fn frame_ids_agree_with_picking_and_mark_eye_pixels() {
         ids.from_eye.len()
     );
 }
+
+#[test]
+fn flat_ground_shows_no_seams_while_faces_arrive_over_frames() {
+    // Faces are captured a few per frame; a face shaded before its neighbour arrived must not
+    // keep an outline along the seam (the shade pass only looks into valid faces, and
+    // re-shades the borders of its neighbours when a face arrives).
+    let size = UVec2::new(192, 108);
+    let Some(mut h) = Harness::new("tests/data/flat_ground.ron", size, 32) else {
+        return;
+    };
+    let c = cam(0.3, 1.6, 0.2, 45.0, -35.0);
+    let px = settled(&mut h, c);
+    let mut colours = std::collections::BTreeSet::new();
+    // Rows well below the horizon: only ground.
+    for y in 60..size.y {
+        for x in 0..size.x {
+            let i = ((y * size.x + x) * 4) as usize;
+            colours.insert([px[i], px[i + 1], px[i + 2]]);
+        }
+    }
+    assert_eq!(
+        colours.len(),
+        1,
+        "an evenly lit plane must be one flat colour: {colours:?}"
+    );
+}

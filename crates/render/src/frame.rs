@@ -8,11 +8,11 @@ use texel_probes::probe_set::Slot;
 
 use crate::context::{GpuContext, GpuError};
 use crate::gpu_scene::GpuScene;
-use crate::input::{FrameInput, SceneInput, Schedule};
+use crate::input::{FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, SPLAT_BYTES};
-use crate::passes::shade::ShadePass;
+use crate::passes::shade::{ShadeJob, ShadePass};
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
@@ -20,6 +20,7 @@ use crate::shader::ShaderError;
 use crate::stats::{Counters, FrameStats, PassTime};
 use crate::target::{OFFSCREEN_FORMAT, OffscreenTarget, read_buffer};
 use crate::view::ViewGlobals;
+use texel_probes::cube::{Face, FaceMask};
 
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -361,13 +362,12 @@ impl Renderer {
             self.capture
                 .record(d, q, enc, &input.captures, &self.store, scene)
         });
+        let jobs = shade_jobs(input);
         stages.run(|enc| {
-            let (captures, store, look) = (&input.captures, &self.store, &input.look);
+            let (store, look) = (&self.store, &input.look);
             let planes = globals.side_planes();
-            // The paper's schedule lights whole faces, as the reference does.
-            let view_cull = input.schedule == Schedule::Ours;
-            let shade = &self.shade;
-            shade.record(d, q, enc, captures, store, scene, look, planes, view_cull);
+            self.shade
+                .record(d, q, enc, &jobs, store, scene, look, planes);
         });
         let drawn = drawn_faces(input);
         stages.run(|enc| {
@@ -459,6 +459,56 @@ fn begin_draw<'e>(
         occlusion_query_set: None,
         multiview_mask: None,
     })
+}
+
+/// What to light this frame: every captured face, whole; and the edges of each valid face
+/// next to a face captured this frame but not captured itself (its seam texels looked
+/// across into data that has just changed).
+fn shade_jobs(input: &FrameInput) -> Vec<ShadeJob> {
+    let probes: Vec<&ProbeView> = [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
+        .into_iter()
+        .flatten()
+        .collect();
+    let valid_of = |slot| {
+        probes
+            .iter()
+            .find(|p| p.slot == slot)
+            .map_or(FaceMask::ALL, |p| p.valid)
+    };
+    let mut jobs: Vec<ShadeJob> = input
+        .captures
+        .iter()
+        .map(|c| ShadeJob {
+            slot: c.slot,
+            face: c.face,
+            origin: c.origin,
+            valid: valid_of(c.slot),
+            border: false,
+            view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
+        })
+        .collect();
+    for p in &probes {
+        let captured: Vec<Face> = input
+            .captures
+            .iter()
+            .filter(|c| c.slot == p.slot)
+            .map(|c| c.face)
+            .collect();
+        for face in p.valid.iter() {
+            let touched = captured.iter().any(|c| *c != face && c.opposite() != face);
+            if touched && !captured.contains(&face) {
+                jobs.push(ShadeJob {
+                    slot: p.slot,
+                    face,
+                    origin: p.origin,
+                    valid: p.valid,
+                    border: true,
+                    view_cull: false,
+                });
+            }
+        }
+    }
+    jobs
 }
 
 /// The (slot, face) pairs the frame splats.

@@ -151,6 +151,9 @@ pub struct ProbeView {
     pub face_resolution: u32,
     /// Faces to splat.
     pub draw: FaceMask,
+    /// Faces holding data captured from this origin once this frame's captures are done
+    /// (shading looks across seams only into these).
+    pub valid: FaceMask,
 }
 
 /// One face to capture and shade before drawing.

@@ -5,11 +5,14 @@ use glam::Vec3;
 
 use super::{ARRAY, FLOAT, UINT, UNIFORM_STRIDE, entry, storage, texture, uniform};
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
-use crate::input::{CaptureInput, Look};
+use crate::input::Look;
 use crate::passes::capture::MAX_CAPTURES;
 use crate::probe_store::{LIT_FORMAT, ProbeStore};
 use crate::shader;
 use texel_probes::probe_set::Slot;
+
+/// Most shade jobs in a frame: every capture plus edge re-shades of up to four neighbours.
+pub const MAX_JOBS: usize = MAX_CAPTURES * 3;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -18,7 +21,25 @@ struct ShadeFace {
     face: u32,
     n: u32,
     view_cull: u32,
-    _pad: [u32; 2],
+    valid_mask: u32,
+    _pad: u32,
+}
+
+/// One face to light: whole (after a capture) or only its edges (after a neighbour's).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct ShadeJob {
+    /// Slot of the probe.
+    pub slot: Slot,
+    /// The face.
+    pub face: texel_probes::cube::Face,
+    /// Probe origin.
+    pub origin: glam::Vec3,
+    /// Faces of the probe holding data for `origin`.
+    pub valid: texel_probes::cube::FaceMask,
+    /// Only the four edges.
+    pub border: bool,
+    /// Only texels the view can see (eye faces in our schedule).
+    pub view_cull: bool,
 }
 
 #[repr(C)]
@@ -45,6 +66,7 @@ pub struct ShadeGlobals {
 /// The shade pass.
 pub struct ShadePass {
     pipeline: wgpu::ComputePipeline,
+    border_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
@@ -89,14 +111,18 @@ impl ShadePass {
             bind_group_layouts: &[Some(&layout), Some(&bvh_layout)],
             immediate_size: 0,
         });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("shade::pipeline"),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline_for = |entry: &str| {
+            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some("shade::pipeline"),
+                layout: Some(&pl),
+                module: &module,
+                entry_point: Some(entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        };
+        let pipeline = pipeline_for("main");
+        let border_pipeline = pipeline_for("border");
         let buffer = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -107,9 +133,10 @@ impl ShadePass {
         };
         Ok(ShadePass {
             pipeline,
+            border_pipeline,
             layout,
             bvh_layout,
-            faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_CAPTURES as u64),
+            faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_JOBS as u64),
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
             shaded: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("shade::shaded"),
@@ -122,37 +149,37 @@ impl ShadePass {
         })
     }
 
-    /// Records the lighting of every captured face (eye faces only where the view can see
-    /// when `view_cull`; `planes` are the view's side planes). The texels lit are counted in [`Self::shaded`].
+    /// Records the shade jobs (`planes` are the view's side planes, for view-culled jobs).
+    /// The texels lit are counted in [`Self::shaded`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
-        captures: &[CaptureInput],
+        jobs: &[ShadeJob],
         store: &ProbeStore,
         scene: &GpuScene,
         look: &Look,
         planes: [[f32; 4]; 4],
-        view_cull: bool,
     ) {
         encoder.clear_buffer(&self.shaded, 0, None);
-        let captures = &captures[..captures.len().min(MAX_CAPTURES)];
-        if captures.is_empty() {
+        let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
+        if jobs.is_empty() {
             return;
         }
         let mut g = globals(scene, look);
         g.planes = planes;
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
-        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
-        for (i, c) in captures.iter().enumerate() {
+        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * jobs.len()];
+        for (i, j) in jobs.iter().enumerate() {
             let f = ShadeFace {
-                origin: c.origin.to_array(),
-                face: c.face.index() as u32,
-                n: store.slot(c.slot).n,
-                view_cull: u32::from(c.slot == Slot::Eye && view_cull),
-                _pad: [0; 2],
+                origin: j.origin.to_array(),
+                face: j.face.index() as u32,
+                n: store.slot(j.slot).n,
+                view_cull: u32::from(j.view_cull),
+                valid_mask: u32::from(j.valid.bits()),
+                _pad: 0,
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
@@ -176,14 +203,18 @@ impl ShadePass {
             label: Some("shade::pass"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(1, &bvh, &[]);
-        for (i, c) in captures.iter().enumerate() {
-            let slot = store.slot(c.slot);
-            let bind = self.slot_bind_group(device, store, c, scene);
+        for (i, j) in jobs.iter().enumerate() {
+            let n = store.slot(j.slot).n;
+            let bind = self.slot_bind_group(device, store, j.slot, scene);
             pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
-            let groups = slot.n.div_ceil(8);
-            pass.dispatch_workgroups(groups, groups, 1);
+            if j.border {
+                pass.set_pipeline(&self.border_pipeline);
+                pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
+            } else {
+                pass.set_pipeline(&self.pipeline);
+                pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
+            }
         }
     }
 
@@ -191,10 +222,10 @@ impl ShadePass {
         &self,
         device: &wgpu::Device,
         store: &ProbeStore,
-        c: &CaptureInput,
+        slot: Slot,
         scene: &GpuScene,
     ) -> wgpu::BindGroup {
-        let slot = store.slot(c.slot);
+        let slot = store.slot(slot);
         let tex = |b, v| wgpu::BindGroupEntry {
             binding: b,
             resource: wgpu::BindingResource::TextureView(v),

@@ -74,6 +74,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         origin,
         face_resolution: n,
         draw: FaceMask::ALL,
+        valid: FaceMask::ALL,
     };
     let eye = probe(Role::Eye, Slot::Eye, camera.position);
     let grid = probe(Role::Grid, Slot::StableA, grid);
