@@ -23,7 +23,7 @@ use texel_probes::schedule::{ProbePlan, Scheduler, UpdatePlan};
 use texel_probes::visibility::{CameraView, frustum};
 use texel_render::input::{
     Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
-    SceneInput, Schedule, SunInput,
+    SceneInput, Schedule, SunInput, internal_size,
 };
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::{
@@ -159,9 +159,11 @@ impl FrameDriver {
         };
         self.scheduler.commit(&plan);
         let view = |p: &ProbePlan| self.probe_view(p, &captures);
+        let n = plan.grid.probe.face_resolution;
         let input = FrameInput {
             camera,
             size: self.size,
+            internal_size: internal_size(self.size, n, camera.fov_y),
             look: self.look,
             eye: view(&plan.eye),
             grid: view(&plan.grid),

@@ -12,6 +12,7 @@ use crate::input::{FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, SPLAT_BYTES};
+use crate::passes::present::PresentPass;
 use crate::passes::shade::{ShadeJob, ShadePass};
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::visible::VisiblePass;
@@ -64,19 +65,64 @@ pub struct FrameIds {
     pub from_eye: Vec<bool>,
 }
 
+impl FrameIds {
+    /// The same ids at `output` size, each output pixel taking its internal pixel (the
+    /// present pass's nearest upscale).
+    fn upscaled(self, output: glam::UVec2) -> FrameIds {
+        if output == self.size || self.size.x == 0 || self.size.y == 0 {
+            return self;
+        }
+        let (iw, ih) = (self.size.x, self.size.y);
+        let mut up = FrameIds {
+            size: output,
+            entity: Vec::with_capacity((output.x * output.y) as usize),
+            from_eye: Vec::with_capacity((output.x * output.y) as usize),
+        };
+        for y in 0..output.y {
+            let sy = (y * ih / output.y).min(ih - 1);
+            for x in 0..output.x {
+                let sx = (x * iw / output.x).min(iw - 1);
+                let i = (sy * iw + sx) as usize;
+                up.entity.push(self.entity[i]);
+                up.from_eye.push(self.from_eye[i]);
+            }
+        }
+        up
+    }
+}
+
 /// Names of the timed stages, in order.
-pub const STAGES: [&str; 6] = ["capture", "shade", "cull", "splat", "background", "visible"];
+pub const STAGES: [&str; 7] = [
+    "capture",
+    "shade",
+    "cull",
+    "splat",
+    "background",
+    "visible",
+    "present",
+];
 
 /// Screen-sized targets besides the colour target.
 struct Screen {
+    /// Internal size.
     size: (u32, u32),
+    /// Output size.
+    output: (u32, u32),
+    /// The internal colour target, when the output is larger (else the frame is drawn
+    /// straight into the caller's target).
+    colour: Option<wgpu::TextureView>,
     depth: wgpu::TextureView,
     keys: wgpu::Texture,
     keys_view: wgpu::TextureView,
 }
 
 impl Screen {
-    fn new(ctx: &GpuContext, size: (u32, u32)) -> Self {
+    fn new(
+        ctx: &GpuContext,
+        size: (u32, u32),
+        output: (u32, u32),
+        format: wgpu::TextureFormat,
+    ) -> Self {
         let tex = |label, format, usage| {
             ctx.device.create_texture(&wgpu::TextureDescriptor {
                 label: Some(label),
@@ -100,8 +146,18 @@ impl Screen {
             KEY_FORMAT,
             U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
         );
+        let colour = (size != output).then(|| {
+            tex(
+                "frame::internal_colour",
+                format,
+                U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
+            )
+            .create_view(&Default::default())
+        });
         Screen {
             size,
+            output,
+            colour,
             depth: depth.create_view(&Default::default()),
             keys_view: keys.create_view(&Default::default()),
             keys,
@@ -117,6 +173,8 @@ pub struct Renderer {
     splat: SplatPass,
     background: BackgroundPass,
     visible: VisiblePass,
+    present: PresentPass,
+    colour: wgpu::TextureFormat,
     store: ProbeStore,
     scene: Option<GpuScene>,
     view: wgpu::Buffer,
@@ -153,6 +211,8 @@ impl Renderer {
             splat: SplatPass::new(d, colour)?,
             background: BackgroundPass::new(d, colour)?,
             visible: VisiblePass::new(d)?,
+            present: PresentPass::new(d, colour)?,
+            colour,
             store: ProbeStore::new(ctx, 16),
             scene: None,
             view: d.create_buffer(&wgpu::BufferDescriptor {
@@ -224,10 +284,14 @@ impl Renderer {
         let (Some(screen), Some(scene)) = (self.screen.as_ref(), self.scene.as_ref()) else {
             return Ok(None);
         };
-        if pixel.x >= screen.size.0 || pixel.y >= screen.size.1 {
+        if pixel.x >= screen.output.0 || pixel.y >= screen.output.1 {
             return Ok(None);
         }
-        let key = read_texel_u32(ctx, &screen.keys, 0, pixel)?;
+        let internal = glam::UVec2::new(
+            pixel.x * screen.size.0 / screen.output.0,
+            pixel.y * screen.size.1 / screen.output.1,
+        );
+        let key = read_texel_u32(ctx, &screen.keys, 0, internal)?;
         if key == 0 {
             return Ok(None);
         }
@@ -300,7 +364,7 @@ impl Renderer {
             out.entity.push(entity);
             out.from_eye.push(slot == Slot::Eye);
         }
-        Ok(out)
+        Ok(out.upscaled(glam::UVec2::new(screen.output.0, screen.output.1)))
     }
 
     /// The per-pixel texel keys of the last frame (for tests and picking).
@@ -350,11 +414,17 @@ impl Renderer {
             .write_buffer(&self.view, 0, bytemuck::bytes_of(&globals));
         self.cull.ensure_capacity(&ctx.device, globals.max_n);
         self.visible.ensure_capacity(&ctx.device, globals.max_n);
-        let size = (input.size.x, input.size.y);
-        if self.screen.as_ref().is_none_or(|s| s.size != size) {
-            self.screen = Some(Screen::new(ctx, size));
+        let output = (input.size.x, input.size.y);
+        let size = (input.internal_size.x, input.internal_size.y);
+        if self
+            .screen
+            .as_ref()
+            .is_none_or(|s| s.size != size || s.output != output)
+        {
+            self.screen = Some(Screen::new(ctx, size, output, self.colour));
         }
         let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
+        let draw_target = screen.colour.as_ref().unwrap_or(target);
 
         let mut stages = Stages::new(ctx, self.queries.as_ref());
         let (d, q) = (&ctx.device, &ctx.queue);
@@ -381,15 +451,20 @@ impl Renderer {
             .bind_group(d, &self.view, self.store.slot(Slot::Eye));
         let dither = input.previous.is_some() && input.fade_t < 1.0;
         stages.run(|enc| {
-            let mut pass = begin_draw(enc, target, screen, true);
+            let mut pass = begin_draw(enc, draw_target, screen, true);
             self.splat
                 .draw(&mut pass, &splat_bind, &self.cull.args, dither);
         });
         stages.run(|enc| {
-            let mut pass = begin_draw(enc, target, screen, false);
+            let mut pass = begin_draw(enc, draw_target, screen, false);
             self.background.draw(&mut pass, &bg_bind);
         });
         stages.run(|enc| self.visible.record(d, enc, &screen.keys_view, size));
+        stages.run(|enc| {
+            if let Some(frame) = &screen.colour {
+                self.present.record(d, q, enc, frame, target, size, output);
+            }
+        });
         let copies = [
             (&self.cull.args, size_of::<DrawArgs>() as u64),
             (&self.shade.shaded, 4),
@@ -568,6 +643,10 @@ fn validate(input: &FrameInput) -> Result<(), RenderError> {
     let bad = |m: &str| Err(RenderError::InvalidFrame(m.to_owned()));
     if input.size.x == 0 || input.size.y == 0 || input.size.x > 8192 || input.size.y > 8192 {
         return bad("output size must be 1..=8192 on each side");
+    }
+    let (i, o) = (input.internal_size, input.size);
+    if i.x == 0 || i.y == 0 || i.x > o.x || i.y > o.y {
+        return bad("internal size must be non-zero and at most the output size");
     }
     let c = &input.camera;
     if !c.position.is_finite() || !c.forward.is_finite() || c.forward.length_squared() < 1e-12 {

@@ -189,6 +189,10 @@ pub struct FrameInput {
     pub camera: Camera,
     /// Output size in pixels.
     pub size: UVec2,
+    /// Size the splats are drawn at before a nearest upscale to `size` (at most `size`,
+    /// same aspect). Art pixels span several screen pixels, so drawing them at a lower
+    /// internal resolution loses nothing of the look, and saves per-pixel work.
+    pub internal_size: UVec2,
     /// Level look.
     pub look: Look,
     /// The eye probe.
@@ -203,4 +207,27 @@ pub struct FrameInput {
     pub captures: Vec<CaptureInput>,
     /// Scheduling and culling method.
     pub schedule: Schedule,
+}
+
+/// Internal pixels per texel at the view centre that the splat pass draws at (the reference's
+/// 2.5): enough to keep quad edges crisp after the nearest upscale.
+pub const INTERNAL_PIXELS_PER_TEXEL: f32 = 5.0;
+
+/// The internal render size for an output of `size`, faces of `face_resolution` texels and a
+/// vertical field of view `fov_y`: tall enough for [`INTERNAL_PIXELS_PER_TEXEL`] pixels per
+/// texel at the view centre (the pixel-perfect relation), never larger than `size`, same
+/// aspect.
+pub fn internal_size(size: UVec2, face_resolution: u32, fov_y: f32) -> UVec2 {
+    let want = texel_probes::resolution::screen_height_for(
+        face_resolution,
+        fov_y,
+        INTERNAL_PIXELS_PER_TEXEL,
+    )
+    .unwrap_or(size.y);
+    if want >= size.y || size.y == 0 {
+        return size;
+    }
+    let h = want.max(1);
+    let w = ((u64::from(size.x) * u64::from(h)).div_ceil(u64::from(size.y)) as u32).max(1);
+    UVec2::new(w, h)
 }

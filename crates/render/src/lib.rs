@@ -9,6 +9,7 @@
 //! passes, one per WGSL file in `shaders/`; [`frame`] orders them; [`stats`] is what a frame
 //! reports.
 
+pub mod baselines;
 pub mod bvh;
 pub mod context;
 pub mod frame;

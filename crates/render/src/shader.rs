@@ -33,6 +33,26 @@ pub const SOURCES: &[(&str, &str)] = &[
         "visible.wgsl",
         include_str!("../../../shaders/visible.wgsl"),
     ),
+    (
+        "present.wgsl",
+        include_str!("../../../shaders/present.wgsl"),
+    ),
+    (
+        "gbuffer.wgsl",
+        include_str!("../../../shaders/gbuffer.wgsl"),
+    ),
+    (
+        "screen_shade.wgsl",
+        include_str!("../../../shaders/screen_shade.wgsl"),
+    ),
+    (
+        "upscale.wgsl",
+        include_str!("../../../shaders/upscale.wgsl"),
+    ),
+    (
+        "cubemap.wgsl",
+        include_str!("../../../shaders/cubemap.wgsl"),
+    ),
 ];
 
 /// Pass shaders (entry files, not libraries).

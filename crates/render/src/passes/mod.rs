@@ -4,6 +4,7 @@
 pub mod background;
 pub mod capture;
 pub mod cull;
+pub mod present;
 pub mod shade;
 pub mod splat;
 pub mod visible;

@@ -92,6 +92,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
     FrameInput {
         camera,
         size,
+        internal_size: size,
         look: look(),
         eye,
         grid,

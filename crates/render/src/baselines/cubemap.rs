@@ -1,0 +1,136 @@
+//! Cubemap (`shaders/cubemap.wgsl`): the camera-centred cubemap baseline. Every frame the six
+//! faces around the camera are captured and shaded by the texel renderer's own capture and
+//! shade passes (into a probe store of the baseline's own), then each output pixel shows the
+//! lit texel in its view direction, nearest-sampled.
+
+use bytemuck::{Pod, Zeroable};
+use glam::{Mat4, Vec3};
+use texel_probes::cube::Face;
+use texel_probes::probe_set::Slot;
+
+use super::{Output, fullscreen_pipeline};
+use crate::gpu_scene::GpuScene;
+use crate::input::{CaptureInput, Look};
+use crate::passes::{ARRAY, FLOAT, UINT, entry, storage, texture, uniform};
+use crate::probe_store::SlotTextures;
+use crate::shader;
+
+/// The slot of the baseline's probe store the cubemap lives in.
+pub const CUBE_SLOT: Slot = Slot::Eye;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct CubeView {
+    inv_view_proj: [[f32; 4]; 4],
+    eye: [f32; 4],
+    sky: [f32; 4],
+    n: u32,
+    haze: f32,
+    _pad: [u32; 2],
+}
+
+/// The six captures of a camera-centred cubemap of `n` texels per face edge.
+pub fn captures(eye: Vec3, n: u32) -> Vec<CaptureInput> {
+    Face::ALL
+        .iter()
+        .map(|&face| CaptureInput {
+            slot: CUBE_SLOT,
+            face,
+            origin: eye,
+            face_resolution: n,
+        })
+        .collect()
+}
+
+/// The pass drawing the cubemap at the output size.
+pub struct CubemapPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    uniform: wgpu::Buffer,
+}
+
+impl CubemapPass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "cubemap.wgsl")?;
+        let f = wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("baselines::cubemap::layout"),
+            entries: &[
+                entry(0, f, uniform(false)),
+                entry(1, f, texture(FLOAT, ARRAY)),
+                entry(2, f, texture(UINT, ARRAY)),
+                entry(3, f, storage(true)),
+                entry(4, f, texture(FLOAT, ARRAY)),
+            ],
+        });
+        let pipeline = fullscreen_pipeline(device, &module, &layout, "baselines::cubemap");
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("baselines::cubemap::uniform"),
+            size: size_of::<CubeView>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(CubemapPass {
+            pipeline,
+            layout,
+            uniform,
+        })
+    }
+
+    /// Records drawing the lit cubemap in `slot`, centred at `eye`, into `out`, hazed by
+    /// `look.haze` as the draw passes are.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        slot: &SlotTextures,
+        scene: &GpuScene,
+        view_proj: Mat4,
+        eye: Vec3,
+        look: &Look,
+        out: &Output,
+    ) {
+        let u = CubeView {
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            eye: eye.extend(1.0).to_array(),
+            sky: look.sky.extend(1.0).to_array(),
+            n: slot.n,
+            haze: look.haze.max(0.0),
+            _pad: [0; 2],
+        };
+        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("baselines::cubemap::bind"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&slot.lit.array_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&slot.ids.array_view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: scene.objects.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 4,
+                    resource: wgpu::BindingResource::TextureView(&slot.geo.array_view),
+                },
+            ],
+        });
+        let mut pass = out.begin(encoder, "baselines::cubemap::pass");
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,488 @@
+//! The methods texel splatting is measured against, rendering the same [`SceneInput`] with
+//! the same lighting, posterization and outline rule (issue "Measure ourselves"): a plain
+//! full-resolution raster (the reference image), a naive low-resolution render upscaled with
+//! nearest sampling, the Unity-style screen snap, and a camera-centred cubemap shaded every
+//! frame. [`BaselineRenderer::reference_gbuffer`] is the evaluator's ground truth: world
+//! position, entity id and depth per pixel of a plain full-resolution raster.
+//!
+//! Low-resolution methods draw art pixels of the splat's size ([`art_pixel_height`]), so a
+//! comparison at one face resolution compares like with like.
+
+pub mod cubemap;
+pub mod gbuffer;
+pub mod shade;
+pub mod snap;
+mod timer;
+pub mod upscale;
+
+use std::time::Instant;
+
+use glam::{UVec2, Vec2};
+
+use crate::context::GpuContext;
+use crate::frame::RenderError;
+use crate::gpu_scene::GpuScene;
+use crate::input::{Camera, Look, SceneInput};
+use crate::passes::capture::CapturePass;
+use crate::passes::shade::ShadePass;
+use crate::probe_store::ProbeStore;
+use crate::stats::{Counters, FrameStats, PassTime};
+use crate::target::{OFFSCREEN_FORMAT, OffscreenTarget, read_texture_layer};
+use cubemap::{CUBE_SLOT, CubemapPass};
+use gbuffer::{GBufferPass, SKY_DEPTH, ScreenTargets, Target};
+use shade::{Eye, ScreenShadePass};
+pub use snap::{art_pixel_height, low_res_size, snap_plan};
+use timer::{MAX_STAGES, Timer};
+use upscale::{Mapping, UpscalePass};
+
+/// A baseline render method.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum Baseline {
+    /// Full resolution, shaded per pixel, no outlines: the reference image.
+    Raster,
+    /// A low-resolution render at the art-pixel size, upscaled with nearest sampling.
+    Naive,
+    /// Naive with the camera snapped to whole texels, a one-texel margin and the sub-texel
+    /// remainder restored at full size (the Unity 3D pixel art renderer).
+    Snap,
+    /// A cubemap around the camera, captured and shaded every frame, sampled per pixel.
+    Cubemap,
+}
+
+impl Baseline {
+    /// Every method, in report order.
+    pub const ALL: [Baseline; 4] = [
+        Baseline::Raster,
+        Baseline::Naive,
+        Baseline::Snap,
+        Baseline::Cubemap,
+    ];
+
+    /// Short lower-case name for reports and file names.
+    pub fn name(self) -> &'static str {
+        match self {
+            Baseline::Raster => "raster",
+            Baseline::Naive => "naive",
+            Baseline::Snap => "snap",
+            Baseline::Cubemap => "cubemap",
+        }
+    }
+}
+
+/// What a baseline frame looks at.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct BaselineView {
+    /// The camera (perspective or orthographic).
+    pub camera: Camera,
+    /// Output size in pixels.
+    pub size: UVec2,
+    /// Face resolution of the splat being compared: sets the art-pixel size of Naive and
+    /// Snap and the cubemap's face size.
+    pub face_res: u32,
+    /// Level look (sky, ambient, bands).
+    pub look: Look,
+}
+
+/// One rendered baseline frame, read back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct BaselineFrame {
+    /// Per-pass times (GPU timestamps when the adapter has them) and work counts.
+    pub stats: FrameStats,
+    /// RGBA8 sRGB pixels at the view's size, row-major.
+    pub pixels: Vec<u8>,
+    /// Entity id shown per output pixel (0 = sky), row-major.
+    pub ids: Vec<u32>,
+}
+
+/// The evaluator's reference G-buffer: a plain full-resolution raster, read back.
+#[derive(Debug, Clone, PartialEq)]
+pub struct GBuffer {
+    /// Width and height.
+    pub size: UVec2,
+    /// World position per pixel (meaningless where `id` is 0).
+    pub world: Vec<[f32; 3]>,
+    /// Entity id per pixel (0 = sky).
+    pub id: Vec<u32>,
+    /// View-space distance along the view axis; `f32::INFINITY` for sky.
+    pub depth: Vec<f32>,
+}
+
+/// Entity ids of the output (0 = sky).
+pub const OUTPUT_ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
+
+/// The output targets of a baseline frame: sRGB colour and entity ids at the output size.
+pub struct Output {
+    colour: OffscreenTarget,
+    ids: Target,
+    size: UVec2,
+}
+
+impl Output {
+    fn new(ctx: &GpuContext, size: UVec2) -> Self {
+        Output {
+            colour: OffscreenTarget::new(ctx, size.x, size.y),
+            ids: Target::new(
+                &ctx.device,
+                "baselines::output::ids",
+                size,
+                OUTPUT_ID_FORMAT,
+            ),
+            size,
+        }
+    }
+
+    /// A render pass clearing both targets.
+    pub fn begin<'e>(
+        &self,
+        encoder: &'e mut wgpu::CommandEncoder,
+        label: &'static str,
+    ) -> wgpu::RenderPass<'e> {
+        let attach = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::TRANSPARENT),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some(label),
+            color_attachments: &[attach(&self.colour.view), attach(&self.ids.view)],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        })
+    }
+}
+
+/// A fullscreen-triangle pipeline (entry points `vs`, `fs`) writing colour and ids.
+pub(crate) fn fullscreen_pipeline(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+    owner: &str,
+) -> wgpu::RenderPipeline {
+    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("{owner}::pipeline_layout")),
+        bind_group_layouts: &[Some(layout)],
+        immediate_size: 0,
+    });
+    let target = |format| {
+        Some(wgpu::ColorTargetState {
+            format,
+            blend: None,
+            write_mask: wgpu::ColorWrites::ALL,
+        })
+    };
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(&format!("{owner}::pipeline")),
+        layout: Some(&pl),
+        vertex: wgpu::VertexState {
+            module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: &[],
+        },
+        fragment: Some(wgpu::FragmentState {
+            module,
+            entry_point: Some("fs"),
+            compilation_options: Default::default(),
+            targets: &[target(OFFSCREEN_FORMAT), target(OUTPUT_ID_FORMAT)],
+        }),
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: None,
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// Renders the baselines. Built once (pipelines, layouts); the scene is uploaded by
+/// [`BaselineRenderer::set_scene`]; targets follow the sizes asked for.
+pub struct BaselineRenderer {
+    gbuffer: GBufferPass,
+    shade: ScreenShadePass,
+    upscale: UpscalePass,
+    capture: CapturePass,
+    cube_shade: ShadePass,
+    cube: CubemapPass,
+    store: ProbeStore,
+    scene: Option<GpuScene>,
+    /// Screen targets by size, most recently used last (a frame needs one; kept few).
+    screens: Vec<ScreenTargets>,
+    output: Option<Output>,
+    queries: Option<wgpu::QuerySet>,
+}
+
+impl BaselineRenderer {
+    /// Builds every pipeline. A shader or pipeline the device rejects is an error.
+    pub fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
+        let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
+        let d = &ctx.device;
+        let built = (|| {
+            Ok::<_, RenderError>(BaselineRenderer {
+                gbuffer: GBufferPass::new(d)?,
+                shade: ScreenShadePass::new(d)?,
+                upscale: UpscalePass::new(d)?,
+                capture: CapturePass::new(d)?,
+                cube_shade: ShadePass::new(d)?,
+                cube: CubemapPass::new(d)?,
+                store: ProbeStore::new(ctx, 8),
+                scene: None,
+                screens: Vec::new(),
+                output: None,
+                queries: ctx.timestamps.then(|| {
+                    d.create_query_set(&wgpu::QuerySetDescriptor {
+                        label: Some("baselines::timestamps"),
+                        ty: wgpu::QueryType::Timestamp,
+                        count: MAX_STAGES + 1,
+                    })
+                }),
+            })
+        })();
+        if let Some(e) = pollster::block_on(scope.pop()) {
+            return Err(RenderError::Pipeline(e.to_string()));
+        }
+        built
+    }
+
+    /// Uploads the scene (meshes, materials, lights, shadow BVH).
+    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) {
+        self.scene = Some(GpuScene::upload(ctx, scene));
+    }
+
+    /// Screen targets of `size`, taken out of the cache (give them back with `keep`).
+    fn take_screen(&mut self, ctx: &GpuContext, size: UVec2) -> ScreenTargets {
+        match self.screens.iter().position(|s| s.size == size) {
+            Some(i) => self.screens.remove(i),
+            None => ScreenTargets::new(&ctx.device, size),
+        }
+    }
+
+    fn keep_screen(&mut self, screen: ScreenTargets) {
+        self.screens.push(screen);
+        if self.screens.len() > 3 {
+            self.screens.remove(0);
+        }
+    }
+
+    /// Renders `view` with `method` and reads the image and the per-pixel ids back.
+    pub fn render(
+        &mut self,
+        ctx: &GpuContext,
+        method: Baseline,
+        view: &BaselineView,
+    ) -> Result<BaselineFrame, RenderError> {
+        let started = Instant::now();
+        validate(view)?;
+        if self.scene.is_none() {
+            return Err(RenderError::NoScene);
+        }
+        if self.output.as_ref().is_none_or(|o| o.size != view.size) {
+            self.output = Some(Output::new(ctx, view.size));
+        }
+        let (passes, gpu_timestamps, counters) = match method {
+            Baseline::Cubemap => self.record_cubemap(ctx, view)?,
+            _ => self.record_screen(ctx, method, view)?,
+        };
+        let frame_ms = started.elapsed().as_secs_f64() * 1e3;
+        let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
+        let pixels = out.colour.read_rgba(ctx)?;
+        let ids = read_texture_layer(ctx, &out.ids.texture, 0, 4)?;
+        Ok(BaselineFrame {
+            stats: FrameStats {
+                passes,
+                gpu_timestamps,
+                frame_ms,
+                counters,
+            },
+            pixels,
+            ids: bytemuck::cast_slice::<u8, u32>(&ids).to_vec(),
+        })
+    }
+
+    /// Raster, Naive and Snap: G-buffer, per-pixel shading, upscale.
+    fn record_screen(
+        &mut self,
+        ctx: &GpuContext,
+        method: Baseline,
+        view: &BaselineView,
+    ) -> Result<(Vec<PassTime>, bool, Counters), RenderError> {
+        let cam = &view.camera;
+        let size = view.size;
+        let low = match method {
+            Baseline::Raster => size,
+            _ => low_res_size(size, art_pixel_height(view.face_res, cam.fov_y)?),
+        };
+        let scale = low.as_vec2() / size.as_vec2();
+        let (target, view_proj, drawn, offset) = match method {
+            Baseline::Snap => {
+                let plan = snap_plan(cam, low);
+                (plan.target, plan.view_proj, plan.snapped, plan.origin)
+            }
+            _ => {
+                let vp = cam.projection(low.x as f32 / low.y as f32) * cam.view();
+                (low, vp, *cam, Vec2::ZERO)
+            }
+        };
+        let screen = self.take_screen(ctx, target);
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
+        let (d, q) = (&ctx.device, &ctx.queue);
+        let eye = Eye {
+            position: drawn.position,
+            axis: drawn.forward.normalize(),
+            ortho: drawn.ortho_height.is_some(),
+        };
+        let mut timer = Timer::new(ctx, self.queries.as_ref());
+        timer.run("gbuffer", |enc| {
+            let g = &self.gbuffer;
+            g.record(d, q, enc, &screen, scene, view_proj, eye.position, eye.axis);
+        });
+        let mut shaded = 0;
+        timer.run("shade", |enc| {
+            let outlines = method != Baseline::Raster;
+            let s = &self.shade;
+            shaded = s.record(d, q, enc, &screen, scene, &view.look, eye, outlines);
+        });
+        timer.run("upscale", |enc| {
+            let mapping = Mapping { scale, offset };
+            self.upscale.record(d, q, enc, &screen, scene, mapping, out);
+        });
+        let result = timer.finish();
+        self.keep_screen(screen);
+        let (passes, gpu) = result?;
+        let counters = Counters {
+            texels_shaded: shaded,
+            ..Default::default()
+        };
+        Ok((passes, gpu, counters))
+    }
+
+    /// Cubemap: capture and shade six faces around the camera, then draw them.
+    fn record_cubemap(
+        &mut self,
+        ctx: &GpuContext,
+        view: &BaselineView,
+    ) -> Result<(Vec<PassTime>, bool, Counters), RenderError> {
+        let n = view.face_res;
+        self.store.ensure(ctx, CUBE_SLOT, n);
+        let cam = &view.camera;
+        let caps = cubemap::captures(cam.position, n);
+        let vp = cam.projection(view.size.x as f32 / view.size.y as f32) * cam.view();
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
+        let (d, q, store) = (&ctx.device, &ctx.queue, &self.store);
+        let mut timer = Timer::new(ctx, self.queries.as_ref());
+        timer.run("capture", |enc| {
+            self.capture.record(d, q, enc, &caps, store, scene);
+        });
+        timer.run("shade", |enc| {
+            let (look, planes) = (&view.look, [[0.0; 4]; 4]);
+            let s = &self.cube_shade;
+            let jobs: Vec<crate::passes::shade::ShadeJob> = caps
+                .iter()
+                .map(|c| crate::passes::shade::ShadeJob {
+                    slot: c.slot,
+                    face: c.face,
+                    origin: c.origin,
+                    valid: texel_probes::cube::FaceMask::ALL,
+                    border: false,
+                    view_cull: false,
+                })
+                .collect();
+            s.record(d, q, enc, &jobs, store, scene, look, planes);
+        });
+        timer.run("cubemap", |enc| {
+            let slot = store.slot(CUBE_SLOT);
+            self.cube
+                .record(d, q, enc, slot, scene, vp, cam.position, &view.look, out);
+        });
+        let (passes, gpu) = timer.finish()?;
+        let counters = Counters {
+            faces_captured: caps.len() as u32,
+            texels_shaded: caps.len() as u64 * u64::from(n) * u64::from(n),
+            ..Default::default()
+        };
+        Ok((passes, gpu, counters))
+    }
+
+    /// The reference G-buffer of `camera` at `size`: a plain full-resolution raster of world
+    /// position, entity id and view-axis depth, read back.
+    pub fn reference_gbuffer(
+        &mut self,
+        ctx: &GpuContext,
+        camera: &Camera,
+        size: UVec2,
+    ) -> Result<GBuffer, RenderError> {
+        validate_size_and_camera(camera, size)?;
+        let screen = self.take_screen(ctx, size);
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let vp = camera.projection(size.x as f32 / size.y as f32) * camera.view();
+        let mut enc = ctx.device.create_command_encoder(&Default::default());
+        let axis = camera.forward.normalize();
+        let (d, q) = (&ctx.device, &ctx.queue);
+        self.gbuffer
+            .record(d, q, &mut enc, &screen, scene, vp, camera.position, axis);
+        q.submit([enc.finish()]);
+        let world = read_texture_layer(ctx, &screen.world.texture, 0, 16);
+        let ids = read_texture_layer(ctx, &screen.ids.texture, 0, 8);
+        self.keep_screen(screen);
+        let (world, ids) = (world?, ids?);
+        let world: &[[f32; 4]] = bytemuck::cast_slice(&world);
+        let object_ids = &self.scene.as_ref().ok_or(RenderError::NoScene)?.object_ids;
+        let id: Vec<u32> = bytemuck::cast_slice::<u8, [u32; 2]>(&ids)
+            .iter()
+            .map(|&[o, _]| {
+                o.checked_sub(1)
+                    .and_then(|i| object_ids.get(i as usize).copied())
+                    .unwrap_or(0)
+            })
+            .collect();
+        let depth = world
+            .iter()
+            .zip(&id)
+            .map(|(w, &i)| {
+                if i == 0 || w[3] >= SKY_DEPTH {
+                    f32::INFINITY
+                } else {
+                    w[3]
+                }
+            })
+            .collect();
+        Ok(GBuffer {
+            size,
+            world: world.iter().map(|w| [w[0], w[1], w[2]]).collect(),
+            id,
+            depth,
+        })
+    }
+}
+
+fn validate_size_and_camera(c: &Camera, size: UVec2) -> Result<(), RenderError> {
+    let bad = |m: &str| Err(RenderError::InvalidFrame(m.to_owned()));
+    if size.x == 0 || size.y == 0 || size.x > 8192 || size.y > 8192 {
+        return bad("output size must be 1..=8192 on each side");
+    }
+    if !c.position.is_finite() || !c.forward.is_finite() || c.forward.length_squared() < 1e-12 {
+        return bad("camera position and direction must be finite, direction non-zero");
+    }
+    if c.ortho_height.is_some_and(|h| !(h.is_finite() && h > 0.0)) {
+        return bad("orthographic height must be finite and > 0");
+    }
+    Ok(())
+}
+
+fn validate(view: &BaselineView) -> Result<(), RenderError> {
+    validate_size_and_camera(&view.camera, view.size)?;
+    if !(8..=2048).contains(&view.face_res) {
+        return Err(RenderError::InvalidFrame(
+            "face resolution must be within 8..=2048".to_owned(),
+        ));
+    }
+    Ok(())
+}

@@ -1,0 +1,191 @@
+//! Screen shade (`shaders/screen_shade.wgsl`): lights a screen G-buffer once per pixel with
+//! the texel shade pass's lighting, posterization and outline rule, so the baselines differ
+//! from texel splatting only in where colours are computed, never in how (haze included).
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec3;
+
+use super::gbuffer::{LIT_FORMAT, ScreenTargets};
+use crate::gpu_scene::{GpuScene, MAX_SUNS};
+use crate::input::Look;
+use crate::passes::{FLOAT, UINT, entry, storage, texture, uniform};
+use crate::shader;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Sun {
+    to_light: [f32; 4],
+    colour: [f32; 4],
+}
+
+/// `ScreenGlobals` in `shaders/screen_shade.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ScreenGlobals {
+    suns: [Sun; MAX_SUNS],
+    ambient: [f32; 4],
+    sky: [f32; 4],
+    eye: [f32; 4],
+    axis: [f32; 4],
+    sun_count: u32,
+    point_count: u32,
+    bands: u32,
+    outlines: u32,
+    size: [u32; 2],
+    haze: f32,
+    _pad: u32,
+}
+
+/// Where the shaded image is seen from (outlines compare how much neighbours face the eye).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Eye {
+    /// Camera position.
+    pub position: Vec3,
+    /// Unit view axis.
+    pub axis: Vec3,
+    /// Whether the camera is orthographic (every ray is `axis`).
+    pub ortho: bool,
+}
+
+/// The screen shade pass.
+pub struct ScreenShadePass {
+    pipeline: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    bvh_layout: wgpu::BindGroupLayout,
+    globals: wgpu::Buffer,
+}
+
+impl ScreenShadePass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "screen_shade.wgsl")?;
+        let c = wgpu::ShaderStages::COMPUTE;
+        let d2 = wgpu::TextureViewDimension::D2;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("baselines::shade::layout"),
+            entries: &[
+                entry(0, c, uniform(false)),
+                entry(1, c, texture(FLOAT, d2)),
+                entry(2, c, texture(FLOAT, d2)),
+                entry(3, c, texture(UINT, d2)),
+                entry(
+                    4,
+                    c,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::WriteOnly,
+                        format: LIT_FORMAT,
+                        view_dimension: d2,
+                    },
+                ),
+                entry(5, c, storage(true)),
+                entry(6, c, storage(true)),
+            ],
+        });
+        let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("baselines::shade::bvh_layout"),
+            entries: &[entry(0, c, storage(true)), entry(1, c, storage(true))],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("baselines::shade::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout), Some(&bvh_layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+            label: Some("baselines::shade::pipeline"),
+            layout: Some(&pl),
+            module: &module,
+            entry_point: Some("main"),
+            compilation_options: Default::default(),
+            cache: None,
+        });
+        let globals = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("baselines::shade::globals"),
+            size: size_of::<ScreenGlobals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(ScreenShadePass {
+            pipeline,
+            layout,
+            bvh_layout,
+            globals,
+        })
+    }
+
+    /// Records the shading of every pixel of `targets` into `targets.lit`, with screen-space
+    /// outlines when `outlines`. Returns the number of pixels shaded.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        targets: &ScreenTargets,
+        scene: &GpuScene,
+        look: &Look,
+        eye: Eye,
+        outlines: bool,
+    ) -> u64 {
+        let mut suns = [Sun::zeroed(); MAX_SUNS];
+        for (s, (to_light, colour)) in suns.iter_mut().zip(&scene.suns) {
+            s.to_light = to_light.extend(0.0).to_array();
+            s.colour = colour.extend(0.0).to_array();
+        }
+        let g = ScreenGlobals {
+            suns,
+            ambient: look.ambient.extend(1.0).to_array(),
+            sky: look.sky.extend(1.0).to_array(),
+            eye: eye
+                .position
+                .extend(f32::from(u8::from(eye.ortho)))
+                .to_array(),
+            axis: eye.axis.extend(0.0).to_array(),
+            sun_count: scene.suns.len().min(MAX_SUNS) as u32,
+            point_count: scene.point_count,
+            // The same floor as the shade pass.
+            bands: look.bands.max(2),
+            outlines: u32::from(outlines),
+            size: targets.size.to_array(),
+            haze: look.haze.max(0.0),
+            _pad: 0,
+        };
+        queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
+        fn buf(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
+            wgpu::BindGroupEntry {
+                binding,
+                resource: buffer.as_entire_binding(),
+            }
+        }
+        let tex = |binding, view| wgpu::BindGroupEntry {
+            binding,
+            resource: wgpu::BindingResource::TextureView(view),
+        };
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("baselines::shade::bind"),
+            layout: &self.layout,
+            entries: &[
+                buf(0, &self.globals),
+                tex(1, &targets.world.view),
+                tex(2, &targets.normal.view),
+                tex(3, &targets.ids.view),
+                tex(4, &targets.lit.view),
+                buf(5, &scene.objects),
+                buf(6, &scene.points),
+            ],
+        });
+        let bvh = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("baselines::shade::bvh"),
+            layout: &self.bvh_layout,
+            entries: &[buf(0, &scene.bvh_nodes), buf(1, &scene.bvh_triangles)],
+        });
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("baselines::shade::pass"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.set_bind_group(1, &bvh, &[]);
+        pass.dispatch_workgroups(targets.size.x.div_ceil(8), targets.size.y.div_ceil(8), 1);
+        u64::from(targets.size.x) * u64::from(targets.size.y)
+    }
+}

@@ -1,0 +1,114 @@
+//! Upscale (`shaders/upscale.wgsl`): draws a shaded screen image at the output size with
+//! nearest sampling and a sub-texel offset, writing colour and entity id. Raster uses it at
+//! scale 1, Naive at the art-pixel scale, Snap with its margin and restored remainder.
+
+use bytemuck::{Pod, Zeroable};
+use glam::Vec2;
+
+use super::gbuffer::ScreenTargets;
+use super::{Output, fullscreen_pipeline};
+use crate::gpu_scene::GpuScene;
+use crate::passes::{FLOAT, UINT, entry, storage, texture, uniform};
+use crate::shader;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct UpscaleUniform {
+    scale: [f32; 2],
+    offset: [f32; 2],
+    src_size: [u32; 2],
+    _pad: [u32; 2],
+}
+
+/// How output pixels map to source texels: `floor(pixel_centre · scale + offset)`.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Mapping {
+    /// Source texels per output pixel, per axis.
+    pub scale: Vec2,
+    /// Source coordinate of the output's top-left corner, in texels.
+    pub offset: Vec2,
+}
+
+/// The upscale pass.
+pub struct UpscalePass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    uniform: wgpu::Buffer,
+}
+
+impl UpscalePass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "upscale.wgsl")?;
+        let f = wgpu::ShaderStages::FRAGMENT;
+        let d2 = wgpu::TextureViewDimension::D2;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("baselines::upscale::layout"),
+            entries: &[
+                entry(0, f, uniform(false)),
+                entry(1, f, texture(FLOAT, d2)),
+                entry(2, f, texture(UINT, d2)),
+                entry(3, f, storage(true)),
+            ],
+        });
+        let pipeline = fullscreen_pipeline(device, &module, &layout, "baselines::upscale");
+        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("baselines::upscale::uniform"),
+            size: size_of::<UpscaleUniform>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(UpscalePass {
+            pipeline,
+            layout,
+            uniform,
+        })
+    }
+
+    /// Records drawing `src.lit` (and its ids) into `out` through `mapping`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        src: &ScreenTargets,
+        scene: &GpuScene,
+        mapping: Mapping,
+        out: &Output,
+    ) {
+        let u = UpscaleUniform {
+            scale: mapping.scale.to_array(),
+            offset: mapping.offset.to_array(),
+            src_size: src.size.to_array(),
+            _pad: [0; 2],
+        };
+        queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("baselines::upscale::bind"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: self.uniform.as_entire_binding(),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: wgpu::BindingResource::TextureView(&src.lit.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 2,
+                    resource: wgpu::BindingResource::TextureView(&src.ids.view),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 3,
+                    resource: scene.objects.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = out.begin(encoder, "baselines::upscale::pass");
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,131 @@
+//! Present: nearest upscale of the internal frame to the output (`shaders/present.wgsl`).
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{FLOAT, entry, texture, uniform};
+use crate::shader;
+
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct Sizes {
+    output: [u32; 2],
+    internal: [u32; 2],
+}
+
+/// The present pass.
+pub struct PresentPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    sizes: wgpu::Buffer,
+}
+
+impl PresentPass {
+    /// Builds the pipeline for a `colour` output.
+    pub fn new(
+        device: &wgpu::Device,
+        colour: wgpu::TextureFormat,
+    ) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "present.wgsl")?;
+        let f = wgpu::ShaderStages::FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("present::layout"),
+            entries: &[
+                entry(0, f, texture(FLOAT, wgpu::TextureViewDimension::D2)),
+                entry(1, f, uniform(false)),
+            ],
+        });
+        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+            label: Some("present::pipeline_layout"),
+            bind_group_layouts: &[Some(&layout)],
+            immediate_size: 0,
+        });
+        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some("present::pipeline"),
+            layout: Some(&pl),
+            vertex: wgpu::VertexState {
+                module: &module,
+                entry_point: Some("vs"),
+                compilation_options: Default::default(),
+                buffers: &[],
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &module,
+                entry_point: Some("fs"),
+                compilation_options: Default::default(),
+                targets: &[Some(wgpu::ColorTargetState {
+                    format: colour,
+                    blend: None,
+                    write_mask: wgpu::ColorWrites::ALL,
+                })],
+            }),
+            primitive: wgpu::PrimitiveState::default(),
+            depth_stencil: None,
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        });
+        let sizes = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("present::sizes"),
+            size: size_of::<Sizes>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(PresentPass {
+            pipeline,
+            layout,
+            sizes,
+        })
+    }
+
+    /// Records the upscale of `frame` (`internal` pixels) into `target` (`output` pixels).
+    #[allow(clippy::too_many_arguments)]
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        frame: &wgpu::TextureView,
+        target: &wgpu::TextureView,
+        internal: (u32, u32),
+        output: (u32, u32),
+    ) {
+        let sizes = Sizes {
+            output: [output.0, output.1],
+            internal: [internal.0, internal.1],
+        };
+        queue.write_buffer(&self.sizes, 0, bytemuck::bytes_of(&sizes));
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("present::bind"),
+            layout: &self.layout,
+            entries: &[
+                wgpu::BindGroupEntry {
+                    binding: 0,
+                    resource: wgpu::BindingResource::TextureView(frame),
+                },
+                wgpu::BindGroupEntry {
+                    binding: 1,
+                    resource: self.sizes.as_entire_binding(),
+                },
+            ],
+        });
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("present::pass"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: target,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}

@@ -1,0 +1,42 @@
+// Upscale: draws a shaded screen image (full or low resolution) at the output size with
+// nearest sampling, offset by a sub-texel remainder (the snap method's restored camera
+// motion). Writes the colour and the entity id of the texel each pixel shows.
+// crates/render/src/baselines/upscale.rs.
+
+#include "lib/common.wgsl"
+
+struct Upscale {
+    // Source texels per output pixel (x, y), then the source coordinate of output (0, 0).
+    scale: vec2<f32>,
+    offset: vec2<f32>,
+    src_size: vec2<u32>,
+    _pad: vec2<u32>,
+}
+
+@group(0) @binding(0) var<uniform> up: Upscale;
+@group(0) @binding(1) var lit: texture_2d<f32>;
+@group(0) @binding(2) var ids: texture_2d<u32>;
+@group(0) @binding(3) var<storage, read> objects: array<Object>;
+
+@vertex
+fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
+    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
+    return vec4(xy, 0.0, 1.0);
+}
+
+struct FsOut {
+    @location(0) colour: vec4<f32>,
+    @location(1) id: u32,
+}
+
+@fragment
+fn fs(@builtin(position) frag: vec4<f32>) -> FsOut {
+    let src = floor(frag.xy * up.scale + up.offset);
+    let t = vec2<u32>(clamp(src, vec2(0.0), vec2<f32>(up.src_size) - 1.0));
+    let object = textureLoad(ids, t, 0).r;
+    var id = 0u;
+    if object != 0u {
+        id = objects[object - 1u].id;
+    }
+    return FsOut(vec4(textureLoad(lit, t, 0).rgb, 1.0), id);
+}
