@@ -11,7 +11,7 @@ use crate::gpu_scene::GpuScene;
 use crate::input::{FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
-use crate::passes::cull::{CullPass, DrawArgs, SPLAT_BYTES};
+use crate::passes::cull::{CullPass, DrawArgs};
 use crate::passes::present::PresentPass;
 use crate::passes::shade::{ShadeJob, ShadePass};
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
@@ -43,54 +43,6 @@ pub enum RenderError {
     InvalidFrame(String),
 }
 
-/// One splat quad of a frame, as read back by [`Renderer::read_splats`].
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct SplatRecord {
-    /// Dense texel index `((slot · 6 + face) · max_n + y) · max_n + x`.
-    pub key: u32,
-    /// 0 eye, 1 grid, 2 previous.
-    pub role: u32,
-    /// World-space corners (top-left, top-right, bottom-right, bottom-left in face space).
-    pub corners: [[f32; 3]; 4],
-}
-
-/// Per-pixel provenance of a frame ([`Renderer::read_frame_ids`]).
-#[derive(Debug, Clone, Default, PartialEq)]
-pub struct FrameIds {
-    /// Frame size.
-    pub size: glam::UVec2,
-    /// Entity id per pixel, row-major (0 = sky or nothing).
-    pub entity: Vec<u32>,
-    /// Whether each pixel came from the eye probe.
-    pub from_eye: Vec<bool>,
-}
-
-impl FrameIds {
-    /// The same ids at `output` size, each output pixel taking its internal pixel (the
-    /// present pass's nearest upscale).
-    fn upscaled(self, output: glam::UVec2) -> FrameIds {
-        if output == self.size || self.size.x == 0 || self.size.y == 0 {
-            return self;
-        }
-        let (iw, ih) = (self.size.x, self.size.y);
-        let mut up = FrameIds {
-            size: output,
-            entity: Vec::with_capacity((output.x * output.y) as usize),
-            from_eye: Vec::with_capacity((output.x * output.y) as usize),
-        };
-        for y in 0..output.y {
-            let sy = (y * ih / output.y).min(ih - 1);
-            for x in 0..output.x {
-                let sx = (x * iw / output.x).min(iw - 1);
-                let i = (sy * iw + sx) as usize;
-                up.entity.push(self.entity[i]);
-                up.from_eye.push(self.from_eye[i]);
-            }
-        }
-        up
-    }
-}
-
 /// Names of the timed stages, in order.
 pub const STAGES: [&str; 7] = [
     "capture",
@@ -103,17 +55,17 @@ pub const STAGES: [&str; 7] = [
 ];
 
 /// Screen-sized targets besides the colour target.
-struct Screen {
+pub(crate) struct Screen {
     /// Internal size.
-    size: (u32, u32),
+    pub(crate) size: (u32, u32),
     /// Output size.
-    output: (u32, u32),
+    pub(crate) output: (u32, u32),
     /// The internal colour target, when the output is larger (else the frame is drawn
     /// straight into the caller's target).
-    colour: Option<wgpu::TextureView>,
-    depth: wgpu::TextureView,
-    keys: wgpu::Texture,
-    keys_view: wgpu::TextureView,
+    pub(crate) colour: Option<wgpu::TextureView>,
+    pub(crate) depth: wgpu::TextureView,
+    pub(crate) keys: wgpu::Texture,
+    pub(crate) keys_view: wgpu::TextureView,
 }
 
 impl Screen {
@@ -169,16 +121,16 @@ impl Screen {
 pub struct Renderer {
     capture: CapturePass,
     shade: ShadePass,
-    cull: CullPass,
+    pub(crate) cull: CullPass,
     splat: SplatPass,
     background: BackgroundPass,
     visible: VisiblePass,
     present: PresentPass,
     colour: wgpu::TextureFormat,
-    store: ProbeStore,
-    scene: Option<GpuScene>,
+    pub(crate) store: ProbeStore,
+    pub(crate) scene: Option<GpuScene>,
     view: wgpu::Buffer,
-    screen: Option<Screen>,
+    pub(crate) screen: Option<Screen>,
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
 }
@@ -242,129 +194,6 @@ impl Renderer {
     /// The probe textures (for tests and debug views).
     pub fn probes(&self) -> &ProbeStore {
         &self.store
-    }
-
-    /// The splat list of the last frame, read back (for tests and debugging): which texel
-    /// each quad draws and its world-space corners.
-    pub fn read_splats(&self, ctx: &GpuContext) -> Result<Vec<SplatRecord>, GpuError> {
-        let copy = |src: &wgpu::Buffer, bytes: u64| {
-            let dst = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("frame::splat_readback"),
-                size: bytes.max(4),
-                usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-                mapped_at_creation: false,
-            });
-            let mut enc = ctx.device.create_command_encoder(&Default::default());
-            enc.copy_buffer_to_buffer(src, 0, &dst, 0, bytes);
-            ctx.queue.submit([enc.finish()]);
-            read_buffer(ctx, &dst)
-        };
-        let args_bytes = copy(&self.cull.args, size_of::<DrawArgs>() as u64)?;
-        let args: DrawArgs = *bytemuck::from_bytes(&args_bytes);
-        let count = u64::from(args.instance_count).min(self.cull.splats.size() / SPLAT_BYTES);
-        if count == 0 {
-            return Ok(Vec::new());
-        }
-        let raw = copy(&self.cull.splats, count * SPLAT_BYTES)?;
-        let words: &[[f32; 16]] = bytemuck::cast_slice(&raw);
-        Ok(words
-            .iter()
-            .map(|w| SplatRecord {
-                key: w[3].to_bits() - 1,
-                role: w[11].to_bits(),
-                corners: [0, 4, 8, 12].map(|i| [w[i], w[i + 1], w[i + 2]]),
-            })
-            .collect())
-    }
-
-    /// The entity id (`ObjectInput::id`) shown at `pixel` of the last frame, or `None` for
-    /// sky or outside the frame: the pixel's texel key names a probe texel, whose captured
-    /// object index names the object.
-    pub fn pick(&self, ctx: &GpuContext, pixel: glam::UVec2) -> Result<Option<u32>, GpuError> {
-        let (Some(screen), Some(scene)) = (self.screen.as_ref(), self.scene.as_ref()) else {
-            return Ok(None);
-        };
-        if pixel.x >= screen.output.0 || pixel.y >= screen.output.1 {
-            return Ok(None);
-        }
-        let internal = glam::UVec2::new(
-            pixel.x * screen.size.0 / screen.output.0,
-            pixel.y * screen.size.1 / screen.output.1,
-        );
-        let key = read_texel_u32(ctx, &screen.keys, 0, internal)?;
-        if key == 0 {
-            return Ok(None);
-        }
-        let max_n = Slot::ALL
-            .map(|s| self.store.slot(s).n)
-            .into_iter()
-            .max()
-            .unwrap_or(1);
-        let k = key - 1;
-        let (x, y) = (k % max_n, (k / max_n) % max_n);
-        let layer = k / (max_n * max_n);
-        let (slot, face) = (Slot::ALL[(layer / 6) as usize % 3], layer % 6);
-        let ids = &self.store.slot(slot).ids.texture;
-        let object = read_texel_u32(ctx, ids, face, glam::UVec2::new(x, y))?;
-        Ok(object
-            .checked_sub(1)
-            .and_then(|i| scene.object_ids.get(i as usize).copied()))
-    }
-
-    /// Per pixel of the last frame: the entity id shown (0 = sky or nothing) and whether the
-    /// pixel's colour came from the eye probe (its quads or the background fill). Reads the
-    /// key target and the probes' id textures back to the CPU (for the evaluator).
-    pub fn read_frame_ids(&self, ctx: &GpuContext) -> Result<FrameIds, GpuError> {
-        let (Some(screen), Some(scene)) = (self.screen.as_ref(), self.scene.as_ref()) else {
-            return Ok(FrameIds::default());
-        };
-        let keys = crate::target::read_texture_layer(ctx, &screen.keys, 0, 4)?;
-        let max_n = Slot::ALL
-            .map(|s| self.store.slot(s).n)
-            .into_iter()
-            .max()
-            .unwrap_or(1);
-        // ids[slot][face] read lazily: only layers some pixel refers to.
-        let mut layers: Vec<Option<Vec<u8>>> = vec![None; 18];
-        let mut out = FrameIds {
-            size: glam::UVec2::new(screen.size.0, screen.size.1),
-            entity: Vec::with_capacity(keys.len() / 4),
-            from_eye: Vec::with_capacity(keys.len() / 4),
-        };
-        for k in keys.chunks_exact(4) {
-            let key = u32::from_le_bytes([k[0], k[1], k[2], k[3]]);
-            if key == 0 {
-                out.entity.push(0);
-                out.from_eye.push(false);
-                continue;
-            }
-            let k = key - 1;
-            let (x, y) = (k % max_n, (k / max_n) % max_n);
-            let layer = (k / (max_n * max_n)) as usize % 18;
-            let slot = Slot::ALL[layer / 6];
-            let tex = self.store.slot(slot);
-            if layers[layer].is_none() {
-                let face = (layer % 6) as u32;
-                layers[layer] = Some(crate::target::read_texture_layer(
-                    ctx,
-                    &tex.ids.texture,
-                    face,
-                    4,
-                )?);
-            }
-            let ids = layers[layer].as_deref().unwrap_or_default();
-            let i = ((y * tex.n + x) * 4) as usize;
-            let object = ids
-                .get(i..i + 4)
-                .map_or(0, |b| u32::from_le_bytes([b[0], b[1], b[2], b[3]]));
-            let entity = object
-                .checked_sub(1)
-                .and_then(|o| scene.object_ids.get(o as usize).copied())
-                .unwrap_or(0);
-            out.entity.push(entity);
-            out.from_eye.push(slot == Slot::Eye);
-        }
-        Ok(out.upscaled(glam::UVec2::new(screen.output.0, screen.output.1)))
     }
 
     /// The per-pixel texel keys of the last frame (for tests and picking).
@@ -593,50 +422,6 @@ fn drawn_faces(input: &FrameInput) -> Vec<(Slot, texel_probes::cube::Face)> {
         .flatten()
         .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f)))
         .collect()
-}
-
-/// One `u32` texel of an `R32Uint` texture layer.
-fn read_texel_u32(
-    ctx: &GpuContext,
-    texture: &wgpu::Texture,
-    layer: u32,
-    at: glam::UVec2,
-) -> Result<u32, GpuError> {
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("frame::pick"),
-        size: 4,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d {
-                x: at.x,
-                y: at.y,
-                z: layer,
-            },
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: None,
-                rows_per_image: None,
-            },
-        },
-        wgpu::Extent3d {
-            width: 1,
-            height: 1,
-            depth_or_array_layers: 1,
-        },
-    );
-    ctx.queue.submit([enc.finish()]);
-    let bytes = read_buffer(ctx, &buffer)?;
-    Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
 }
 
 fn validate(input: &FrameInput) -> Result<(), RenderError> {

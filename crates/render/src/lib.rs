@@ -17,6 +17,7 @@ pub mod gpu_scene;
 pub mod input;
 pub mod passes;
 pub mod probe_store;
+pub mod readback;
 pub mod shader;
 pub mod stats;
 pub mod target;
