@@ -42,3 +42,26 @@ fn every_shader_file_on_disk_is_embedded() {
         assert_eq!(&disk, src, "{n} differs from the embedded copy");
     }
 }
+
+#[test]
+fn rust_records_match_their_wgsl_layouts() {
+    let mut checked = 0;
+    for (file, name, rust_size) in texel_render::passes::shared_layouts() {
+        let src = assemble(file).unwrap();
+        let module = naga::front::wgsl::parse_str(&src).unwrap();
+        let mut layouter = naga::proc::Layouter::default();
+        layouter.update(module.to_ctx()).unwrap();
+        let (handle, _) = module
+            .types
+            .iter()
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("{file} declares no struct {name}"));
+        let wgsl_size = layouter[handle].size as usize;
+        assert_eq!(
+            rust_size, wgsl_size,
+            "{name} in {file}: Rust {rust_size} bytes, WGSL {wgsl_size}"
+        );
+        checked += 1;
+    }
+    assert!(checked >= 10);
+}

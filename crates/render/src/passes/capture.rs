@@ -23,6 +23,9 @@ struct FaceParams {
     origin: [f32; 4],
 }
 
+/// Size of `FaceParams` (WGSL `FaceParams`).
+pub const FACE_PARAMS_SIZE: usize = size_of::<FaceParams>();
+
 /// The capture pass.
 pub struct CapturePass {
     pipeline: wgpu::RenderPipeline,

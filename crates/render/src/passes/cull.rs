@@ -52,6 +52,9 @@ struct CullWork {
     faces: [[u32; 4]; 18],
 }
 
+/// Size of `CullWork` (WGSL `CullWork`).
+pub const CULL_WORK_SIZE: usize = size_of::<CullWork>();
+
 impl CullPass {
     /// Builds the pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {

@@ -63,3 +63,44 @@ pub(crate) const FLOAT: wgpu::TextureSampleType =
 pub(crate) const UINT: wgpu::TextureSampleType = wgpu::TextureSampleType::Uint;
 /// 2D array views.
 pub(crate) const ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension::D2Array;
+
+/// Byte sizes of the Rust records shared with WGSL, by their WGSL struct name and the shader
+/// file that declares them: a test reflects every shader with naga and compares, so a field
+/// added on one side only cannot slip through.
+pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
+    vec![
+        ("capture.wgsl", "FaceParams", capture::FACE_PARAMS_SIZE),
+        ("shade.wgsl", "ShadeFace", shade::SHADE_FACE_SIZE),
+        (
+            "shade.wgsl",
+            "ShadeGlobals",
+            size_of::<shade::ShadeGlobals>(),
+        ),
+        (
+            "shade.wgsl",
+            "Object",
+            size_of::<crate::gpu_scene::GpuObject>(),
+        ),
+        (
+            "shade.wgsl",
+            "PointLight",
+            size_of::<crate::gpu_scene::GpuPointLight>(),
+        ),
+        ("shade.wgsl", "BvhNode", size_of::<crate::bvh::BvhNode>()),
+        (
+            "shade.wgsl",
+            "BvhTriangle",
+            size_of::<crate::bvh::BvhTriangle>(),
+        ),
+        (
+            "cull.wgsl",
+            "ViewGlobals",
+            size_of::<crate::view::ViewGlobals>(),
+        ),
+        ("cull.wgsl", "SlotView", size_of::<crate::view::SlotView>()),
+        ("cull.wgsl", "CullWork", cull::CULL_WORK_SIZE),
+        ("cull.wgsl", "DrawArgs", size_of::<cull::DrawArgs>()),
+        ("cull.wgsl", "Splat", cull::SPLAT_BYTES as usize),
+        ("present.wgsl", "Sizes", present::SIZES_SIZE),
+    ]
+}

@@ -12,6 +12,9 @@ struct Sizes {
     internal: [u32; 2],
 }
 
+/// Size of `Sizes` (WGSL `Sizes`).
+pub const SIZES_SIZE: usize = size_of::<Sizes>();
+
 /// The present pass.
 pub struct PresentPass {
     pipeline: wgpu::RenderPipeline,

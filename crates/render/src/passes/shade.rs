@@ -25,6 +25,9 @@ struct ShadeFace {
     _pad: u32,
 }
 
+/// Size of `ShadeFace` (WGSL `ShadeFace`).
+pub const SHADE_FACE_SIZE: usize = size_of::<ShadeFace>();
+
 /// One face to light: whole (after a capture) or only its edges (after a neighbour's).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ShadeJob {
