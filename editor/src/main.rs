@@ -1,7 +1,7 @@
-//! `texel-editor`: the egui level editor. It is a thin shell for now; the editor issue
-//! builds it out on top of `texel_runtime`.
+//! `texel-editor [level.ron]`: the egui level editor. The binary only reads its argument and
+//! hands over to [`texel_editor::run`], so tests drive the same code.
 
-fn main() {
-    eprintln!("texel-editor is not built yet; use `texel-run check <level>`");
-    std::process::exit(1);
+fn main() -> anyhow::Result<()> {
+    let path = std::env::args_os().nth(1).map(std::path::PathBuf::from);
+    texel_editor::run(path)
 }

@@ -1,0 +1,518 @@
+//! The editor application: lays out the panels, routes shortcuts and menu actions, and does
+//! the file chores (open, save, autosave, recover). `EditorApp::ui` is what both eframe and
+//! the UI tests call.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use egui::{Key, KeyboardShortcut, Modifiers, Ui};
+use texel_scene::{EntityRow, Geometry, Material, Name, Transform};
+
+use crate::document::Document;
+use crate::files::{self, Picked, Recent};
+use crate::state::EditorState;
+use crate::ui::dialogs::{Answer, Dialogs, Pending, Prompt, Purpose};
+use crate::ui::menu::{self, Action};
+use crate::ui::{hierarchy, inspector};
+use crate::viewport::Viewport;
+use crate::viewport::gpu::GpuView;
+
+/// The editor.
+pub struct EditorApp {
+    /// Document, selection, history.
+    pub state: EditorState,
+    /// The viewport.
+    pub viewport: Viewport,
+    /// Open dialogs.
+    pub dialogs: Dialogs,
+    /// Recently opened files.
+    pub recent: Recent,
+    rename: Option<(usize, String)>,
+    last_autosave: Instant,
+    autosaved_id: u64,
+    title: String,
+    focus_seen: Option<egui::Id>,
+    allow_close: bool,
+    ctx: Option<egui::Context>,
+    mesh_checked: u64,
+}
+
+impl EditorApp {
+    /// Opens `path` (an empty level when `None`) with the recent list in the user's config.
+    pub fn open(path: Option<&Path>) -> Self {
+        Self::with_recent(path, Recent::load(Recent::default_store()))
+    }
+
+    /// Opens `path` with the given recent list (tests pass one that is not stored).
+    pub fn with_recent(path: Option<&Path>, recent: Recent) -> Self {
+        let mut app = EditorApp {
+            state: EditorState::new(Document::new_empty()),
+            viewport: Viewport::default(),
+            dialogs: Dialogs::default(),
+            recent,
+            rename: None,
+            last_autosave: Instant::now(),
+            autosaved_id: 0,
+            title: String::new(),
+            focus_seen: None,
+            allow_close: false,
+            ctx: None,
+            mesh_checked: 0,
+        };
+        if let Some(p) = path {
+            app.load(p);
+        }
+        app
+    }
+
+    /// Attaches eframe's wgpu renderer, so the viewport can render the level.
+    pub fn attach_gpu(&mut self, rs: Option<egui_wgpu::RenderState>) {
+        match rs.as_ref().map(GpuView::new) {
+            Some(Ok(gpu)) => self.viewport.gpu = Some(gpu),
+            Some(Err(e)) => self.viewport.error = Some(e),
+            None => {}
+        }
+    }
+
+    /// Replaces the document with `path`; on failure keeps the current one and shows why.
+    pub fn load(&mut self, path: &Path) {
+        match Document::open(path) {
+            Ok(doc) => {
+                self.state = EditorState::new(doc);
+                self.recent.touch(path);
+                self.dialogs.recover = files::recoverable(path);
+                self.autosaved_id = 0;
+            }
+            Err(e) => self.dialogs.error = Some(e),
+        }
+    }
+
+    /// The window title: file name, a `*` when modified.
+    pub fn title(&self) -> String {
+        let mark = if self.state.is_dirty() { " *" } else { "" };
+        format!("{}{mark} — Texel editor", self.state.document.title())
+    }
+
+    /// One frame of the whole UI.
+    pub fn ui(&mut self, ui: &mut Ui) {
+        let ctx = ui.ctx().clone();
+        self.ctx = Some(ctx.clone());
+        let mut actions = self.shortcuts(&ctx);
+        let playing = self.viewport.playing();
+        egui::Panel::top("menu").show(ui, |ui| {
+            let (u, r) = (
+                self.state.history.undo_label(),
+                self.state.history.redo_label(),
+            );
+            if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing) {
+                actions.push(a);
+            }
+        });
+        egui::Panel::bottom("status").show(ui, |ui| self.status(ui));
+        egui::Panel::left("hierarchy")
+            .default_size(230.0)
+            .show(ui, |ui| {
+                // While playing the document is frozen: Esc returns to it unchanged.
+                ui.add_enabled_ui(!playing, |ui| {
+                    hierarchy::show(ui, &mut self.state, &mut self.rename)
+                });
+            });
+        egui::Panel::right("inspector")
+            .default_size(320.0)
+            .show(ui, |ui| {
+                ui.add_enabled_ui(!playing, |ui| {
+                    egui::ScrollArea::vertical().show(ui, |ui| {
+                        ui.heading("Inspector");
+                        inspector::entity(ui, &mut self.state);
+                        ui.separator();
+                        egui::CollapsingHeader::new("Level settings")
+                            .default_open(self.state.selection.is_none())
+                            .show(ui, |ui| inspector::settings(ui, &mut self.state));
+                    });
+                });
+            });
+        egui::CentralPanel::no_frame().show(ui, |ui| self.viewport.show(ui, &mut self.state));
+        if let Some(answer) = self.dialogs.show(&ctx) {
+            self.answer(answer);
+        }
+        self.dropped_files(&ctx);
+        for a in actions {
+            self.act(a);
+        }
+        self.load_new_meshes(&ctx);
+        self.end_gesture(&ctx);
+        self.close_request(&ctx);
+        self.autosave();
+        let title = self.title();
+        if title != self.title {
+            ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
+            self.title = title;
+        }
+    }
+
+    fn status(&self, ui: &mut Ui) {
+        ui.horizontal(|ui| {
+            let r = self.viewport.gpu.as_ref().map(|g| &g.report);
+            match r {
+                Some(r) => {
+                    ui.label(format!(
+                        "render {:.1} ms · scene upload {:.1} ms · {}×{}",
+                        r.frame_ms, r.upload_ms, r.size.x, r.size.y
+                    ));
+                    if let Some(s) = &r.stats {
+                        let c = &s.counters;
+                        ui.label(format!(
+                            "faces {} · texels shaded {} · quads {} · visible texels {}",
+                            c.faces_captured,
+                            c.texels_shaded,
+                            c.quads_splatted,
+                            c.screen_visible_texels
+                        ));
+                    }
+                }
+                None => {
+                    ui.label("no renderer");
+                }
+            }
+            ui.separator();
+            ui.label(format!("ui frame {:.0} ms", self.viewport.ui_frame_ms));
+            ui.separator();
+            ui.label(format!("{} entities", self.state.scene().len()));
+            if self.viewport.playing() {
+                ui.label("playing");
+            }
+        });
+    }
+
+    fn shortcuts(&mut self, ctx: &egui::Context) -> Vec<Action> {
+        let mut out = Vec::new();
+        if self.dialogs.any_open() {
+            return out;
+        }
+        let typing = ctx.egui_wants_keyboard_input();
+        let cmd = Modifiers::COMMAND;
+        let shift_cmd = Modifiers::COMMAND | Modifiers::SHIFT;
+        ctx.input_mut(|i| {
+            if i.consume_shortcut(&KeyboardShortcut::new(shift_cmd, Key::Z))
+                || i.consume_shortcut(&KeyboardShortcut::new(cmd, Key::Y))
+            {
+                out.push(Action::Redo);
+            }
+            if i.consume_shortcut(&KeyboardShortcut::new(cmd, Key::Z)) {
+                out.push(Action::Undo);
+            }
+            if i.consume_shortcut(&KeyboardShortcut::new(cmd, Key::S)) {
+                out.push(Action::Save);
+            }
+            if i.consume_shortcut(&KeyboardShortcut::new(cmd, Key::D)) {
+                out.push(Action::Duplicate);
+            }
+            if i.key_pressed(Key::F5) {
+                out.push(Action::TogglePlay);
+            }
+            if !typing && i.key_pressed(Key::Delete) {
+                out.push(Action::Delete);
+            }
+        });
+        out
+    }
+
+    /// Carries out an action.
+    pub fn act(&mut self, action: Action) {
+        let edits = matches!(
+            action,
+            Action::Undo | Action::Redo | Action::Duplicate | Action::Delete
+        );
+        if edits && self.viewport.playing() {
+            return;
+        }
+        match action {
+            Action::New => self.guard(Pending::New),
+            Action::Open => self.guard(Pending::Open(None)),
+            Action::OpenPath(p) => self.guard(Pending::Open(Some(p))),
+            Action::Save => match self.state.document.path.clone() {
+                Some(p) => self.save_to(&p),
+                None => self.ask(Purpose::SaveAs),
+            },
+            Action::SaveAs => self.ask(Purpose::SaveAs),
+            Action::Undo => {
+                self.state.undo();
+            }
+            Action::Redo => {
+                self.state.redo();
+            }
+            Action::Add(row) => {
+                self.viewport.stop();
+                self.state.add(*row);
+            }
+            Action::AddMesh => self.ask(Purpose::Mesh),
+            Action::AddMeshPath(p) => self.add_mesh(&p),
+            Action::Duplicate => {
+                if let Some(i) = self.state.selection {
+                    self.state.duplicate(i);
+                }
+            }
+            Action::Delete => {
+                if let Some(i) = self.state.selection {
+                    self.state.delete(i);
+                }
+            }
+            Action::TogglePlay => {
+                if self.viewport.playing() {
+                    self.viewport.stop();
+                } else {
+                    self.viewport.play(&self.state);
+                }
+            }
+            Action::Schedule(s) => self.viewport.schedule = s,
+            Action::Quit => self.guard(Pending::Quit),
+        }
+        self.state.history.seal();
+    }
+
+    /// Runs `pending` now, or after "discard changes?" when the document is modified.
+    fn guard(&mut self, pending: Pending) {
+        if self.state.is_dirty() {
+            self.dialogs.confirm = Some(pending);
+        } else {
+            self.proceed(pending);
+        }
+    }
+
+    fn proceed(&mut self, pending: Pending) {
+        match pending {
+            Pending::New => {
+                self.discard_autosave();
+                self.state = EditorState::new(Document::new_empty());
+            }
+            Pending::Open(Some(p)) => {
+                self.discard_autosave();
+                self.load(&p);
+            }
+            Pending::Open(None) => self.ask(Purpose::Open),
+            Pending::Quit => {
+                self.discard_autosave();
+                self.allow_close = true;
+                self.title.clear();
+                if let Some(ctx) = &self.ctx {
+                    ctx.send_viewport_cmd(egui::ViewportCommand::Close);
+                }
+            }
+        }
+    }
+
+    /// Asks for a path with a native dialog, or a typed-path prompt when none exists.
+    fn ask(&mut self, purpose: Purpose) {
+        let picked = match purpose {
+            Purpose::Open => files::pick_open(),
+            Purpose::SaveAs => files::pick_save(self.state.document.path.as_deref()),
+            Purpose::Mesh => files::pick_mesh(),
+        };
+        match picked {
+            Picked::Path(p) => self.answer(Answer::Path(purpose, p)),
+            Picked::Cancelled => {}
+            Picked::NoService => {
+                let text = match purpose {
+                    Purpose::SaveAs => self
+                        .state
+                        .document
+                        .path
+                        .as_ref()
+                        .map(|p| p.display().to_string())
+                        .unwrap_or_default(),
+                    _ => String::new(),
+                };
+                self.dialogs.prompt = Some(Prompt { purpose, text });
+            }
+        }
+    }
+
+    fn answer(&mut self, answer: Answer) {
+        match answer {
+            Answer::Path(Purpose::Open, p) => self.proceed(Pending::Open(Some(p))),
+            Answer::Path(Purpose::SaveAs, p) => self.save_to(&p),
+            Answer::Path(Purpose::Mesh, p) => self.add_mesh(&p),
+            Answer::Discard(pending) => self.proceed(pending),
+            Answer::Recover(p) => self.recover(&p),
+        }
+    }
+
+    /// Saves to `path` (atomically) and forgets the autosave.
+    pub fn save_to(&mut self, path: &Path) {
+        let old = self.state.document.path.clone();
+        match self.state.save_as(path) {
+            Ok(()) => {
+                if let Some(o) = old {
+                    files::remove_autosave(&o);
+                }
+                files::remove_autosave(path);
+                self.recent.touch(path);
+            }
+            Err(e) => self.dialogs.error = Some(e),
+        }
+    }
+
+    fn recover(&mut self, auto: &Path) {
+        let Some(level_path) = self.state.document.path.clone() else {
+            return;
+        };
+        match Document::open(auto) {
+            Ok(mut doc) => {
+                doc.path = Some(level_path.clone());
+                doc.level.path = level_path;
+                self.state = EditorState::new(doc);
+                self.state.mark_dirty();
+            }
+            Err(e) => self.dialogs.error = Some(format!("cannot recover the autosave: {e}")),
+        }
+    }
+
+    fn add_mesh(&mut self, file: &Path) {
+        let Some(level) = self.state.document.path.clone() else {
+            self.dialogs.error =
+                Some("save the level first: mesh paths are relative to the level file".into());
+            return;
+        };
+        let rel = relative_path(&level, file);
+        let row = EntityRow {
+            name: file
+                .file_stem()
+                .map(|s| Name(s.to_string_lossy().into_owned())),
+            transform: Some(Transform::default()),
+            geometry: Some(Geometry::Mesh { path: rel }),
+            material: Some(Material::default()),
+            ..EntityRow::default()
+        };
+        self.state.add(row);
+        if let Err(e) = self.state.document.reload_meshes() {
+            self.state.undo();
+            self.dialogs.error = Some(e);
+        }
+    }
+
+    fn dropped_files(&mut self, ctx: &egui::Context) {
+        let dropped: Vec<PathBuf> = ctx.input(|i| {
+            i.raw
+                .dropped_files
+                .iter()
+                .map(|f| f.path().to_owned())
+                .filter(|p| !p.as_os_str().is_empty())
+                .collect()
+        });
+        for p in dropped {
+            let ext = p
+                .extension()
+                .map(|e| e.to_string_lossy().to_lowercase())
+                .unwrap_or_default();
+            match ext.as_str() {
+                "gltf" | "glb" => self.add_mesh(&p),
+                "ron" => self.guard(Pending::Open(Some(p))),
+                _ => {
+                    self.dialogs.error =
+                        Some(format!("{}: not a level or a glTF mesh", p.display()))
+                }
+            }
+        }
+    }
+
+    /// Loads meshes the scene names but the library lacks (a path typed in the inspector),
+    /// once the person has stopped typing.
+    fn load_new_meshes(&mut self, ctx: &egui::Context) {
+        let revision = self.state.document.revision;
+        if revision == self.mesh_checked || ctx.memory(|m| m.focused()).is_some() {
+            return;
+        }
+        self.mesh_checked = revision;
+        let scene = self.state.scene();
+        let missing = scene.world().query::<&Geometry>().iter().any(|g| match g {
+            Geometry::Mesh { path } => {
+                !path.trim().is_empty() && self.state.document.level.meshes.get(path).is_none()
+            }
+            _ => false,
+        });
+        if missing && self.state.document.path.is_some() {
+            if let Err(e) = self.state.document.reload_meshes() {
+                self.dialogs.error = Some(e);
+            }
+            self.mesh_checked = self.state.document.revision;
+        }
+    }
+
+    /// A gesture (drag, typing into one field) ends when the pointer is released or the
+    /// keyboard focus moves; then the next edit starts a new undo step.
+    fn end_gesture(&mut self, ctx: &egui::Context) {
+        let focus = ctx.memory(|m| m.focused());
+        let released = ctx.input(|i| i.pointer.any_released());
+        let down = ctx.input(|i| i.pointer.any_down());
+        if released || (!down && focus != self.focus_seen) {
+            self.state.history.seal();
+        }
+        self.focus_seen = focus;
+    }
+
+    fn close_request(&mut self, ctx: &egui::Context) {
+        if ctx.input(|i| i.viewport().close_requested())
+            && self.state.is_dirty()
+            && !self.allow_close
+        {
+            ctx.send_viewport_cmd(egui::ViewportCommand::CancelClose);
+            self.dialogs.confirm = Some(Pending::Quit);
+        }
+    }
+
+    fn autosave(&mut self) {
+        let Some(path) = self.state.document.path.clone() else {
+            return;
+        };
+        let id = self.state.history.state_id();
+        if self.state.is_dirty()
+            && id != self.autosaved_id
+            && self.last_autosave.elapsed() >= files::AUTOSAVE_EVERY
+        {
+            self.autosave_now(&path);
+        }
+    }
+
+    /// Writes the autosave beside the level now.
+    pub fn autosave_now(&mut self, path: &Path) {
+        self.last_autosave = Instant::now();
+        self.autosaved_id = self.state.history.state_id();
+        if let Err(e) = files::autosave(self.state.scene(), path) {
+            self.dialogs.error = Some(format!("autosave failed: {e}"));
+        }
+    }
+
+    fn discard_autosave(&mut self) {
+        if let Some(p) = &self.state.document.path {
+            files::remove_autosave(p);
+        }
+    }
+}
+
+impl eframe::App for EditorApp {
+    fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
+        EditorApp::ui(self, ui);
+    }
+}
+
+/// `file` relative to the directory of `level`, with `/` separators (absolute when it
+/// cannot be made relative).
+pub fn relative_path(level: &Path, file: &Path) -> String {
+    let base = level
+        .parent()
+        .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned()))
+        .unwrap_or_default();
+    let file = std::fs::canonicalize(file).unwrap_or_else(|_| file.to_owned());
+    let mut b = base.components().peekable();
+    let mut f = file.components().peekable();
+    while let (Some(x), Some(y)) = (b.peek(), f.peek()) {
+        if x != y {
+            break;
+        }
+        b.next();
+        f.next();
+    }
+    let mut parts: Vec<String> = b.map(|_| "..".to_owned()).collect();
+    parts.extend(f.map(|c| c.as_os_str().to_string_lossy().into_owned()));
+    parts.join("/")
+}

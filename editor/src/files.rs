@@ -1,0 +1,189 @@
+//! File chores around the document: native dialogs (with a typed-path fallback where no
+//! dialog service exists), the recent-files list, and autosaves beside the level.
+
+use std::path::{Path, PathBuf};
+use std::time::{Duration, Instant};
+
+use texel_scene::Scene;
+
+/// How many recent files are remembered.
+pub const RECENT_MAX: usize = 8;
+/// How often a modified document is autosaved.
+pub const AUTOSAVE_EVERY: Duration = Duration::from_secs(60);
+/// A dialog that answers faster than this found no dialog service (rfd without a portal).
+const NO_SERVICE: Duration = Duration::from_millis(150);
+
+/// What a native dialog answered.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub enum Picked {
+    /// A path was chosen.
+    Path(PathBuf),
+    /// The person cancelled.
+    Cancelled,
+    /// There is no dialog service: ask for a typed path instead.
+    NoService,
+}
+
+/// Asks for a level to open.
+pub fn pick_open() -> Picked {
+    timed(|| {
+        rfd::FileDialog::new()
+            .add_filter("Texel level", &["ron"])
+            .pick_file()
+    })
+}
+
+/// Asks where to save a level.
+pub fn pick_save(current: Option<&Path>) -> Picked {
+    timed(|| {
+        let mut d = rfd::FileDialog::new().add_filter("Texel level", &["ron"]);
+        if let Some(name) = current.and_then(|p| p.file_name()) {
+            d = d.set_file_name(name.to_string_lossy());
+        }
+        d.save_file()
+    })
+}
+
+/// Asks for a glTF mesh.
+pub fn pick_mesh() -> Picked {
+    timed(|| {
+        rfd::FileDialog::new()
+            .add_filter("glTF", &["gltf", "glb"])
+            .pick_file()
+    })
+}
+
+fn timed(f: impl FnOnce() -> Option<PathBuf>) -> Picked {
+    if std::env::var_os("TEXEL_EDITOR_NO_DIALOGS").is_some() {
+        return Picked::NoService;
+    }
+    let t = Instant::now();
+    match f() {
+        Some(p) => Picked::Path(p),
+        None if t.elapsed() < NO_SERVICE => Picked::NoService,
+        None => Picked::Cancelled,
+    }
+}
+
+/// The autosave file beside `level`: `name.autosave.ron`.
+pub fn autosave_path(level: &Path) -> PathBuf {
+    let stem = level
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "untitled".into());
+    level.with_file_name(format!("{stem}.autosave.ron"))
+}
+
+/// An autosave of `level` newer than the level itself, if one exists.
+pub fn recoverable(level: &Path) -> Option<PathBuf> {
+    let auto = autosave_path(level);
+    let a = std::fs::metadata(&auto).and_then(|m| m.modified()).ok()?;
+    match std::fs::metadata(level).and_then(|m| m.modified()) {
+        Ok(l) if l > a => None,
+        _ => Some(auto),
+    }
+}
+
+/// Writes an autosave of `scene` beside `level` (atomically).
+pub fn autosave(scene: &Scene, level: &Path) -> Result<PathBuf, String> {
+    let path = autosave_path(level);
+    scene.save(&path).map_err(|e| e.to_string())?;
+    Ok(path)
+}
+
+/// Removes the autosave beside `level` (after a save or a discard).
+pub fn remove_autosave(level: &Path) {
+    let _ = std::fs::remove_file(autosave_path(level));
+}
+
+/// The recent-files list, most recent first, kept in the user's config directory.
+#[derive(Debug, Clone, Default, PartialEq, Eq)]
+pub struct Recent {
+    /// The files.
+    pub files: Vec<PathBuf>,
+    store: Option<PathBuf>,
+}
+
+impl Recent {
+    /// Reads the list from `store` (missing or unreadable means empty).
+    pub fn load(store: Option<PathBuf>) -> Self {
+        let files = store
+            .as_ref()
+            .and_then(|s| std::fs::read_to_string(s).ok())
+            .map(|t| {
+                t.lines()
+                    .filter(|l| !l.is_empty())
+                    .map(PathBuf::from)
+                    .collect()
+            })
+            .unwrap_or_default();
+        Recent { files, store }
+    }
+
+    /// The default store: `$XDG_CONFIG_HOME/texel/recent.txt` or `~/.config/texel/recent.txt`.
+    pub fn default_store() -> Option<PathBuf> {
+        let base = std::env::var_os("XDG_CONFIG_HOME")
+            .map(PathBuf::from)
+            .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))?;
+        Some(base.join("texel").join("recent.txt"))
+    }
+
+    /// Puts `path` first and writes the list back (best effort: a read-only home is fine).
+    pub fn touch(&mut self, path: &Path) {
+        let path = std::fs::canonicalize(path).unwrap_or_else(|_| path.to_owned());
+        self.files.retain(|p| *p != path);
+        self.files.insert(0, path);
+        self.files.truncate(RECENT_MAX);
+        if let Some(store) = &self.store {
+            if let Some(dir) = store.parent() {
+                let _ = std::fs::create_dir_all(dir);
+            }
+            let text: Vec<String> = self
+                .files
+                .iter()
+                .map(|p| p.to_string_lossy().into_owned())
+                .collect();
+            let _ = std::fs::write(store, text.join("\n"));
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn autosave_sits_beside_the_level() {
+        assert_eq!(
+            autosave_path(Path::new("a/b/level.ron")),
+            PathBuf::from("a/b/level.autosave.ron")
+        );
+    }
+
+    #[test]
+    fn recent_list_is_most_recent_first_and_bounded() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let store = dir.path().join("recent.txt");
+        let mut r = Recent::load(Some(store.clone()));
+        for i in 0..10 {
+            r.touch(Path::new(&format!("/nowhere/{i}.ron")));
+        }
+        r.touch(Path::new("/nowhere/5.ron"));
+        assert_eq!(r.files.len(), RECENT_MAX);
+        assert_eq!(r.files[0], PathBuf::from("/nowhere/5.ron"));
+        assert_eq!(Recent::load(Some(store)).files, r.files);
+    }
+
+    #[test]
+    fn autosave_is_offered_only_when_newer() {
+        let dir = tempfile::tempdir().expect("tempdir");
+        let level = dir.path().join("l.ron");
+        Scene::new().save(&level).expect("save");
+        assert_eq!(recoverable(&level), None);
+        std::thread::sleep(Duration::from_millis(20));
+        autosave(&Scene::new(), &level).expect("autosave");
+        assert_eq!(recoverable(&level), Some(autosave_path(&level)));
+        remove_autosave(&level);
+        assert_eq!(recoverable(&level), None);
+    }
+}

@@ -1,0 +1,187 @@
+//! The menu bar. It only reports what was chosen; the app carries it out.
+
+use std::path::PathBuf;
+
+use egui::Ui;
+use glam::Vec3;
+use texel_render::input::Schedule;
+use texel_scene::{
+    DirectionalLight, EntityRow, Material, Name, PlayerStart, PointLight, ProbeGridOverride,
+    Transform,
+};
+
+use crate::ui::inspector::geometry_of_kind;
+
+/// Something the person asked for from the menu, a shortcut or a button.
+#[derive(Debug, Clone, PartialEq)]
+pub enum Action {
+    /// New empty level.
+    New,
+    /// Open a level (asks where).
+    Open,
+    /// Open this level.
+    OpenPath(PathBuf),
+    /// Save to the current path (or ask).
+    Save,
+    /// Save under a new path.
+    SaveAs,
+    /// Undo.
+    Undo,
+    /// Redo.
+    Redo,
+    /// Add this entity.
+    Add(Box<EntityRow>),
+    /// Add a glTF mesh (asks which).
+    AddMesh,
+    /// Add a glTF mesh from this file.
+    AddMeshPath(PathBuf),
+    /// Duplicate the selection.
+    Duplicate,
+    /// Delete the selection.
+    Delete,
+    /// Start or stop Play.
+    TogglePlay,
+    /// Use this schedule in the viewport.
+    Schedule(Schedule),
+    /// Quit.
+    Quit,
+}
+
+/// The entities the Add menu offers, by label.
+pub fn presets() -> Vec<(&'static str, EntityRow)> {
+    let at = Transform::from_translation(Vec3::new(0.0, 0.5, 0.0));
+    let shape = |name: &str, k: usize| EntityRow {
+        name: Some(Name(name.into())),
+        transform: Some(at),
+        geometry: Some(geometry_of_kind(k)),
+        material: Some(Material::default()),
+        ..EntityRow::default()
+    };
+    vec![
+        ("Box", shape("Box", 0)),
+        ("Sphere", shape("Sphere", 1)),
+        ("Cylinder", shape("Cylinder", 2)),
+        ("Plane", shape("Plane", 3)),
+        ("Wedge", shape("Wedge", 4)),
+        (
+            "Directional light",
+            EntityRow {
+                name: Some(Name("Sun".into())),
+                directional_light: Some(DirectionalLight::default()),
+                ..EntityRow::default()
+            },
+        ),
+        (
+            "Point light",
+            EntityRow {
+                name: Some(Name("Point light".into())),
+                transform: Some(Transform::from_translation(Vec3::new(0.0, 2.0, 0.0))),
+                point_light: Some(PointLight::default()),
+                ..EntityRow::default()
+            },
+        ),
+        (
+            "Probe-grid override",
+            EntityRow {
+                name: Some(Name("Probe-grid override".into())),
+                transform: Some(Transform::from_translation(Vec3::new(0.0, 2.0, 0.0))),
+                probe_grid_override: Some(ProbeGridOverride::default()),
+                ..EntityRow::default()
+            },
+        ),
+        (
+            "Player start",
+            EntityRow {
+                name: Some(Name("Player start".into())),
+                transform: Some(Transform::default()),
+                player_start: Some(PlayerStart::default()),
+                ..EntityRow::default()
+            },
+        ),
+    ]
+}
+
+/// Draws the menu bar and returns what was chosen.
+pub fn show(
+    ui: &mut Ui,
+    recent: &[PathBuf],
+    undo: Option<&str>,
+    redo: Option<&str>,
+    playing: bool,
+) -> Option<Action> {
+    let mut out = None;
+    egui::MenuBar::new().ui(ui, |ui| {
+        ui.menu_button("File", |ui| {
+            for (label, a) in [
+                ("New", Action::New),
+                ("Open…", Action::Open),
+                ("Save  (Ctrl+S)", Action::Save),
+                ("Save As…", Action::SaveAs),
+            ] {
+                if ui.button(label).clicked() {
+                    out = Some(a);
+                }
+            }
+            ui.menu_button("Recent", |ui| {
+                if recent.is_empty() {
+                    ui.label("(none)");
+                }
+                for p in recent {
+                    if ui.button(p.display().to_string()).clicked() {
+                        out = Some(Action::OpenPath(p.clone()));
+                    }
+                }
+            });
+            ui.separator();
+            if ui.button("Quit").clicked() {
+                out = Some(Action::Quit);
+            }
+        });
+        ui.menu_button("Edit", |ui| {
+            let u = undo.map_or("Undo".to_owned(), |d| format!("Undo {d}  (Ctrl+Z)"));
+            if ui
+                .add_enabled(undo.is_some(), egui::Button::new(u))
+                .clicked()
+            {
+                out = Some(Action::Undo);
+            }
+            let r = redo.map_or("Redo".to_owned(), |d| format!("Redo {d}  (Ctrl+Y)"));
+            if ui
+                .add_enabled(redo.is_some(), egui::Button::new(r))
+                .clicked()
+            {
+                out = Some(Action::Redo);
+            }
+            if ui.button("Duplicate  (Ctrl+D)").clicked() {
+                out = Some(Action::Duplicate);
+            }
+            if ui.button("Delete  (Del)").clicked() {
+                out = Some(Action::Delete);
+            }
+        });
+        ui.menu_button("Add", |ui| {
+            for (label, row) in presets() {
+                if ui.button(label).clicked() {
+                    out = Some(Action::Add(Box::new(row)));
+                }
+            }
+            if ui.button("glTF mesh…").clicked() {
+                out = Some(Action::AddMesh);
+            }
+        });
+        ui.menu_button("View", |ui| {
+            if ui.button("Schedule: ours").clicked() {
+                out = Some(Action::Schedule(Schedule::Ours));
+            }
+            if ui.button("Schedule: paper").clicked() {
+                out = Some(Action::Schedule(Schedule::Paper));
+            }
+        });
+        ui.separator();
+        let play = if playing { "Stop (Esc)" } else { "Play (F5)" };
+        if ui.button(play).clicked() {
+            out = Some(Action::TogglePlay);
+        }
+    });
+    out
+}

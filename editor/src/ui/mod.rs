@@ -1,0 +1,7 @@
+//! The editor's panels. Each is a function that borrows the part of the state it shows.
+
+pub mod dialogs;
+pub mod hierarchy;
+pub mod inspector;
+pub mod menu;
+pub mod widgets;

@@ -1,0 +1,174 @@
+//! A transform gizmo drawn with the egui painter: three axis handles that translate (W),
+//! rotate (E) or scale (R) the selection, with snapping while Ctrl is held. A drag is one
+//! undo step (its commands share a merge key until the pointer is released).
+
+use egui::{Color32, Painter, Pos2, Stroke, Vec2};
+use glam::Vec3;
+use texel_scene::Transform;
+
+use crate::camera::Projector;
+
+/// Which transform the gizmo changes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Mode {
+    /// Move (W).
+    #[default]
+    Translate,
+    /// Rotate (E).
+    Rotate,
+    /// Scale (R).
+    Scale,
+}
+
+/// Snap steps while Ctrl is held.
+pub const SNAP_TRANSLATE: f32 = 0.25;
+/// Rotation snap, degrees.
+pub const SNAP_ROTATE: f32 = 15.0;
+/// Scale snap.
+pub const SNAP_SCALE: f32 = 0.1;
+const HANDLE_PX: f32 = 80.0;
+const PICK_PX: f32 = 8.0;
+const AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
+const COLOURS: [Color32; 3] = [
+    Color32::from_rgb(230, 70, 70),
+    Color32::from_rgb(80, 210, 80),
+    Color32::from_rgb(80, 120, 240),
+];
+
+/// A drag in progress.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Drag {
+    /// Axis index (0 X, 1 Y, 2 Z).
+    pub axis: usize,
+    /// The transform when the drag began.
+    pub start: Transform,
+    /// Accumulated pointer motion, pixels.
+    pub moved: Vec2,
+}
+
+/// The screen ends of the three handles of a gizmo at `origin`.
+pub fn handles(proj: &Projector, origin: Vec3, cam_eye: Vec3) -> Option<(Pos2, [Pos2; 3])> {
+    let o = proj.project(origin)?;
+    // World length that shows as about HANDLE_PX pixels at this distance.
+    let dist = (origin - cam_eye).length().max(0.1);
+    let world = dist * HANDLE_PX / proj.rect().height().max(1.0) * 1.2;
+    let mut ends = [o; 3];
+    for (k, a) in AXES.iter().enumerate() {
+        ends[k] = proj.project(origin + *a * world)?;
+    }
+    Some((o, ends))
+}
+
+/// Draws the gizmo; `hot` is the highlighted axis.
+pub fn draw(p: &Painter, o: Pos2, ends: [Pos2; 3], mode: Mode, hot: Option<usize>) {
+    for (k, end) in ends.iter().enumerate() {
+        let width = if hot == Some(k) { 4.0 } else { 2.5 };
+        p.line_segment([o, *end], Stroke::new(width, COLOURS[k]));
+        match mode {
+            Mode::Translate => {
+                p.circle_filled(*end, 5.0, COLOURS[k]);
+            }
+            Mode::Rotate => {
+                p.circle_stroke(*end, 7.0, Stroke::new(width, COLOURS[k]));
+            }
+            Mode::Scale => {
+                let r = egui::Rect::from_center_size(*end, egui::vec2(9.0, 9.0));
+                p.rect_filled(r, 0.0, COLOURS[k]);
+            }
+        }
+    }
+    p.circle_filled(o, 3.0, Color32::WHITE);
+}
+
+/// The axis whose handle is under `pointer`.
+pub fn hit(o: Pos2, ends: [Pos2; 3], pointer: Pos2) -> Option<usize> {
+    (0..3)
+        .map(|k| (k, distance_to_segment(pointer, o, ends[k])))
+        .filter(|(_, d)| *d < PICK_PX)
+        .min_by(|a, b| a.1.total_cmp(&b.1))
+        .map(|(k, _)| k)
+}
+
+fn distance_to_segment(p: Pos2, a: Pos2, b: Pos2) -> f32 {
+    let ab = b - a;
+    let t = ((p - a).dot(ab) / ab.length_sq().max(1e-6)).clamp(0.0, 1.0);
+    (a + ab * t - p).length()
+}
+
+/// The transform after dragging `drag.moved` pixels along the handle from `o` to `end`, for a
+/// handle `world_len` world units long.
+pub fn apply(drag: &Drag, mode: Mode, o: Pos2, end: Pos2, world_len: f32, snap: bool) -> Transform {
+    let axis_px = end - o;
+    let len_px = axis_px.length().max(1.0);
+    let along = drag.moved.dot(axis_px / len_px);
+    let mut t = drag.start;
+    let k = drag.axis;
+    match mode {
+        Mode::Translate => {
+            let mut d = along / len_px * world_len;
+            if snap {
+                d = (d / SNAP_TRANSLATE).round() * SNAP_TRANSLATE;
+            }
+            t.translation += AXES[k] * d;
+        }
+        Mode::Rotate => {
+            let mut deg = (drag.moved.x - drag.moved.y) * 0.5;
+            if snap {
+                deg = (deg / SNAP_ROTATE).round() * SNAP_ROTATE;
+            }
+            t.rotation[k] += deg;
+        }
+        Mode::Scale => {
+            let mut f = (1.0 + along / len_px).max(0.01);
+            if snap {
+                f = ((f / SNAP_SCALE).round() * SNAP_SCALE).max(SNAP_SCALE);
+            }
+            t.scale[k] = (drag.start.scale[k] * f).max(0.001);
+        }
+    }
+    t
+}
+
+/// World length of the handles at `origin` (matches [`handles`]).
+pub fn world_len(proj: &Projector, origin: Vec3, cam_eye: Vec3) -> f32 {
+    let dist = (origin - cam_eye).length().max(0.1);
+    dist * HANDLE_PX / proj.rect().height().max(1.0) * 1.2
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn translate_follows_the_axis_and_snaps() {
+        let drag = Drag {
+            axis: 0,
+            start: Transform::default(),
+            moved: egui::vec2(50.0, 0.0),
+        };
+        let (o, end) = (Pos2::new(0.0, 0.0), Pos2::new(100.0, 0.0));
+        let t = apply(&drag, Mode::Translate, o, end, 2.0, false);
+        assert!((t.translation.x - 1.0).abs() < 1e-5);
+        let drag = Drag {
+            moved: egui::vec2(30.0, 0.0),
+            ..drag
+        };
+        let t = apply(&drag, Mode::Translate, o, end, 2.0, true);
+        assert!((t.translation.x - 0.5).abs() < 1e-5, "{}", t.translation.x);
+        let t = apply(&drag, Mode::Rotate, o, end, 2.0, true);
+        assert_eq!(t.rotation.x, 15.0);
+    }
+
+    #[test]
+    fn handle_hit_test() {
+        let o = Pos2::new(0.0, 0.0);
+        let ends = [
+            Pos2::new(100.0, 0.0),
+            Pos2::new(0.0, -100.0),
+            Pos2::new(-70.0, 70.0),
+        ];
+        assert_eq!(hit(o, ends, Pos2::new(50.0, 3.0)), Some(0));
+        assert_eq!(hit(o, ends, Pos2::new(2.0, -60.0)), Some(1));
+        assert_eq!(hit(o, ends, Pos2::new(50.0, 50.0)), None);
+    }
+}

@@ -1,0 +1,172 @@
+//! The level rendered by `texel_render` on eframe's own wgpu device, into a texture egui
+//! shows. The scene is uploaded again only when the document changed; the frame driver is
+//! rebuilt when the document or the output size changed.
+
+use std::sync::Arc;
+use std::time::Instant;
+
+use egui::mutex::RwLock;
+use glam::UVec2;
+use texel_render::context::GpuContext;
+use texel_render::frame::Renderer;
+use texel_render::input::{Camera, Schedule};
+use texel_render::stats::FrameStats;
+use texel_runtime::driver::{FrameDriver, scene_input};
+use texel_runtime::load::LoadedLevel;
+
+/// The renderer's output format (sRGB, filterable, as egui samples it).
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+
+/// What the last render cost.
+#[derive(Debug, Clone, Default)]
+pub struct RenderReport {
+    /// The renderer's own stats of the last frame.
+    pub stats: Option<FrameStats>,
+    /// Wall time of the last `render` call, ms.
+    pub frame_ms: f64,
+    /// Wall time of the last scene upload (meshes, BVH), ms.
+    pub upload_ms: f64,
+    /// Internal resolution of the last frame.
+    pub size: UVec2,
+}
+
+struct Target {
+    view: wgpu::TextureView,
+    id: egui::TextureId,
+    size: UVec2,
+}
+
+/// The GPU side of the viewport.
+pub struct GpuView {
+    ctx: GpuContext,
+    renderer: Renderer,
+    egui: Arc<RwLock<egui_wgpu::Renderer>>,
+    target: Option<Target>,
+    driver: Option<(FrameDriver, u64, UVec2)>,
+    uploaded: Option<u64>,
+    /// Cost of the last frame.
+    pub report: RenderReport,
+}
+
+impl GpuView {
+    /// Builds the renderer on eframe's device.
+    pub fn new(rs: &egui_wgpu::RenderState) -> Result<Self, String> {
+        let wanted =
+            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
+        let ctx = GpuContext {
+            instance: rs.instance.clone(),
+            adapter: rs.adapter.clone(),
+            device: rs.device.clone(),
+            queue: rs.queue.clone(),
+            // Only when eframe's device was created with them.
+            timestamps: rs.device.features().contains(wanted),
+        };
+        let renderer = Renderer::new(&ctx, FORMAT).map_err(|e| e.to_string())?;
+        Ok(GpuView {
+            ctx,
+            renderer,
+            egui: rs.renderer.clone(),
+            target: None,
+            driver: None,
+            uploaded: None,
+            report: RenderReport::default(),
+        })
+    }
+
+    /// Renders `level` (at document `revision`) from `camera` at `size` and returns the
+    /// texture to show.
+    pub fn render(
+        &mut self,
+        level: &LoadedLevel,
+        revision: u64,
+        camera: Camera,
+        size: UVec2,
+        schedule: Schedule,
+        dt: f32,
+    ) -> Result<egui::TextureId, String> {
+        let size = size.max(UVec2::splat(16));
+        if self.uploaded != Some(revision) {
+            let t = Instant::now();
+            self.renderer.set_scene(&self.ctx, &scene_input(level));
+            self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
+            self.uploaded = Some(revision);
+        }
+        let stale = self
+            .driver
+            .as_ref()
+            .is_none_or(|(_, r, s)| *r != revision || *s != size);
+        if stale {
+            let d = FrameDriver::new(level, size, camera.fov_y).map_err(|e| e.to_string())?;
+            self.driver = Some((d, revision, size));
+        }
+        let (driver, _, _) = self.driver.as_mut().ok_or("no frame driver")?;
+        let input = driver
+            .frame(camera, dt, schedule)
+            .map_err(|e| e.to_string())?;
+        let id = self.ensure_target(size);
+        let target = self.target.as_ref().ok_or("no target")?;
+        let t = Instant::now();
+        let stats = self
+            .renderer
+            .render(&self.ctx, &input, &target.view)
+            .map_err(|e| e.to_string())?;
+        self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
+        self.report.stats = Some(stats);
+        self.report.size = size;
+        Ok(id)
+    }
+
+    /// The entity id under `pixel` of the last frame (level position + 1).
+    pub fn pick(&self, pixel: UVec2) -> Result<Option<u32>, String> {
+        self.renderer
+            .pick(&self.ctx, pixel)
+            .map_err(|e| e.to_string())
+    }
+
+    fn ensure_target(&mut self, size: UVec2) -> egui::TextureId {
+        if let Some(t) = &self.target
+            && t.size == size
+        {
+            return t.id;
+        }
+        let texture = self.ctx.device.create_texture(&wgpu::TextureDescriptor {
+            label: Some("editor::viewport"),
+            size: wgpu::Extent3d {
+                width: size.x,
+                height: size.y,
+                depth_or_array_layers: 1,
+            },
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: FORMAT,
+            usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        });
+        let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let mut egui = self.egui.write();
+        let id = match self.target.take() {
+            Some(old) => {
+                egui.update_egui_texture_from_wgpu_texture(
+                    &self.ctx.device,
+                    &view,
+                    wgpu::FilterMode::Nearest,
+                    old.id,
+                );
+                old.id
+            }
+            None => {
+                egui.register_native_texture(&self.ctx.device, &view, wgpu::FilterMode::Nearest)
+            }
+        };
+        self.target = Some(Target { view, id, size });
+        id
+    }
+}
+
+impl GpuView {
+    /// The texture of the last frame, if one was rendered.
+    pub fn texture(&self) -> Option<egui::TextureId> {
+        self.target.as_ref().map(|t| t.id)
+    }
+}

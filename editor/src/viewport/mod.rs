@@ -1,0 +1,355 @@
+//! The viewport: the level rendered by `texel_render`, the editor camera, click-to-select
+//! through the renderer's id buffer, the transform gizmo and the overlay; and Play, which
+//! switches to the game's walking camera from the player start without touching the document.
+
+pub mod gizmo;
+pub mod gpu;
+pub mod overlay;
+
+use std::time::Instant;
+
+use egui::{Color32, Key, PointerButton, Sense, Ui};
+use glam::{UVec2, Vec2, Vec3};
+use texel_render::input::Schedule;
+use texel_runtime::camera::{InputState, WalkCamera};
+
+use crate::camera::{EditorCamera, FOV_Y_DEG, Projector};
+use crate::state::EditorState;
+use gizmo::{Drag, Mode};
+use gpu::GpuView;
+
+/// Internal resolution relative to the panel's physical pixels while the view is still, and
+/// while it moves (cheaper frames keep the camera responsive on a CPU rasterizer).
+pub const SCALE_STILL: f32 = 0.5;
+/// See [`SCALE_STILL`].
+pub const SCALE_MOVING: f32 = 0.25;
+/// Frames rendered after the last change, so that probes finish updating.
+const SETTLE_FRAMES: u32 = 6;
+/// Fly speed of the editor camera, units per second.
+const FLY_SPEED: f32 = 6.0;
+
+/// What the viewport is doing.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub enum ViewMode {
+    /// Editing with the editor camera.
+    Edit,
+    /// Playing with the game camera.
+    Play(WalkCamera),
+}
+
+/// The viewport panel's own state.
+pub struct Viewport {
+    /// The editor camera.
+    pub camera: EditorCamera,
+    /// Edit or Play.
+    pub mode: ViewMode,
+    /// Which schedule the renderer uses.
+    pub schedule: Schedule,
+    /// Gizmo mode.
+    pub gizmo: Mode,
+    /// The GPU renderer, when eframe runs on wgpu.
+    pub gpu: Option<GpuView>,
+    /// The last render or GPU error.
+    pub error: Option<String>,
+    /// Wall time between the last two UI frames, ms (what the person feels).
+    pub ui_frame_ms: f32,
+    drag: Option<Drag>,
+    settle: u32,
+    last: Option<(u64, EditorCamera, UVec2)>,
+    clock: Option<Instant>,
+    moving: bool,
+}
+
+impl Default for Viewport {
+    fn default() -> Self {
+        Viewport {
+            camera: EditorCamera::default(),
+            mode: ViewMode::Edit,
+            schedule: Schedule::Ours,
+            gizmo: Mode::Translate,
+            gpu: None,
+            error: None,
+            ui_frame_ms: 0.0,
+            drag: None,
+            settle: SETTLE_FRAMES,
+            last: None,
+            clock: None,
+            moving: false,
+        }
+    }
+}
+
+impl Viewport {
+    /// Starts Play from the level's player start.
+    pub fn play(&mut self, state: &EditorState) {
+        self.mode = ViewMode::Play(WalkCamera::from_scene(state.scene()));
+        self.settle = SETTLE_FRAMES;
+    }
+
+    /// Stops Play.
+    pub fn stop(&mut self) {
+        self.mode = ViewMode::Edit;
+        self.settle = SETTLE_FRAMES;
+    }
+
+    /// Whether Play is on.
+    pub fn playing(&self) -> bool {
+        matches!(self.mode, ViewMode::Play(_))
+    }
+
+    /// Looks at the selected entity.
+    pub fn focus_selection(&mut self, state: &EditorState) {
+        if let Some((_, row)) = state.selected_row() {
+            let t = row.transform.unwrap_or_default();
+            let size = t.scale.max_element().max(1.0) * 4.0;
+            self.camera.focus(t.translation, size.max(4.0));
+        }
+    }
+
+    /// Draws the viewport into the remaining space of `ui`.
+    pub fn show(&mut self, ui: &mut Ui, state: &mut EditorState) {
+        let dt = self.clock.map_or(0.0, |c| c.elapsed().as_secs_f32());
+        self.clock = Some(Instant::now());
+        self.ui_frame_ms = dt * 1e3;
+        let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        let typing = ui.ctx().egui_wants_keyboard_input();
+        self.handle_camera(ui, &response, dt, typing);
+        if !typing && !self.playing() {
+            ui.input(|i| {
+                if i.key_pressed(Key::W) && !i.pointer.button_down(PointerButton::Secondary) {
+                    self.gizmo = Mode::Translate;
+                }
+                if i.key_pressed(Key::E) && !i.pointer.button_down(PointerButton::Secondary) {
+                    self.gizmo = Mode::Rotate;
+                }
+                if i.key_pressed(Key::R) {
+                    self.gizmo = Mode::Scale;
+                }
+                if i.key_pressed(Key::F) {
+                    self.focus_selection(state);
+                }
+            });
+        }
+        let camera = match self.mode {
+            ViewMode::Edit => self.camera.camera(),
+            ViewMode::Play(w) => w.camera(FOV_Y_DEG.to_radians()),
+        };
+        let painter = ui.painter_at(rect);
+        painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
+        // An edit in progress (a gizmo or inspector drag) renders cheaply too.
+        if self.last.is_some_and(|l| l.0 != state.document.revision) {
+            self.moving = true;
+        }
+        let ppp = ui.ctx().pixels_per_point();
+        let scale = if self.moving {
+            SCALE_MOVING
+        } else {
+            SCALE_STILL
+        };
+        let size = UVec2::new(
+            (rect.width() * ppp * scale).max(16.0) as u32,
+            (rect.height() * ppp * scale).max(16.0) as u32,
+        );
+        let key = (state.document.revision, self.camera, size);
+        let changed = self.last != Some(key) || self.playing();
+        if changed {
+            self.settle = SETTLE_FRAMES;
+            self.last = Some(key);
+        }
+        if let Some(gpu) = &mut self.gpu {
+            if self.settle > 0 {
+                let r = gpu.render(
+                    &state.document.level,
+                    state.document.revision,
+                    camera,
+                    size,
+                    self.schedule,
+                    dt,
+                );
+                self.error = r.err();
+                self.settle -= 1;
+                ui.ctx().request_repaint();
+            }
+            if self.error.is_none()
+                && let Some(id) = gpu.texture()
+            {
+                painter.image(
+                    id,
+                    rect,
+                    egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
+                    Color32::WHITE,
+                );
+            }
+        } else {
+            painter.text(
+                rect.center(),
+                egui::Align2::CENTER_CENTER,
+                "no GPU renderer (eframe is not running on wgpu)",
+                egui::FontId::proportional(14.0),
+                Color32::GRAY,
+            );
+        }
+        if let Some(e) = &self.error {
+            painter.text(
+                rect.left_top() + egui::vec2(8.0, 8.0),
+                egui::Align2::LEFT_TOP,
+                format!("render error: {e}"),
+                egui::FontId::proportional(13.0),
+                Color32::from_rgb(255, 120, 120),
+            );
+        }
+        let proj = Projector::new(&camera, rect);
+        if self.playing() {
+            painter.text(
+                rect.center_top() + egui::vec2(0.0, 8.0),
+                egui::Align2::CENTER_TOP,
+                "PLAYING — WASD + drag to look, Shift to run, Esc to stop",
+                egui::FontId::proportional(14.0),
+                Color32::WHITE,
+            );
+            return;
+        }
+        overlay::grid(&painter, &proj);
+        overlay::markers(&painter, &proj, state.scene(), state.selection);
+        let on_gizmo = self.gizmo_ui(ui, &response, &painter, &proj, state);
+        if response.clicked() && !on_gizmo {
+            self.select_at(&response, rect, size, state);
+        }
+    }
+
+    fn handle_camera(&mut self, ui: &Ui, response: &egui::Response, dt: f32, typing: bool) {
+        let (delta, keys, wheel, esc) = ui.input(|i| {
+            let keys = InputState {
+                forward: i.key_down(Key::W),
+                back: i.key_down(Key::S),
+                left: i.key_down(Key::A),
+                right: i.key_down(Key::D),
+                up: i.key_down(Key::E) || i.key_down(Key::Space),
+                down: i.key_down(Key::Q),
+                run: i.modifiers.shift,
+            };
+            (
+                i.pointer.delta(),
+                keys,
+                i.smooth_scroll_delta.y,
+                i.key_pressed(Key::Escape),
+            )
+        });
+        let keys = if typing { InputState::default() } else { keys };
+        let before = (self.camera, self.mode);
+        match &mut self.mode {
+            ViewMode::Play(walk) => {
+                let look = if response.dragged() {
+                    Vec2::new(delta.x, delta.y)
+                } else {
+                    Vec2::ZERO
+                };
+                walk.update(&keys, look, dt);
+                if esc {
+                    self.mode = ViewMode::Edit;
+                }
+                ui.ctx().request_repaint();
+            }
+            ViewMode::Edit => {
+                let looking = response.dragged_by(PointerButton::Secondary);
+                if looking {
+                    self.camera.look(Vec2::new(delta.x, delta.y));
+                    let axis = |p: bool, n: bool| f32::from(u8::from(p)) - f32::from(u8::from(n));
+                    let run = if keys.run { 3.0 } else { 1.0 };
+                    let local = Vec3::new(
+                        axis(keys.right, keys.left),
+                        axis(keys.up, keys.down),
+                        axis(keys.forward, keys.back),
+                    ) * FLY_SPEED
+                        * run
+                        * dt.min(0.1);
+                    self.camera.fly(local);
+                    ui.ctx().request_repaint();
+                }
+                if response.hovered() && wheel != 0.0 {
+                    self.camera.zoom(wheel / 50.0);
+                }
+            }
+        }
+        self.moving = before != (self.camera, self.mode) && !matches!(self.mode, ViewMode::Play(_));
+    }
+
+    fn gizmo_ui(
+        &mut self,
+        ui: &Ui,
+        response: &egui::Response,
+        painter: &egui::Painter,
+        proj: &Projector,
+        state: &mut EditorState,
+    ) -> bool {
+        let Some((index, row)) = state.selected_row() else {
+            self.drag = None;
+            return false;
+        };
+        let Some(t) = row.transform else {
+            return false;
+        };
+        let eye = self.camera.eye;
+        let Some((o, ends)) = gizmo::handles(proj, t.translation, eye) else {
+            return false;
+        };
+        let pointer = response.interact_pointer_pos().or(response.hover_pos());
+        let hot = pointer.and_then(|p| gizmo::hit(o, ends, p));
+        if response.drag_started_by(PointerButton::Primary)
+            && let Some(axis) = hot
+        {
+            self.drag = Some(Drag {
+                axis,
+                start: t,
+                moved: egui::Vec2::ZERO,
+            });
+        }
+        let mut used = hot.is_some();
+        if let Some(drag) = &mut self.drag {
+            used = true;
+            if response.dragged_by(PointerButton::Primary) {
+                drag.moved += response.drag_delta();
+                let world_len = gizmo::world_len(proj, drag.start.translation, eye);
+                let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+                let (o0, ends0) =
+                    gizmo::handles(proj, drag.start.translation, eye).unwrap_or((o, ends));
+                let next = gizmo::apply(drag, self.gizmo, o0, ends0[drag.axis], world_len, snap);
+                let mut row = row.clone();
+                row.transform = Some(next);
+                state.set_row(index, row, Some(format!("gizmo{index}")));
+            } else {
+                self.drag = None;
+            }
+        }
+        gizmo::draw(
+            painter,
+            o,
+            ends,
+            self.gizmo,
+            self.drag.map(|d| d.axis).or(hot),
+        );
+        used
+    }
+
+    fn select_at(
+        &mut self,
+        response: &egui::Response,
+        rect: egui::Rect,
+        size: UVec2,
+        state: &mut EditorState,
+    ) {
+        let (Some(gpu), Some(pos)) = (&self.gpu, response.interact_pointer_pos()) else {
+            return;
+        };
+        let uv = (pos - rect.min) / rect.size();
+        let pixel = UVec2::new(
+            ((uv.x * size.x as f32) as u32).min(size.x - 1),
+            ((uv.y * size.y as f32) as u32).min(size.y - 1),
+        );
+        match gpu.pick(pixel) {
+            Ok(Some(id)) if id > 0 => state.selection = Some(id as usize - 1),
+            Ok(_) => state.selection = None,
+            Err(e) => self.error = Some(e),
+        }
+    }
+}
