@@ -82,16 +82,7 @@ fn stable_shows(slot: u32, p: vec3<f32>, id: u32) -> bool {
     if load_id(slot, t, fu.face) != id {
         return false;
     }
-    let d = chebyshev(r);
-    let dn = load_geo(slot, t, fu.face).w;
-    // Within two texels' depth step of a 60° slope.
-    return abs(dn - d) <= d * (2.0 / f32(s.n)) * 3.5;
-}
-
-// Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
-// cells below fade_t, the previous probe the rest.
-fn draws_pixels(role: u32) -> bool {
-    return (role == ROLE_GRID && view.fade_t > 0.0) || (role == ROLE_PREVIOUS && view.fade_t < 1.0);
+    return same_surface(chebyshev(r), load_geo(slot, t, fu.face).w, s.n);
 }
 
 // Whether every stable probe drawing pixels this frame shows the eye texel's surface.
@@ -108,14 +99,6 @@ fn eye_texel_covered(p: vec3<f32>, id: u32) -> bool {
     return covered;
 }
 
-fn in_frustum(p: vec3<f32>, radius: f32) -> bool {
-    for (var i = 0u; i < 6u; i++) {
-        if dot(view.planes[i].xyz, p) + view.planes[i].w < -radius {
-            return false;
-        }
-    }
-    return true;
-}
 
 // Half-size toward one neighbour, in texels: tight (grazing-scaled by the angle between the
 // surface and the probe ray, camera-independent) toward a similar one, a full texel otherwise.
@@ -149,13 +132,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ray = cube_dir(face, uv.x, uv.y);
     let d = geo.w;
     let p = probe_point(s.origin, ray, d);
-    // World size of a texel here (|ray| ≥ 1 stretches it off the face centre).
-    let texel_world = d * (2.0 / f32(s.n)) * length(ray);
+    let texel_world = texel_world_size(d, s.n, ray);
     if view.schedule == 0u {
         if s.role != ROLE_EYE && !draws_pixels(s.role) {
             return;
         }
-        if !in_frustum(p, 2.5 * texel_world) {
+        if !quad_in_view(p, texel_world) {
             return;
         }
         // Back-facing surfaces cannot be seen (meshes are closed or one-sided).

@@ -6,6 +6,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/view.wgsl"
 
 struct ShadeFace {
     origin: vec3<f32>,
@@ -31,8 +32,6 @@ struct ShadeGlobals {
     point_count: u32,
     bands: u32,
     shadows: u32,
-    // The view frustum's side planes (normals inward), for view-culled faces.
-    planes: array<vec4<f32>, 4>,
 }
 
 @group(0) @binding(0) var<uniform> sf: ShadeFace;
@@ -44,6 +43,17 @@ struct ShadeGlobals {
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
 @group(0) @binding(8) var<storage, read_write> shaded: atomic<u32>;
+// The two stable slots (grid and previous, in whichever order the slots hold them) and the
+// frame's view: an eye texel whose surface every drawing stable probe already shows is not
+// splatted, and is read only by the hole fill, so it copies the stable probe's colour
+// instead of being lit again. (For stable jobs these bind the eye slot's textures, unused.)
+@group(2) @binding(0) var geo_a: texture_2d_array<f32>;
+@group(2) @binding(1) var ids_a: texture_2d_array<u32>;
+@group(2) @binding(2) var lit_a: texture_2d_array<f32>;
+@group(2) @binding(3) var geo_b: texture_2d_array<f32>;
+@group(2) @binding(4) var ids_b: texture_2d_array<u32>;
+@group(2) @binding(5) var lit_b: texture_2d_array<f32>;
+@group(2) @binding(6) var<uniform> view: ViewGlobals;
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 
@@ -104,20 +114,6 @@ fn lighting(p: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
     return light;
 }
 
-// Whether the texel's direction, from the eye (the camera), is within the view, with a margin
-// of a few texels so expanded quads at the border still have their colour.
-fn in_view(t: vec2<u32>) -> bool {
-    let uv = texel_center_uv(t, sf.n);
-    let dir = normalize(cube_dir(sf.face, uv.x, uv.y));
-    let p = sf.origin + dir;
-    let margin = 6.0 / f32(sf.n);
-    for (var i = 0u; i < 4u; i++) {
-        if dot(globals.planes[i].xyz, p) + globals.planes[i].w < -margin {
-            return false;
-        }
-    }
-    return true;
-}
 
 var<workgroup> group_count: atomic<u32>;
 
@@ -125,9 +121,8 @@ var<workgroup> group_count: atomic<u32>;
 fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let n = sf.n;
     let t = gid.xy;
-    let lights_it = t.x < n && t.y < n && (sf.view_cull == 0u || in_view(t));
-    if lights_it {
-        shade_texel(t);
+    let in_face = t.x < n && t.y < n;
+    if in_face && shade_texel(t) {
         atomicAdd(&group_count, 1u);
     }
     workgroupBarrier();
@@ -153,8 +148,9 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
             case 2u: { t = vec2(0u, k); }
             default: { t = vec2(n - 1u, k); }
         }
-        shade_texel(t);
-        atomicAdd(&group_count, 1u);
+        if shade_texel(t) {
+            atomicAdd(&group_count, 1u);
+        }
     }
     workgroupBarrier();
     if li == 0u {
@@ -162,17 +158,75 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
     }
 }
 
-fn shade_texel(t: vec2<u32>) {
+// The lit colour of stable slot `s` (1 or 2) where it shows `p` on object `id`, or a
+// negative alpha when it does not.
+fn stable_colour(s: u32, p: vec3<f32>, id: u32) -> vec4<f32> {
+    let sv = view.slots[s];
+    let r = p - sv.origin;
+    let fu = cube_face_uv(r);
+    if (sv.draw_mask & (1u << fu.face)) == 0u {
+        return vec4(-1.0);
+    }
+    let t = texel_of_uv(fu.uv, sv.n);
+    var nid: u32;
+    var dn: f32;
+    var lit: vec4<f32>;
+    if s == 1u {
+        nid = textureLoad(ids_a, t, fu.face, 0).r;
+        dn = textureLoad(geo_a, t, fu.face, 0).w;
+        lit = textureLoad(lit_a, t, fu.face, 0);
+    } else {
+        nid = textureLoad(ids_b, t, fu.face, 0).r;
+        dn = textureLoad(geo_b, t, fu.face, 0).w;
+        lit = textureLoad(lit_b, t, fu.face, 0);
+    }
+    if nid != id || !same_surface(chebyshev(r), dn, sv.n) {
+        return vec4(-1.0);
+    }
+    return vec4(lit.rgb, 0.0);
+}
+
+// The colour the drawing stable probes show for the eye texel at `p`, if they all show it
+// (the grid's when it draws); a negative alpha otherwise.
+fn covered_colour(p: vec3<f32>, id: u32) -> vec4<f32> {
+    var found = vec4(-1.0);
+    for (var s = 1u; s < 3u; s++) {
+        if draws_pixels(view.slots[s].role) {
+            let c = stable_colour(s, p, id);
+            if c.a < 0.0 {
+                return vec4(-1.0);
+            }
+            if found.a < 0.0 || view.slots[s].role == ROLE_GRID {
+                found = c;
+            }
+        }
+    }
+    return found;
+}
+
+// Lights one texel; returns false when it lit nothing: a sky texel, an eye texel whose quad
+// cannot reach the view (left alone), or one a stable probe shows (its colour copied).
+fn shade_texel(t: vec2<u32>) -> bool {
     let n = sf.n;
     let me = load(sf.face, t);
     if me.id == 0u {
         textureStore(lit_out, t, sf.face, vec4(posterize(globals.sky.rgb, globals.bands, 0.0), 0.0));
-        return;
+        return false;
     }
     let uv = texel_center_uv(t, n);
     let ray = cube_dir(sf.face, uv.x, uv.y);
     let d = me.geo.w;
     let p = probe_point(sf.origin, ray, d);
+    if sf.view_cull != 0u {
+        if !quad_in_view(p, texel_world_size(d, n, ray)) {
+            return false;
+        }
+        let copied = covered_colour(p, me.id);
+        if copied.a >= 0.0 {
+            textureStore(lit_out, t, sf.face, copied);
+            return false;
+        }
+    }
     let normal = me.geo.xyz;
     let alb = textureLoad(albedo_tex, t, sf.face, 0);
     let flags = u32(round(alb.a * 255.0));
@@ -220,4 +274,5 @@ fn shade_texel(t: vec2<u32>) {
         shift = 1.0;
     }
     textureStore(lit_out, t, sf.face, vec4(posterize(colour, globals.bands, shift), f32(similar)));
+    return true;
 }

@@ -44,3 +44,33 @@ const ROLE_EYE: u32 = 0u;
 const ROLE_GRID: u32 = 1u;
 const ROLE_PREVIOUS: u32 = 2u;
 const ROLE_NONE: u32 = 3u;
+
+// Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
+// cells below fade_t, the previous probe the rest.
+fn draws_pixels(role: u32) -> bool {
+    return (role == ROLE_GRID && view.fade_t > 0.0) || (role == ROLE_PREVIOUS && view.fade_t < 1.0);
+}
+
+// Whether a stable probe's texel with depth `dn` shows the surface point at Chebyshev
+// distance `d` from its origin: within two texels' depth step of a 60° slope.
+fn same_surface(d: f32, dn: f32, n: u32) -> bool {
+    return abs(dn - d) <= d * (2.0 / f32(n)) * 3.5;
+}
+
+// World size of a texel of a face of `n` texels at Chebyshev depth `d` along `ray` (a cube
+// direction, |ray| ≥ 1 stretches it off the face centre).
+fn texel_world_size(d: f32, n: u32, ray: vec3<f32>) -> f32 {
+    return d * (2.0 / f32(n)) * length(ray);
+}
+
+// Whether the splat quad of the texel at `p` can reach the view: a sphere of 2.5 texels
+// (the largest expanded quad) against the six frustum planes. Cull draws by this test and
+// shade lights eye texels by it, so every drawn eye quad was lit this frame.
+fn quad_in_view(p: vec3<f32>, texel_world: f32) -> bool {
+    for (var i = 0u; i < 6u; i++) {
+        if dot(view.planes[i].xyz, p) + view.planes[i].w < -2.5 * texel_world {
+            return false;
+        }
+    }
+    return true;
+}

@@ -264,9 +264,9 @@ impl Renderer {
         let jobs = shade_jobs(input);
         stages.run(|enc| {
             let (store, look) = (&self.store, &input.look);
-            let planes = globals.side_planes();
-            self.shade
-                .record(d, q, enc, &jobs, store, scene, look, planes);
+            let view = Some(&self.view);
+            let shade = &self.shade;
+            shade.record(d, q, enc, &jobs, store, scene, look, view);
         });
         let drawn = drawn_faces(input);
         stages.run(|enc| {
@@ -391,6 +391,8 @@ fn shade_jobs(input: &FrameInput) -> Vec<ShadeJob> {
             view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
         })
         .collect();
+    // Stable faces first: eye texels may copy their colours in the same pass.
+    jobs.sort_by_key(|j| j.slot == Slot::Eye);
     for p in &probes {
         let captured: Vec<Face> = input
             .captures

@@ -382,7 +382,7 @@ impl BaselineRenderer {
             self.capture.record(d, q, enc, &caps, store, scene);
         });
         timer.run("shade", |enc| {
-            let (look, planes) = (&view.look, [[0.0; 4]; 4]);
+            let look = &view.look;
             let s = &self.cube_shade;
             let jobs: Vec<crate::passes::shade::ShadeJob> = caps
                 .iter()
@@ -395,7 +395,7 @@ impl BaselineRenderer {
                     view_cull: false,
                 })
                 .collect();
-            s.record(d, q, enc, &jobs, store, scene, look, planes);
+            s.record(d, q, enc, &jobs, store, scene, look, None);
         });
         timer.run("cubemap", |enc| {
             let slot = store.slot(CUBE_SLOT);

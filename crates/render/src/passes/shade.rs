@@ -63,7 +63,6 @@ pub struct ShadeGlobals {
     point_count: u32,
     bands: u32,
     shadows: u32,
-    planes: [[f32; 4]; 4],
 }
 
 /// The shade pass.
@@ -72,6 +71,8 @@ pub struct ShadePass {
     border_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
+    stable_layout: wgpu::BindGroupLayout,
+    no_view: wgpu::Buffer,
     faces: wgpu::Buffer,
     globals: wgpu::Buffer,
     /// Texels lit this frame (one `u32`, counted on the GPU).
@@ -109,9 +110,20 @@ impl ShadePass {
             label: Some("shade::bvh_layout"),
             entries: &[entry(0, c, storage(true)), entry(1, c, storage(true))],
         });
+        let mut stable_entries: Vec<_> = (0..6)
+            .map(|b| {
+                let sample = if b % 3 == 1 { UINT } else { FLOAT };
+                entry(b, c, texture(sample, ARRAY))
+            })
+            .collect();
+        stable_entries.push(entry(6, c, uniform(false)));
+        let stable_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shade::stable_layout"),
+            entries: &stable_entries,
+        });
         let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
             label: Some("shade::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout), Some(&bvh_layout)],
+            bind_group_layouts: &[Some(&layout), Some(&bvh_layout), Some(&stable_layout)],
             immediate_size: 0,
         });
         let pipeline_for = |entry: &str| {
@@ -134,7 +146,15 @@ impl ShadePass {
                 mapped_at_creation: false,
             })
         };
+        let no_view = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("shade::no_view"),
+            size: size_of::<crate::view::ViewGlobals>() as u64,
+            usage: wgpu::BufferUsages::UNIFORM,
+            mapped_at_creation: false,
+        });
         Ok(ShadePass {
+            no_view,
+            stable_layout,
             pipeline,
             border_pipeline,
             layout,
@@ -152,7 +172,8 @@ impl ShadePass {
         })
     }
 
-    /// Records the shade jobs (`planes` are the view's side planes, for view-culled jobs).
+    /// Records the shade jobs; view-culled jobs read the frame's `view` (its frustum and the
+    /// stable probes).
     /// The texels lit are counted in [`Self::shaded`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
@@ -164,15 +185,17 @@ impl ShadePass {
         store: &ProbeStore,
         scene: &GpuScene,
         look: &Look,
-        planes: [[f32; 4]; 4],
+        view: Option<&wgpu::Buffer>,
     ) {
+        // Without a frame's view (the cubemap baseline), nothing is view-culled and the view
+        // is never read; a zeroed one fills the binding.
+        let view = view.unwrap_or(&self.no_view);
         encoder.clear_buffer(&self.shaded, 0, None);
         let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
         if jobs.is_empty() {
             return;
         }
-        let mut g = globals(scene, look);
-        g.planes = planes;
+        let g = globals(scene, look);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * jobs.len()];
         for (i, j) in jobs.iter().enumerate() {
@@ -207,7 +230,17 @@ impl ShadePass {
             timestamp_writes: None,
         });
         pass.set_bind_group(1, &bvh, &[]);
+        // Eye jobs read both stable slots; stable jobs must not see the slot they write, so
+        // they get the eye slot's textures (which they do not read).
+        let for_eye = self.stable_bind_group(device, store, [Slot::StableA, Slot::StableB], view);
+        let for_stable = self.stable_bind_group(device, store, [Slot::Eye, Slot::Eye], view);
         for (i, j) in jobs.iter().enumerate() {
+            let stable = if j.slot == Slot::Eye {
+                &for_eye
+            } else {
+                &for_stable
+            };
+            pass.set_bind_group(2, stable, &[]);
             let n = store.slot(j.slot).n;
             let bind = self.slot_bind_group(device, store, j.slot, scene);
             pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
@@ -219,6 +252,37 @@ impl ShadePass {
                 pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
             }
         }
+    }
+
+    fn stable_bind_group(
+        &self,
+        device: &wgpu::Device,
+        store: &ProbeStore,
+        slots: [Slot; 2],
+        view: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let mut entries = Vec::new();
+        for (k, slot) in slots.into_iter().enumerate() {
+            let t = store.slot(slot);
+            for (i, v) in [&t.geo.array_view, &t.ids.array_view, &t.lit.array_view]
+                .into_iter()
+                .enumerate()
+            {
+                entries.push(wgpu::BindGroupEntry {
+                    binding: (k * 3 + i) as u32,
+                    resource: wgpu::BindingResource::TextureView(v),
+                });
+            }
+        }
+        entries.push(wgpu::BindGroupEntry {
+            binding: 6,
+            resource: view.as_entire_binding(),
+        });
+        device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("shade::stable"),
+            layout: &self.stable_layout,
+            entries: &entries,
+        })
     }
 
     fn slot_bind_group(
@@ -285,6 +349,5 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         point_count: scene.point_count,
         bands: look.bands.max(2),
         shadows: 1,
-        planes: [[0.0; 4]; 4],
     }
 }
