@@ -104,7 +104,11 @@ impl EditorApp {
                 self.state.history.undo_label(),
                 self.state.history.redo_label(),
             );
-            if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing) {
+            let view = menu::ViewChoice {
+                schedule: self.viewport.schedule,
+                debug: self.viewport.debug.flags,
+            };
+            if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing, view) {
                 actions.push(a);
             }
         });
@@ -176,6 +180,10 @@ impl EditorApp {
             }
             ui.separator();
             ui.label(format!("ui frame {:.0} ms", self.viewport.ui_frame_ms));
+            ui.label(format!(
+                "edit stall {:.0} ms · {:?}",
+                self.viewport.edit_stall_ms, self.viewport.schedule
+            ));
             ui.separator();
             ui.label(format!("{} entities", self.state.scene().len()));
             if self.viewport.playing() {
@@ -264,7 +272,8 @@ impl EditorApp {
                     self.viewport.play(&self.state);
                 }
             }
-            Action::Schedule(s) => self.viewport.schedule = s,
+            Action::Schedule(s) => self.viewport.set_schedule(s),
+            Action::ToggleDebug(v) => self.viewport.debug.flags.toggle(v),
             Action::Quit => self.guard(Pending::Quit),
         }
         self.state.history.seal();

@@ -11,6 +11,7 @@ use texel_scene::{
 };
 
 use crate::ui::inspector::geometry_of_kind;
+use crate::viewport::debug::{DebugFlags, DebugView};
 
 /// Something the person asked for from the menu, a shortcut or a button.
 #[derive(Debug, Clone, PartialEq)]
@@ -43,6 +44,8 @@ pub enum Action {
     TogglePlay,
     /// Use this schedule in the viewport.
     Schedule(Schedule),
+    /// Switch this debug view on or off.
+    ToggleDebug(DebugView),
     /// Quit.
     Quit,
 }
@@ -101,6 +104,15 @@ pub fn presets() -> Vec<(&'static str, EntityRow)> {
     ]
 }
 
+/// What the View menu shows as chosen.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct ViewChoice {
+    /// The viewport's schedule.
+    pub schedule: Schedule,
+    /// The debug views that are on.
+    pub debug: DebugFlags,
+}
+
 /// Draws the menu bar and returns what was chosen.
 pub fn show(
     ui: &mut Ui,
@@ -108,6 +120,7 @@ pub fn show(
     undo: Option<&str>,
     redo: Option<&str>,
     playing: bool,
+    view: ViewChoice,
 ) -> Option<Action> {
     let mut out = None;
     egui::MenuBar::new().ui(ui, |ui| {
@@ -170,11 +183,22 @@ pub fn show(
             }
         });
         ui.menu_button("View", |ui| {
-            if ui.button("Schedule: ours").clicked() {
-                out = Some(Action::Schedule(Schedule::Ours));
+            ui.label("Render method");
+            for (label, s) in [
+                ("Ours: cached shading, per-texel culling", Schedule::Ours),
+                ("Paper: every texel of every drawn face", Schedule::Paper),
+            ] {
+                if ui.radio(view.schedule == s, label).clicked() {
+                    out = Some(Action::Schedule(s));
+                }
             }
-            if ui.button("Schedule: paper").clicked() {
-                out = Some(Action::Schedule(Schedule::Paper));
+            ui.separator();
+            ui.label("Debug views");
+            for v in DebugView::ALL {
+                let mut on = view.debug.get(v);
+                if ui.checkbox(&mut on, v.label()).clicked() {
+                    out = Some(Action::ToggleDebug(v));
+                }
             }
         });
         ui.separator();

@@ -9,8 +9,10 @@ use egui::mutex::RwLock;
 use glam::UVec2;
 use texel_render::context::GpuContext;
 use texel_render::frame::Renderer;
-use texel_render::input::{Camera, Schedule};
+use texel_render::input::{Camera, ProbeView, Schedule};
+use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
+use texel_render::target::read_texture_layer;
 use texel_runtime::driver::{FrameDriver, scene_input};
 use texel_runtime::load::LoadedLevel;
 
@@ -46,6 +48,19 @@ pub struct GpuView {
     uploaded: Option<u64>,
     /// Cost of the last frame.
     pub report: RenderReport,
+    /// The probes the last frame drew: eye, grid and (during a crossfade) previous.
+    pub probes: Option<LastProbes>,
+}
+
+/// The probes of the last frame, as its `FrameInput` named them.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LastProbes {
+    /// The eye probe.
+    pub eye: ProbeView,
+    /// The grid probe.
+    pub grid: ProbeView,
+    /// The previous grid probe, during a crossfade.
+    pub previous: Option<ProbeView>,
 }
 
 impl GpuView {
@@ -70,6 +85,7 @@ impl GpuView {
             driver: None,
             uploaded: None,
             report: RenderReport::default(),
+            probes: None,
         })
     }
 
@@ -103,6 +119,11 @@ impl GpuView {
         let input = driver
             .frame(camera, dt, schedule)
             .map_err(|e| e.to_string())?;
+        self.probes = Some(LastProbes {
+            eye: input.eye,
+            grid: input.grid,
+            previous: input.previous,
+        });
         let id = self.ensure_target(size);
         let target = self.target.as_ref().ok_or("no target")?;
         let t = Instant::now();
@@ -121,6 +142,26 @@ impl GpuView {
         self.renderer
             .pick(&self.ctx, pixel)
             .map_err(|e| e.to_string())
+    }
+
+    /// Per pixel of the last frame: entity id and whether the eye probe drew it.
+    pub fn frame_ids(&self) -> Result<FrameIds, String> {
+        self.renderer
+            .read_frame_ids(&self.ctx)
+            .map_err(|e| e.to_string())
+    }
+
+    /// The six lit faces of `view`'s slot, read back and converted to sRGB8 RGBA
+    /// (`n × n` texels each, rows top to bottom), with `n`.
+    pub fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String> {
+        let slot = self.renderer.probes().slot(view.slot);
+        let mut faces = Vec::with_capacity(6);
+        for layer in 0..6 {
+            let raw = read_texture_layer(&self.ctx, &slot.lit.texture, layer, 8)
+                .map_err(|e| e.to_string())?;
+            faces.push(super::debug::rgba16f_to_srgb8(&raw));
+        }
+        Ok((slot.n, faces))
     }
 
     fn ensure_target(&mut self, size: UVec2) -> egui::TextureId {

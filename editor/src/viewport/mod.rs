@@ -1,10 +1,14 @@
 //! The viewport: the level rendered by `texel_render`, the editor camera, click-to-select
 //! through the renderer's id buffer, the transform gizmo and the overlay; and Play, which
 //! switches to the game's walking camera from the player start without touching the document.
+//! Debug views of the probes ([`debug`]) paint over the render in both modes.
 
+pub mod debug;
 pub mod gizmo;
 pub mod gpu;
+pub mod handles;
 pub mod overlay;
+pub mod play;
 
 use std::time::Instant;
 
@@ -12,11 +16,15 @@ use egui::{Color32, Key, PointerButton, Sense, Ui};
 use glam::{UVec2, Vec2, Vec3};
 use texel_render::input::Schedule;
 use texel_runtime::camera::{InputState, WalkCamera};
+use texel_runtime::extract::Viewport as ExtractViewport;
+use texel_scene::ProbeGridOverride;
 
 use crate::camera::{EditorCamera, FOV_Y_DEG, Projector};
 use crate::state::EditorState;
+use debug::DebugState;
 use gizmo::{Drag, Mode};
 use gpu::GpuView;
+use handles::FaceDrag;
 
 /// Internal resolution relative to the panel's physical pixels while the view is still, and
 /// while it moves (cheaper frames keep the camera responsive on a CPU rasterizer).
@@ -53,7 +61,18 @@ pub struct Viewport {
     pub error: Option<String>,
     /// Wall time between the last two UI frames, ms (what the person feels).
     pub ui_frame_ms: f32,
+    /// Debug views and what they read back.
+    pub debug: DebugState,
+    /// Whether the pointer is grabbed (hidden and held) for Play.
+    pub grabbed: bool,
+    /// Where the viewport was drawn last (screen points).
+    pub rect: Option<egui::Rect>,
+    /// Wall time of the render of the first frame after the last edit (scene upload,
+    /// frame driver, first frame), ms.
+    pub edit_stall_ms: f64,
     drag: Option<Drag>,
+    face_drag: Option<FaceDrag>,
+    grab_lost: bool,
     settle: u32,
     last: Option<(u64, EditorCamera, UVec2)>,
     clock: Option<Instant>,
@@ -70,7 +89,13 @@ impl Default for Viewport {
             gpu: None,
             error: None,
             ui_frame_ms: 0.0,
+            debug: DebugState::default(),
+            grabbed: false,
+            rect: None,
+            edit_stall_ms: 0.0,
             drag: None,
+            face_drag: None,
+            grab_lost: false,
             settle: SETTLE_FRAMES,
             last: None,
             clock: None,
@@ -84,12 +109,21 @@ impl Viewport {
     pub fn play(&mut self, state: &EditorState) {
         self.mode = ViewMode::Play(WalkCamera::from_scene(state.scene()));
         self.settle = SETTLE_FRAMES;
+        self.grab_lost = false;
     }
 
     /// Stops Play.
     pub fn stop(&mut self) {
         self.mode = ViewMode::Edit;
         self.settle = SETTLE_FRAMES;
+    }
+
+    /// Switches the render method (the view renders again).
+    pub fn set_schedule(&mut self, schedule: Schedule) {
+        if schedule != self.schedule {
+            self.schedule = schedule;
+            self.settle = SETTLE_FRAMES;
+        }
     }
 
     /// Whether Play is on.
@@ -112,8 +146,10 @@ impl Viewport {
         self.clock = Some(Instant::now());
         self.ui_frame_ms = dt * 1e3;
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
+        self.rect = Some(rect);
         let typing = ui.ctx().egui_wants_keyboard_input();
         self.handle_camera(ui, &response, dt, typing);
+        self.update_grab(ui.ctx(), &response);
         if !typing && !self.playing() {
             ui.input(|i| {
                 if i.key_pressed(Key::W) && !i.pointer.button_down(PointerButton::Secondary) {
@@ -136,8 +172,11 @@ impl Viewport {
         };
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
-        // An edit in progress (a gizmo or inspector drag) renders cheaply too.
-        if self.last.is_some_and(|l| l.0 != state.document.revision) {
+        // An edit (a gizmo or inspector drag, or a single change) renders its first frame
+        // cheaply too: the scene upload and new probes then cost less, and the still
+        // resolution refines it on the next frame.
+        let edited = self.last.is_some_and(|l| l.0 != state.document.revision);
+        if edited {
             self.moving = true;
         }
         let ppp = ui.ctx().pixels_per_point();
@@ -157,7 +196,9 @@ impl Viewport {
             self.last = Some(key);
         }
         if let Some(gpu) = &mut self.gpu {
-            if self.settle > 0 {
+            let rendered = self.settle > 0;
+            if rendered {
+                let t = Instant::now();
                 let r = gpu.render(
                     &state.document.level,
                     state.document.revision,
@@ -167,6 +208,9 @@ impl Viewport {
                     dt,
                 );
                 self.error = r.err();
+                if edited {
+                    self.edit_stall_ms = t.elapsed().as_secs_f64() * 1e3;
+                }
                 self.settle -= 1;
                 ui.ctx().request_repaint();
             }
@@ -179,6 +223,10 @@ impl Viewport {
                     egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
                     Color32::WHITE,
                 );
+            }
+            if self.error.is_none() {
+                self.debug
+                    .update(ui.ctx(), gpu, rendered, rendered && self.settle == 0);
             }
         } else {
             painter.text(
@@ -199,11 +247,30 @@ impl Viewport {
             );
         }
         let proj = Projector::new(&camera, rect);
+        let extract_view = ExtractViewport {
+            height: size.y,
+            fov_y: camera.fov_y,
+        };
+        let probes = self.gpu.as_ref().and_then(|g| g.probes);
+        self.debug.paint(
+            &painter,
+            &proj,
+            probes.as_ref(),
+            state.scene(),
+            camera.position,
+            extract_view,
+        );
+        self.debug.faces_window(ui.ctx(), rect);
         if self.playing() {
+            let how = if self.grabbed {
+                "mouse to look"
+            } else {
+                "drag to look (click to capture the mouse)"
+            };
             painter.text(
                 rect.center_top() + egui::vec2(0.0, 8.0),
                 egui::Align2::CENTER_TOP,
-                "PLAYING — WASD + drag to look, Shift to run, Esc to stop",
+                format!("PLAYING — WASD + {how}, Shift to run, Esc to stop"),
                 egui::FontId::proportional(14.0),
                 Color32::WHITE,
             );
@@ -211,14 +278,15 @@ impl Viewport {
         }
         overlay::grid(&painter, &proj);
         overlay::markers(&painter, &proj, state.scene(), state.selection);
-        let on_gizmo = self.gizmo_ui(ui, &response, &painter, &proj, state);
-        if response.clicked() && !on_gizmo {
+        let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state);
+        let on_gizmo = !on_face && self.gizmo_ui(ui, &response, &painter, &proj, state);
+        if response.clicked() && !on_gizmo && !on_face {
             self.select_at(&response, rect, size, state);
         }
     }
 
     fn handle_camera(&mut self, ui: &Ui, response: &egui::Response, dt: f32, typing: bool) {
-        let (delta, keys, wheel, esc) = ui.input(|i| {
+        let (delta, keys, wheel, esc, raw) = ui.input(|i| {
             let keys = InputState {
                 forward: i.key_down(Key::W),
                 back: i.key_down(Key::S),
@@ -233,17 +301,15 @@ impl Viewport {
                 keys,
                 i.smooth_scroll_delta.y,
                 i.key_pressed(Key::Escape),
+                play::raw_motion(i),
             )
         });
         let keys = if typing { InputState::default() } else { keys };
         let before = (self.camera, self.mode);
         match &mut self.mode {
             ViewMode::Play(walk) => {
-                let look = if response.dragged() {
-                    Vec2::new(delta.x, delta.y)
-                } else {
-                    Vec2::ZERO
-                };
+                let drag = Vec2::new(delta.x, delta.y);
+                let look = play::look(self.grabbed, raw, response.dragged(), drag);
                 walk.update(&keys, look, dt);
                 if esc {
                     self.mode = ViewMode::Edit;
@@ -274,6 +340,84 @@ impl Viewport {
         self.moving = before != (self.camera, self.mode) && !matches!(self.mode, ViewMode::Play(_));
     }
 
+    /// Takes the pointer while playing, gives it back when Play stops or the window loses
+    /// focus (a click in the viewport takes it again).
+    fn update_grab(&mut self, ctx: &egui::Context, response: &egui::Response) {
+        let focused = ctx.input(|i| i.focused);
+        if self.playing() && !focused {
+            self.grab_lost = true;
+        }
+        if self.playing() && self.grab_lost && focused && response.clicked() {
+            self.grab_lost = false;
+        }
+        let want = self.playing() && !self.grab_lost;
+        if want != self.grabbed {
+            for c in play::grab_commands(want) {
+                ctx.send_viewport_cmd(c);
+            }
+            self.grabbed = want;
+        }
+    }
+
+    /// The face handles of a selected probe-grid override; true when the pointer is on one
+    /// or a face drag is in progress.
+    fn face_handles_ui(
+        &mut self,
+        ui: &Ui,
+        response: &egui::Response,
+        painter: &egui::Painter,
+        proj: &Projector,
+        state: &mut EditorState,
+    ) -> bool {
+        let Some((index, row)) = state.selected_row() else {
+            self.face_drag = None;
+            return false;
+        };
+        let Some(volume) = row.probe_grid_override else {
+            self.face_drag = None;
+            return false;
+        };
+        let t = row.transform.unwrap_or_default();
+        let hs = handles::handles(proj, &t, &volume);
+        let pointer = response.interact_pointer_pos().or(response.hover_pos());
+        let hot = pointer.and_then(|p| handles::hit(&hs, p));
+        // A drag starts once the pointer has moved a few pixels: hit-test where it was pressed.
+        let pressed = ui.input(|i| i.pointer.press_origin());
+        if response.drag_started_by(PointerButton::Primary)
+            && let Some(face) = pressed.and_then(|p| handles::hit(&hs, p))
+        {
+            self.face_drag = Some(FaceDrag {
+                face,
+                start: t,
+                volume,
+                moved: egui::Vec2::ZERO,
+            });
+        }
+        let mut used = hot.is_some();
+        if let Some(drag) = &mut self.face_drag {
+            used = true;
+            if response.dragged_by(PointerButton::Primary) {
+                // From where the button went down, so the drag threshold is not lost.
+                drag.moved = match (response.interact_pointer_pos(), pressed) {
+                    (Some(now), Some(from)) => now - from,
+                    _ => drag.moved + response.drag_delta(),
+                };
+                let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+                let d = handles::outward(proj, drag);
+                let (t2, o2): (_, ProbeGridOverride) =
+                    handles::resize(&drag.start, &drag.volume, drag.face, d, snap);
+                let mut row = row.clone();
+                row.transform = Some(t2);
+                row.probe_grid_override = Some(o2);
+                state.set_row(index, row, Some(format!("resize{index}")));
+            } else {
+                self.face_drag = None;
+            }
+        }
+        handles::draw(painter, &hs, self.face_drag.map(|d| d.face).or(hot));
+        used
+    }
+
     fn gizmo_ui(
         &mut self,
         ui: &Ui,
@@ -295,8 +439,9 @@ impl Viewport {
         };
         let pointer = response.interact_pointer_pos().or(response.hover_pos());
         let hot = pointer.and_then(|p| gizmo::hit(o, ends, p));
+        let pressed = ui.input(|i| i.pointer.press_origin());
         if response.drag_started_by(PointerButton::Primary)
-            && let Some(axis) = hot
+            && let Some(axis) = pressed.and_then(|p| gizmo::hit(o, ends, p))
         {
             self.drag = Some(Drag {
                 axis,
