@@ -38,16 +38,11 @@ use std::time::{Duration, Instant};
 /// the `texel-editor` binary). It is built in the debug profile, like the tests,
 /// so running it after `cargo xtask test` builds nothing twice.
 const MAIN_JOB: MainJob = MainJob {
-    package: "texel_runtime",
-    bin: "texel-run",
-    default_args: &[
-        "render",
-        "assets/levels/stone_circle.ron",
-        "--size",
-        "1280x720",
-        "--out",
-        "target/stone_circle",
-    ],
+    package: "texel_editor",
+    bin: "texel-editor",
+    default_args: &["assets/levels/stone_circle.ron"],
+    // The editor is a window on the user's display; without one it says so and exits
+    // (rather than running invisibly on a virtual display).
     needs_display: false,
 };
 
