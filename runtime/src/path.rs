@@ -11,8 +11,11 @@
 //! )
 //! ```
 //!
-//! Keyframes are spread evenly over the frames and interpolated linearly (position, yaw and
-//! pitch in degrees, as a level's player start stores them).
+//! Keyframes are spread evenly over the frames and interpolated (position, yaw and pitch in
+//! degrees, as a level's player start stores them): linearly by default, or through a
+//! Catmull–Rom spline with `interpolation: Smooth`. `projection: Perspective(60.0)` (vertical
+//! field of view in degrees) or `projection: Orthographic(12.0)` (view height in world units)
+//! overrides the field of view the caller passes to [`CameraPath::camera`].
 
 use std::path::Path;
 
@@ -34,6 +37,29 @@ pub struct Keyframe {
     pub pitch: f32,
 }
 
+/// How the camera moves between keyframes.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Deserialize)]
+pub enum Interpolation {
+    /// Straight lines at constant speed between keyframes.
+    #[default]
+    Linear,
+    /// A Catmull–Rom spline through the keyframes (smooth turns, no velocity jumps).
+    Smooth,
+}
+
+/// The camera's projection along a path.
+#[derive(Debug, Clone, Copy, PartialEq, Deserialize)]
+pub enum Projection {
+    /// Perspective with this vertical field of view in degrees.
+    Perspective(f32),
+    /// Orthographic with a view this many world units tall.
+    Orthographic(f32),
+}
+
+fn some_projection<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Option<Projection>, D::Error> {
+    Projection::deserialize(d).map(Some)
+}
+
 /// A camera path.
 #[derive(Debug, Clone, PartialEq, Deserialize)]
 #[serde(deny_unknown_fields)]
@@ -45,6 +71,12 @@ pub struct CameraPath {
     pub dt: f32,
     /// At least one keyframe.
     pub keyframes: Vec<Keyframe>,
+    /// How to move between keyframes.
+    #[serde(default)]
+    pub interpolation: Interpolation,
+    /// Projection overriding the caller's field of view (None: the caller's perspective).
+    #[serde(default, deserialize_with = "some_projection")]
+    pub projection: Option<Projection>,
 }
 
 fn default_dt() -> f32 {
@@ -81,6 +113,8 @@ impl CameraPath {
             frames,
             dt: default_dt(),
             keyframes: vec![k],
+            interpolation: Interpolation::Linear,
+            projection: None,
         }
     }
 
@@ -103,10 +137,28 @@ impl CameraPath {
                 return Err(format!("keyframe {i}: pitch must be within ±89"));
             }
         }
-        Ok(())
+        match self.projection {
+            Some(Projection::Perspective(f)) if !(f.is_finite() && f > 1.0 && f < 170.0) => Err(
+                format!("perspective field of view must be in (1, 170) degrees, got {f}"),
+            ),
+            Some(Projection::Orthographic(h)) if !(h.is_finite() && h > 0.0 && h < 1.0e5) => {
+                Err(format!("orthographic height must be positive, got {h}"))
+            }
+            _ => Ok(()),
+        }
     }
 
-    /// The camera at frame `i` with vertical field of view `fov_y` (radians).
+    /// The vertical field of view (radians) of the path's perspective projection, or
+    /// `fallback` when the path does not set one.
+    pub fn fov_y(&self, fallback: f32) -> f32 {
+        match self.projection {
+            Some(Projection::Perspective(deg)) => deg.to_radians(),
+            _ => fallback,
+        }
+    }
+
+    /// The camera at frame `i` with vertical field of view `fov_y` (radians) unless the path
+    /// sets its own projection.
     pub fn camera(&self, i: u32, fov_y: f32) -> Camera {
         let k = &self.keyframes;
         let t = if self.frames <= 1 || k.len() == 1 {
@@ -117,16 +169,40 @@ impl CameraPath {
         let a = (t.floor() as usize).min(k.len() - 1);
         let b = (a + 1).min(k.len() - 1);
         let f = t - a as f32;
-        let lerp = |x: f32, y: f32| x + (y - x) * f;
-        let (pa, pb) = (Vec3::from(k[a].position), Vec3::from(k[b].position));
-        let mut cam = Camera::from_yaw_pitch(
-            pa.lerp(pb, f),
-            lerp(k[a].yaw, k[b].yaw),
-            lerp(k[a].pitch, k[b].pitch),
-        );
-        cam.fov_y = fov_y;
+        let key = |j: usize| {
+            let k = &k[j];
+            [k.position.0, k.position.1, k.position.2, k.yaw, k.pitch]
+        };
+        let v = match self.interpolation {
+            Interpolation::Linear => {
+                let (ka, kb) = (key(a), key(b));
+                std::array::from_fn(|c| ka[c] + (kb[c] - ka[c]) * f)
+            }
+            Interpolation::Smooth => {
+                let p0 = key(a.saturating_sub(1));
+                let p3 = key((b + 1).min(k.len() - 1));
+                catmull_rom(p0, key(a), key(b), p3, f)
+            }
+        };
+        let mut cam = Camera::from_yaw_pitch(Vec3::new(v[0], v[1], v[2]), v[3], v[4]);
+        cam.fov_y = self.fov_y(fov_y);
+        if let Some(Projection::Orthographic(h)) = self.projection {
+            cam.ortho_height = Some(h);
+        }
         cam
     }
+}
+
+/// Uniform Catmull–Rom between `p1` and `p2`, per component.
+fn catmull_rom(p0: [f32; 5], p1: [f32; 5], p2: [f32; 5], p3: [f32; 5], t: f32) -> [f32; 5] {
+    let (t2, t3) = (t * t, t * t * t);
+    std::array::from_fn(|c| {
+        let (a, b, d, e) = (p0[c], p1[c], p2[c], p3[c]);
+        0.5 * (2.0 * b
+            + (d - a) * t
+            + (2.0 * a - 5.0 * b + 4.0 * d - e) * t2
+            + (3.0 * b - a - 3.0 * d + e) * t3)
+    })
 }
 
 #[cfg(test)]
@@ -150,12 +226,35 @@ mod tests {
                     pitch: 0.0,
                 },
             ],
+            interpolation: Interpolation::Linear,
+            projection: None,
         };
         assert_eq!(p.camera(0, 1.0).position, Vec3::new(0.0, 1.0, 0.0));
         assert_eq!(p.camera(2, 1.0).position, Vec3::new(2.0, 1.0, 0.0));
         assert_eq!(p.camera(4, 1.0).position, Vec3::new(4.0, 1.0, 0.0));
         let mid = Camera::from_yaw_pitch(Vec3::ZERO, 20.0, 0.0).forward;
         assert!((p.camera(2, 1.0).forward - mid).length() < 1e-6);
+    }
+
+    #[test]
+    fn smooth_paths_pass_through_keyframes_and_projection_applies() {
+        let text = "(frames: 5, keyframes: [(position: (0.0, 1.0, 0.0)), \
+                    (position: (2.0, 1.0, 0.0)), (position: (2.0, 1.0, 4.0))], \
+                    interpolation: Smooth, projection: Orthographic(8.0))";
+        let p: CameraPath = ron::from_str(text).expect("parses");
+        p.check().expect("valid");
+        assert!((p.camera(2, 1.0).position - Vec3::new(2.0, 1.0, 0.0)).length() < 1e-5);
+        assert!((p.camera(4, 1.0).position - Vec3::new(2.0, 1.0, 4.0)).length() < 1e-5);
+        // Between keyframes the spline leaves the straight line (it rounds the corner).
+        let mid = p.camera(1, 1.0).position;
+        assert!(mid.z.abs() > 1e-3, "{mid}");
+        assert_eq!(p.camera(1, 1.0).ortho_height, Some(8.0));
+        let q: CameraPath = ron::from_str(
+            "(frames: 2, keyframes: [(position: (0.0, 1.0, 0.0))], projection: Perspective(90.0))",
+        )
+        .expect("parses");
+        assert!((q.camera(0, 1.0).fov_y - 90f32.to_radians()).abs() < 1e-6);
+        assert_eq!(q.camera(0, 1.0).ortho_height, None);
     }
 
     #[test]

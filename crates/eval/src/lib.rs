@@ -2,3 +2,18 @@
 //! stability and accuracy metrics from reference G-buffers, and the report and charts that
 //! put frame cost against image stability. It exists so that every claim the product makes
 //! about speed or stability comes from a command anyone can re-run.
+//!
+//! Modules: [`metrics`] (shimmer, coverage error, hole rate: pure CPU functions),
+//! [`reference`](mod@reference) (a CPU reference G-buffer), [`meter`] (per-run accumulation), [`runner`]
+//! (one method along one path, GPU-independent), [`gpu`] (the real sources), [`suite`]
+//! (levels × paths × methods × resolutions), [`report`] (`report.json` and its table),
+//! [`chart`] (the charts).
+
+pub mod chart;
+pub mod gpu;
+pub mod meter;
+pub mod metrics;
+pub mod reference;
+pub mod report;
+pub mod runner;
+pub mod suite;

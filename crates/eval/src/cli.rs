@@ -1,0 +1,243 @@
+//! The command line: `texel-eval run`, `texel-eval suite` and `texel-eval chart`.
+
+use std::path::{Path, PathBuf};
+use std::time::Instant;
+
+use anyhow::{Context, Result, bail};
+use clap::{Args, Parser, Subcommand};
+use glam::UVec2;
+use indicatif::{ProgressBar, ProgressStyle};
+use texel_eval::chart::write_charts;
+use texel_eval::report::Report;
+use texel_eval::runner::Method;
+use texel_eval::suite::{ReferenceKind, RunPlan, run_plan, suite_plans, total_frames};
+use texel_render::context::GpuContext;
+
+/// Measures Texel's render methods along camera paths: shimmer, coverage error, hole rate
+/// and frame time, written to DIR/report.json with charts (DIR/chart.png, DIR/chart.svg).
+#[derive(Parser, Debug)]
+#[command(name = "texel-eval", version)]
+struct Cli {
+    #[command(subcommand)]
+    command: Command,
+}
+
+#[derive(Subcommand, Debug)]
+enum Command {
+    /// Runs methods along one camera path on one level.
+    Run {
+        /// Level file (RON).
+        #[arg(long)]
+        level: PathBuf,
+        /// Camera-path file (RON).
+        #[arg(long)]
+        path: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Runs every bundled path on its level (stone_circle, colonnade) with every method.
+    Suite {
+        /// The assets folder holding levels/ and paths/.
+        #[arg(long, default_value = "assets")]
+        assets: PathBuf,
+        #[command(flatten)]
+        common: Common,
+    },
+    /// Redraws the charts (and table.md) of an existing report.
+    Chart {
+        /// The report.json to read.
+        #[arg(long)]
+        report: PathBuf,
+        /// Directory to write chart.png, chart.svg and table.md into.
+        #[arg(long)]
+        out: PathBuf,
+    },
+}
+
+#[derive(Args, Debug)]
+struct Common {
+    /// Comma-separated methods: raster, naive, snap, cubemap, splat-paper, splat.
+    #[arg(long, default_value = "raster,naive,snap,cubemap,splat-paper,splat")]
+    methods: String,
+    /// Comma-separated cube-face resolutions (texels per face edge).
+    #[arg(long, default_value = "64,128")]
+    face_res: String,
+    /// Output size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "320x180")]
+    size: String,
+    /// Reference G-buffer: gpu (plain raster) or cpu (ray cast).
+    #[arg(long, default_value = "gpu")]
+    reference: String,
+    /// Output directory (report.json, chart.png, chart.svg, table.md).
+    #[arg(long)]
+    out: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Parses the arguments and runs the command.
+pub fn main() -> Result<()> {
+    let cli = Cli::parse();
+    let command_line = std::env::args().collect::<Vec<_>>().join(" ");
+    match cli.command {
+        Command::Run {
+            level,
+            path,
+            common,
+        } => {
+            let plan = RunPlan {
+                level,
+                path,
+                methods: parse_methods(&common.methods)?,
+                face_res: parse_list(&common.face_res, "--face-res")?,
+                size: parse_size(&common.size)?,
+            };
+            execute(&[plan], &common, command_line)
+        }
+        Command::Suite { assets, common } => {
+            let plans = suite_plans(
+                &assets,
+                &parse_methods(&common.methods)?,
+                &parse_list(&common.face_res, "--face-res")?,
+                parse_size(&common.size)?,
+            );
+            execute(&plans, &common, command_line)
+        }
+        Command::Chart { report, out } => {
+            let text = std::fs::read_to_string(&report)
+                .with_context(|| format!("reading {}", report.display()))?;
+            let r: Report = serde_json::from_str(&text)
+                .with_context(|| format!("parsing {}", report.display()))?;
+            write_outputs(&r, &out, false)
+        }
+    }
+}
+
+fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<()> {
+    let reference = match common.reference.as_str() {
+        "gpu" => ReferenceKind::Gpu,
+        "cpu" => ReferenceKind::Cpu,
+        other => bail!("--reference must be gpu or cpu, got `{other}`"),
+    };
+    std::fs::create_dir_all(&common.out)
+        .with_context(|| format!("creating {}", common.out.display()))?;
+    let started = Instant::now();
+    let total = total_frames(plans)?;
+    let ctx = GpuContext::headless()?;
+    let bar = if common.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(total)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} frames (eta {eta}) {msg}",
+        )
+        .context("progress style")?
+        .progress_chars("=> "),
+    );
+    let mut report = Report {
+        adapter: ctx.describe(),
+        command,
+        ..Default::default()
+    };
+    for plan in plans {
+        let records = run_plan(&ctx, plan, reference, &mut |label: &str| {
+            bar.set_message(label.to_owned());
+            bar.inc(1);
+        })
+        .with_context(|| format!("{} along {}", plan.level.display(), plan.path.display()))?;
+        report.runs.extend(records);
+    }
+    bar.finish_and_clear();
+    report.duration_s = started.elapsed().as_secs_f64();
+    write_outputs(&report, &common.out, true)?;
+    eprintln!(
+        "{} runs in {:.0} s → {}",
+        report.runs.len(),
+        report.duration_s,
+        common.out.join("report.json").display()
+    );
+    Ok(())
+}
+
+fn write_outputs(report: &Report, out: &Path, with_json: bool) -> Result<()> {
+    std::fs::create_dir_all(out).with_context(|| format!("creating {}", out.display()))?;
+    if with_json {
+        let file = out.join("report.json");
+        std::fs::write(&file, serde_json::to_string_pretty(report)?)
+            .with_context(|| format!("writing {}", file.display()))?;
+    }
+    let table = out.join("table.md");
+    let text = format!("{}\n{}", report.summary_table(), report.markdown_table());
+    std::fs::write(&table, text).with_context(|| format!("writing {}", table.display()))?;
+    write_charts(report, out, "chart")?;
+    Ok(())
+}
+
+fn parse_methods(s: &str) -> Result<Vec<Method>> {
+    let methods = s
+        .split(',')
+        .filter(|m| !m.trim().is_empty())
+        .map(Method::parse)
+        .collect::<Result<Vec<_>, _>>()?;
+    if methods.is_empty() {
+        bail!("--methods lists no method");
+    }
+    Ok(methods)
+}
+
+fn parse_list(s: &str, flag: &str) -> Result<Vec<u32>> {
+    let v = s
+        .split(',')
+        .map(|x| {
+            let n: u32 = x
+                .trim()
+                .parse()
+                .with_context(|| format!("{flag}: `{x}` is not a whole number"))?;
+            if !(8..=2048).contains(&n) {
+                bail!("{flag}: {n} is outside 8..=2048");
+            }
+            Ok(n)
+        })
+        .collect::<Result<Vec<_>>>()?;
+    Ok(v)
+}
+
+fn parse_size(s: &str) -> Result<UVec2> {
+    let (w, h) = s
+        .split_once(['x', 'X'])
+        .with_context(|| format!("--size must be WIDTHxHEIGHT, got `{s}`"))?;
+    let parse = |v: &str| -> Result<u32> {
+        let n: u32 = v
+            .trim()
+            .parse()
+            .with_context(|| format!("--size: `{v}` is not a number"))?;
+        if !(8..=4096).contains(&n) {
+            bail!("--size: {n} is outside 8..=4096");
+        }
+        Ok(n)
+    };
+    Ok(UVec2::new(parse(w)?, parse(h)?))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn arguments_are_checked() {
+        assert_eq!(parse_size("320x180").expect("valid"), UVec2::new(320, 180));
+        assert!(parse_size("320").is_err() && parse_size("0x9").is_err());
+        assert_eq!(
+            parse_list("32, 64", "--face-res").expect("valid"),
+            vec![32, 64]
+        );
+        assert!(parse_list("32,abc", "--face-res").is_err());
+        assert_eq!(parse_methods("splat,naive").expect("valid").len(), 2);
+        assert!(parse_methods("splat,bogus").is_err());
+        Cli::try_parse_from(["texel-eval", "suite", "--out", "x"]).expect("suite parses");
+        assert!(Cli::try_parse_from(["texel-eval", "run", "--out", "x"]).is_err());
+    }
+}

@@ -1,0 +1,201 @@
+//! The real frame and reference sources: texel splatting through the runtime's
+//! [`FrameDriver`] and the renderer, the baselines through [`BaselineRenderer`], and the
+//! reference G-buffer from the baselines' plain raster (or the CPU ray cast).
+
+use glam::UVec2;
+use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
+use texel_render::context::GpuContext;
+use texel_render::frame::Renderer;
+use texel_render::input::{Camera, Look, SceneInput, Schedule};
+use texel_runtime::driver::FrameDriver;
+use texel_runtime::load::LoadedLevel;
+
+use crate::metrics::Reference;
+use crate::reference::CpuScene;
+use crate::runner::{EvalError, FrameSource, Method, ReferenceSource, RenderedFrame};
+
+fn render_err(e: impl std::fmt::Display) -> EvalError {
+    EvalError::Render(e.to_string())
+}
+
+/// Sets the level's default grid to `face_res` texels per face edge.
+pub fn set_face_res(level: &mut LoadedLevel, face_res: u32) -> Result<(), EvalError> {
+    if !(8..=2048).contains(&face_res) {
+        return Err(EvalError::Render(format!(
+            "face resolution must be within 8..=2048, got {face_res}"
+        )));
+    }
+    level.scene.settings.pixel_scale = texel_scene::PixelScale::FaceResolution(face_res);
+    Ok(())
+}
+
+/// The level's look (sky, ambient light, bands), as the frame driver builds it.
+pub fn level_look(level: &LoadedLevel) -> Look {
+    let s = &level.scene.settings;
+    Look {
+        sky: s.sky,
+        ambient: s.ambient,
+        bands: s.bands,
+        haze: 0.0,
+    }
+}
+
+/// Texel splatting with our schedule or the paper's.
+pub struct SplatSource<'a> {
+    ctx: &'a GpuContext,
+    renderer: Renderer,
+    driver: FrameDriver,
+    schedule: Schedule,
+}
+
+impl<'a> SplatSource<'a> {
+    /// A splat renderer for `level` (already at its face resolution) on a `size` output.
+    pub fn new(
+        ctx: &'a GpuContext,
+        level: &LoadedLevel,
+        size: UVec2,
+        fov_y: f32,
+        schedule: Schedule,
+        warm_up: &Camera,
+    ) -> Result<Self, EvalError> {
+        let mut renderer = Renderer::headless(ctx).map_err(render_err)?;
+        let driver = FrameDriver::new(level, size, fov_y).map_err(render_err)?;
+        renderer.set_scene(ctx, driver.scene_input());
+        // Compile shaders and allocate targets with a throwaway driver, so frame 0 is timed
+        // honestly and the measured driver starts from nothing.
+        let mut warm = FrameDriver::new(level, size, fov_y).map_err(render_err)?;
+        let input = warm
+            .frame(*warm_up, 1.0 / 30.0, schedule)
+            .map_err(render_err)?;
+        renderer.render_offscreen(ctx, &input).map_err(render_err)?;
+        Ok(SplatSource {
+            ctx,
+            renderer,
+            driver,
+            schedule,
+        })
+    }
+}
+
+impl FrameSource for SplatSource<'_> {
+    fn render(&mut self, _i: u32, camera: &Camera, dt: f32) -> Result<RenderedFrame, EvalError> {
+        let input = self
+            .driver
+            .frame(*camera, dt, self.schedule)
+            .map_err(render_err)?;
+        let (stats, pixels) = self
+            .renderer
+            .render_offscreen(self.ctx, &input)
+            .map_err(render_err)?;
+        let ids = self.renderer.read_frame_ids(self.ctx).map_err(render_err)?;
+        Ok(RenderedFrame {
+            stats,
+            pixels,
+            ids: ids.entity,
+            from_eye: Some(ids.from_eye),
+        })
+    }
+}
+
+/// One of the baseline methods.
+pub struct BaselineSource<'a> {
+    ctx: &'a GpuContext,
+    renderer: BaselineRenderer,
+    method: Baseline,
+    size: UVec2,
+    face_res: u32,
+    look: Look,
+}
+
+impl<'a> BaselineSource<'a> {
+    /// A baseline renderer for `scene`, comparing against splats of `face_res`.
+    pub fn new(
+        ctx: &'a GpuContext,
+        scene: &SceneInput,
+        method: Baseline,
+        size: UVec2,
+        face_res: u32,
+        look: Look,
+        warm_up: &Camera,
+    ) -> Result<Self, EvalError> {
+        let mut renderer = BaselineRenderer::new(ctx).map_err(render_err)?;
+        renderer.set_scene(ctx, scene);
+        let mut me = BaselineSource {
+            ctx,
+            renderer,
+            method,
+            size,
+            face_res,
+            look,
+        };
+        me.render(0, warm_up, 0.0)?;
+        Ok(me)
+    }
+}
+
+impl FrameSource for BaselineSource<'_> {
+    fn render(&mut self, _i: u32, camera: &Camera, _dt: f32) -> Result<RenderedFrame, EvalError> {
+        let view = BaselineView {
+            camera: *camera,
+            size: self.size,
+            face_res: self.face_res,
+            look: self.look,
+        };
+        let f = self
+            .renderer
+            .render(self.ctx, self.method, &view)
+            .map_err(render_err)?;
+        Ok(RenderedFrame {
+            stats: f.stats,
+            pixels: f.pixels,
+            ids: f.ids,
+            from_eye: None,
+        })
+    }
+}
+
+/// The baseline of `method`, or `None` for the splat methods.
+pub fn baseline_of(method: Method) -> Option<Baseline> {
+    match method {
+        Method::Raster => Some(Baseline::Raster),
+        Method::Naive => Some(Baseline::Naive),
+        Method::Snap => Some(Baseline::Snap),
+        Method::Cubemap => Some(Baseline::Cubemap),
+        Method::SplatPaper | Method::Splat => None,
+    }
+}
+
+/// Reference G-buffers from the baselines' plain full-resolution raster.
+pub struct GpuReference<'a> {
+    ctx: &'a GpuContext,
+    renderer: BaselineRenderer,
+}
+
+impl<'a> GpuReference<'a> {
+    /// A reference renderer for `scene`.
+    pub fn new(ctx: &'a GpuContext, scene: &SceneInput) -> Result<Self, EvalError> {
+        let mut renderer = BaselineRenderer::new(ctx).map_err(render_err)?;
+        renderer.set_scene(ctx, scene);
+        Ok(GpuReference { ctx, renderer })
+    }
+}
+
+impl ReferenceSource for GpuReference<'_> {
+    fn reference(&mut self, camera: &Camera, size: UVec2) -> Result<Reference, EvalError> {
+        let g = self
+            .renderer
+            .reference_gbuffer(self.ctx, camera, size)
+            .map_err(render_err)?;
+        Ok(Reference {
+            size: g.size,
+            world: g.world,
+            id: g.id,
+        })
+    }
+}
+
+impl ReferenceSource for CpuScene {
+    fn reference(&mut self, camera: &Camera, size: UVec2) -> Result<Reference, EvalError> {
+        Ok(self.gbuffer(camera, size))
+    }
+}

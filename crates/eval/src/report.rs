@@ -1,0 +1,280 @@
+//! The report a run or a suite writes (`DIR/report.json`) and its Markdown table.
+//!
+//! # Schema of `report.json`
+//!
+//! ```text
+//! {
+//!   "adapter":    string,          // GPU adapter and backend the frames were timed on
+//!   "command":    string,          // the command line that produced the report
+//!   "duration_s": number,          // wall time of the whole run or suite
+//!   "runs": [ {                    // one record per level × path × method × face_res
+//!     "level":      string,        // level file
+//!     "path":       string,        // camera-path file
+//!     "method":     string,        // raster | naive | snap | cubemap | splat-paper | splat
+//!     "face_res":   integer,       // texels per cube-face edge (splat, cubemap); for raster,
+//!                                  // naive and snap the art-pixel size of the same texel size
+//!     "size":       [w, h],        // output pixels
+//!     "frames":     integer,       // frames rendered
+//!     "reference":  string,        // "gpu" (plain raster G-buffer) or "cpu" (ray cast)
+//!     "frame_ms":   {"median": number, "p90": number},  // CPU wall time per frame, ms
+//!     "pass_ms":    {pass: number},                      // median ms per pass
+//!     "counters":   {"faces_captured", "texels_shaded", "quads_splatted",
+//!                    "screen_visible_texels": number},   // mean per frame
+//!     "shimmer":    {"mean", "p95", "max": number},      // per-frame flicker fraction, 0..1
+//!     "shimmer_per_frame": [number],                     // frames 1.. (0 has no predecessor)
+//!     "coverage_error": number,    // mean fraction of pixels whose id differs from reference
+//!     "hole_rate":  number,        // mean fraction of pixels with geometry shown as sky
+//!     "eye_fraction": number|null, // mean fraction of pixels from the eye probe (splat only)
+//!     "eye_flicker_share": number|null  // share of flickering pixels from the eye probe
+//!   } ]
+//! }
+//! ```
+
+use std::collections::BTreeMap;
+use std::fmt::Write as _;
+
+use serde::{Deserialize, Serialize};
+
+use crate::metrics::Summary;
+
+/// Median and 90th percentile of frame times, ms.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct Timing {
+    /// Median.
+    pub median: f64,
+    /// 90th percentile.
+    pub p90: f64,
+}
+
+/// Mean work counters per frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct CounterMeans {
+    /// Cube faces rasterized.
+    pub faces_captured: f64,
+    /// Texels lit.
+    pub texels_shaded: f64,
+    /// Quads splatted.
+    pub quads_splatted: f64,
+    /// Distinct probe texels on screen.
+    pub screen_visible_texels: f64,
+}
+
+/// One run: a method along a path on a level at one face resolution.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct RunRecord {
+    /// Level file.
+    pub level: String,
+    /// Camera-path file.
+    pub path: String,
+    /// Method name.
+    pub method: String,
+    /// Face resolution.
+    pub face_res: u32,
+    /// Output size.
+    pub size: [u32; 2],
+    /// Frames rendered.
+    pub frames: u32,
+    /// `gpu` or `cpu`: where the reference G-buffer came from.
+    pub reference: String,
+    /// Frame wall time.
+    pub frame_ms: Timing,
+    /// Median milliseconds per pass.
+    pub pass_ms: BTreeMap<String, f64>,
+    /// Mean work counters.
+    pub counters: CounterMeans,
+    /// Per-frame flicker fraction.
+    pub shimmer: Summary,
+    /// Flicker fraction of frames 1...
+    pub shimmer_per_frame: Vec<f64>,
+    /// Mean coverage error.
+    pub coverage_error: f64,
+    /// Mean hole rate.
+    pub hole_rate: f64,
+    /// Mean eye fraction (splat methods).
+    pub eye_fraction: Option<f64>,
+    /// Share of flicker from the eye probe (splat methods).
+    pub eye_flicker_share: Option<f64>,
+}
+
+impl RunRecord {
+    /// The path's file stem (`yaw` for `assets/paths/yaw.ron`).
+    pub fn path_name(&self) -> &str {
+        file_stem(&self.path)
+    }
+
+    /// The level's file stem.
+    pub fn level_name(&self) -> &str {
+        file_stem(&self.level)
+    }
+}
+
+/// A summary row: its name, the value of a run, and the decimals to print.
+type SummaryRow = (&'static str, fn(&RunRecord) -> f64, usize);
+
+fn file_stem(s: &str) -> &str {
+    let base = s.rsplit(['/', '\\']).next().unwrap_or(s);
+    base.strip_suffix(".ron").unwrap_or(base)
+}
+
+/// The whole `report.json`.
+#[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
+pub struct Report {
+    /// GPU adapter description.
+    pub adapter: String,
+    /// The command that produced it.
+    pub command: String,
+    /// Wall time of the whole run, seconds.
+    pub duration_s: f64,
+    /// One record per run.
+    pub runs: Vec<RunRecord>,
+}
+
+impl Report {
+    /// A compact Markdown table: one row per path, one column per method, holding the mean
+    /// shimmer at the highest face resolution (raster at its only one), then rows of the
+    /// mean over paths of the coverage error and of the median frame time.
+    pub fn summary_table(&self) -> String {
+        let top = self.runs.iter().map(|r| r.face_res).max().unwrap_or(0);
+        let mut methods: Vec<&str> = Vec::new();
+        let mut paths: Vec<&str> = Vec::new();
+        for r in &self.runs {
+            if !methods.contains(&r.method.as_str()) {
+                methods.push(&r.method);
+            }
+            if !paths.contains(&r.path_name()) {
+                paths.push(r.path_name());
+            }
+        }
+        let pick = |path: Option<&str>, method: &str| -> Vec<&RunRecord> {
+            self.runs
+                .iter()
+                .filter(|r| {
+                    r.method == method
+                        && (r.face_res == top || method == "raster")
+                        && path.is_none_or(|p| r.path_name() == p)
+                })
+                .collect()
+        };
+        let mut out = format!("| shimmer (face res {top}) |");
+        for m in &methods {
+            let _ = write!(out, " {m} |");
+        }
+        out.push_str("\n|---|");
+        out.push_str(&"---:|".repeat(methods.len()));
+        out.push('\n');
+        let cell = |v: &[f64], digits: usize| match v.len() {
+            0 => "–".to_owned(),
+            n => format!("{:.digits$}", v.iter().sum::<f64>() / n as f64),
+        };
+        for p in &paths {
+            let _ = write!(out, "| {p} |");
+            for m in &methods {
+                let v: Vec<f64> = pick(Some(p), m).iter().map(|r| r.shimmer.mean).collect();
+                let _ = write!(out, " {} |", cell(&v, 4));
+            }
+            out.push('\n');
+        }
+        let rows: [SummaryRow; 2] = [
+            ("coverage error (mean)", |r| r.coverage_error, 4),
+            ("median frame ms (mean)", |r| r.frame_ms.median, 1),
+        ];
+        for (name, f, digits) in rows {
+            let _ = write!(out, "| *{name}* |");
+            for m in &methods {
+                let v: Vec<f64> = pick(None, m).iter().map(|r| f(r)).collect();
+                let _ = write!(out, " {} |", cell(&v, digits));
+            }
+            out.push('\n');
+        }
+        out
+    }
+
+    /// A Markdown table: one row per path and method, one column group per face
+    /// resolution (shimmer mean, coverage error, median frame ms).
+    pub fn markdown_table(&self) -> String {
+        let mut res: Vec<u32> = self.runs.iter().map(|r| r.face_res).collect();
+        res.sort_unstable();
+        res.dedup();
+        let mut out = String::from("| level | path | method |");
+        for n in &res {
+            let _ = write!(out, " shimmer @{n} | coverage err @{n} | ms @{n} |");
+        }
+        out.push_str("\n|---|---|---|");
+        out.push_str(&"---:|---:|---:|".repeat(res.len()));
+        out.push('\n');
+        let mut rows: Vec<(&str, &str, &str)> = Vec::new();
+        for r in &self.runs {
+            let key = (r.level_name(), r.path_name(), r.method.as_str());
+            if !rows.contains(&key) {
+                rows.push(key);
+            }
+        }
+        for (level, path, method) in rows {
+            let _ = write!(out, "| {level} | {path} | {method} |");
+            for n in &res {
+                let r = self.runs.iter().find(|r| {
+                    r.level_name() == level
+                        && r.path_name() == path
+                        && r.method == method
+                        && r.face_res == *n
+                });
+                match r {
+                    Some(r) => {
+                        let _ = write!(
+                            out,
+                            " {:.4} | {:.4} | {:.1} |",
+                            r.shimmer.mean, r.coverage_error, r.frame_ms.median
+                        );
+                    }
+                    None => out.push_str(" – | – | – |"),
+                }
+            }
+            out.push('\n');
+        }
+        out
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_table_has_a_row_per_path_and_method_and_a_column_group_per_resolution() {
+        let run = |method: &str, face_res, shimmer| RunRecord {
+            level: "assets/levels/stone_circle.ron".into(),
+            path: "assets/paths/yaw.ron".into(),
+            method: method.into(),
+            face_res,
+            shimmer: Summary {
+                mean: shimmer,
+                p95: shimmer,
+                max: shimmer,
+            },
+            ..Default::default()
+        };
+        let report = Report {
+            runs: vec![
+                run("splat", 32, 0.0),
+                run("splat", 64, 0.001),
+                run("naive", 64, 0.2),
+            ],
+            ..Default::default()
+        };
+        let t = report.markdown_table();
+        assert_eq!(t.lines().count(), 4, "{t}");
+        assert!(
+            t.contains("| stone_circle | yaw | naive | – | – | – | 0.2000 |"),
+            "{t}"
+        );
+        let summary = report.summary_table();
+        assert!(summary.contains("| yaw | 0.0010 | 0.2000 |"), "{summary}");
+        assert!(
+            summary.starts_with("| shimmer (face res 64) | splat | naive |"),
+            "{summary}"
+        );
+        let json = serde_json::to_string(&report).expect("serialises");
+        let back: Report = serde_json::from_str(&json).expect("parses");
+        assert_eq!(back, report);
+    }
+}

@@ -1,0 +1,273 @@
+//! Runs and suites: loads levels and paths, computes each path's reference G-buffers once,
+//! runs every method at every face resolution against them, and turns the outcomes into
+//! [`RunRecord`]s.
+
+use std::path::{Path, PathBuf};
+
+use glam::UVec2;
+use texel_render::context::GpuContext;
+use texel_render::input::Schedule;
+use texel_runtime::driver::scene_input;
+use texel_runtime::load::load_level;
+use texel_runtime::path::{CameraPath, Projection};
+
+use crate::gpu::{
+    BaselineSource, GpuReference, SplatSource, baseline_of, level_look, set_face_res,
+};
+use crate::metrics::MetricParams;
+use crate::reference::CpuScene;
+use crate::report::RunRecord;
+use crate::runner::{
+    CachedReferences, EvalError, FrameSource, Method, ReferenceSource, counter_means, frame_timing,
+    pass_medians, run_path,
+};
+
+/// Vertical field of view of paths that do not set one: 60°.
+pub const DEFAULT_FOV_DEG: f32 = 60.0;
+
+/// Where reference G-buffers come from.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum ReferenceKind {
+    /// The baselines' plain full-resolution raster (exact to the rasterizer's coverage rule).
+    #[default]
+    Gpu,
+    /// A CPU ray cast through pixel centres (no GPU needed; slower).
+    Cpu,
+}
+
+impl ReferenceKind {
+    /// Its name in reports.
+    pub fn name(self) -> &'static str {
+        match self {
+            ReferenceKind::Gpu => "gpu",
+            ReferenceKind::Cpu => "cpu",
+        }
+    }
+}
+
+/// Methods × face resolutions along one path of one level.
+#[derive(Debug, Clone, PartialEq)]
+pub struct RunPlan {
+    /// Level file.
+    pub level: PathBuf,
+    /// Camera-path file.
+    pub path: PathBuf,
+    /// Methods to run.
+    pub methods: Vec<Method>,
+    /// Face resolutions to run each method at.
+    pub face_res: Vec<u32>,
+    /// Output size.
+    pub size: UVec2,
+}
+
+/// Which paths the suite flies on which bundled level.
+pub const SUITE_PATHS: [(&str, &str); 9] = [
+    ("stone_circle", "yaw"),
+    ("stone_circle", "strafe_in_cell"),
+    ("stone_circle", "walk_cells"),
+    ("stone_circle", "sprint_cells"),
+    ("stone_circle", "dolly"),
+    ("stone_circle", "orbit"),
+    ("stone_circle", "ortho_pan"),
+    ("colonnade", "wall_graze"),
+    ("colonnade", "occluder_pass"),
+];
+
+/// The suite: every bundled path on its level, every method, at `face_res` and `size`.
+pub fn suite_plans(
+    assets: &Path,
+    methods: &[Method],
+    face_res: &[u32],
+    size: UVec2,
+) -> Vec<RunPlan> {
+    SUITE_PATHS
+        .iter()
+        .map(|(level, path)| RunPlan {
+            level: assets.join("levels").join(format!("{level}.ron")),
+            path: assets.join("paths").join(format!("{path}.ron")),
+            methods: methods.to_vec(),
+            face_res: face_res.to_vec(),
+            size,
+        })
+        .collect()
+}
+
+/// Frames `plans` render in all (each path's references count once), for a progress bar.
+pub fn total_frames(plans: &[RunPlan]) -> Result<u64, EvalError> {
+    let mut total = 0;
+    for p in plans {
+        let path = load_path(&p.path)?;
+        let per_res = p.methods.iter().filter(|m| runs_on(**m, &path)).count();
+        let raster = p.methods.contains(&Method::Raster) as usize;
+        let runs =
+            (per_res * p.face_res.len() + 1 - raster * p.face_res.len().saturating_sub(1)) as u64;
+        total += u64::from(path.frames) * runs;
+    }
+    Ok(total)
+}
+
+fn load_path(file: &Path) -> Result<CameraPath, EvalError> {
+    CameraPath::load(file).map_err(|e| EvalError::Input(e.to_string()))
+}
+
+/// Runs one plan; `tick(label)` is called after every frame rendered (references included).
+pub fn run_plan(
+    ctx: &GpuContext,
+    plan: &RunPlan,
+    reference: ReferenceKind,
+    tick: &mut dyn FnMut(&str),
+) -> Result<Vec<RunRecord>, EvalError> {
+    if plan.face_res.is_empty() || plan.methods.is_empty() {
+        return Err(EvalError::Input(
+            "a run needs a method and a face resolution".into(),
+        ));
+    }
+    let mut level = load_level(&plan.level).map_err(|e| EvalError::Input(e.to_string()))?;
+    let path = load_path(&plan.path)?;
+    let fov_y = path.fov_y(DEFAULT_FOV_DEG.to_radians());
+    let scene = scene_input(&level);
+    let stem = |p: &Path| {
+        p.file_stem()
+            .map_or(String::new(), |s| s.to_string_lossy().into())
+    };
+    let name = format!("{} / {}", stem(&plan.level), stem(&plan.path));
+    let refs = {
+        let mut counted = CountingReference {
+            inner: match reference {
+                ReferenceKind::Gpu => Box::new(GpuReference::new(ctx, &scene)?),
+                ReferenceKind::Cpu => Box::new(CpuScene::new(&scene)),
+            },
+            tick: &mut |()| tick(&format!("{name}: reference")),
+        };
+        CachedReferences::compute(&mut counted, &path, fov_y, plan.size)?
+    };
+    let warm_up = path.camera(0, fov_y);
+    let look = level_look(&level);
+    let mut records = Vec::new();
+    for &n in &plan.face_res {
+        set_face_res(&mut level, n)?;
+        for &method in &plan.methods {
+            if !runs_on(method, &path) || (method == Method::Raster && n != plan.face_res[0]) {
+                // Raster does not depend on the face resolution: run it once.
+                continue;
+            }
+            let mut source: Box<dyn FrameSource> = match baseline_of(method) {
+                Some(b) => Box::new(BaselineSource::new(
+                    ctx, &scene, b, plan.size, n, look, &warm_up,
+                )?),
+                None => {
+                    let schedule = match method {
+                        Method::SplatPaper => Schedule::Paper,
+                        _ => Schedule::Ours,
+                    };
+                    Box::new(SplatSource::new(
+                        ctx, &level, plan.size, fov_y, schedule, &warm_up,
+                    )?)
+                }
+            };
+            let label = format!("{name}: {} @{n}", method.name());
+            let params = MetricParams::default();
+            let outcome = run_path(&path, fov_y, source.as_mut(), &refs, params, &mut || {
+                tick(&label)
+            })?;
+            records.push(RunRecord {
+                level: plan.level.display().to_string(),
+                path: plan.path.display().to_string(),
+                method: method.name().to_owned(),
+                face_res: n,
+                size: plan.size.to_array(),
+                frames: path.frames,
+                reference: reference.name().to_owned(),
+                frame_ms: frame_timing(&outcome.stats),
+                pass_ms: pass_medians(&outcome.stats),
+                counters: counter_means(&outcome.stats),
+                shimmer: outcome.scores.shimmer,
+                shimmer_per_frame: outcome.scores.shimmer_per_frame,
+                coverage_error: outcome.scores.coverage_error,
+                hole_rate: outcome.scores.hole_rate,
+                eye_fraction: outcome.scores.eye_fraction,
+                eye_flicker_share: outcome.scores.eye_flicker_share,
+            });
+        }
+    }
+    Ok(records)
+}
+
+/// Whether `method` is meaningful along `path`: the camera-centred cubemap has no
+/// orthographic form, so it skips orthographic paths.
+pub fn runs_on(method: Method, path: &CameraPath) -> bool {
+    let ortho = matches!(path.projection, Some(Projection::Orthographic(_)));
+    !(ortho && method == Method::Cubemap)
+}
+
+/// A reference source that reports each frame it makes.
+struct CountingReference<'a> {
+    inner: Box<dyn ReferenceSource + 'a>,
+    tick: &'a mut dyn FnMut(()),
+}
+
+impl ReferenceSource for CountingReference<'_> {
+    fn reference(
+        &mut self,
+        camera: &texel_render::input::Camera,
+        size: UVec2,
+    ) -> Result<crate::metrics::Reference, EvalError> {
+        let r = self.inner.reference(camera, size)?;
+        (self.tick)(());
+        Ok(r)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn assets() -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+    }
+
+    #[test]
+    fn every_suite_path_and_level_loads() {
+        let plans = suite_plans(&assets(), &[Method::Splat], &[32], UVec2::new(16, 9));
+        assert_eq!(plans.len(), SUITE_PATHS.len());
+        for p in &plans {
+            assert!(p.level.exists(), "{}", p.level.display());
+            let path = load_path(&p.path).expect("path loads");
+            assert!((20..=60).contains(&path.frames), "{}", p.path.display());
+        }
+        // 9 paths × (1 method × 1 resolution + the reference) × their frames.
+        let total = total_frames(&plans).expect("loads");
+        assert!(total > 9 * 2 * 20, "{total}");
+    }
+
+    #[test]
+    fn the_cubemap_skips_orthographic_paths_and_raster_runs_once() {
+        let ortho = load_path(&assets().join("paths/ortho_pan.ron")).expect("loads");
+        let persp = load_path(&assets().join("paths/yaw.ron")).expect("loads");
+        assert!(!runs_on(Method::Cubemap, &ortho) && runs_on(Method::Snap, &ortho));
+        assert!(runs_on(Method::Cubemap, &persp));
+        let plan = |level: &str, path: &str| RunPlan {
+            level: assets().join(format!("levels/{level}.ron")),
+            path: assets().join(format!("paths/{path}.ron")),
+            methods: vec![Method::Raster, Method::Cubemap, Method::Splat],
+            face_res: vec![32, 64],
+            size: UVec2::new(16, 9),
+        };
+        // yaw: reference + raster once + (cubemap, splat) × 2 = 6 passes over 30 frames.
+        assert_eq!(
+            total_frames(&[plan("stone_circle", "yaw")]).expect("loads"),
+            6 * 30
+        );
+        // ortho_pan: reference + raster once + splat × 2 = 4 passes.
+        assert_eq!(
+            total_frames(&[plan("stone_circle", "ortho_pan")]).expect("loads"),
+            4 * 30
+        );
+    }
+
+    #[test]
+    fn a_missing_path_is_an_error_naming_the_file() {
+        let e = load_path(Path::new("/nonexistent/p.ron")).unwrap_err();
+        assert!(e.to_string().contains("/nonexistent/p.ron"), "{e}");
+    }
+}

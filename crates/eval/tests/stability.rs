@@ -1,0 +1,151 @@
+//! Where methods fail, measured (GPU, lavapipe-sized): each test flies one bundled camera path
+//! with one or two methods at 160×90 and checks the shimmer, coverage or provenance numbers
+//! the design promises. Bounds come from measured values with margin; each says why.
+
+use std::path::{Path, PathBuf};
+
+use glam::UVec2;
+use texel_eval::report::RunRecord;
+use texel_eval::runner::Method;
+use texel_eval::suite::{ReferenceKind, RunPlan, run_plan};
+use texel_render::context::test_context;
+
+const SIZE: UVec2 = UVec2::new(160, 90);
+
+fn assets() -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+}
+
+/// Runs `methods` at `face_res` along `path` on `level`; `None` without a GPU.
+fn run(level: &str, path: &str, methods: &[Method], face_res: u32) -> Option<Vec<RunRecord>> {
+    let ctx = test_context()?;
+    let plan = RunPlan {
+        level: assets().join("levels").join(format!("{level}.ron")),
+        path: assets().join("paths").join(format!("{path}.ron")),
+        methods: methods.to_vec(),
+        face_res: vec![face_res],
+        size: SIZE,
+    };
+    let records = run_plan(&ctx, &plan, ReferenceKind::Gpu, &mut |_| {}).expect("run");
+    for r in &records {
+        eprintln!(
+            "{path} {} @{face_res}: shimmer {:?} coverage {:.4} holes {:.4} eye {:?} eye share {:?}",
+            r.method, r.shimmer, r.coverage_error, r.hole_rate, r.eye_fraction, r.eye_flicker_share
+        );
+    }
+    Some(records)
+}
+
+fn find(records: &[RunRecord], m: Method) -> &RunRecord {
+    records
+        .iter()
+        .find(|r| r.method == m.name())
+        .expect("the method ran")
+}
+
+/// Bounds below were measured at 160×90, face resolution 32, on lavapipe; the measured value
+/// is quoted in each test. The metric's own floor, for a perfectly world-stable image, is
+/// about 0.01 (checker corners and sub-pixel detail; see `calibration.rs`).
+#[test]
+fn splat_under_pure_yaw_does_not_shimmer() {
+    let Some(r) = run("stone_circle", "yaw", &[Method::Splat, Method::Naive], 32) else {
+        return;
+    };
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
+    // Measured: splat max 0.004 (resampling residue at texel corners, none of it from the
+    // eye probe), naive mean 0.14. Nothing in the world moves relative to the probes, so
+    // anything above the metric's floor would be a real pop.
+    assert!(splat.shimmer.max < 0.01, "{:?}", splat.shimmer);
+    assert!(splat.shimmer.mean * 20.0 < naive.shimmer.mean);
+}
+
+#[test]
+fn splat_strafing_inside_a_cell_is_far_below_naive() {
+    let Some(r) = run(
+        "stone_circle",
+        "strafe_in_cell",
+        &[Method::Splat, Method::Naive],
+        32,
+    ) else {
+        return;
+    };
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
+    // Measured: splat mean 0.0021, naive 0.030 (14×). The probes stay put inside a cell, so
+    // only the eye probe and raster resampling can flicker; ask for at least 5×.
+    assert!(
+        splat.shimmer.mean * 5.0 < naive.shimmer.mean,
+        "splat {:?} naive {:?}",
+        splat.shimmer,
+        naive.shimmer
+    );
+    assert!(splat.shimmer.max < 0.015, "{:?}", splat.shimmer);
+}
+
+#[test]
+fn snap_is_stable_under_an_orthographic_pan_and_not_under_a_perspective_strafe() {
+    let Some(ortho) = run("stone_circle", "ortho_pan", &[Method::Snap], 32) else {
+        return;
+    };
+    let Some(persp) = run("stone_circle", "strafe_in_cell", &[Method::Snap], 32) else {
+        return;
+    };
+    let (o, p) = (find(&ortho, Method::Snap), find(&persp, Method::Snap));
+    // Measured: ortho max 0.0 (whole-texel snapping keeps every art pixel on the geometry);
+    // perspective max 0.28 (depths drift at different rates, the snap cannot hold them).
+    assert!(o.shimmer.max < 0.005, "{:?}", o.shimmer);
+    assert!(p.shimmer.max > 0.1, "{:?}", p.shimmer);
+}
+
+#[test]
+fn splat_across_cells_stays_bounded_per_frame() {
+    let Some(r) = run(
+        "stone_circle",
+        "sprint_cells",
+        &[Method::Splat, Method::Naive],
+        32,
+    ) else {
+        return;
+    };
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
+    // Measured: splat mean 0.052, worst frame 0.25 (a cell crossing re-captures the grid
+    // probe from a new origin every four frames); naive mean 0.18. Bound the worst frame at
+    // 0.35 and the mean well under naive's.
+    assert!(splat.shimmer.max < 0.35, "{:?}", splat.shimmer_per_frame);
+    assert!(splat.shimmer.mean < 0.08, "{:?}", splat.shimmer);
+    assert!(splat.shimmer.mean * 2.0 < naive.shimmer.mean);
+}
+
+#[test]
+fn behind_an_occluder_the_flicker_concentrates_in_eye_pixels() {
+    let Some(r) = run("colonnade", "occluder_pass", &[Method::Splat], 32) else {
+        return;
+    };
+    let splat = find(&r, Method::Splat);
+    let eye = splat.eye_fraction.expect("splat reports eye pixels");
+    let share = splat.eye_flicker_share.expect("something flickered");
+    // Measured: eye pixels are 4.4% of the frame but hold 34% of the flicker (7.7× their
+    // share): the disoccluded regions the eye probe fills are where splatting is unstable.
+    // (A majority, as the issue expected, is not what we measure.)
+    assert!(
+        share > 4.0 * eye,
+        "eye share {share} of flicker, {eye} of pixels"
+    );
+    assert!(share > 0.2, "{share}");
+}
+
+#[test]
+fn along_the_wall_the_hole_rate_stays_low() {
+    let Some(r) = run(
+        "colonnade",
+        "wall_graze",
+        &[Method::Splat, Method::Naive],
+        32,
+    ) else {
+        return;
+    };
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
+    // Measured: splat 0.0001 of pixels (grazing quads are stretched to close gaps), naive
+    // 0.0087 (thin geometry lost at low resolution). Bound at 0.002.
+    assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
+    assert!(splat.hole_rate < naive.hole_rate);
+}
