@@ -117,20 +117,17 @@ fn splat_across_cells_stays_bounded_per_frame() {
 
 #[test]
 fn behind_an_occluder_the_flicker_concentrates_in_eye_pixels() {
-    let Some(r) = run("colonnade", "occluder_pass", &[Method::Splat], 32) else {
+    let Some(r) = run("colonnade", "occluder_pass", &[Method::Splat], 48) else {
         return;
     };
     let splat = find(&r, Method::Splat);
     let eye = splat.eye_fraction.expect("splat reports eye pixels");
     let share = splat.eye_flicker_share.expect("something flickered");
-    // Measured: eye pixels are 4.4% of the frame but hold 34% of the flicker (7.7× their
-    // share): the disoccluded regions the eye probe fills are where splatting is unstable.
-    // (A majority, as the issue expected, is not what we measure.)
-    assert!(
-        share > 4.0 * eye,
-        "eye share {share} of flicker, {eye} of pixels"
-    );
-    assert!(share > 0.2, "{share}");
+    // Inside one cell the grid probe is fixed, so what flickers is what it cannot see: the
+    // disoccluded regions the eye probe fills. Measured: eye pixels are 14% of the frame
+    // and hold 84% of the flicker (66% at faces of 32, 72% at 64). Bound: a majority.
+    assert!(share > 0.5, "eye share {share} of flicker, {eye} of pixels");
+    assert!(share > 3.0 * eye, "eye share {share} of flicker, {eye} of pixels");
 }
 
 #[test]
