@@ -5,11 +5,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/bvh.wgsl"
-
-struct Sun {
-    to_light: vec4<f32>,
-    colour: vec4<f32>,
-}
+#include "lib/lighting.wgsl"
 
 struct ScreenGlobals {
     suns: array<Sun, 4>,
@@ -40,34 +36,6 @@ struct ScreenGlobals {
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 
 const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
-
-// shade.wgsl `lighting`, line for line (shadows always on).
-fn lighting(p: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
-    var light = globals.ambient.rgb;
-    let start = p + normal * 0.02;
-    for (var i = 0u; i < globals.sun_count; i++) {
-        let s = globals.suns[i];
-        let ndl = dot(normal, s.to_light.xyz);
-        if ndl > 0.0 && !bvh_any_hit(start, s.to_light.xyz, 1.0e4) {
-            light += s.colour.rgb * ndl;
-        }
-    }
-    for (var i = 0u; i < globals.point_count; i++) {
-        let l = points[i];
-        let to = l.position - p;
-        let dist = length(to);
-        if dist >= l.radius || dist < 1.0e-4 {
-            continue;
-        }
-        let dir = to / dist;
-        let ndl = dot(normal, dir);
-        if ndl > 0.0 && !bvh_any_hit(start, dir, dist - 0.02) {
-            let fall = 1.0 - dist / l.radius;
-            light += l.colour.rgb * ndl * fall * fall;
-        }
-    }
-    return light;
-}
 
 // The direction from the eye to `p` (the view axis for an orthographic camera).
 fn view_ray(p: vec3<f32>) -> vec3<f32> {

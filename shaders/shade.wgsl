@@ -6,6 +6,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/bvh.wgsl"
+#include "lib/lighting.wgsl"
 #include "lib/view.wgsl"
 
 struct ShadeFace {
@@ -19,11 +20,6 @@ struct ShadeFace {
     _pad2: u32,
 }
 
-struct Sun {
-    to_light: vec4<f32>,
-    colour: vec4<f32>,
-}
-
 struct ShadeGlobals {
     suns: array<Sun, 4>,
     ambient: vec4<f32>,
@@ -31,7 +27,7 @@ struct ShadeGlobals {
     sun_count: u32,
     point_count: u32,
     bands: u32,
-    shadows: u32,
+    _pad0: u32,
 }
 
 @group(0) @binding(0) var<uniform> sf: ShadeFace;
@@ -86,34 +82,6 @@ fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
     }
     return load(f.face, texel_of_uv(f.uv, n));
 }
-
-fn lighting(p: vec3<f32>, normal: vec3<f32>) -> vec3<f32> {
-    var light = globals.ambient.rgb;
-    let start = p + normal * 0.02;
-    for (var i = 0u; i < globals.sun_count; i++) {
-        let s = globals.suns[i];
-        let ndl = dot(normal, s.to_light.xyz);
-        if ndl > 0.0 && (globals.shadows == 0u || !bvh_any_hit(start, s.to_light.xyz, 1.0e4)) {
-            light += s.colour.rgb * ndl;
-        }
-    }
-    for (var i = 0u; i < globals.point_count; i++) {
-        let l = points[i];
-        let to = l.position - p;
-        let dist = length(to);
-        if dist >= l.radius || dist < 1.0e-4 {
-            continue;
-        }
-        let dir = to / dist;
-        let ndl = dot(normal, dir);
-        if ndl > 0.0 && (globals.shadows == 0u || !bvh_any_hit(start, dir, dist - 0.02)) {
-            let fall = 1.0 - dist / l.radius;
-            light += l.colour.rgb * ndl * fall * fall;
-        }
-    }
-    return light;
-}
-
 
 var<workgroup> group_count: atomic<u32>;
 

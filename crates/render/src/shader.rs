@@ -15,6 +15,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/view.wgsl"),
     ),
     (
+        "lib/lighting.wgsl",
+        include_str!("../../../shaders/lib/lighting.wgsl"),
+    ),
+    (
         "lib/bvh.wgsl",
         include_str!("../../../shaders/lib/bvh.wgsl"),
     ),

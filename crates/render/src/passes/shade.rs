@@ -62,7 +62,7 @@ pub struct ShadeGlobals {
     sun_count: u32,
     point_count: u32,
     bands: u32,
-    shadows: u32,
+    _pad: u32,
 }
 
 /// The shade pass.
@@ -348,6 +348,6 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         sun_count: scene.suns.len() as u32,
         point_count: scene.point_count,
         bands: look.bands.max(2),
-        shadows: 1,
+        _pad: 0,
     }
 }
