@@ -127,7 +127,10 @@ fn behind_an_occluder_the_flicker_concentrates_in_eye_pixels() {
     // disoccluded regions the eye probe fills. Measured: eye pixels are 14% of the frame
     // and hold 84% of the flicker (66% at faces of 32, 72% at 64). Bound: a majority.
     assert!(share > 0.5, "eye share {share} of flicker, {eye} of pixels");
-    assert!(share > 3.0 * eye, "eye share {share} of flicker, {eye} of pixels");
+    assert!(
+        share > 3.0 * eye,
+        "eye share {share} of flicker, {eye} of pixels"
+    );
 }
 
 #[test]
