@@ -3,6 +3,7 @@
 //! packed albedo). The low-resolution methods shade it per pixel; at full resolution it is the
 //! evaluator's reference G-buffer.
 
+use crate::passes::{RenderSpec, render_pipeline};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec2, Vec3};
 
@@ -136,50 +137,20 @@ impl GBufferPass {
             label: Some("baselines::gbuffer::layout"),
             entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("baselines::gbuffer::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let target = |format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("baselines::gbuffer::pipeline"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
+        // Both sides, as the capture pass: planes are one-sided surfaces.
+        let vertex_buffers = [Some(GpuScene::vertex_layout())];
+        let pipeline = render_pipeline(
+            device,
+            RenderSpec {
+                owner: "baselines::gbuffer",
                 module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(GpuScene::vertex_layout())],
+                layouts: &[&layout],
+                vertex_buffers: &vertex_buffers,
+                fragment: "fs",
+                targets: &[WORLD_FORMAT, NORMAL_FORMAT, ID_FORMAT],
+                depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
             },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[
-                    target(WORLD_FORMAT),
-                    target(NORMAL_FORMAT),
-                    target(ID_FORMAT),
-                ],
-            }),
-            // Both sides, as the capture pass: planes are one-sided surfaces.
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         let camera = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("baselines::gbuffer::camera"),
             size: size_of::<CameraUniform>() as u64,

@@ -15,6 +15,7 @@ pub mod snap;
 mod timer;
 pub mod upscale;
 
+use crate::passes::{RenderSpec, render_pipeline};
 use std::time::Instant;
 
 use glam::{UVec2, Vec2};
@@ -166,39 +167,18 @@ pub(crate) fn fullscreen_pipeline(
     layout: &wgpu::BindGroupLayout,
     owner: &str,
 ) -> wgpu::RenderPipeline {
-    let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-        label: Some(&format!("{owner}::pipeline_layout")),
-        bind_group_layouts: &[Some(layout)],
-        immediate_size: 0,
-    });
-    let target = |format| {
-        Some(wgpu::ColorTargetState {
-            format,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })
-    };
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(&format!("{owner}::pipeline")),
-        layout: Some(&pl),
-        vertex: wgpu::VertexState {
+    render_pipeline(
+        device,
+        RenderSpec {
+            owner,
             module,
-            entry_point: Some("vs"),
-            compilation_options: Default::default(),
-            buffers: &[],
+            layouts: &[layout],
+            vertex_buffers: &[],
+            fragment: "fs",
+            targets: &[OFFSCREEN_FORMAT, OUTPUT_ID_FORMAT],
+            depth: None,
         },
-        fragment: Some(wgpu::FragmentState {
-            module,
-            entry_point: Some("fs"),
-            compilation_options: Default::default(),
-            targets: &[target(OFFSCREEN_FORMAT), target(OUTPUT_ID_FORMAT)],
-        }),
-        primitive: wgpu::PrimitiveState::default(),
-        depth_stencil: None,
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    })
+    )
 }
 
 /// Renders the baselines. Built once (pipelines, layouts); the scene is uploaded by

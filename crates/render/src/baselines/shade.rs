@@ -2,6 +2,7 @@
 //! the texel shade pass's lighting, posterization and outline rule, so the baselines differ
 //! from texel splatting only in where colours are computed, never in how (haze included).
 
+use crate::passes::compute_pipeline;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -85,19 +86,8 @@ impl ScreenShadePass {
             label: Some("baselines::shade::bvh_layout"),
             entries: &[entry(0, c, storage(true)), entry(1, c, storage(true))],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("baselines::shade::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout), Some(&bvh_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("baselines::shade::pipeline"),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let layouts = [&layout, &bvh_layout];
+        let pipeline = compute_pipeline(device, "baselines::shade", &module, "main", &layouts);
         let globals = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("baselines::shade::globals"),
             size: size_of::<ScreenGlobals>() as u64,

@@ -1,7 +1,7 @@
 //! Background: the eye probe (or the sky) behind every pixel (`shaders/background.wgsl`).
 
-use super::{ARRAY, FLOAT, UINT, entry, texture, uniform};
-use crate::passes::splat::{SPLAT_DEPTH_FORMAT, targets};
+use super::{ARRAY, FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, texture, uniform};
+use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::probe_store::SlotTextures;
 use crate::shader;
 
@@ -28,39 +28,19 @@ impl BackgroundPass {
                 entry(3, f, texture(FLOAT, ARRAY)),
             ],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("background::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("background::pipeline"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
+        let pipeline = render_pipeline(
+            device,
+            RenderSpec {
+                owner: "background",
                 module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
-            },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &targets(colour),
-            }),
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: SPLAT_DEPTH_FORMAT,
-                depth_write_enabled: Some(false),
+                layouts: &[&layout],
+                vertex_buffers: &[],
+                fragment: "fs",
+                targets: &[colour, KEY_FORMAT],
                 // At the far plane: only where no splat wrote depth.
-                depth_compare: Some(wgpu::CompareFunction::LessEqual),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+                depth: Some((SPLAT_DEPTH_FORMAT, false, wgpu::CompareFunction::LessEqual)),
+            },
+        );
         Ok(BackgroundPass { pipeline, layout })
     }
 
@@ -71,28 +51,17 @@ impl BackgroundPass {
         view: &wgpu::Buffer,
         eye: &SlotTextures,
     ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("background::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: view.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&eye.ids.array_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&eye.lit.array_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: wgpu::BindingResource::TextureView(&eye.geo.array_view),
-                },
+        bind_group(
+            device,
+            "background::bind",
+            &self.layout,
+            &[
+                view.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&eye.ids.array_view),
+                wgpu::BindingResource::TextureView(&eye.lit.array_view),
+                wgpu::BindingResource::TextureView(&eye.geo.array_view),
             ],
-        })
+        )
     }
 
     /// Draws the fullscreen triangle.

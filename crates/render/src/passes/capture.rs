@@ -3,7 +3,7 @@
 use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
-use super::{UNIFORM_STRIDE, entry, storage, uniform};
+use super::{RenderSpec, UNIFORM_STRIDE, bind_group, entry, render_pipeline, storage, uniform};
 use crate::gpu_scene::GpuScene;
 use crate::input::CaptureInput;
 use crate::probe_store::{ALBEDO_FORMAT, DEPTH_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore};
@@ -42,47 +42,21 @@ impl CapturePass {
             label: Some("capture::layout"),
             entries: &[entry(0, vf, uniform(true)), entry(1, vf, storage(true))],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("capture::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let target = |format| {
-            Some(wgpu::ColorTargetState {
-                format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
-            })
-        };
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("capture::pipeline"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
+        // Both sides are drawn (default primitive state): the face projection flips Y (and so
+        // the winding), and planes are one-sided surfaces that must still occlude from below.
+        let vertex_buffers = [Some(GpuScene::vertex_layout())];
+        let pipeline = render_pipeline(
+            device,
+            RenderSpec {
+                owner: "capture",
                 module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[Some(GpuScene::vertex_layout())],
+                layouts: &[&layout],
+                vertex_buffers: &vertex_buffers,
+                fragment: "fs",
+                targets: &[GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT],
+                depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
             },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[target(GEO_FORMAT), target(ID_FORMAT), target(ALBEDO_FORMAT)],
-            }),
-            // Both sides: the face projection flips Y (and so the winding), and planes are
-            // one-sided surfaces that must still occlude from below.
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: Some(wgpu::DepthStencilState {
-                format: DEPTH_FORMAT,
-                depth_write_enabled: Some(true),
-                depth_compare: Some(wgpu::CompareFunction::Less),
-                stencil: Default::default(),
-                bias: Default::default(),
-            }),
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         let faces = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("capture::faces"),
             size: UNIFORM_STRIDE * MAX_CAPTURES as u64,
@@ -121,24 +95,13 @@ impl CapturePass {
             return;
         }
         queue.write_buffer(&self.faces, 0, &bytes);
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("capture::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.faces,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(size_of::<FaceParams>() as u64),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: scene.objects.as_entire_binding(),
-                },
-            ],
+        let face = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.faces,
+            offset: 0,
+            size: wgpu::BufferSize::new(size_of::<FaceParams>() as u64),
         });
+        let resources = [face, scene.objects.as_entire_binding()];
+        let bind = bind_group(device, "capture::bind", &self.layout, &resources);
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
             let f = c.face.index();

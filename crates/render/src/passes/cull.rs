@@ -3,7 +3,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{ARRAY, FLOAT, UINT, entry, storage, texture, uniform};
+use super::{ARRAY, FLOAT, UINT, bind_group, compute_pipeline, entry, storage, texture, uniform};
 use crate::probe_store::ProbeStore;
 use crate::shader;
 use texel_probes::cube::Face;
@@ -70,19 +70,13 @@ impl CullPass {
             ],
         });
         let textures_layout = probe_textures_layout(device, c);
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("cull::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout), Some(&textures_layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("cull::pipeline"),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(
+            device,
+            "cull",
+            &module,
+            "main",
+            &[&layout, &textures_layout],
+        );
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
             size: size_of::<DrawArgs>() as u64,
@@ -145,28 +139,17 @@ impl CullPass {
             first_instance: 0,
         };
         queue.write_buffer(&self.args, 0, bytemuck::bytes_of(&reset));
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("cull::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: view.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.splats.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: self.args.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: self.work.as_entire_binding(),
-                },
+        let bind = bind_group(
+            device,
+            "cull::bind",
+            &self.layout,
+            &[
+                view.as_entire_binding(),
+                self.splats.as_entire_binding(),
+                self.args.as_entire_binding(),
+                self.work.as_entire_binding(),
             ],
-        });
+        );
         let textures = probe_textures_bind_group(device, &self.textures_layout, store);
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("cull::pass"),
@@ -214,8 +197,9 @@ pub fn probe_textures_bind_group(
     layout: &wgpu::BindGroupLayout,
     store: &ProbeStore,
 ) -> wgpu::BindGroup {
-    let mut entries = Vec::new();
-    for kind in 0..3u32 {
+    // Binding `kind · 3 + slot`: geo, then ids, then lit, each for the three slots in order.
+    let mut resources = Vec::new();
+    for kind in 0..3 {
         for slot in Slot::ALL {
             let t = store.slot(slot);
             let view = match kind {
@@ -223,15 +207,8 @@ pub fn probe_textures_bind_group(
                 1 => &t.ids.array_view,
                 _ => &t.lit.array_view,
             };
-            entries.push(wgpu::BindGroupEntry {
-                binding: kind * 3 + slot.index() as u32,
-                resource: wgpu::BindingResource::TextureView(view),
-            });
+            resources.push(wgpu::BindingResource::TextureView(view));
         }
     }
-    device.create_bind_group(&wgpu::BindGroupDescriptor {
-        label: Some("cull::probe_textures"),
-        layout,
-        entries: &entries,
-    })
+    bind_group(device, "cull::probe_textures", layout, &resources)
 }

@@ -104,3 +104,122 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         ("present.wgsl", "Sizes", present::SIZES_SIZE),
     ]
 }
+
+/// What distinguishes one render pipeline from another here; the rest (triangle lists, no
+/// blending, one sample, no multiview) is the same for every pass.
+pub(crate) struct RenderSpec<'a> {
+    /// Owner, for labels (`"splat"` → `"splat::pipeline"`).
+    pub owner: &'a str,
+    /// The shader module (`vs` is the vertex entry point).
+    pub module: &'a wgpu::ShaderModule,
+    /// Bind group layouts, group 0 first.
+    pub layouts: &'a [&'a wgpu::BindGroupLayout],
+    /// Vertex buffers (none for vertex pulling and fullscreen triangles).
+    pub vertex_buffers: &'a [Option<wgpu::VertexBufferLayout<'a>>],
+    /// Fragment entry point.
+    pub fragment: &'a str,
+    /// Colour target formats, location 0 first.
+    pub targets: &'a [wgpu::TextureFormat],
+    /// Depth format, whether to write depth, and the compare function.
+    pub depth: Option<(wgpu::TextureFormat, bool, wgpu::CompareFunction)>,
+}
+
+/// A pipeline layout over `layouts`, labelled after `owner`.
+pub(crate) fn pipeline_layout(
+    device: &wgpu::Device,
+    owner: &str,
+    layouts: &[&wgpu::BindGroupLayout],
+) -> wgpu::PipelineLayout {
+    let layouts: Vec<Option<&wgpu::BindGroupLayout>> = layouts.iter().map(|l| Some(*l)).collect();
+    device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
+        label: Some(&format!("{owner}::pipeline_layout")),
+        bind_group_layouts: &layouts,
+        immediate_size: 0,
+    })
+}
+
+/// The render pipeline of `spec`.
+pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wgpu::RenderPipeline {
+    let layout = pipeline_layout(device, spec.owner, spec.layouts);
+    let targets: Vec<Option<wgpu::ColorTargetState>> = spec
+        .targets
+        .iter()
+        .map(|&format| {
+            Some(wgpu::ColorTargetState {
+                format,
+                blend: None,
+                write_mask: wgpu::ColorWrites::ALL,
+            })
+        })
+        .collect();
+    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+        label: Some(&format!("{}::pipeline", spec.owner)),
+        layout: Some(&layout),
+        vertex: wgpu::VertexState {
+            module: spec.module,
+            entry_point: Some("vs"),
+            compilation_options: Default::default(),
+            buffers: spec.vertex_buffers,
+        },
+        fragment: Some(wgpu::FragmentState {
+            module: spec.module,
+            entry_point: Some(spec.fragment),
+            compilation_options: Default::default(),
+            targets: &targets,
+        }),
+        primitive: wgpu::PrimitiveState::default(),
+        depth_stencil: spec
+            .depth
+            .map(|(format, write, compare)| wgpu::DepthStencilState {
+                format,
+                depth_write_enabled: Some(write),
+                depth_compare: Some(compare),
+                stencil: Default::default(),
+                bias: Default::default(),
+            }),
+        multisample: Default::default(),
+        multiview_mask: None,
+        cache: None,
+    })
+}
+
+/// The compute pipeline of `entry` in `module`.
+pub(crate) fn compute_pipeline(
+    device: &wgpu::Device,
+    owner: &str,
+    module: &wgpu::ShaderModule,
+    entry: &str,
+    layouts: &[&wgpu::BindGroupLayout],
+) -> wgpu::ComputePipeline {
+    let layout = pipeline_layout(device, owner, layouts);
+    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+        label: Some(&format!("{owner}::pipeline")),
+        layout: Some(&layout),
+        module,
+        entry_point: Some(entry),
+        compilation_options: Default::default(),
+        cache: None,
+    })
+}
+
+/// A bind group binding `resources[i]` at binding `i`.
+pub(crate) fn bind_group(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+    resources: &[wgpu::BindingResource<'_>],
+) -> wgpu::BindGroup {
+    let entries: Vec<wgpu::BindGroupEntry<'_>> = resources
+        .iter()
+        .enumerate()
+        .map(|(i, r)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: r.clone(),
+        })
+        .collect();
+    device.create_bind_group(&wgpu::BindGroupDescriptor {
+        label: Some(label),
+        layout,
+        entries: &entries,
+    })
+}

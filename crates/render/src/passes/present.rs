@@ -2,7 +2,7 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{FLOAT, entry, texture, uniform};
+use super::{FLOAT, RenderSpec, bind_group, entry, render_pipeline, texture, uniform};
 use crate::shader;
 
 #[repr(C)]
@@ -37,36 +37,18 @@ impl PresentPass {
                 entry(1, f, uniform(false)),
             ],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("present::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-            label: Some("present::pipeline"),
-            layout: Some(&pl),
-            vertex: wgpu::VertexState {
+        let pipeline = render_pipeline(
+            device,
+            RenderSpec {
+                owner: "present",
                 module: &module,
-                entry_point: Some("vs"),
-                compilation_options: Default::default(),
-                buffers: &[],
+                layouts: &[&layout],
+                vertex_buffers: &[],
+                fragment: "fs",
+                targets: &[colour],
+                depth: None,
             },
-            fragment: Some(wgpu::FragmentState {
-                module: &module,
-                entry_point: Some("fs"),
-                compilation_options: Default::default(),
-                targets: &[Some(wgpu::ColorTargetState {
-                    format: colour,
-                    blend: None,
-                    write_mask: wgpu::ColorWrites::ALL,
-                })],
-            }),
-            primitive: wgpu::PrimitiveState::default(),
-            depth_stencil: None,
-            multisample: Default::default(),
-            multiview_mask: None,
-            cache: None,
-        });
+        );
         let sizes = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("present::sizes"),
             size: size_of::<Sizes>() as u64,
@@ -97,20 +79,15 @@ impl PresentPass {
             internal: [internal.0, internal.1],
         };
         queue.write_buffer(&self.sizes, 0, bytemuck::bytes_of(&sizes));
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("present::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(frame),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.sizes.as_entire_binding(),
-                },
+        let bind = bind_group(
+            device,
+            "present::bind",
+            &self.layout,
+            &[
+                wgpu::BindingResource::TextureView(frame),
+                self.sizes.as_entire_binding(),
             ],
-        });
+        );
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
             label: Some("present::pass"),
             color_attachments: &[Some(wgpu::RenderPassColorAttachment {

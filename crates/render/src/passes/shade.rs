@@ -3,7 +3,10 @@
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
-use super::{ARRAY, FLOAT, UINT, UNIFORM_STRIDE, entry, storage, texture, uniform};
+use super::{
+    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
+    uniform,
+};
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
 use crate::input::Look;
 use crate::passes::capture::MAX_CAPTURES;
@@ -121,23 +124,10 @@ impl ShadePass {
             label: Some("shade::stable_layout"),
             entries: &stable_entries,
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("shade::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout), Some(&bvh_layout), Some(&stable_layout)],
-            immediate_size: 0,
-        });
-        let pipeline_for = |entry: &str| {
-            device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some("shade::pipeline"),
-                layout: Some(&pl),
-                module: &module,
-                entry_point: Some(entry),
-                compilation_options: Default::default(),
-                cache: None,
-            })
-        };
-        let pipeline = pipeline_for("main");
-        let border_pipeline = pipeline_for("border");
+        let layouts = [&layout, &bvh_layout, &stable_layout];
+        let pipeline = compute_pipeline(device, "shade", &module, "main", &layouts);
+        let border_pipeline =
+            compute_pipeline(device, "shade::border", &module, "border", &layouts);
         let buffer = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -211,20 +201,15 @@ impl ShadePass {
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
         }
         queue.write_buffer(&self.faces, 0, &bytes);
-        let bvh = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shade::bvh"),
-            layout: &self.bvh_layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: scene.bvh_nodes.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: scene.bvh_triangles.as_entire_binding(),
-                },
+        let bvh = bind_group(
+            device,
+            "shade::bvh",
+            &self.bvh_layout,
+            &[
+                scene.bvh_nodes.as_entire_binding(),
+                scene.bvh_triangles.as_entire_binding(),
             ],
-        });
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("shade::pass"),
             timestamp_writes: None,
@@ -261,28 +246,15 @@ impl ShadePass {
         slots: [Slot; 2],
         view: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
-        let mut entries = Vec::new();
-        for (k, slot) in slots.into_iter().enumerate() {
+        let mut resources = Vec::new();
+        for slot in slots {
             let t = store.slot(slot);
-            for (i, v) in [&t.geo.array_view, &t.ids.array_view, &t.lit.array_view]
-                .into_iter()
-                .enumerate()
-            {
-                entries.push(wgpu::BindGroupEntry {
-                    binding: (k * 3 + i) as u32,
-                    resource: wgpu::BindingResource::TextureView(v),
-                });
+            for v in [&t.geo.array_view, &t.ids.array_view, &t.lit.array_view] {
+                resources.push(wgpu::BindingResource::TextureView(v));
             }
         }
-        entries.push(wgpu::BindGroupEntry {
-            binding: 6,
-            resource: view.as_entire_binding(),
-        });
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shade::stable"),
-            layout: &self.stable_layout,
-            entries: &entries,
-        })
+        resources.push(view.as_entire_binding());
+        bind_group(device, "shade::stable", &self.stable_layout, &resources)
     }
 
     fn slot_bind_group(
@@ -293,44 +265,28 @@ impl ShadePass {
         scene: &GpuScene,
     ) -> wgpu::BindGroup {
         let slot = store.slot(slot);
-        let tex = |b, v| wgpu::BindGroupEntry {
-            binding: b,
-            resource: wgpu::BindingResource::TextureView(v),
-        };
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("shade::slot"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                        buffer: &self.faces,
-                        offset: 0,
-                        size: wgpu::BufferSize::new(size_of::<ShadeFace>() as u64),
-                    }),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.globals.as_entire_binding(),
-                },
-                tex(2, &slot.geo.array_view),
-                tex(3, &slot.ids.array_view),
-                tex(4, &slot.albedo.array_view),
-                tex(5, &slot.lit.array_view),
-                wgpu::BindGroupEntry {
-                    binding: 6,
-                    resource: scene.objects.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 7,
-                    resource: scene.points.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 8,
-                    resource: self.shaded.as_entire_binding(),
-                },
+        let tex = wgpu::BindingResource::TextureView;
+        let face = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+            buffer: &self.faces,
+            offset: 0,
+            size: wgpu::BufferSize::new(size_of::<ShadeFace>() as u64),
+        });
+        bind_group(
+            device,
+            "shade::slot",
+            &self.layout,
+            &[
+                face,
+                self.globals.as_entire_binding(),
+                tex(&slot.geo.array_view),
+                tex(&slot.ids.array_view),
+                tex(&slot.albedo.array_view),
+                tex(&slot.lit.array_view),
+                scene.objects.as_entire_binding(),
+                scene.points.as_entire_binding(),
+                self.shaded.as_entire_binding(),
             ],
-        })
+        )
     }
 }
 

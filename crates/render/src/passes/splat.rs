@@ -2,25 +2,13 @@
 
 use wgpu::util::DeviceExt;
 
-use super::{entry, storage, uniform};
+use super::{RenderSpec, bind_group, entry, render_pipeline, storage, uniform};
 use crate::shader;
 
 /// Format of the per-pixel texel-key target (0 = no texel).
 pub const KEY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Format of the splat depth buffer.
 pub const SPLAT_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
-
-/// The colour and key targets every on-screen pass writes.
-pub fn targets(colour: wgpu::TextureFormat) -> [Option<wgpu::ColorTargetState>; 2] {
-    let t = |format| {
-        Some(wgpu::ColorTargetState {
-            format,
-            blend: None,
-            write_mask: wgpu::ColorWrites::ALL,
-        })
-    };
-    [t(colour), t(KEY_FORMAT)]
-}
 
 /// The splat pass.
 pub struct SplatPass {
@@ -42,39 +30,19 @@ impl SplatPass {
             label: Some("splat::layout"),
             entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("splat::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline_for = |fragment: &str| {
-            device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some("splat::pipeline"),
-                layout: Some(&pl),
-                vertex: wgpu::VertexState {
+        let pipeline_for = |fragment| {
+            render_pipeline(
+                device,
+                RenderSpec {
+                    owner: "splat",
                     module: &module,
-                    entry_point: Some("vs"),
-                    compilation_options: Default::default(),
-                    buffers: &[],
+                    layouts: &[&layout],
+                    vertex_buffers: &[],
+                    fragment,
+                    targets: &[colour, KEY_FORMAT],
+                    depth: Some((SPLAT_DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
                 },
-                fragment: Some(wgpu::FragmentState {
-                    module: &module,
-                    entry_point: Some(fragment),
-                    compilation_options: Default::default(),
-                    targets: &targets(colour),
-                }),
-                primitive: wgpu::PrimitiveState::default(),
-                depth_stencil: Some(wgpu::DepthStencilState {
-                    format: SPLAT_DEPTH_FORMAT,
-                    depth_write_enabled: Some(true),
-                    depth_compare: Some(wgpu::CompareFunction::Less),
-                    stencil: Default::default(),
-                    bias: Default::default(),
-                }),
-                multisample: Default::default(),
-                multiview_mask: None,
-                cache: None,
-            })
+            )
         };
         let pipeline = pipeline_for("fs");
         let dither_pipeline = pipeline_for("fs_dither");
@@ -98,20 +66,12 @@ impl SplatPass {
         view: &wgpu::Buffer,
         splats: &wgpu::Buffer,
     ) -> wgpu::BindGroup {
-        device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("splat::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: view.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: splats.as_entire_binding(),
-                },
-            ],
-        })
+        bind_group(
+            device,
+            "splat::bind",
+            &self.layout,
+            &[view.as_entire_binding(), splats.as_entire_binding()],
+        )
     }
 
     /// Draws the splats whose count the cull pass wrote into `args`; `dither` while a

@@ -1,6 +1,6 @@
 //! Visible: counts the distinct probe texels the final frame shows (`shaders/visible.wgsl`).
 
-use super::{UINT, entry, storage, texture};
+use super::{UINT, bind_group, compute_pipeline, entry, storage, texture};
 use crate::shader;
 
 /// The visible-texel counting pass and its bitset.
@@ -24,19 +24,7 @@ impl VisiblePass {
                 entry(1, c, storage(false)),
             ],
         });
-        let pl = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
-            label: Some("visible::pipeline_layout"),
-            bind_group_layouts: &[Some(&layout)],
-            immediate_size: 0,
-        });
-        let pipeline = device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-            label: Some("visible::pipeline"),
-            layout: Some(&pl),
-            module: &module,
-            entry_point: Some("main"),
-            compilation_options: Default::default(),
-            cache: None,
-        });
+        let pipeline = compute_pipeline(device, "visible", &module, "main", &[&layout]);
         Ok(VisiblePass {
             pipeline,
             layout,
@@ -68,20 +56,15 @@ impl VisiblePass {
         size: (u32, u32),
     ) {
         encoder.clear_buffer(&self.bits, 0, None);
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("visible::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: wgpu::BindingResource::TextureView(keys),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: self.bits.as_entire_binding(),
-                },
+        let bind = bind_group(
+            device,
+            "visible::bind",
+            &self.layout,
+            &[
+                wgpu::BindingResource::TextureView(keys),
+                self.bits.as_entire_binding(),
             ],
-        });
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("visible::pass"),
             timestamp_writes: None,
