@@ -29,9 +29,14 @@ pub enum LoadError {
 /// Loads `path` and every asset it refers to.
 pub fn load_level(path: &Path) -> Result<LoadedLevel, LoadError> {
     let level = Level::load(path)?;
-    // The text is read again only to point asset errors at the line that names them.
-    let text = std::fs::read_to_string(path).ok();
-    let meshes = load_meshes(&level, path, text.as_deref())?;
+    let meshes = match load_meshes(&level, path, None) {
+        Ok(m) => m,
+        // Only then is the text read again, to point the error at the line naming the mesh.
+        Err(_) => {
+            let text = std::fs::read_to_string(path).ok();
+            load_meshes(&level, path, text.as_deref())?
+        }
+    };
     Ok(LoadedLevel {
         path: path.to_owned(),
         scene: Scene::from_level(&level),

@@ -3,6 +3,7 @@
 //! shade passes (into a probe store of the baseline's own), then each output pixel shows the
 //! lit texel in its view direction, nearest-sampled.
 
+use crate::passes::bind_group;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
 use texel_probes::cube::Face;
@@ -102,32 +103,18 @@ impl CubemapPass {
             _pad: [0; 2],
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("baselines::cubemap::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&slot.lit.array_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&slot.ids.array_view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: scene.objects.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 4,
-                    resource: wgpu::BindingResource::TextureView(&slot.geo.array_view),
-                },
+        let bind = bind_group(
+            device,
+            "baselines::cubemap::bind",
+            &self.layout,
+            &[
+                self.uniform.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&slot.lit.array_view),
+                wgpu::BindingResource::TextureView(&slot.ids.array_view),
+                scene.objects.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&slot.geo.array_view),
             ],
-        });
+        );
         let mut pass = out.begin(encoder, "baselines::cubemap::pass");
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);

@@ -3,6 +3,7 @@
 //! packed albedo). The low-resolution methods shade it per pixel; at full resolution it is the
 //! evaluator's reference G-buffer.
 
+use crate::passes::bind_group;
 use crate::passes::{RenderSpec, render_pipeline};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec2, Vec3};
@@ -183,20 +184,15 @@ impl GBufferPass {
             axis: axis.extend(axis.dot(eye)).to_array(),
         };
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("baselines::gbuffer::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.camera.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: scene.objects.as_entire_binding(),
-                },
+        let bind = bind_group(
+            device,
+            "baselines::gbuffer::bind",
+            &self.layout,
+            &[
+                self.camera.as_entire_binding(),
+                scene.objects.as_entire_binding(),
             ],
-        });
+        );
         let attach = |view, clear| {
             Some(wgpu::RenderPassColorAttachment {
                 view,

@@ -2,22 +2,16 @@
 //! the texel shade pass's lighting, posterization and outline rule, so the baselines differ
 //! from texel splatting only in where colours are computed, never in how (haze included).
 
-use crate::passes::compute_pipeline;
+use crate::passes::{bind_group, compute_pipeline};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::gbuffer::{LIT_FORMAT, ScreenTargets};
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
 use crate::input::Look;
+use crate::passes::shade::{Sun, gpu_suns};
 use crate::passes::{FLOAT, UINT, entry, storage, texture, uniform};
 use crate::shader;
-
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct Sun {
-    to_light: [f32; 4],
-    colour: [f32; 4],
-}
 
 /// `ScreenGlobals` in `shaders/screen_shade.wgsl`.
 #[repr(C)]
@@ -116,11 +110,7 @@ impl ScreenShadePass {
         eye: Eye,
         outlines: bool,
     ) -> u64 {
-        let mut suns = [Sun::zeroed(); MAX_SUNS];
-        for (s, (to_light, colour)) in suns.iter_mut().zip(&scene.suns) {
-            s.to_light = to_light.extend(0.0).to_array();
-            s.colour = colour.extend(0.0).to_array();
-        }
+        let (suns, sun_count) = gpu_suns(scene);
         let g = ScreenGlobals {
             suns,
             ambient: look.ambient.extend(1.0).to_array(),
@@ -130,7 +120,7 @@ impl ScreenShadePass {
                 .extend(f32::from(u8::from(eye.ortho)))
                 .to_array(),
             axis: eye.axis.extend(0.0).to_array(),
-            sun_count: scene.suns.len().min(MAX_SUNS) as u32,
+            sun_count,
             point_count: scene.point_count,
             // The same floor as the shade pass.
             bands: look.bands.max(2),
@@ -140,34 +130,30 @@ impl ScreenShadePass {
             _pad: 0,
         };
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
-        fn buf(binding: u32, buffer: &wgpu::Buffer) -> wgpu::BindGroupEntry<'_> {
-            wgpu::BindGroupEntry {
-                binding,
-                resource: buffer.as_entire_binding(),
-            }
-        }
-        let tex = |binding, view| wgpu::BindGroupEntry {
-            binding,
-            resource: wgpu::BindingResource::TextureView(view),
-        };
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("baselines::shade::bind"),
-            layout: &self.layout,
-            entries: &[
-                buf(0, &self.globals),
-                tex(1, &targets.world.view),
-                tex(2, &targets.normal.view),
-                tex(3, &targets.ids.view),
-                tex(4, &targets.lit.view),
-                buf(5, &scene.objects),
-                buf(6, &scene.points),
+        let tex = wgpu::BindingResource::TextureView;
+        let bind = bind_group(
+            device,
+            "baselines::shade::bind",
+            &self.layout,
+            &[
+                self.globals.as_entire_binding(),
+                tex(&targets.world.view),
+                tex(&targets.normal.view),
+                tex(&targets.ids.view),
+                tex(&targets.lit.view),
+                scene.objects.as_entire_binding(),
+                scene.points.as_entire_binding(),
             ],
-        });
-        let bvh = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("baselines::shade::bvh"),
-            layout: &self.bvh_layout,
-            entries: &[buf(0, &scene.bvh_nodes), buf(1, &scene.bvh_triangles)],
-        });
+        );
+        let bvh = bind_group(
+            device,
+            "baselines::shade::bvh",
+            &self.bvh_layout,
+            &[
+                scene.bvh_nodes.as_entire_binding(),
+                scene.bvh_triangles.as_entire_binding(),
+            ],
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("baselines::shade::pass"),
             timestamp_writes: None,

@@ -2,6 +2,7 @@
 //! nearest sampling and a sub-texel offset, writing colour and entity id. Raster uses it at
 //! scale 1, Naive at the art-pixel scale, Snap with its margin and restored remainder.
 
+use crate::passes::bind_group;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
 
@@ -84,28 +85,17 @@ impl UpscalePass {
             _pad: [0; 2],
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
-        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("baselines::upscale::bind"),
-            layout: &self.layout,
-            entries: &[
-                wgpu::BindGroupEntry {
-                    binding: 0,
-                    resource: self.uniform.as_entire_binding(),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 1,
-                    resource: wgpu::BindingResource::TextureView(&src.lit.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 2,
-                    resource: wgpu::BindingResource::TextureView(&src.ids.view),
-                },
-                wgpu::BindGroupEntry {
-                    binding: 3,
-                    resource: scene.objects.as_entire_binding(),
-                },
+        let bind = bind_group(
+            device,
+            "baselines::upscale::bind",
+            &self.layout,
+            &[
+                self.uniform.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&src.lit.view),
+                wgpu::BindingResource::TextureView(&src.ids.view),
+                scene.objects.as_entire_binding(),
             ],
-        });
+        );
         let mut pass = out.begin(encoder, "baselines::upscale::pass");
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);

@@ -48,11 +48,22 @@ pub struct ShadeJob {
     pub view_cull: bool,
 }
 
+/// `Sun` in `shaders/lib/lighting.wgsl`: direction toward the light, colour × intensity.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
-struct Sun {
+pub(crate) struct Sun {
     to_light: [f32; 4],
     colour: [f32; 4],
+}
+
+/// The scene's suns as `lib/lighting.wgsl` reads them, and how many there are.
+pub(crate) fn gpu_suns(scene: &GpuScene) -> ([Sun; MAX_SUNS], u32) {
+    let mut suns = [Sun::zeroed(); MAX_SUNS];
+    for (s, (to_light, colour)) in suns.iter_mut().zip(&scene.suns) {
+        s.to_light = to_light.extend(0.0).to_array();
+        s.colour = colour.extend(0.0).to_array();
+    }
+    (suns, scene.suns.len().min(MAX_SUNS) as u32)
 }
 
 /// `ShadeGlobals` in `shaders/shade.wgsl`.
@@ -291,17 +302,13 @@ impl ShadePass {
 }
 
 fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
-    let mut suns = [Sun::zeroed(); MAX_SUNS];
-    for (s, (to_light, colour)) in suns.iter_mut().zip(&scene.suns) {
-        s.to_light = to_light.extend(0.0).to_array();
-        s.colour = colour.extend(0.0).to_array();
-    }
+    let (suns, sun_count) = gpu_suns(scene);
     let v4 = |v: Vec3| v.extend(1.0).to_array();
     ShadeGlobals {
         suns,
         ambient: v4(look.ambient),
         sky: v4(look.sky),
-        sun_count: scene.suns.len() as u32,
+        sun_count,
         point_count: scene.point_count,
         bands: look.bands.max(2),
         _pad: 0,
