@@ -1,15 +1,19 @@
 // Cull: turns the drawn faces' texels into a compact list of splat quads with indirect draw
-// arguments. Skips sky, faces not drawn, and — in our schedule — texels whose quad lies
-// outside the view frustum or faces away from the camera, and eye texels whose surface the
-// grid probe already shows. The quad corners are computed here, once per texel, from the
-// probe's data alone (never the camera), so they are bit-identical while the probe stays.
+// arguments. Skips sky, faces not drawn, and — in our schedule — quads that lie outside the
+// view frustum or face away from the camera, and eye texels the shade pass did not light
+// this frame (off view, or shown by the grid probe). In our schedule a stable probe's quad spans a whole row run (runs.wgsl);
+// elsewhere one quad draws one texel. The quad corners are computed from the probe's data
+// alone (never the camera), so they are bit-identical while the probe stays.
 // crates/render/src/passes/cull.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
 
 struct Splat {
-    // xyz: corner; c0.w key + 1, c1.w packed sRGB colour, c2.w role, c3.w unused (bitcast).
+    // xyz: corner; c0.w key + 1 of the first texel, c1.w packed sRGB colour, c2.w role |
+    // texels << 8 | SPLAT_COLUMN for a column run, c3.w how far the quad reaches past the
+    // centres of its first and last texel along the run, in texels (pack2x16unorm) (all
+    // bitcast).
     c0: vec4<f32>,
     c1: vec4<f32>,
     c2: vec4<f32>,
@@ -45,6 +49,9 @@ struct CullWork {
 @group(1) @binding(6) var lit0: texture_2d_array<f32>;
 @group(1) @binding(7) var lit1: texture_2d_array<f32>;
 @group(1) @binding(8) var lit2: texture_2d_array<f32>;
+@group(1) @binding(9) var runs0: texture_2d_array<u32>;
+@group(1) @binding(10) var runs1: texture_2d_array<u32>;
+@group(1) @binding(11) var runs2: texture_2d_array<u32>;
 
 fn load_geo(slot: u32, t: vec2<u32>, f: u32) -> vec4<f32> {
     switch slot {
@@ -70,35 +77,20 @@ fn load_lit(slot: u32, t: vec2<u32>, f: u32) -> vec4<f32> {
     }
 }
 
-// Whether the stable probe in `slot` shows the surface point `p` of object `id`.
-fn stable_shows(slot: u32, p: vec3<f32>, id: u32) -> bool {
-    let s = view.slots[slot];
-    let r = p - s.origin;
-    let fu = cube_face_uv(r);
-    if (s.draw_mask & (1u << fu.face)) == 0u {
-        return false;
+// A run down a column (runs.wgsl's COLUMN).
+const RUN_COLUMN: u32 = 0x10000u;
+
+fn load_run(slot: u32, t: vec2<u32>, f: u32) -> u32 {
+    switch slot {
+        case 0u: { return textureLoad(runs0, t, f, 0).r; }
+        case 1u: { return textureLoad(runs1, t, f, 0).r; }
+        default: { return textureLoad(runs2, t, f, 0).r; }
     }
-    let t = texel_of_uv(fu.uv, s.n);
-    if load_id(slot, t, fu.face) != id {
-        return false;
-    }
-    return same_surface(chebyshev(r), load_geo(slot, t, fu.face).w, s.n);
 }
 
-// Whether every stable probe drawing pixels this frame shows the eye texel's surface.
-fn eye_texel_covered(p: vec3<f32>, id: u32) -> bool {
-    var covered = false;
-    for (var s = 0u; s < 3u; s++) {
-        if draws_pixels(view.slots[s].role) {
-            if !stable_shows(s, p, id) {
-                return false;
-            }
-            covered = true;
-        }
-    }
-    return covered;
-}
-
+// Drawn-this-frame flag in an eye texel's lit alpha (shade.wgsl's EYE_DRAWN): the shade
+// pass lit it because its quad reaches the view and no drawing stable probe shows it.
+const EYE_DRAWN: u32 = 16u;
 
 // Half-size toward one neighbour, in texels: tight (grazing-scaled by the angle between the
 // surface and the probe ray, camera-independent) toward a similar one, a full texel otherwise.
@@ -123,46 +115,83 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n {
         return;
     }
+    // Texels in the quad: a stable probe's run in our schedule (runs.wgsl), else one. An
+    // eye texel is drawn in our schedule only if the shade pass lit it this frame.
+    var run = 1u;
+    if view.schedule == 0u {
+        if s.role == ROLE_EYE {
+            if (u32(load_lit(slot, t, face).a) & EYE_DRAWN) == 0u {
+                return;
+            }
+        } else if view.runs != 0u {
+            run = load_run(slot, t, face);
+            if run == 0u {
+                return;
+            }
+        }
+    }
     let id = load_id(slot, t, face);
     if id == 0u {
         return;
     }
+    let column = (run & RUN_COLUMN) != 0u;
+    let texels = run & 0xffffu;
+    var last = vec2(t.x + texels - 1u, t.y);
+    if column {
+        last = vec2(t.x, t.y + texels - 1u);
+    }
     let geo = load_geo(slot, t, face);
     let uv = texel_center_uv(t, s.n);
+    let uv_last = texel_center_uv(last, s.n);
     let ray = cube_dir(face, uv.x, uv.y);
+    let ray_last = cube_dir(face, uv_last.x, uv_last.y);
     let d = geo.w;
-    let p = probe_point(s.origin, ray, d);
+    let mid = 0.5 * (uv + uv_last);
+    let p = probe_point(s.origin, cube_dir(face, mid.x, mid.y), d);
     let texel_world = texel_world_size(d, s.n, ray);
     if view.schedule == 0u {
         if s.role != ROLE_EYE && !draws_pixels(s.role) {
             return;
         }
-        if !quad_in_view(p, texel_world) {
+        if !sphere_in_view(p, (2.5 + 0.5 * f32(texels - 1u)) * texel_world) {
             return;
         }
-        // Back-facing surfaces cannot be seen (meshes are closed or one-sided).
+        // Back-facing surfaces cannot be seen (meshes are closed or one-sided). A run is
+        // planar, so its middle decides for all of it.
         if dot(geo.xyz, view.camera.xyz - p) < -1.0e-3 * d {
-            return;
-        }
-        if s.role == ROLE_EYE && eye_texel_covered(p, id) {
             return;
         }
     }
     let lit = load_lit(slot, t, face);
     let bits = u32(lit.a);
-    let cos_theta = abs(dot(geo.xyz, normalize(ray)));
+    var last_bits = bits;
+    if texels > 1u {
+        last_bits = u32(load_lit(slot, last, face).a);
+    }
+    // The more grazing end sizes the run's sides. The first texel's bits give the sides the
+    // run shares and its start; the last texel's give its end.
+    let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
     let h = 2.0 / f32(s.n);
+    var end_bits = bits;
+    if column {
+        end_bits = (bits & 3u) | (last_bits & 8u);
+    } else {
+        end_bits = (bits & 12u) | (last_bits & 2u);
+    }
+    let start_half = half_size((bits & select(1u, 4u, column)) != 0u, cos_theta);
+    let end_half = half_size((end_bits & select(2u, 8u, column)) != 0u, cos_theta);
     let left = uv.x - half_size((bits & 1u) != 0u, cos_theta) * h;
-    let right = uv.x + half_size((bits & 2u) != 0u, cos_theta) * h;
+    let right = uv_last.x + half_size((end_bits & 2u) != 0u, cos_theta) * h;
     let top = uv.y - half_size((bits & 4u) != 0u, cos_theta) * h;
-    let bottom = uv.y + half_size((bits & 8u) != 0u, cos_theta) * h;
+    let bottom = uv_last.y + half_size((end_bits & 8u) != 0u, cos_theta) * h;
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
     out.c0 = vec4(probe_point(s.origin, cube_dir(face, left, top), d), bitcast<f32>(key));
     out.c1 = vec4(probe_point(s.origin, cube_dir(face, right, top), d), bitcast<f32>(colour));
-    out.c2 = vec4(probe_point(s.origin, cube_dir(face, right, bottom), d), bitcast<f32>(s.role));
-    out.c3 = vec4(probe_point(s.origin, cube_dir(face, left, bottom), d), 0.0);
+    let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column);
+    out.c2 = vec4(probe_point(s.origin, cube_dir(face, right, bottom), d), bitcast<f32>(shape));
+    out.c3 = vec4(probe_point(s.origin, cube_dir(face, left, bottom), d), bitcast<f32>(pack2x16unorm(vec2(start_half, end_half))));
     let index = atomicAdd(&args.instance_count, 1u);
     if index < arrayLength(&splats) {
         splats[index] = out;

@@ -17,7 +17,8 @@ struct ShadeFace {
     view_cull: u32,
     // Bit f: face f of this probe holds data for this origin (neighbours are read there only).
     valid_mask: u32,
-    _pad2: u32,
+    // This job's record in `job_args`.
+    job: u32,
 }
 
 struct ShadeGlobals {
@@ -39,6 +40,14 @@ struct ShadeGlobals {
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
 @group(0) @binding(8) var<storage, read_write> shaded: atomic<u32>;
+// The texels of the current job that need lighting (x | y << 16), gathered by `main` so that
+// `light` runs them densely: lighting (shadow rays) is the expensive part, and lanes of a
+// group that skip it would otherwise wait for the ones that do.
+@group(0) @binding(9) var<storage, read_write> queue: array<u32>;
+// Per job: the queue length.
+@group(0) @binding(10) var<storage, read_write> job_counts: array<atomic<u32>>;
+// Per job: `light`'s indirect dispatch arguments (x, y, z, padding); bound for `main` only.
+@group(3) @binding(0) var<storage, read_write> job_args: array<atomic<u32>>;
 // The two stable slots (grid and previous, in whichever order the slots hold them) and the
 // frame's view: an eye texel whose surface every drawing stable probe already shows is not
 // splatted, and is read only by the hole fill, so it copies the stable probe's colour
@@ -85,12 +94,30 @@ fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
 
 var<workgroup> group_count: atomic<u32>;
 
+// Drawn-this-frame flag in an eye texel's alpha (beside the similar bits): the cull pass
+// draws exactly the eye texels `light` lit.
+const EYE_DRAWN: u32 = 16u;
+
+// Sorts the texels of a face: sky, off-view and covered texels are settled here, the rest
+// queued for `light`.
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    let n = sf.n;
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let t = gid.xy;
-    let in_face = t.x < n && t.y < n;
-    if in_face && shade_texel(t) {
+    if t.x < sf.n && t.y < sf.n && needs_light(t) {
+        let index = atomicAdd(&job_counts[sf.job], 1u);
+        if index % 64u == 0u {
+            atomicAdd(&job_args[sf.job * 4u], 1u);
+        }
+        queue[index] = t.x | (t.y << 16u);
+    }
+}
+
+// Lights the texels `main` queued.
+@compute @workgroup_size(64)
+fn light(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    if gid.x < atomicLoad(&job_counts[sf.job]) {
+        let packed = queue[gid.x];
+        light_texel(vec2(packed & 0xffffu, packed >> 16u));
         atomicAdd(&group_count, 1u);
     }
     workgroupBarrier();
@@ -116,7 +143,8 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
             case 2u: { t = vec2(0u, k); }
             default: { t = vec2(n - 1u, k); }
         }
-        if shade_texel(t) {
+        if needs_light(t) {
+            light_texel(t);
             atomicAdd(&group_count, 1u);
         }
     }
@@ -172,21 +200,22 @@ fn covered_colour(p: vec3<f32>, id: u32) -> vec4<f32> {
     return found;
 }
 
-// Lights one texel; returns false when it lit nothing: a sky texel, an eye texel whose quad
-// cannot reach the view (left alone), or one a stable probe shows (its colour copied).
-fn shade_texel(t: vec2<u32>) -> bool {
+// Settles a texel that needs no lighting and returns false: a sky texel; an eye texel whose
+// quad cannot reach the view (cleared: never drawn nor seen); one a stable probe shows (its
+// colour copied). Returns true for the rest.
+fn needs_light(t: vec2<u32>) -> bool {
     let n = sf.n;
     let me = load(sf.face, t);
     if me.id == 0u {
         textureStore(lit_out, t, sf.face, vec4(posterize(globals.sky.rgb, globals.bands, 0.0), 0.0));
         return false;
     }
-    let uv = texel_center_uv(t, n);
-    let ray = cube_dir(sf.face, uv.x, uv.y);
-    let d = me.geo.w;
-    let p = probe_point(sf.origin, ray, d);
     if sf.view_cull != 0u {
-        if !quad_in_view(p, texel_world_size(d, n, ray)) {
+        let uv = texel_center_uv(t, n);
+        let ray = cube_dir(sf.face, uv.x, uv.y);
+        let p = probe_point(sf.origin, ray, me.geo.w);
+        if !quad_in_view(p, texel_world_size(me.geo.w, n, ray)) {
+            textureStore(lit_out, t, sf.face, vec4(0.0));
             return false;
         }
         let copied = covered_colour(p, me.id);
@@ -195,6 +224,17 @@ fn shade_texel(t: vec2<u32>) -> bool {
             return false;
         }
     }
+    return true;
+}
+
+// Lights one texel: lights and shadows, posterization, outlines, similar-neighbour bits.
+fn light_texel(t: vec2<u32>) {
+    let n = sf.n;
+    let me = load(sf.face, t);
+    let uv = texel_center_uv(t, n);
+    let ray = cube_dir(sf.face, uv.x, uv.y);
+    let d = me.geo.w;
+    let p = probe_point(sf.origin, ray, d);
     let normal = me.geo.xyz;
     let alb = textureLoad(albedo_tex, t, sf.face, 0);
     let flags = u32(round(alb.a * 255.0));
@@ -241,6 +281,8 @@ fn shade_texel(t: vec2<u32>) -> bool {
     } else if lighten {
         shift = 1.0;
     }
+    if sf.view_cull != 0u {
+        similar |= EYE_DRAWN;
+    }
     textureStore(lit_out, t, sf.face, vec4(posterize(colour, globals.bands, shift), f32(similar)));
-    return true;
 }

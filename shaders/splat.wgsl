@@ -1,5 +1,5 @@
 // Splat: draws the culled texels as world-space quads (4 vertices, indexed, corners pulled
-// from the cull pass's list). Eye quads are pushed back in depth so grid and previous quads
+// from the cull pass's list; a quad may span a run of texels along a face row). Eye quads are pushed back in depth so grid and previous quads
 // win where both exist; grid and previous split the screen with complementary 4×4 Bayer
 // patterns while a crossfade runs. Writes the colour and the texel key of every pixel.
 // crates/render/src/passes/splat.rs.
@@ -22,6 +22,11 @@ struct VsOut {
     @location(0) @interpolate(flat) colour: vec4<f32>,
     @location(1) @interpolate(flat) key: u32,
     @location(2) @interpolate(flat) role: u32,
+    // Texel coordinate along a run quad (texel i spans [i, i + 1)), and its texels.
+    @location(3) along: f32,
+    @location(4) @interpolate(flat) texels: u32,
+    // Key step from one texel of the run to the next: 1 along a row, max_n down a column.
+    @location(5) @interpolate(flat) step: u32,
 }
 
 @vertex
@@ -39,7 +44,17 @@ fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut
         case 2u: { corner = s.c2.xyz; }
         default: { corner = s.c3.xyz; }
     }
-    let role = bitcast<u32>(s.c2.w);
+    let shape = bitcast<u32>(s.c2.w);
+    let role = shape & 0xffu;
+    let column = (shape & SPLAT_COLUMN) != 0u;
+    // Corners 0–3 are top-left, top-right, bottom-right, bottom-left: a row run starts on
+    // the left (0, 3), a column run at the top (0, 1).
+    out.texels = max((shape & 0xffffu) >> 8u, 1u);
+    // Texel coordinate along the run: the first texel's centre is 0.5, the last's texels − 0.5.
+    let reach = unpack2x16unorm(bitcast<u32>(s.c3.w));
+    let at_start = select(vi == 0u || vi == 3u, vi <= 1u, column);
+    out.along = select(f32(out.texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
+    out.step = select(1u, view.max_n, column);
     let key = bitcast<u32>(s.c0.w);
     var clip = view.view_proj * vec4(corner, 1.0);
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
@@ -64,10 +79,15 @@ struct FsOut {
     @location(1) key: u32,
 }
 
+// The key of the texel under this pixel of a run quad.
+fn pixel_key(in: VsOut) -> u32 {
+    return in.key + in.step * u32(clamp(floor(in.along), 0.0, f32(in.texels - 1u)));
+}
+
 // Without a crossfade: no discard, so the depth test can run before the shader.
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    return FsOut(in.colour, in.key);
+    return FsOut(in.colour, pixel_key(in));
 }
 
 // During a crossfade: grid and previous split the pixels with complementary Bayer patterns.
@@ -80,5 +100,5 @@ fn fs_dither(in: VsOut) -> FsOut {
             discard;
         }
     }
-    return FsOut(in.colour, in.key);
+    return FsOut(in.colour, pixel_key(in));
 }

@@ -29,7 +29,8 @@ struct ViewGlobals {
     grid_slot: u32,
     // Haze density per world unit (0 = none).
     haze: f32,
-    _pad0: u32,
+    // 1: our schedule draws a stable probe's runs with one quad each (runs.wgsl).
+    runs: u32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -44,6 +45,8 @@ const ROLE_EYE: u32 = 0u;
 const ROLE_GRID: u32 = 1u;
 const ROLE_PREVIOUS: u32 = 2u;
 const ROLE_NONE: u32 = 3u;
+// In a splat's shape word (role | texels << 8): the run goes down a column.
+const SPLAT_COLUMN: u32 = 0x80000000u;
 
 // Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
 // cells below fade_t, the previous probe the rest.
@@ -67,8 +70,13 @@ fn texel_world_size(d: f32, n: u32, ray: vec3<f32>) -> f32 {
 // (the largest expanded quad) against the six frustum planes. Cull draws by this test and
 // shade lights eye texels by it, so every drawn eye quad was lit this frame.
 fn quad_in_view(p: vec3<f32>, texel_world: f32) -> bool {
+    return sphere_in_view(p, 2.5 * texel_world);
+}
+
+// Whether a sphere around `p` of `radius` reaches the view frustum.
+fn sphere_in_view(p: vec3<f32>, radius: f32) -> bool {
     for (var i = 0u; i < 6u; i++) {
-        if dot(view.planes[i].xyz, p) + view.planes[i].w < -2.5 * texel_world {
+        if dot(view.planes[i].xyz, p) + view.planes[i].w < -radius {
             return false;
         }
     }

@@ -258,3 +258,58 @@ fn flat_ground_shows_no_seams_while_faces_arrive_over_frames() {
         "an evenly lit plane must be one flat colour: {colours:?}"
     );
 }
+
+#[test]
+fn runs_draw_what_one_quad_per_texel_draws() {
+    let size = UVec2::new(256, 144);
+    let n = 64;
+    let Some(mut h) = Harness::new("assets/levels/stone_circle.ron", size, n) else {
+        return;
+    };
+    let c = cam(0.0, 1.6, 13.0, 0.0, -5.0);
+    settled(&mut h, c);
+    let (_, merged, merged_px) = h.frame(c, DT);
+    let runs = h.renderer.read_splats(&h.ctx).expect("splats");
+    h.renderer.set_runs(false);
+    let (_, single, single_px) = h.frame(c, DT);
+    let texels = h.renderer.read_splats(&h.ctx).expect("splats");
+    h.renderer.set_runs(true);
+
+    let (m, s) = (merged.counters, single.counters);
+    assert!(
+        m.quads_splatted * 10 < s.quads_splatted * 6,
+        "runs should save quads: {m:?} vs {s:?}"
+    );
+    // Every grid texel a single quad draws lies in exactly one run.
+    let mut in_runs = HashMap::new();
+    for r in runs.iter().filter(|r| r.role == 1) {
+        let step = if r.column { n } else { 1 };
+        for i in 0..r.texels {
+            *in_runs.entry(r.key + i * step).or_insert(0) += 1;
+        }
+    }
+    assert!(
+        in_runs.values().all(|&k| k == 1),
+        "a texel lies in two runs"
+    );
+    let grid: Vec<u32> = texels
+        .iter()
+        .filter(|t| t.role == 1)
+        .map(|t| t.key)
+        .collect();
+    assert!(grid.len() > 1000 && texels.iter().all(|t| t.texels == 1));
+    let missing = grid.iter().filter(|k| !in_runs.contains_key(k)).count();
+    assert_eq!(missing, 0, "{missing} drawn texels are in no run");
+    // The same picture, and the same texels on screen.
+    let differ = merged_px
+        .chunks(4)
+        .zip(single_px.chunks(4))
+        .filter(|(a, b)| a.iter().zip(*b).any(|(x, y)| x.abs_diff(*y) > 8))
+        .count();
+    assert!(
+        differ * 100 <= merged_px.len() / 4,
+        "{differ} pixels differ between runs and single quads"
+    );
+    let (a, b) = (m.screen_visible_texels, s.screen_visible_texels);
+    assert!(a.abs_diff(b) * 50 <= b, "visible texels {a} vs {b}");
+}

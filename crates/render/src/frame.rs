@@ -13,6 +13,7 @@ use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs};
 use crate::passes::present::PresentPass;
+use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeJob, ShadePass};
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::visible::VisiblePass;
@@ -121,6 +122,9 @@ impl Screen {
 pub struct Renderer {
     capture: CapturePass,
     shade: ShadePass,
+    runs: RunsPass,
+    /// Stable faces lit in the paper schedule, whose runs are not yet recomputed.
+    runs_stale: [FaceMask; 3],
     pub(crate) cull: CullPass,
     splat: SplatPass,
     background: BackgroundPass,
@@ -133,6 +137,7 @@ pub struct Renderer {
     pub(crate) screen: Option<Screen>,
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
+    runs_on: bool,
 }
 
 impl Renderer {
@@ -159,6 +164,8 @@ impl Renderer {
         Ok(Renderer {
             capture: CapturePass::new(d)?,
             shade: ShadePass::new(d)?,
+            runs: RunsPass::new(d)?,
+            runs_stale: [FaceMask::EMPTY; 3],
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour)?,
             background: BackgroundPass::new(d, colour)?,
@@ -178,6 +185,7 @@ impl Renderer {
             screen: None,
             offscreen: None,
             queries,
+            runs_on: true,
         })
     }
 
@@ -189,6 +197,12 @@ impl Renderer {
     /// Uploads the scene (meshes, materials, lights, shadow BVH).
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) {
         self.scene = Some(GpuScene::upload(ctx, scene));
+    }
+
+    /// Whether our schedule draws each run of alike texels of a stable probe with one quad
+    /// (on by default; off draws one quad per texel, for comparison).
+    pub fn set_runs(&mut self, on: bool) {
+        self.runs_on = on;
     }
 
     /// The probe textures (for tests and debug views).
@@ -238,7 +252,8 @@ impl Renderer {
             self.store.ensure(ctx, c.slot, c.face_resolution);
         }
         let slot_n = Slot::ALL.map(|s| self.store.slot(s).n);
-        let globals = ViewGlobals::new(input, slot_n);
+        let mut globals = ViewGlobals::new(input, slot_n);
+        globals.runs = u32::from(self.runs_on);
         ctx.queue
             .write_buffer(&self.view, 0, bytemuck::bytes_of(&globals));
         self.cull.ensure_capacity(&ctx.device, globals.max_n);
@@ -265,8 +280,24 @@ impl Renderer {
         stages.run(|enc| {
             let (store, look) = (&self.store, &input.look);
             let view = Some(&self.view);
-            let shade = &self.shade;
+            let shade = &mut self.shade;
             shade.record(d, q, enc, &jobs, store, scene, look, view);
+            // Runs of the stable faces just lit (the paper schedule draws texel by texel
+            // and leaves them for when our schedule draws again).
+            let mut lit = [FaceMask::EMPTY; 3];
+            for j in jobs.iter().filter(|j| j.slot != Slot::Eye) {
+                lit[j.slot.index()].insert(j.face);
+            }
+            for (stale, lit) in self.runs_stale.iter_mut().zip(&mut lit) {
+                if input.schedule == Schedule::Ours {
+                    *lit = lit.union(*stale);
+                    *stale = FaceMask::EMPTY;
+                } else {
+                    *stale = stale.union(*lit);
+                    *lit = FaceMask::EMPTY;
+                }
+            }
+            self.runs.record(d, q, enc, store, lit);
         });
         let drawn = drawn_faces(input);
         stages.run(|enc| {

@@ -8,6 +8,7 @@
 //! | `albedo` | `rgba8unorm` | albedo × vertex colour (rgb), object flags (a) |
 //! | `depth` | `depth32float` | capture depth test |
 //! | `lit` | `rgba16float` | shaded, posterized, outlined colour (rgb); similar-neighbour bits (a) |
+//! | `runs` | `r32uint` | stable slots: texels in the row run this texel heads (0 = inside a run) |
 
 use texel_probes::probe_set::Slot;
 
@@ -23,6 +24,8 @@ pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Lit colour.
 pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+/// Row runs.
+pub const RUNS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// One texture array and a view per layer.
 pub struct LayeredTexture {
@@ -94,6 +97,8 @@ pub struct SlotTextures {
     pub depth: LayeredTexture,
     /// Lit colour.
     pub lit: LayeredTexture,
+    /// Row runs (`shaders/runs.wgsl`).
+    pub runs: LayeredTexture,
 }
 
 impl SlotTextures {
@@ -114,6 +119,13 @@ impl SlotTextures {
                 n,
                 LIT_FORMAT,
                 U::STORAGE_BINDING | U::TEXTURE_BINDING | U::COPY_SRC,
+            ),
+            runs: LayeredTexture::new(
+                ctx,
+                &name("runs"),
+                n,
+                RUNS_FORMAT,
+                U::STORAGE_BINDING | U::TEXTURE_BINDING,
             ),
         }
     }

@@ -15,6 +15,11 @@ pub struct SplatRecord {
     pub key: u32,
     /// 0 eye, 1 grid, 2 previous.
     pub role: u32,
+    /// Texels the quad draws: a run from `key` along its face row, or down its column when
+    /// `column` (1 outside runs).
+    pub texels: u32,
+    /// The run goes down a column.
+    pub column: bool,
     /// World-space corners (top-left, top-right, bottom-right, bottom-left in face space).
     pub corners: [[f32; 3]; 4],
 }
@@ -84,7 +89,9 @@ impl Renderer {
             .iter()
             .map(|w| SplatRecord {
                 key: w[3].to_bits() - 1,
-                role: w[11].to_bits(),
+                role: w[11].to_bits() & 0xff,
+                texels: ((w[11].to_bits() & 0xffff) >> 8).max(1),
+                column: w[11].to_bits() & 0x8000_0000 != 0,
                 corners: [0, 4, 8, 12].map(|i| [w[i], w[i + 1], w[i + 2]]),
             })
             .collect())

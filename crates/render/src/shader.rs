@@ -22,6 +22,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         "lib/bvh.wgsl",
         include_str!("../../../shaders/lib/bvh.wgsl"),
     ),
+    ("runs.wgsl", include_str!("../../../shaders/runs.wgsl")),
     (
         "background.wgsl",
         include_str!("../../../shaders/background.wgsl"),

@@ -40,7 +40,9 @@ pub struct ViewGlobals {
     eye_slot: u32,
     grid_slot: u32,
     haze: f32,
-    _pad2: [u32; 3],
+    /// 1: our schedule draws a stable probe's runs with one quad each (`runs.wgsl`).
+    pub runs: u32,
+    _pad2: [u32; 2],
 }
 
 /// Role numbers of `lib/view.wgsl`.
@@ -124,7 +126,8 @@ impl ViewGlobals {
             eye_slot: Slot::Eye.index() as u32,
             grid_slot: input.grid.slot.index() as u32,
             haze: input.look.haze.max(0.0),
-            _pad2: [0; 3],
+            runs: 1,
+            _pad2: [0; 2],
         }
     }
 }

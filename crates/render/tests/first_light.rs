@@ -20,7 +20,16 @@ fn boxes_render_with_sky_ground_and_boxes() {
         common::save_png(&format!("first_light_{schedule:?}.png"), &px, size);
         println!("{schedule:?}: {stats:?}");
         assert_eq!(stats.counters.faces_captured, 12);
-        assert!(stats.counters.quads_splatted > 1000, "{:?}", stats.counters);
+        let c = stats.counters;
+        match schedule {
+            // Runs: one quad draws a stretch of alike texels (the ground's rows).
+            Schedule::Ours => assert!(
+                c.quads_splatted > 100 && c.quads_splatted < c.screen_visible_texels,
+                "{c:?}"
+            ),
+            // The paper draws every texel of the visible faces, seen or not.
+            Schedule::Paper => assert!(c.quads_splatted > c.screen_visible_texels, "{c:?}"),
+        }
         assert!(
             stats.counters.screen_visible_texels > 500,
             "{:?}",

@@ -174,13 +174,13 @@ fn splat_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
     })
 }
 
-/// Geo, ids and lit of the three slots, bindings 0–8 (`cull.wgsl` group 1).
+/// Geo, ids, lit and runs of the three slots, bindings 0–11 (`cull.wgsl` group 1).
 pub fn probe_textures_layout(
     device: &wgpu::Device,
     stages: wgpu::ShaderStages,
 ) -> wgpu::BindGroupLayout {
     let mut entries = Vec::new();
-    for (kind, sample) in [(0, FLOAT), (1, UINT), (2, FLOAT)] {
+    for (kind, sample) in [(0, FLOAT), (1, UINT), (2, FLOAT), (3, UINT)] {
         for s in 0..3 {
             entries.push(entry(kind * 3 + s, stages, texture(sample, ARRAY)));
         }
@@ -197,15 +197,16 @@ pub fn probe_textures_bind_group(
     layout: &wgpu::BindGroupLayout,
     store: &ProbeStore,
 ) -> wgpu::BindGroup {
-    // Binding `kind · 3 + slot`: geo, then ids, then lit, each for the three slots in order.
+    // Binding `kind · 3 + slot`: geo, ids, lit, runs, each for the three slots in order.
     let mut resources = Vec::new();
-    for kind in 0..3 {
+    for kind in 0..4 {
         for slot in Slot::ALL {
             let t = store.slot(slot);
             let view = match kind {
                 0 => &t.geo.array_view,
                 1 => &t.ids.array_view,
-                _ => &t.lit.array_view,
+                2 => &t.lit.array_view,
+                _ => &t.runs.array_view,
             };
             resources.push(wgpu::BindingResource::TextureView(view));
         }

@@ -5,6 +5,7 @@ pub mod background;
 pub mod capture;
 pub mod cull;
 pub mod present;
+pub mod runs;
 pub mod shade;
 pub mod splat;
 pub mod visible;
@@ -102,6 +103,7 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         ("cull.wgsl", "DrawArgs", size_of::<cull::DrawArgs>()),
         ("cull.wgsl", "Splat", cull::SPLAT_BYTES as usize),
         ("present.wgsl", "Sizes", present::SIZES_SIZE),
+        ("runs.wgsl", "RunsFaces", runs::RUNS_FACES_SIZE),
     ]
 }
 

@@ -25,7 +25,7 @@ struct ShadeFace {
     n: u32,
     view_cull: u32,
     valid_mask: u32,
-    _pad: u32,
+    job: u32,
 }
 
 /// Size of `ShadeFace` (WGSL `ShadeFace`).
@@ -82,6 +82,7 @@ pub struct ShadeGlobals {
 /// The shade pass.
 pub struct ShadePass {
     pipeline: wgpu::ComputePipeline,
+    light_pipeline: wgpu::ComputePipeline,
     border_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
@@ -91,7 +92,18 @@ pub struct ShadePass {
     globals: wgpu::Buffer,
     /// Texels lit this frame (one `u32`, counted on the GPU).
     pub shaded: wgpu::Buffer,
+    /// The texels of one job waiting for `light` (`queue` in `shade.wgsl`).
+    queue: wgpu::Buffer,
+    /// Per job: the queue length.
+    job_counts: wgpu::Buffer,
+    /// Per job: `light`'s indirect dispatch arguments (bound for `main` only: a buffer may
+    /// not be storage and indirect arguments in one dispatch).
+    job_args: wgpu::Buffer,
+    args_layout: wgpu::BindGroupLayout,
 }
+
+/// Bytes of one job's record in `job_args`: x, y, z workgroups and padding.
+const JOB_ARGS_BYTES: u64 = 16;
 
 impl ShadePass {
     /// Builds the pipeline.
@@ -118,6 +130,8 @@ impl ShadePass {
                 entry(6, c, storage(true)),
                 entry(7, c, storage(true)),
                 entry(8, c, storage(false)),
+                entry(9, c, storage(false)),
+                entry(10, c, storage(false)),
             ],
         });
         let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -135,10 +149,16 @@ impl ShadePass {
             label: Some("shade::stable_layout"),
             entries: &stable_entries,
         });
-        let layouts = [&layout, &bvh_layout, &stable_layout];
+        let args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shade::args_layout"),
+            entries: &[entry(0, c, storage(false))],
+        });
+        let layouts = [&layout, &bvh_layout, &stable_layout, &args_layout];
         let pipeline = compute_pipeline(device, "shade", &module, "main", &layouts);
+        let light_pipeline =
+            compute_pipeline(device, "shade::light", &module, "light", &layouts[..3]);
         let border_pipeline =
-            compute_pipeline(device, "shade::border", &module, "border", &layouts);
+            compute_pipeline(device, "shade::border", &module, "border", &layouts[..3]);
         let buffer = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -153,7 +173,28 @@ impl ShadePass {
             usage: wgpu::BufferUsages::UNIFORM,
             mapped_at_creation: false,
         });
+        let storage_buffer = |label, size, extra| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | extra,
+                mapped_at_creation: false,
+            })
+        };
         Ok(ShadePass {
+            light_pipeline,
+            queue: storage_buffer("shade::queue", 4, wgpu::BufferUsages::empty()),
+            job_args: storage_buffer(
+                "shade::job_args",
+                JOB_ARGS_BYTES * MAX_JOBS as u64,
+                wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            ),
+            job_counts: storage_buffer(
+                "shade::job_counts",
+                4 * MAX_JOBS as u64,
+                wgpu::BufferUsages::COPY_DST,
+            ),
+            args_layout,
             no_view,
             stable_layout,
             pipeline,
@@ -178,7 +219,7 @@ impl ShadePass {
     /// The texels lit are counted in [`Self::shaded`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
-        &self,
+        &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
@@ -198,6 +239,25 @@ impl ShadePass {
         }
         let g = globals(scene, look);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
+        let max_n = jobs.iter().map(|j| store.slot(j.slot).n).max().unwrap_or(1);
+        let want = 4 * u64::from(max_n) * u64::from(max_n);
+        if self.queue.size() < want {
+            self.queue = device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("shade::queue"),
+                size: want,
+                usage: wgpu::BufferUsages::STORAGE,
+                mapped_at_creation: false,
+            });
+        }
+        let args: Vec<[u32; 4]> = jobs.iter().map(|_| [0, 1, 1, 0]).collect();
+        queue.write_buffer(&self.job_args, 0, bytemuck::cast_slice(&args));
+        encoder.clear_buffer(&self.job_counts, 0, None);
+        let job_args = bind_group(
+            device,
+            "shade::job_args",
+            &self.args_layout,
+            &[self.job_args.as_entire_binding()],
+        );
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * jobs.len()];
         for (i, j) in jobs.iter().enumerate() {
             let f = ShadeFace {
@@ -206,7 +266,7 @@ impl ShadePass {
                 n: store.slot(j.slot).n,
                 view_cull: u32::from(j.view_cull),
                 valid_mask: u32::from(j.valid.bits()),
-                _pad: 0,
+                job: i as u32,
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
@@ -245,7 +305,10 @@ impl ShadePass {
                 pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
             } else {
                 pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(3, &job_args, &[]);
                 pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
+                pass.set_pipeline(&self.light_pipeline);
+                pass.dispatch_workgroups_indirect(&self.job_args, i as u64 * JOB_ARGS_BYTES);
             }
         }
     }
@@ -296,6 +359,8 @@ impl ShadePass {
                 scene.objects.as_entire_binding(),
                 scene.points.as_entire_binding(),
                 self.shaded.as_entire_binding(),
+                self.queue.as_entire_binding(),
+                self.job_counts.as_entire_binding(),
             ],
         )
     }

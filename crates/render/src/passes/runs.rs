@@ -1,0 +1,137 @@
+//! Runs: after shading, groups each stable face's texels into row (then column) runs that
+//! one splat quad can draw (`shaders/runs.wgsl`). The cull pass then emits one quad per run instead of
+//! one per texel. Runs are cached with the shading: only faces lit this frame are redone.
+
+use bytemuck::{Pod, Zeroable};
+
+use super::{ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, texture};
+use crate::probe_store::{ProbeStore, RUNS_FORMAT};
+use crate::shader;
+use texel_probes::cube::FaceMask;
+use texel_probes::probe_set::Slot;
+
+/// Texels per row segment one thread scans (`SEGMENT` in `runs.wgsl`): the longest run.
+pub const SEGMENT: u32 = 16;
+
+/// `RunsFaces` in `runs.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct RunsFaces {
+    n: u32,
+    face_mask: u32,
+    _pad: [u32; 2],
+}
+
+/// Size of `RunsFaces` (WGSL `RunsFaces`).
+pub const RUNS_FACES_SIZE: usize = size_of::<RunsFaces>();
+
+/// Set in a run's length when it runs down a column (`COLUMN` in `runs.wgsl`).
+pub const COLUMN: u32 = 0x10000;
+
+/// The runs pass.
+pub struct RunsPass {
+    rows: wgpu::ComputePipeline,
+    columns: wgpu::ComputePipeline,
+    layout: wgpu::BindGroupLayout,
+    faces: wgpu::Buffer,
+}
+
+impl RunsPass {
+    /// Builds the pipeline.
+    pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "runs.wgsl")?;
+        let c = wgpu::ShaderStages::COMPUTE;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("runs::layout"),
+            entries: &[
+                entry(0, c, super::uniform(true)),
+                entry(1, c, texture(FLOAT, ARRAY)),
+                entry(2, c, texture(UINT, ARRAY)),
+                entry(3, c, texture(FLOAT, ARRAY)),
+                entry(
+                    4,
+                    c,
+                    wgpu::BindingType::StorageTexture {
+                        access: wgpu::StorageTextureAccess::ReadWrite,
+                        format: RUNS_FORMAT,
+                        view_dimension: ARRAY,
+                    },
+                ),
+            ],
+        });
+        let rows = compute_pipeline(device, "runs::rows", &module, "rows", &[&layout]);
+        let columns = compute_pipeline(device, "runs::columns", &module, "columns", &[&layout]);
+        let faces = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("runs::faces"),
+            size: UNIFORM_STRIDE * Slot::ALL.len() as u64,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(RunsPass {
+            rows,
+            columns,
+            layout,
+            faces,
+        })
+    }
+
+    /// Recomputes the runs of `faces` in each slot (indexed by [`Slot::index`]).
+    pub fn record(
+        &self,
+        device: &wgpu::Device,
+        queue: &wgpu::Queue,
+        encoder: &mut wgpu::CommandEncoder,
+        store: &ProbeStore,
+        faces: [FaceMask; 3],
+    ) {
+        if faces.iter().all(|m| m.is_empty()) {
+            return;
+        }
+        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * Slot::ALL.len()];
+        for slot in Slot::ALL {
+            let r = RunsFaces {
+                n: store.slot(slot).n,
+                face_mask: u32::from(faces[slot.index()].bits()),
+                _pad: [0; 2],
+            };
+            let at = slot.index() * UNIFORM_STRIDE as usize;
+            bytes[at..at + RUNS_FACES_SIZE].copy_from_slice(bytemuck::bytes_of(&r));
+        }
+        queue.write_buffer(&self.faces, 0, &bytes);
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("runs::pass"),
+            timestamp_writes: None,
+        });
+        for slot in Slot::ALL {
+            if faces[slot.index()].is_empty() {
+                continue;
+            }
+            let t = store.slot(slot);
+            let uniform = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &self.faces,
+                offset: 0,
+                size: wgpu::BufferSize::new(RUNS_FACES_SIZE as u64),
+            });
+            let tex = wgpu::BindingResource::TextureView;
+            let bind = bind_group(
+                device,
+                "runs::bind",
+                &self.layout,
+                &[
+                    uniform,
+                    tex(&t.geo.array_view),
+                    tex(&t.ids.array_view),
+                    tex(&t.lit.array_view),
+                    tex(&t.runs.array_view),
+                ],
+            );
+            let offset = (slot.index() as u64 * UNIFORM_STRIDE) as u32;
+            pass.set_bind_group(0, &bind, &[offset]);
+            let groups = (t.n.div_ceil(SEGMENT) * t.n).div_ceil(64);
+            for pipeline in [&self.rows, &self.columns] {
+                pass.set_pipeline(pipeline);
+                pass.dispatch_workgroups(groups, 1, 6);
+            }
+        }
+    }
+}

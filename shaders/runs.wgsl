@@ -1,0 +1,139 @@
+// Runs: groups the texels of each face into runs that one splat quad can draw. A run is a
+// stretch of neighbours along a row (or, among the texels no row run took, along a column)
+// on one object with the same lit colour, similar to each other (the shade pass's neighbour
+// bits), the same similarity on both sides, the same normal, and the same Chebyshev depth
+// (a floor seen from a side face, a wall facing its face): their quads then lie in one
+// plane and abut, so one quad spanning them covers what they would. Rows (then columns) are
+// cut into aligned segments of SEGMENT texels, each scanned by one thread; the first texel
+// of a run stores its length (| COLUMN for a column run), the others 0. Runs depend on the
+// probe's data alone, so they are cached with its shading. crates/render/src/passes/runs.rs.
+
+#include "lib/common.wgsl"
+
+const SEGMENT: u32 = 16u;
+// Set in a run's length when it runs down a column.
+const COLUMN: u32 = 0x10000u;
+// How far a run's depth may wander from its head's, in units of the depth step between
+// neighbours on a surface at 45° to the face (2/n of the depth).
+const DEPTH_TOLERANCE: f32 = 0.01;
+
+struct RunsFaces {
+    n: u32,
+    // Bit f: recompute the runs of face f.
+    face_mask: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+@group(0) @binding(0) var<uniform> rf: RunsFaces;
+@group(0) @binding(1) var geo_tex: texture_2d_array<f32>;
+@group(0) @binding(2) var id_tex: texture_2d_array<u32>;
+@group(0) @binding(3) var lit_tex: texture_2d_array<f32>;
+@group(0) @binding(4) var runs_out: texture_storage_2d_array<r32uint, read_write>;
+
+struct Texel {
+    geo: vec4<f32>,
+    lit: vec4<f32>,
+    id: u32,
+}
+
+fn load(t: vec2<u32>, face: u32) -> Texel {
+    return Texel(
+        textureLoad(geo_tex, t, face, 0),
+        textureLoad(lit_tex, t, face, 0),
+        textureLoad(id_tex, t, face, 0).r,
+    );
+}
+
+// Whether `next` continues the run that starts at `head` and last took `prev`; `fore` and
+// `back` are the similar bits toward the next and the previous texel along the run, `sides`
+// those across it.
+fn joins(head: Texel, prev: Texel, next: Texel, n: u32, fore: u32, back: u32, sides: u32) -> bool {
+    let head_bits = u32(head.lit.a);
+    let prev_bits = u32(prev.lit.a);
+    let next_bits = u32(next.lit.a);
+    let tolerance = head.geo.w * (2.0 / f32(n)) * DEPTH_TOLERANCE;
+    return head.id != 0u && next.id == head.id
+        && all(next.lit.rgb == head.lit.rgb)
+        && (prev_bits & fore) != 0u && (next_bits & back) != 0u
+        && (next_bits & sides) == (head_bits & sides)
+        && abs(next.geo.w - head.geo.w) <= tolerance
+        && dot(next.geo.xyz, head.geo.xyz) >= 0.9999;
+}
+
+// The texel `i` steps along segment `seg` of face `face`: along rows, or down columns.
+fn at(seg: u32, i: u32, segments: u32, columns: bool) -> vec2<u32> {
+    let line = seg / segments;
+    let along = (seg % segments) * SEGMENT + i;
+    if columns {
+        return vec2(line, along);
+    }
+    return vec2(along, line);
+}
+
+// Row runs over every texel.
+@compute @workgroup_size(64)
+fn rows(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let n = rf.n;
+    let segments = (n + SEGMENT - 1u) / SEGMENT;
+    let face = gid.z;
+    if (rf.face_mask & (1u << face)) == 0u || gid.x >= segments * n {
+        return;
+    }
+    let count = min(SEGMENT, n - (gid.x % segments) * SEGMENT);
+    var head_i = 0u;
+    var head = load(at(gid.x, 0u, segments, false), face);
+    var prev = head;
+    for (var i = 1u; i < count; i++) {
+        let t = at(gid.x, i, segments, false);
+        let next = load(t, face);
+        if joins(head, prev, next, n, 2u, 1u, 12u) {
+            textureStore(runs_out, t, face, vec4(0u));
+        } else {
+            textureStore(runs_out, at(gid.x, head_i, segments, false), face, vec4(i - head_i));
+            head_i = i;
+            head = next;
+        }
+        prev = next;
+    }
+    textureStore(runs_out, at(gid.x, head_i, segments, false), face, vec4(count - head_i));
+}
+
+// Column runs over the texels the row runs left alone (runs of one).
+@compute @workgroup_size(64)
+fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let n = rf.n;
+    let segments = (n + SEGMENT - 1u) / SEGMENT;
+    let face = gid.z;
+    if (rf.face_mask & (1u << face)) == 0u || gid.x >= segments * n {
+        return;
+    }
+    let count = min(SEGMENT, n - (gid.x % segments) * SEGMENT);
+    var head_i = 0u;
+    var len = 0u;
+    var head: Texel;
+    var prev: Texel;
+    for (var i = 0u; i < count; i++) {
+        let t = at(gid.x, i, segments, true);
+        let alone = textureLoad(runs_out, t, face).r == 1u;
+        var next: Texel;
+        if alone {
+            next = load(t, face);
+        }
+        if len > 0u && alone && joins(head, prev, next, n, 8u, 4u, 3u) {
+            textureStore(runs_out, t, face, vec4(0u));
+            len += 1u;
+        } else {
+            if len > 1u {
+                textureStore(runs_out, at(gid.x, head_i, segments, true), face, vec4(len | COLUMN));
+            }
+            len = select(0u, 1u, alone);
+            head_i = i;
+            head = next;
+        }
+        prev = next;
+    }
+    if len > 1u {
+        textureStore(runs_out, at(gid.x, head_i, segments, true), face, vec4(len | COLUMN));
+    }
+}
