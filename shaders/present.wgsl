@@ -1,10 +1,13 @@
 // Present: the nearest-neighbour upscale of the internal-resolution frame to the output
-// (crates/render/src/passes/present.rs). Texel-exact: each output pixel copies one internal
-// pixel.
+// (crates/render/src/passes/present.rs). Texel-exact: each output pixel copies the internal
+// pixel under its centre.
 
 struct Sizes {
     output: vec2<u32>,
     internal: vec2<u32>,
+    // Internal pixels per output pixel.
+    scale: vec2<f32>,
+    _pad: vec2<u32>,
 }
 
 @group(0) @binding(0) var frame: texture_2d<f32>;
@@ -18,7 +21,8 @@ fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
 
 @fragment
 fn fs(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<u32>(pos.xy);
-    let src = min(p * sizes.internal / sizes.output, sizes.internal - vec2(1u));
+    // The internal pixel under this pixel's centre (one multiply: no per-pixel integer
+    // division, which CPU rasterizers run lane by lane); present.rs mirrors it.
+    let src = min(vec2<u32>(pos.xy * sizes.scale), sizes.internal - vec2(1u));
     return textureLoad(frame, src, 0);
 }

@@ -6,6 +6,7 @@ use texel_probes::probe_set::Slot;
 use crate::context::{GpuContext, GpuError};
 use crate::frame::Renderer;
 use crate::passes::cull::{DrawArgs, SPLAT_BYTES};
+use crate::passes::present::source_pixel;
 use crate::target::read_buffer;
 
 /// One splat quad of a frame, as read back by [`Renderer::read_splats`].
@@ -42,17 +43,16 @@ impl FrameIds {
         if output == self.size || self.size.x == 0 || self.size.y == 0 {
             return self;
         }
-        let (iw, ih) = (self.size.x, self.size.y);
+        let (internal, out) = ((self.size.x, self.size.y), (output.x, output.y));
         let mut up = FrameIds {
             size: output,
             entity: Vec::with_capacity((output.x * output.y) as usize),
             from_eye: Vec::with_capacity((output.x * output.y) as usize),
         };
         for y in 0..output.y {
-            let sy = (y * ih / output.y).min(ih - 1);
             for x in 0..output.x {
-                let sx = (x * iw / output.x).min(iw - 1);
-                let i = (sy * iw + sx) as usize;
+                let (sx, sy) = source_pixel(x, y, internal, out);
+                let i = (sy * internal.0 + sx) as usize;
                 up.entity.push(self.entity[i]);
                 up.from_eye.push(self.from_eye[i]);
             }
@@ -107,10 +107,8 @@ impl Renderer {
         if pixel.x >= screen.output.0 || pixel.y >= screen.output.1 {
             return Ok(None);
         }
-        let internal = glam::UVec2::new(
-            pixel.x * screen.size.0 / screen.output.0,
-            pixel.y * screen.size.1 / screen.output.1,
-        );
+        let (x, y) = source_pixel(pixel.x, pixel.y, screen.size, screen.output);
+        let internal = glam::UVec2::new(x, y);
         let key = read_texel_u32(ctx, &screen.keys, 0, internal)?;
         if key == 0 {
             return Ok(None);

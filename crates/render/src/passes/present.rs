@@ -10,6 +10,25 @@ use crate::shader;
 struct Sizes {
     output: [u32; 2],
     internal: [u32; 2],
+    scale: [f32; 2],
+    _pad: [u32; 2],
+}
+
+/// Internal pixels per output pixel, along x and y.
+fn scale(internal: (u32, u32), output: (u32, u32)) -> [f32; 2] {
+    [
+        internal.0 as f32 / output.0.max(1) as f32,
+        internal.1 as f32 / output.1.max(1) as f32,
+    ]
+}
+
+/// The internal pixel the present pass copies to output pixel `(x, y)`: the one under the
+/// output pixel's centre. The shader does the same single-precision multiply, so this
+/// mirrors it exactly.
+pub fn source_pixel(x: u32, y: u32, internal: (u32, u32), output: (u32, u32)) -> (u32, u32) {
+    let [sx, sy] = scale(internal, output);
+    let at = |p: u32, s: f32, max: u32| (((p as f32 + 0.5) * s) as u32).min(max.max(1) - 1);
+    (at(x, sx, internal.0), at(y, sy, internal.1))
 }
 
 /// Size of `Sizes` (WGSL `Sizes`).
@@ -77,6 +96,8 @@ impl PresentPass {
         let sizes = Sizes {
             output: [output.0, output.1],
             internal: [internal.0, internal.1],
+            scale: scale(internal, output),
+            _pad: [0; 2],
         };
         queue.write_buffer(&self.sizes, 0, bytemuck::bytes_of(&sizes));
         let bind = bind_group(
@@ -107,5 +128,32 @@ impl PresentPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.draw(0..3, 0..1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::source_pixel;
+
+    #[test]
+    fn source_pixels_cover_the_internal_frame_in_order() {
+        for (internal, output) in [
+            ((797, 448), (1280, 720)),
+            ((64, 36), (64, 36)),
+            ((3, 2), (7, 5)),
+        ] {
+            let xs: Vec<u32> = (0..output.0)
+                .map(|x| source_pixel(x, 0, internal, output).0)
+                .collect();
+            assert!(xs.windows(2).all(|w| w[1] == w[0] || w[1] == w[0] + 1));
+            assert_eq!((xs[0], *xs.last().unwrap()), (0, internal.0 - 1));
+            let ys: Vec<u32> = (0..output.1)
+                .map(|y| source_pixel(0, y, internal, output).1)
+                .collect();
+            assert!(ys.windows(2).all(|w| w[1] == w[0] || w[1] == w[0] + 1));
+            assert_eq!((ys[0], *ys.last().unwrap()), (0, internal.1 - 1));
+        }
+        // Same size: identity.
+        assert_eq!(source_pixel(17, 9, (64, 36), (64, 36)), (17, 9));
     }
 }
