@@ -1,10 +1,10 @@
 // Cull: turns the drawn faces' texels into a compact list of splat quads with indirect draw
-// arguments. Skips sky, faces not drawn, and — in our schedule — quads that lie outside the
-// view frustum or face away from the camera, and eye texels the shade pass did not light
-// this frame (off view, or shown by the grid probe). In our schedule a stable probe's quad spans a whole row run (runs.wgsl);
-// elsewhere one quad draws one texel. The quad corners are computed from the probe's data
-// alone (never the camera), so they are bit-identical while the probe stays.
-// crates/render/src/passes/cull.rs.
+// arguments. Our schedule walks each face's draw list (`listed`: a stable face's run heads,
+// runs.wgsl; the eye texels the shade pass lit this frame), so it never scans a face, and
+// skips quads that lie outside the view frustum or face away from the camera; one quad
+// draws a whole run. The paper schedule (and ours with runs off) scans every texel of the
+// drawn faces (`main`). The quad corners are computed from the probe's data alone (never the
+// camera), so they are bit-identical while the probe stays. crates/render/src/passes/cull.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
@@ -52,6 +52,28 @@ struct CullWork {
 @group(1) @binding(9) var runs0: texture_2d_array<u32>;
 @group(1) @binding(10) var runs1: texture_2d_array<u32>;
 @group(1) @binding(11) var runs2: texture_2d_array<u32>;
+// The slots' draw lists (lib/lists.wgsl): run heads of stable faces, lit eye texels.
+@group(1) @binding(12) var<storage, read> list0: array<u32>;
+@group(1) @binding(13) var<storage, read> list1: array<u32>;
+@group(1) @binding(14) var<storage, read> list2: array<u32>;
+// The (slot, face) whose draw list a `listed` dispatch walks.
+struct ListedFace {
+    slot: u32,
+    face: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+@group(2) @binding(0) var<uniform> listed_face: ListedFace;
+
+const LIST_HEADER: u32 = 8u;
+
+fn load_list(slot: u32, i: u32) -> u32 {
+    switch slot {
+        case 0u: { return list0[i]; }
+        case 1u: { return list1[i]; }
+        default: { return list2[i]; }
+    }
+}
 
 fn load_geo(slot: u32, t: vec2<u32>, f: u32) -> vec4<f32> {
     switch slot {
@@ -88,10 +110,6 @@ fn load_run(slot: u32, t: vec2<u32>, f: u32) -> u32 {
     }
 }
 
-// Drawn-this-frame flag in an eye texel's lit alpha (shade.wgsl's EYE_DRAWN): the shade
-// pass lit it because its quad reaches the view and no drawing stable probe shows it.
-const EYE_DRAWN: u32 = 16u;
-
 // Half-size toward one neighbour, in texels: tight (grazing-scaled by the angle between the
 // surface and the probe ray, camera-independent) toward a similar one, a full texel otherwise.
 fn half_size(similar: bool, cos_theta: f32) -> f32 {
@@ -103,32 +121,39 @@ fn half_size(similar: bool, cos_theta: f32) -> f32 {
     return min(0.575 + 0.05 * tan_theta, 1.0);
 }
 
+// Every texel of the faces in `work` (the paper schedule; ours with runs off).
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.z >= work.count {
+    if gid.z < work.count {
+        emit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u);
+    }
+}
+
+// The draw list of one (slot, face) (our schedule): a stable face's run heads, or the eye
+// texels the shade pass lit this frame.
+@compute @workgroup_size(64)
+fn listed(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let slot = listed_face.slot;
+    let face = listed_face.face;
+    let n = view.slots[slot].n;
+    if gid.x >= load_list(slot, face) {
         return;
     }
-    let slot = work.faces[gid.z].x;
-    let face = work.faces[gid.z].y;
-    let s = view.slots[slot];
-    let t = gid.xy;
-    if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n {
-        return;
-    }
-    // Texels in the quad: a stable probe's run in our schedule (runs.wgsl), else one. An
-    // eye texel is drawn in our schedule only if the shade pass lit it this frame.
+    let packed = load_list(slot, LIST_HEADER + face * n * n + gid.x);
+    let t = vec2(packed & 0xffffu, packed >> 16u);
     var run = 1u;
-    if view.schedule == 0u {
-        if s.role == ROLE_EYE {
-            if (u32(load_lit(slot, t, face).a) & EYE_DRAWN) == 0u {
-                return;
-            }
-        } else if view.runs != 0u {
-            run = load_run(slot, t, face);
-            if run == 0u {
-                return;
-            }
-        }
+    if view.slots[slot].role != ROLE_EYE {
+        run = load_run(slot, t, face);
+    }
+    emit(slot, face, t, run);
+}
+
+// Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,
+// | RUN_COLUMN down a column), unless our schedule culls it.
+fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
+    let s = view.slots[slot];
+    if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n || run == 0u {
+        return;
     }
     let id = load_id(slot, t, face);
     if id == 0u {

@@ -5,10 +5,12 @@
 // (a floor seen from a side face, a wall facing its face): their quads then lie in one
 // plane and abut, so one quad spanning them covers what they would. Rows (then columns) are
 // cut into aligned segments of SEGMENT texels, each scanned by one thread; the first texel
-// of a run stores its length (| COLUMN for a column run), the others 0. Runs depend on the
-// probe's data alone, so they are cached with its shading. crates/render/src/passes/runs.rs.
+// of a run stores its length (| COLUMN for a column run), the others 0; `heads` then lists
+// the heads of the face for the cull pass (lib/lists.wgsl). Runs depend on the probe's data
+// alone, so they are cached with its shading. crates/render/src/passes/runs.rs.
 
 #include "lib/common.wgsl"
+#include "lib/lists.wgsl"
 
 const SEGMENT: u32 = 16u;
 // Set in a run's length when it runs down a column.
@@ -21,7 +23,7 @@ struct RunsFaces {
     n: u32,
     // Bit f: recompute the runs of face f.
     face_mask: u32,
-    _pad0: u32,
+    slot: u32,
     _pad1: u32,
 }
 
@@ -30,6 +32,8 @@ struct RunsFaces {
 @group(0) @binding(2) var id_tex: texture_2d_array<u32>;
 @group(0) @binding(3) var lit_tex: texture_2d_array<f32>;
 @group(0) @binding(4) var runs_out: texture_storage_2d_array<r32uint, read_write>;
+@group(0) @binding(5) var<storage, read_write> list: array<atomic<u32>>;
+@group(0) @binding(6) var<storage, read_write> list_args: array<atomic<u32>>;
 
 struct Texel {
     geo: vec4<f32>,
@@ -135,5 +139,19 @@ fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     if len > 1u {
         textureStore(runs_out, at(gid.x, head_i, segments, true), face, vec4(len | COLUMN));
+    }
+}
+
+// Lists the heads of non-sky runs.
+@compute @workgroup_size(8, 8)
+fn heads(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let n = rf.n;
+    let t = gid.xy;
+    let face = gid.z;
+    if (rf.face_mask & (1u << face)) == 0u || t.x >= n || t.y >= n {
+        return;
+    }
+    if textureLoad(runs_out, t, face).r != 0u && textureLoad(id_tex, t, face, 0).r != 0u {
+        list_push(rf.slot, face, n, t);
     }
 }

@@ -7,6 +7,7 @@
 #include "lib/common.wgsl"
 #include "lib/bvh.wgsl"
 #include "lib/lighting.wgsl"
+#include "lib/lists.wgsl"
 #include "lib/view.wgsl"
 
 struct ShadeFace {
@@ -19,6 +20,10 @@ struct ShadeFace {
     valid_mask: u32,
     // This job's record in `job_args`.
     job: u32,
+    slot: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }
 
 struct ShadeGlobals {
@@ -39,13 +44,18 @@ struct ShadeGlobals {
 @group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
-@group(0) @binding(8) var<storage, read_write> shaded: atomic<u32>;
-// The texels of the current job that need lighting (x | y << 16), gathered by `main` so that
-// `light` runs them densely: lighting (shadow rays) is the expensive part, and lanes of a
-// group that skip it would otherwise wait for the ones that do.
-@group(0) @binding(9) var<storage, read_write> queue: array<u32>;
-// Per job: the queue length.
-@group(0) @binding(10) var<storage, read_write> job_counts: array<atomic<u32>>;
+// Work of this frame's jobs: the texels lit (WORK_SHADED), each job's queue length (from
+// WORK_COUNTS), and the queue of the current job's texels that need lighting (from
+// WORK_QUEUE; x | y << 16), gathered by `main` so that `light` runs them densely: lighting
+// (shadow rays) is the expensive part, and lanes of a group that skip it would otherwise
+// wait for the ones that do.
+@group(0) @binding(8) var<storage, read_write> work: array<atomic<u32>>;
+const WORK_SHADED: u32 = 0u;
+const WORK_COUNTS: u32 = 1u;
+const WORK_QUEUE: u32 = 64u;
+// The slot's draw list: view-culled (eye) jobs list the texels they light for the cull pass.
+@group(0) @binding(9) var<storage, read_write> list: array<atomic<u32>>;
+@group(0) @binding(10) var<storage, read_write> list_args: array<atomic<u32>>;
 // Per job: `light`'s indirect dispatch arguments (x, y, z, padding); bound for `main` only.
 @group(3) @binding(0) var<storage, read_write> job_args: array<atomic<u32>>;
 // The two stable slots (grid and previous, in whichever order the slots hold them) and the
@@ -94,35 +104,31 @@ fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
 
 var<workgroup> group_count: atomic<u32>;
 
-// Drawn-this-frame flag in an eye texel's alpha (beside the similar bits): the cull pass
-// draws exactly the eye texels `light` lit.
-const EYE_DRAWN: u32 = 16u;
-
 // Sorts the texels of a face: sky, off-view and covered texels are settled here, the rest
 // queued for `light`.
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let t = gid.xy;
     if t.x < sf.n && t.y < sf.n && needs_light(t) {
-        let index = atomicAdd(&job_counts[sf.job], 1u);
+        let index = atomicAdd(&work[WORK_COUNTS + sf.job], 1u);
         if index % 64u == 0u {
             atomicAdd(&job_args[sf.job * 4u], 1u);
         }
-        queue[index] = t.x | (t.y << 16u);
+        atomicStore(&work[WORK_QUEUE + index], t.x | (t.y << 16u));
     }
 }
 
 // Lights the texels `main` queued.
 @compute @workgroup_size(64)
 fn light(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    if gid.x < atomicLoad(&job_counts[sf.job]) {
-        let packed = queue[gid.x];
+    if gid.x < atomicLoad(&work[WORK_COUNTS + sf.job]) {
+        let packed = atomicLoad(&work[WORK_QUEUE + gid.x]);
         light_texel(vec2(packed & 0xffffu, packed >> 16u));
         atomicAdd(&group_count, 1u);
     }
     workgroupBarrier();
     if li == 0u {
-        atomicAdd(&shaded, atomicLoad(&group_count));
+        atomicAdd(&work[WORK_SHADED], atomicLoad(&group_count));
     }
 }
 
@@ -150,7 +156,7 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
     }
     workgroupBarrier();
     if li == 0u {
-        atomicAdd(&shaded, atomicLoad(&group_count));
+        atomicAdd(&work[WORK_SHADED], atomicLoad(&group_count));
     }
 }
 
@@ -281,8 +287,9 @@ fn light_texel(t: vec2<u32>) {
     } else if lighten {
         shift = 1.0;
     }
-    if sf.view_cull != 0u {
-        similar |= EYE_DRAWN;
-    }
     textureStore(lit_out, t, sf.face, vec4(posterize(colour, globals.bands, shift), f32(similar)));
+    // The cull pass draws exactly the eye texels lit this frame.
+    if sf.view_cull != 0u {
+        list_push(sf.slot, sf.face, n, t);
+    }
 }

@@ -29,8 +29,7 @@ struct ViewGlobals {
     grid_slot: u32,
     // Haze density per world unit (0 = none).
     haze: f32,
-    // 1: our schedule draws a stable probe's runs with one quad each (runs.wgsl).
-    runs: u32,
+    _pad0: u32,
     _pad1: u32,
     _pad2: u32,
 }

@@ -11,7 +11,7 @@ use crate::gpu_scene::GpuScene;
 use crate::input::{FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
-use crate::passes::cull::{CullPass, DrawArgs};
+use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeJob, ShadePass};
@@ -252,8 +252,7 @@ impl Renderer {
             self.store.ensure(ctx, c.slot, c.face_resolution);
         }
         let slot_n = Slot::ALL.map(|s| self.store.slot(s).n);
-        let mut globals = ViewGlobals::new(input, slot_n);
-        globals.runs = u32::from(self.runs_on);
+        let globals = ViewGlobals::new(input, slot_n);
         ctx.queue
             .write_buffer(&self.view, 0, bytemuck::bytes_of(&globals));
         self.cull.ensure_capacity(&ctx.device, globals.max_n);
@@ -299,7 +298,7 @@ impl Renderer {
             }
             self.runs.record(d, q, enc, store, lit);
         });
-        let drawn = drawn_faces(input);
+        let drawn = drawn_faces(input, self.runs_on);
         stages.run(|enc| {
             let (view, store) = (&self.view, &self.store);
             self.cull
@@ -327,7 +326,7 @@ impl Renderer {
         });
         let copies = [
             (&self.cull.args, size_of::<DrawArgs>() as u64),
-            (&self.shade.shaded, 4),
+            (&self.shade.work, 4),
             (&self.visible.bits, self.visible.bytes()),
         ];
         let (passes, gpu_timestamps, readback) = stages.finish(&copies)?;
@@ -448,12 +447,17 @@ fn shade_jobs(input: &FrameInput) -> Vec<ShadeJob> {
     jobs
 }
 
-/// The (slot, face) pairs the frame splats.
-fn drawn_faces(input: &FrameInput) -> Vec<(Slot, texel_probes::cube::Face)> {
+/// The (slot, face) pairs the frame splats, and how the cull pass visits each: our
+/// schedule walks the draw lists (the eye's lit texels; stable run heads, with runs on).
+fn drawn_faces(input: &FrameInput, runs: bool) -> Vec<(Slot, Face, Visit)> {
+    let visit = |slot: Slot| match input.schedule {
+        Schedule::Ours if slot == Slot::Eye || runs => Visit::List,
+        _ => Visit::Scan,
+    };
     [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
         .into_iter()
         .flatten()
-        .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f)))
+        .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f, visit(p.slot))))
         .collect()
 }
 

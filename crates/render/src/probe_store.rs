@@ -9,7 +9,12 @@
 //! | `depth` | `depth32float` | capture depth test |
 //! | `lit` | `rgba16float` | shaded, posterized, outlined colour (rgb); similar-neighbour bits (a) |
 //! | `runs` | `r32uint` | stable slots: texels in the row run this texel heads (0 = inside a run) |
+//!
+//! Beside the textures, each slot has a draw list (`shaders/lib/lists.wgsl`): the texels the
+//! cull pass visits per face, with their indirect dispatch arguments in
+//! [`ProbeStore::list_args`].
 
+use texel_probes::cube::FaceMask;
 use texel_probes::probe_set::Slot;
 
 use crate::context::GpuContext;
@@ -99,6 +104,8 @@ pub struct SlotTextures {
     pub lit: LayeredTexture,
     /// Row runs (`shaders/runs.wgsl`).
     pub runs: LayeredTexture,
+    /// Draw list: per-face counts, then per-face entries (`shaders/lib/lists.wgsl`).
+    pub list: wgpu::Buffer,
 }
 
 impl SlotTextures {
@@ -127,13 +134,27 @@ impl SlotTextures {
                 RUNS_FORMAT,
                 U::STORAGE_BINDING | U::TEXTURE_BINDING,
             ),
+            list: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(&name("list")),
+                size: 4 * (LIST_HEADER + 6 * u64::from(n) * u64::from(n)),
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
         }
     }
 }
 
+/// Counts at the head of a draw list (`LIST_HEADER` in `lib/lists.wgsl`).
+const LIST_HEADER: u64 = 8;
+/// Bytes of one (slot, face)'s indirect dispatch arguments in [`ProbeStore::list_args`].
+pub const LIST_ARGS_BYTES: u64 = 16;
+
 /// The three slots. A slot is reallocated when asked for another face resolution.
 pub struct ProbeStore {
     slots: [SlotTextures; 3],
+    /// Per (slot, face), at `(slot · 6 + face) · 16`: the cull pass's indirect dispatch
+    /// arguments over that face's draw list.
+    pub list_args: wgpu::Buffer,
     /// Bumped whenever any slot is reallocated (bind groups must be rebuilt).
     pub generation: u64,
 }
@@ -141,10 +162,22 @@ pub struct ProbeStore {
 impl ProbeStore {
     /// Three slots of `n × n` faces.
     pub fn new(ctx: &GpuContext, n: u32) -> Self {
-        ProbeStore {
+        let store = ProbeStore {
             slots: Slot::ALL.map(|s| SlotTextures::new(ctx, s, n)),
+            list_args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("probes::list_args"),
+                size: LIST_ARGS_BYTES * 18,
+                usage: wgpu::BufferUsages::STORAGE
+                    | wgpu::BufferUsages::INDIRECT
+                    | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             generation: 0,
+        };
+        for slot in Slot::ALL {
+            store.clear_lists(&ctx.queue, slot, FaceMask::ALL);
         }
+        store
     }
 
     /// The textures of `slot`.
@@ -158,7 +191,20 @@ impl ProbeStore {
             return false;
         }
         self.slots[slot.index()] = SlotTextures::new(ctx, slot, n);
+        self.clear_lists(&ctx.queue, slot, FaceMask::ALL);
         self.generation += 1;
         true
+    }
+
+    /// Empties the draw lists of `faces` of `slot` (before the commands that refill them:
+    /// queue writes land before the next submission's commands).
+    pub fn clear_lists(&self, queue: &wgpu::Queue, slot: Slot, faces: FaceMask) {
+        let list = &self.slots[slot.index()].list;
+        for face in faces.iter() {
+            let f = face.index() as u64;
+            queue.write_buffer(list, 4 * f, &[0; 4]);
+            let at = (slot.index() as u64 * 6 + f) * LIST_ARGS_BYTES;
+            queue.write_buffer(&self.list_args, at, bytemuck::cast_slice(&[0u32, 1, 1, 0]));
+        }
     }
 }

@@ -40,9 +40,7 @@ pub struct ViewGlobals {
     eye_slot: u32,
     grid_slot: u32,
     haze: f32,
-    /// 1: our schedule draws a stable probe's runs with one quad each (`runs.wgsl`).
-    pub runs: u32,
-    _pad2: [u32; 2],
+    _pad2: [u32; 3],
 }
 
 /// Role numbers of `lib/view.wgsl`.
@@ -126,8 +124,7 @@ impl ViewGlobals {
             eye_slot: Slot::Eye.index() as u32,
             grid_slot: input.grid.slot.index() as u32,
             haze: input.look.haze.max(0.0),
-            runs: 1,
-            _pad2: [0; 2],
+            _pad2: [0; 3],
         }
     }
 }

@@ -3,8 +3,11 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{ARRAY, FLOAT, UINT, bind_group, compute_pipeline, entry, storage, texture, uniform};
-use crate::probe_store::ProbeStore;
+use super::{
+    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
+    uniform,
+};
+use crate::probe_store::{LIST_ARGS_BYTES, ProbeStore};
 use crate::shader;
 use texel_probes::cube::Face;
 use texel_probes::probe_set::Slot;
@@ -33,8 +36,11 @@ pub struct DrawArgs {
 /// The cull pass and the splat list it fills.
 pub struct CullPass {
     pipeline: wgpu::ComputePipeline,
+    listed_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     textures_layout: wgpu::BindGroupLayout,
+    listed_layout: wgpu::BindGroupLayout,
+    listed_faces: wgpu::Buffer,
     /// The splat records.
     pub splats: wgpu::Buffer,
     /// Indirect draw arguments (`DrawArgs`).
@@ -55,6 +61,27 @@ struct CullWork {
 /// Size of `CullWork` (WGSL `CullWork`).
 pub const CULL_WORK_SIZE: usize = size_of::<CullWork>();
 
+/// `ListedFace` in `cull.wgsl`: the (slot, face) whose draw list one dispatch walks.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+struct ListedFace {
+    slot: u32,
+    face: u32,
+    _pad: [u32; 2],
+}
+
+/// Size of `ListedFace` (WGSL `ListedFace`).
+pub const LISTED_FACE_SIZE: usize = size_of::<ListedFace>();
+
+/// How the cull pass visits one drawn face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Visit {
+    /// Every texel (the paper schedule; ours with runs off).
+    Scan,
+    /// The face's draw list (our schedule: run heads, lit eye texels).
+    List,
+}
+
 impl CullPass {
     /// Builds the pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
@@ -70,6 +97,10 @@ impl CullPass {
             ],
         });
         let textures_layout = probe_textures_layout(device, c);
+        let listed_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("cull::listed_layout"),
+            entries: &[entry(0, c, uniform(true))],
+        });
         let pipeline = compute_pipeline(
             device,
             "cull",
@@ -77,6 +108,19 @@ impl CullPass {
             "main",
             &[&layout, &textures_layout],
         );
+        let listed_pipeline = compute_pipeline(
+            device,
+            "cull::listed",
+            &module,
+            "listed",
+            &[&layout, &textures_layout, &listed_layout],
+        );
+        let listed_faces = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull::listed_faces"),
+            size: UNIFORM_STRIDE * 18,
+            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
             size: size_of::<DrawArgs>() as u64,
@@ -95,6 +139,9 @@ impl CullPass {
         Ok(CullPass {
             work,
             pipeline,
+            listed_pipeline,
+            listed_layout,
+            listed_faces,
             layout,
             textures_layout,
             splats: splat_buffer(device, 1024),
@@ -113,7 +160,8 @@ impl CullPass {
         }
     }
 
-    /// Records the cull dispatch over the drawn faces, `(slot, face)` pairs.
+    /// Records the cull dispatches over the drawn faces, `(slot, face)` pairs, each visited
+    /// as `visit` says.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
@@ -123,14 +171,33 @@ impl CullPass {
         view: &wgpu::Buffer,
         store: &ProbeStore,
         max_n: u32,
-        drawn: &[(Slot, Face)],
+        drawn: &[(Slot, Face, Visit)],
     ) {
+        let drawn = &drawn[..drawn.len().min(18)];
         let mut work = CullWork::zeroed();
-        for (i, (slot, face)) in drawn.iter().take(18).enumerate() {
-            work.faces[i] = [slot.index() as u32, face.index() as u32, 0, 0];
-            work.count = i as u32 + 1;
+        let mut listed = vec![0u8; UNIFORM_STRIDE as usize * drawn.len()];
+        for (i, (slot, face, visit)) in drawn.iter().enumerate() {
+            let (slot, face) = (slot.index() as u32, face.index() as u32);
+            match visit {
+                Visit::Scan => {
+                    work.faces[work.count as usize] = [slot, face, 0, 0];
+                    work.count += 1;
+                }
+                Visit::List => {
+                    let f = ListedFace {
+                        slot,
+                        face,
+                        _pad: [0; 2],
+                    };
+                    let at = i * UNIFORM_STRIDE as usize;
+                    listed[at..at + LISTED_FACE_SIZE].copy_from_slice(bytemuck::bytes_of(&f));
+                }
+            }
         }
         queue.write_buffer(&self.work, 0, bytemuck::bytes_of(&work));
+        if !listed.is_empty() {
+            queue.write_buffer(&self.listed_faces, 0, &listed);
+        }
         let reset = DrawArgs {
             index_count: 6,
             instance_count: 0,
@@ -151,16 +218,35 @@ impl CullPass {
             ],
         );
         let textures = probe_textures_bind_group(device, &self.textures_layout, store);
+        let listed_bind = bind_group(
+            device,
+            "cull::listed",
+            &self.listed_layout,
+            &[wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                buffer: &self.listed_faces,
+                offset: 0,
+                size: wgpu::BufferSize::new(LISTED_FACE_SIZE as u64),
+            })],
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("cull::pass"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.set_bind_group(1, &textures, &[]);
-        let groups = max_n.div_ceil(8);
         if work.count > 0 {
+            pass.set_pipeline(&self.pipeline);
+            let groups = max_n.div_ceil(8);
             pass.dispatch_workgroups(groups, groups, work.count);
+        }
+        pass.set_pipeline(&self.listed_pipeline);
+        for (i, (slot, face, visit)) in drawn.iter().enumerate() {
+            if *visit == Visit::List {
+                let offset = (i as u64 * UNIFORM_STRIDE) as u32;
+                pass.set_bind_group(2, &listed_bind, &[offset]);
+                let args = (slot.index() as u64 * 6 + face.index() as u64) * LIST_ARGS_BYTES;
+                pass.dispatch_workgroups_indirect(&store.list_args, args);
+            }
         }
     }
 }
@@ -174,7 +260,8 @@ fn splat_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
     })
 }
 
-/// Geo, ids, lit and runs of the three slots, bindings 0–11 (`cull.wgsl` group 1).
+/// Geo, ids, lit and runs of the three slots, bindings 0–11, and their draw lists, 12–14
+/// (`cull.wgsl` group 1).
 pub fn probe_textures_layout(
     device: &wgpu::Device,
     stages: wgpu::ShaderStages,
@@ -184,6 +271,9 @@ pub fn probe_textures_layout(
         for s in 0..3 {
             entries.push(entry(kind * 3 + s, stages, texture(sample, ARRAY)));
         }
+    }
+    for s in 0..3 {
+        entries.push(entry(12 + s, stages, storage(true)));
     }
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some("cull::probe_textures"),
@@ -210,6 +300,9 @@ pub fn probe_textures_bind_group(
             };
             resources.push(wgpu::BindingResource::TextureView(view));
         }
+    }
+    for slot in Slot::ALL {
+        resources.push(store.slot(slot).list.as_entire_binding());
     }
     bind_group(device, "cull::probe_textures", layout, &resources)
 }

@@ -1,10 +1,13 @@
 //! Runs: after shading, groups each stable face's texels into row (then column) runs that
-//! one splat quad can draw (`shaders/runs.wgsl`). The cull pass then emits one quad per run instead of
-//! one per texel. Runs are cached with the shading: only faces lit this frame are redone.
+//! one splat quad can draw (`shaders/runs.wgsl`), and lists the run heads for the cull pass,
+//! which then emits one quad per run instead of one per texel. Runs are cached with the
+//! shading: only faces lit this frame are redone.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, texture};
+use super::{
+    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
+};
 use crate::probe_store::{ProbeStore, RUNS_FORMAT};
 use crate::shader;
 use texel_probes::cube::FaceMask;
@@ -19,7 +22,8 @@ pub const SEGMENT: u32 = 16;
 struct RunsFaces {
     n: u32,
     face_mask: u32,
-    _pad: [u32; 2],
+    slot: u32,
+    _pad: u32,
 }
 
 /// Size of `RunsFaces` (WGSL `RunsFaces`).
@@ -32,6 +36,7 @@ pub const COLUMN: u32 = 0x10000;
 pub struct RunsPass {
     rows: wgpu::ComputePipeline,
     columns: wgpu::ComputePipeline,
+    heads: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
 }
@@ -57,10 +62,13 @@ impl RunsPass {
                         view_dimension: ARRAY,
                     },
                 ),
+                entry(5, c, storage(false)),
+                entry(6, c, storage(false)),
             ],
         });
         let rows = compute_pipeline(device, "runs::rows", &module, "rows", &[&layout]);
         let columns = compute_pipeline(device, "runs::columns", &module, "columns", &[&layout]);
+        let heads = compute_pipeline(device, "runs::heads", &module, "heads", &[&layout]);
         let faces = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("runs::faces"),
             size: UNIFORM_STRIDE * Slot::ALL.len() as u64,
@@ -70,6 +78,7 @@ impl RunsPass {
         Ok(RunsPass {
             rows,
             columns,
+            heads,
             layout,
             faces,
         })
@@ -92,12 +101,16 @@ impl RunsPass {
             let r = RunsFaces {
                 n: store.slot(slot).n,
                 face_mask: u32::from(faces[slot.index()].bits()),
-                _pad: [0; 2],
+                slot: slot.index() as u32,
+                _pad: 0,
             };
             let at = slot.index() * UNIFORM_STRIDE as usize;
             bytes[at..at + RUNS_FACES_SIZE].copy_from_slice(bytemuck::bytes_of(&r));
         }
         queue.write_buffer(&self.faces, 0, &bytes);
+        for slot in Slot::ALL {
+            store.clear_lists(queue, slot, faces[slot.index()]);
+        }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("runs::pass"),
             timestamp_writes: None,
@@ -123,6 +136,8 @@ impl RunsPass {
                     tex(&t.ids.array_view),
                     tex(&t.lit.array_view),
                     tex(&t.runs.array_view),
+                    t.list.as_entire_binding(),
+                    store.list_args.as_entire_binding(),
                 ],
             );
             let offset = (slot.index() as u64 * UNIFORM_STRIDE) as u32;
@@ -132,6 +147,8 @@ impl RunsPass {
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups(groups, 1, 6);
             }
+            pass.set_pipeline(&self.heads);
+            pass.dispatch_workgroups(t.n.div_ceil(8), t.n.div_ceil(8), 6);
         }
     }
 }

@@ -12,6 +12,7 @@ use crate::input::Look;
 use crate::passes::capture::MAX_CAPTURES;
 use crate::probe_store::{LIT_FORMAT, ProbeStore};
 use crate::shader;
+use texel_probes::cube::FaceMask;
 use texel_probes::probe_set::Slot;
 
 /// Most shade jobs in a frame: every capture plus edge re-shades of up to four neighbours.
@@ -26,6 +27,8 @@ struct ShadeFace {
     view_cull: u32,
     valid_mask: u32,
     job: u32,
+    slot: u32,
+    _pad: [u32; 3],
 }
 
 /// Size of `ShadeFace` (WGSL `ShadeFace`).
@@ -90,12 +93,9 @@ pub struct ShadePass {
     no_view: wgpu::Buffer,
     faces: wgpu::Buffer,
     globals: wgpu::Buffer,
-    /// Texels lit this frame (one `u32`, counted on the GPU).
-    pub shaded: wgpu::Buffer,
-    /// The texels of one job waiting for `light` (`queue` in `shade.wgsl`).
-    queue: wgpu::Buffer,
-    /// Per job: the queue length.
-    job_counts: wgpu::Buffer,
+    /// `work` in `shade.wgsl`: first the texels lit this frame (one `u32`, counted on the
+    /// GPU), then each job's queue length, then the queue of texels waiting for `light`.
+    pub work: wgpu::Buffer,
     /// Per job: `light`'s indirect dispatch arguments (bound for `main` only: a buffer may
     /// not be storage and indirect arguments in one dispatch).
     job_args: wgpu::Buffer,
@@ -104,6 +104,9 @@ pub struct ShadePass {
 
 /// Bytes of one job's record in `job_args`: x, y, z workgroups and padding.
 const JOB_ARGS_BYTES: u64 = 16;
+/// Where the queue starts in `work` (`WORK_QUEUE` in `shade.wgsl`), in `u32`s.
+const WORK_QUEUE: u64 = 64;
+const _: () = assert!(1 + MAX_JOBS as u64 <= WORK_QUEUE);
 
 impl ShadePass {
     /// Builds the pipeline.
@@ -183,16 +186,11 @@ impl ShadePass {
         };
         Ok(ShadePass {
             light_pipeline,
-            queue: storage_buffer("shade::queue", 4, wgpu::BufferUsages::empty()),
+            work: work_buffer(device, 0),
             job_args: storage_buffer(
                 "shade::job_args",
                 JOB_ARGS_BYTES * MAX_JOBS as u64,
                 wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
-            ),
-            job_counts: storage_buffer(
-                "shade::job_counts",
-                4 * MAX_JOBS as u64,
-                wgpu::BufferUsages::COPY_DST,
             ),
             args_layout,
             no_view,
@@ -203,20 +201,12 @@ impl ShadePass {
             bvh_layout,
             faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_JOBS as u64),
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
-            shaded: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shade::shaded"),
-                size: 4,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
         })
     }
 
     /// Records the shade jobs; view-culled jobs read the frame's `view` (its frustum and the
     /// stable probes).
-    /// The texels lit are counted in [`Self::shaded`].
+    /// The texels lit are counted in the first word of [`Self::work`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
@@ -232,26 +222,23 @@ impl ShadePass {
         // Without a frame's view (the cubemap baseline), nothing is view-culled and the view
         // is never read; a zeroed one fills the binding.
         let view = view.unwrap_or(&self.no_view);
-        encoder.clear_buffer(&self.shaded, 0, None);
         let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
+        let max_n = jobs.iter().map(|j| store.slot(j.slot).n).max().unwrap_or(1);
+        let want = u64::from(max_n) * u64::from(max_n);
+        if self.work.size() < 4 * (WORK_QUEUE + want) {
+            self.work = work_buffer(device, want);
+        }
+        encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
         if jobs.is_empty() {
             return;
         }
         let g = globals(scene, look);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
-        let max_n = jobs.iter().map(|j| store.slot(j.slot).n).max().unwrap_or(1);
-        let want = 4 * u64::from(max_n) * u64::from(max_n);
-        if self.queue.size() < want {
-            self.queue = device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shade::queue"),
-                size: want,
-                usage: wgpu::BufferUsages::STORAGE,
-                mapped_at_creation: false,
-            });
-        }
         let args: Vec<[u32; 4]> = jobs.iter().map(|_| [0, 1, 1, 0]).collect();
         queue.write_buffer(&self.job_args, 0, bytemuck::cast_slice(&args));
-        encoder.clear_buffer(&self.job_counts, 0, None);
+        for j in jobs.iter().filter(|j| j.view_cull && !j.border) {
+            store.clear_lists(queue, j.slot, FaceMask::single(j.face));
+        }
         let job_args = bind_group(
             device,
             "shade::job_args",
@@ -267,6 +254,8 @@ impl ShadePass {
                 view_cull: u32::from(j.view_cull),
                 valid_mask: u32::from(j.valid.bits()),
                 job: i as u32,
+                slot: j.slot.index() as u32,
+                _pad: [0; 3],
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
@@ -358,9 +347,9 @@ impl ShadePass {
                 tex(&slot.lit.array_view),
                 scene.objects.as_entire_binding(),
                 scene.points.as_entire_binding(),
-                self.shaded.as_entire_binding(),
-                self.queue.as_entire_binding(),
-                self.job_counts.as_entire_binding(),
+                self.work.as_entire_binding(),
+                slot.list.as_entire_binding(),
+                store.list_args.as_entire_binding(),
             ],
         )
     }
@@ -378,4 +367,16 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         bands: look.bands.max(2),
         _pad: 0,
     }
+}
+
+/// The `work` buffer, with room for a queue of `queue` texels.
+fn work_buffer(device: &wgpu::Device, queue: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("shade::work"),
+        size: 4 * (WORK_QUEUE + queue),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
