@@ -106,7 +106,7 @@ pub struct ShadePass {
 const JOB_ARGS_BYTES: u64 = 16;
 /// Where the queue starts in `work` (`WORK_QUEUE` in `shade.wgsl`), in `u32`s.
 const WORK_QUEUE: u64 = 64;
-const _: () = assert!(MAX_JOBS as u64 < WORK_QUEUE);
+const _: () = assert!((MAX_JOBS as u64) < WORK_QUEUE);
 
 impl ShadePass {
     /// Builds the pipeline.
