@@ -17,20 +17,30 @@ struct Splat {
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var<storage, read> splats: array<Splat>;
 
+// Few varyings: a CPU rasterizer sets each one up per triangle.
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) @interpolate(flat) colour: vec4<f32>,
+    @location(0) @interpolate(flat) colour: vec3<f32>,
     @location(1) @interpolate(flat) key: u32,
-    @location(2) @interpolate(flat) role: u32,
-    // Texel coordinate along a run quad (texel i spans [i, i + 1)), and its texels.
+    // The run: its texels − 1 (bits 0–7), down a column (bit 8), the role (bits 9–10).
+    @location(2) @interpolate(flat) run: u32,
+    // Texel coordinate along a run quad (texel i spans [i, i + 1)).
     @location(3) along: f32,
-    @location(4) @interpolate(flat) texels: u32,
-    // Key step from one texel of the run to the next: 1 along a row, max_n down a column.
-    @location(5) @interpolate(flat) step: u32,
 }
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
+    return corner_of(vi, ii);
+}
+
+// One texel per quad: the same corners without `along`.
+@vertex
+fn vs_texel(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> TexelIn {
+    let v = corner_of(vi, ii);
+    return TexelIn(v.clip, v.colour, v.key, v.run);
+}
+
+fn corner_of(vi: u32, ii: u32) -> VsOut {
     var out: VsOut;
     if ii >= arrayLength(&splats) {
         out.clip = vec4(0.0, 0.0, 2.0, 1.0);
@@ -49,12 +59,12 @@ fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut
     let column = (shape & SPLAT_COLUMN) != 0u;
     // Corners 0–3 are top-left, top-right, bottom-right, bottom-left: a row run starts on
     // the left (0, 3), a column run at the top (0, 1).
-    out.texels = max((shape & 0xffffu) >> 8u, 1u);
+    let texels = max((shape & 0xffffu) >> 8u, 1u);
+    out.run = (texels - 1u) | (select(0u, 1u, column) << 8u) | (role << 9u);
     // Texel coordinate along the run: the first texel's centre is 0.5, the last's texels − 0.5.
     let reach = unpack2x16unorm(bitcast<u32>(s.c3.w));
     let at_start = select(vi == 0u || vi == 3u, vi <= 1u, column);
-    out.along = select(f32(out.texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
-    out.step = select(1u, view.max_n, column);
+    out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
     let key = bitcast<u32>(s.c0.w);
     var clip = view.view_proj * vec4(corner, 1.0);
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
@@ -67,10 +77,8 @@ fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut
     }
     clip.z = min(clip.z + bias * clip.w, clip.w);
     out.clip = clip;
-    let c = unpack4x8unorm(bitcast<u32>(s.c1.w));
-    out.colour = vec4(srgb_to_linear(c.rgb), 1.0);
+    out.colour = srgb_to_linear(unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb);
     out.key = key;
-    out.role = role;
     return out;
 }
 
@@ -79,26 +87,59 @@ struct FsOut {
     @location(1) key: u32,
 }
 
+// A one-texel quad's vertex output: no `along`, so a pipeline of such quads (the paper
+// schedule, or runs off) sets up no interpolated varying at all.
+struct TexelIn {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) colour: vec3<f32>,
+    @location(1) @interpolate(flat) key: u32,
+    @location(2) @interpolate(flat) run: u32,
+}
+
 // The key of the texel under this pixel of a run quad.
 fn pixel_key(in: VsOut) -> u32 {
-    return in.key + in.step * u32(clamp(floor(in.along), 0.0, f32(in.texels - 1u)));
+    let last = f32(in.run & 0xffu);
+    let step = select(1u, view.max_n, (in.run & 0x100u) != 0u);
+    return in.key + step * u32(clamp(floor(in.along), 0.0, last));
+}
+
+// Whether a crossfade hands this pixel of a `run`'s quad to the other stable probe: grid
+// and previous split the pixels with complementary Bayer patterns.
+fn faded_out(run: u32, pixel: vec2<f32>) -> bool {
+    let role = run >> 9u;
+    if role == ROLE_EYE {
+        return false;
+    }
+    let grid_wins = bayer_threshold(vec2<u32>(pixel)) < view.fade_t;
+    return (role == ROLE_GRID) != grid_wins;
 }
 
 // Without a crossfade: no discard, so the depth test can run before the shader.
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    return FsOut(in.colour, pixel_key(in));
+    return FsOut(vec4(in.colour, 1.0), pixel_key(in));
 }
 
-// During a crossfade: grid and previous split the pixels with complementary Bayer patterns.
+// During a crossfade.
 @fragment
 fn fs_dither(in: VsOut) -> FsOut {
-    if in.role != ROLE_EYE {
-        let threshold = bayer_threshold(vec2<u32>(in.clip.xy));
-        let grid_wins = threshold < view.fade_t;
-        if (in.role == ROLE_GRID) != grid_wins {
-            discard;
-        }
+    if faded_out(in.run, in.clip.xy) {
+        discard;
     }
-    return FsOut(in.colour, pixel_key(in));
+    return FsOut(vec4(in.colour, 1.0), pixel_key(in));
+}
+
+// One texel per quad, without a crossfade.
+@fragment
+fn fs_texel(in: TexelIn) -> FsOut {
+    return FsOut(vec4(in.colour, 1.0), in.key);
+}
+
+// One texel per quad, during a crossfade.
+@fragment
+fn fs_texel_dither(in: TexelIn) -> FsOut {
+    if faded_out(in.run, in.clip.xy) {
+        discard;
+    }
+    return FsOut(vec4(in.colour, 1.0), in.key);
 }

@@ -311,8 +311,11 @@ impl Renderer {
         let dither = input.previous.is_some() && input.fade_t < 1.0;
         stages.run(|enc| {
             let mut pass = begin_draw(enc, draw_target, screen, true);
-            self.splat
-                .draw(&mut pass, &splat_bind, &self.cull.args, dither);
+            let runs = drawn
+                .iter()
+                .any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
+            let (splat, args) = (&self.splat, &self.cull.args);
+            splat.draw(&mut pass, &splat_bind, args, runs, dither);
         });
         stages.run(|enc| {
             let mut pass = begin_draw(enc, draw_target, screen, false);

@@ -145,6 +145,7 @@ impl GBufferPass {
             RenderSpec {
                 owner: "baselines::gbuffer",
                 module: &module,
+                vertex: "vs",
                 layouts: &[&layout],
                 vertex_buffers: &vertex_buffers,
                 fragment: "fs",

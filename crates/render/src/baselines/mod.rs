@@ -172,6 +172,7 @@ pub(crate) fn fullscreen_pipeline(
         RenderSpec {
             owner,
             module,
+            vertex: "vs",
             layouts: &[layout],
             vertex_buffers: &[],
             fragment: "fs",

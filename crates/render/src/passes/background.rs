@@ -33,6 +33,7 @@ impl BackgroundPass {
             RenderSpec {
                 owner: "background",
                 module: &module,
+                vertex: "vs",
                 layouts: &[&layout],
                 vertex_buffers: &[],
                 fragment: "fs",

@@ -50,6 +50,7 @@ impl CapturePass {
             RenderSpec {
                 owner: "capture",
                 module: &module,
+                vertex: "vs",
                 layouts: &[&layout],
                 vertex_buffers: &vertex_buffers,
                 fragment: "fs",

@@ -113,8 +113,10 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
 pub(crate) struct RenderSpec<'a> {
     /// Owner, for labels (`"splat"` → `"splat::pipeline"`).
     pub owner: &'a str,
-    /// The shader module (`vs` is the vertex entry point).
+    /// The shader module.
     pub module: &'a wgpu::ShaderModule,
+    /// Vertex entry point.
+    pub vertex: &'a str,
     /// Bind group layouts, group 0 first.
     pub layouts: &'a [&'a wgpu::BindGroupLayout],
     /// Vertex buffers (none for vertex pulling and fullscreen triangles).
@@ -160,7 +162,7 @@ pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wg
         layout: Some(&layout),
         vertex: wgpu::VertexState {
             module: spec.module,
-            entry_point: Some("vs"),
+            entry_point: Some(spec.vertex),
             compilation_options: Default::default(),
             buffers: spec.vertex_buffers,
         },

@@ -61,6 +61,7 @@ impl PresentPass {
             RenderSpec {
                 owner: "present",
                 module: &module,
+                vertex: "vs",
                 layouts: &[&layout],
                 vertex_buffers: &[],
                 fragment: "fs",

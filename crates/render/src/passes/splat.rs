@@ -12,8 +12,8 @@ pub const SPLAT_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32
 
 /// The splat pass.
 pub struct SplatPass {
-    pipeline: wgpu::RenderPipeline,
-    dither_pipeline: wgpu::RenderPipeline,
+    /// By (runs, dither): quads that may span runs write each pixel's own texel key.
+    pipelines: [[wgpu::RenderPipeline; 2]; 2],
     layout: wgpu::BindGroupLayout,
     indices: wgpu::Buffer,
 }
@@ -30,12 +30,13 @@ impl SplatPass {
             label: Some("splat::layout"),
             entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
         });
-        let pipeline_for = |fragment| {
+        let pipeline_for = |vertex, fragment| {
             render_pipeline(
                 device,
                 RenderSpec {
                     owner: "splat",
                     module: &module,
+                    vertex,
                     layouts: &[&layout],
                     vertex_buffers: &[],
                     fragment,
@@ -44,16 +45,20 @@ impl SplatPass {
                 },
             )
         };
-        let pipeline = pipeline_for("fs");
-        let dither_pipeline = pipeline_for("fs_dither");
+        let pipelines = [
+            [
+                pipeline_for("vs_texel", "fs_texel"),
+                pipeline_for("vs_texel", "fs_texel_dither"),
+            ],
+            [pipeline_for("vs", "fs"), pipeline_for("vs", "fs_dither")],
+        ];
         let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("splat::indices"),
             contents: bytemuck::cast_slice(&[0u16, 1, 2, 0, 2, 3]),
             usage: wgpu::BufferUsages::INDEX,
         });
         Ok(SplatPass {
-            pipeline,
-            dither_pipeline,
+            pipelines,
             layout,
             indices,
         })
@@ -74,20 +79,18 @@ impl SplatPass {
         )
     }
 
-    /// Draws the splats whose count the cull pass wrote into `args`; `dither` while a
-    /// crossfade runs (grid and previous split the pixels with Bayer patterns).
+    /// Draws the splats whose count the cull pass wrote into `args`; `runs` when some quads
+    /// may span several texels; `dither` while a crossfade runs (grid and previous split the
+    /// pixels with Bayer patterns).
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         bind: &wgpu::BindGroup,
         args: &wgpu::Buffer,
+        runs: bool,
         dither: bool,
     ) {
-        pass.set_pipeline(if dither {
-            &self.dither_pipeline
-        } else {
-            &self.pipeline
-        });
+        pass.set_pipeline(&self.pipelines[usize::from(runs)][usize::from(dither)]);
         pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed_indirect(args, 0);
