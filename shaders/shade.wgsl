@@ -22,8 +22,8 @@ struct ShadeFace {
     job: u32,
     slot: u32,
     _pad0: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // First texel of the dispatch (the eye's faces: only the part the view can see).
+    rect_min: vec2<u32>,
 }
 
 struct ShadeGlobals {
@@ -108,7 +108,7 @@ var<workgroup> group_count: atomic<u32>;
 // queued for `light`.
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let t = gid.xy;
+    let t = gid.xy + sf.rect_min;
     if t.x < sf.n && t.y < sf.n && needs_light(t) {
         let index = atomicAdd(&work[WORK_COUNTS + sf.job], 1u);
         if index % 64u == 0u {

@@ -290,6 +290,75 @@ pub fn visible_faces(frustum: &Frustum, origin: Vec3, depth_limit: f32, extent: 
         .collect()
 }
 
+/// A rectangle of texels on a face: columns `x0..x1`, rows `y0..y1`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct TexelRect {
+    /// First column.
+    pub x0: u32,
+    /// First row.
+    pub y0: u32,
+    /// One past the last column.
+    pub x1: u32,
+    /// One past the last row.
+    pub y1: u32,
+}
+
+impl TexelRect {
+    /// Columns × rows.
+    pub fn area(&self) -> u64 {
+        u64::from(self.x1 - self.x0) * u64::from(self.y1 - self.y0)
+    }
+}
+
+/// The texels of `face` (`n` per edge) whose directions can come within `margin` radians of
+/// the cone bounded by planes through the probe origin with inward unit `normals` (the side
+/// planes of a camera at the probe: the eye probe); `None` when none can. The cone, widened
+/// by the margin, meets the face plane in a convex polygon, clipped here from the face
+/// square one plane at a time; the rectangle bounds it. A direction `r` within `margin` of
+/// the cone has `normal · r̂ >= -margin` for every plane, so `normal · r >= -margin · √3` on
+/// the face plane (where `|r| <= √3`): a linear bound, so the clip stays exact.
+pub fn face_cone_rect(normals: &[Vec3], face: Face, n: u32, margin: f32) -> Option<TexelRect> {
+    let (a, s, t) = (face.axis(), face.u_axis(), face.v_axis());
+    let slack = margin.max(0.0) * 3f32.sqrt() + 1e-6;
+    let mut poly = vec![(-1.0f32, -1.0f32), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)];
+    for normal in normals {
+        // normal · (a + u s + v t) >= -slack, linear in (u, v).
+        let (cu, cv, c0) = (normal.dot(s), normal.dot(t), normal.dot(a));
+        let side = |&(u, v): &(f32, f32)| cu * u + cv * v + c0 + slack;
+        let mut clipped = Vec::with_capacity(poly.len() + 1);
+        for (i, p) in poly.iter().enumerate() {
+            let q = &poly[(i + 1) % poly.len()];
+            let (dp, dq) = (side(p), side(q));
+            if dp >= 0.0 {
+                clipped.push(*p);
+            }
+            if (dp >= 0.0) != (dq >= 0.0) {
+                let k = dp / (dp - dq);
+                clipped.push((p.0 + (q.0 - p.0) * k, p.1 + (q.1 - p.1) * k));
+            }
+        }
+        poly = clipped;
+        if poly.is_empty() {
+            return None;
+        }
+    }
+    let (mut lo, mut hi) = ((1.0f32, 1.0f32), (-1.0f32, -1.0f32));
+    for &(u, v) in &poly {
+        lo = (lo.0.min(u), lo.1.min(v));
+        hi = (hi.0.max(u), hi.1.max(v));
+    }
+    // Face coordinate c lies in texel floor((c + 1) n / 2); one more each side for rounding.
+    let n_f = n as f32;
+    let first = |c: f32| (((c + 1.0) * 0.5 * n_f).floor().max(0.0) as u32).saturating_sub(1);
+    let end = |c: f32| ((((c + 1.0) * 0.5 * n_f).floor().max(0.0) as u32) + 2).min(n);
+    Some(TexelRect {
+        x0: first(lo.0).min(n),
+        y0: first(lo.1).min(n),
+        x1: end(hi.0),
+        y1: end(hi.1),
+    })
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -423,5 +492,59 @@ mod tests {
             }),
             ViewError::NonFinite
         );
+    }
+
+    mod cone_rect {
+        use super::*;
+        use crate::cube::{Texel, texel_center_direction};
+        use proptest::prelude::*;
+
+        fn side_normals(view: &CameraView) -> Vec<Vec3> {
+            let f = frustum(view).unwrap();
+            f.planes[2..].iter().map(|p| p.normal).collect()
+        }
+
+        proptest! {
+            /// Every texel whose centre direction is within the margin of every side plane
+            /// (so every texel within the margin of the cone) lies in the rectangle.
+            #[test]
+            fn holds_every_texel_near_the_view(yaw in -3.2f32..3.2, pitch in -1.5f32..1.5,
+                                         fov in 0.3f32..2.0, aspect in 0.5f32..2.5,
+                                         margin in 0.0f32..0.3) {
+                let forward = Vec3::new(yaw.sin() * pitch.cos(), pitch.sin(), -yaw.cos() * pitch.cos());
+                let v = view(forward, fov, aspect);
+                let normals = side_normals(&v);
+                let n = 24;
+                for face in Face::ALL {
+                    let rect = face_cone_rect(&normals, face, n, margin);
+                    for y in 0..n {
+                        for x in 0..n {
+                            let d = texel_center_direction(Texel { face, x, y }, n);
+                            let inside = normals.iter().all(|m| m.dot(d.normalize()) >= -margin);
+                            if inside {
+                                let r = rect.expect("a texel in view but no rectangle");
+                                prop_assert!(x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1,
+                                    "{face:?} texel ({x}, {y}) outside {r:?}");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+
+        #[test]
+        fn a_face_behind_the_camera_has_no_rectangle_and_the_front_one_is_partial() {
+            let v = view(Vec3::NEG_Z, 1.2, 16.0 / 9.0);
+            let normals = side_normals(&v);
+            let n = 64;
+            assert_eq!(face_cone_rect(&normals, Face::PosZ, n, 0.0), None);
+            let front = face_cone_rect(&normals, Face::NegZ, n, 0.0).unwrap();
+            assert!(front.area() < u64::from(n * n));
+            // tan(0.6) ≈ 0.684: rows within about ±0.684 of the centre, one more each side.
+            let rows = front.y1 - front.y0;
+            assert!((44..=48).contains(&rows), "{front:?}");
+            let wider = face_cone_rect(&normals, Face::NegZ, n, 0.05).unwrap();
+            assert!(wider.y1 > front.y1 && wider.y0 < front.y0, "{wider:?}");
+        }
     }
 }

@@ -23,6 +23,7 @@ use crate::stats::{Counters, FrameStats, PassTime};
 use crate::target::{OFFSCREEN_FORMAT, OffscreenTarget, read_buffer};
 use crate::view::ViewGlobals;
 use texel_probes::cube::{Face, FaceMask};
+use texel_probes::visibility::{TexelRect, face_cone_rect};
 
 /// Why a frame could not be rendered.
 #[derive(Debug, thiserror::Error)]
@@ -271,11 +272,13 @@ impl Renderer {
 
         let mut stages = Stages::new(ctx, self.queries.as_ref());
         let (d, q) = (&ctx.device, &ctx.queue);
+        let rects = capture_rects(input, &globals, &self.store);
         stages.run(|enc| {
+            let (captures, store) = (&input.captures, &self.store);
             self.capture
-                .record(d, q, enc, &input.captures, &self.store, scene)
+                .record(d, q, enc, captures, &rects, store, scene)
         });
-        let jobs = shade_jobs(input);
+        let jobs = shade_jobs(input, &rects);
         stages.run(|enc| {
             let (store, look) = (&self.store, &input.look);
             let view = Some(&self.view);
@@ -401,7 +404,7 @@ fn begin_draw<'e>(
 /// What to light this frame: every captured face, whole; and the edges of each valid face
 /// next to a face captured this frame but not captured itself (its seam texels looked
 /// across into data that has just changed).
-fn shade_jobs(input: &FrameInput) -> Vec<ShadeJob> {
+fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> {
     let probes: Vec<&ProbeView> = [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
         .into_iter()
         .flatten()
@@ -415,13 +418,15 @@ fn shade_jobs(input: &FrameInput) -> Vec<ShadeJob> {
     let mut jobs: Vec<ShadeJob> = input
         .captures
         .iter()
-        .map(|c| ShadeJob {
+        .zip(rects.iter().chain(std::iter::repeat(&None)))
+        .map(|(c, rect)| ShadeJob {
             slot: c.slot,
             face: c.face,
             origin: c.origin,
             valid: valid_of(c.slot),
             border: false,
             view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
+            rect: *rect,
         })
         .collect();
     // Stable faces first: eye texels may copy their colours in the same pass.
@@ -443,11 +448,50 @@ fn shade_jobs(input: &FrameInput) -> Vec<ShadeJob> {
                     valid: p.valid,
                     border: true,
                     view_cull: false,
+                    rect: None,
                 });
             }
         }
     }
     jobs
+}
+
+/// How far past the view cone, in texels (of 2/n radians), an eye face is still captured and
+/// lit: a texel is drawn when a sphere of 2.5 texels around it reaches the view
+/// (`quad_in_view`), and its outline and neighbour bits read one texel further.
+const EYE_CONE_MARGIN_TEXELS: f32 = 4.0;
+
+/// Per capture, the texels to capture and light: in our schedule with a perspective camera,
+/// an eye face only where the view cone meets it (the eye sits at the camera, so that is
+/// exact up to the margin; an empty rectangle when it misses the face); otherwise the whole
+/// face.
+fn capture_rects(
+    input: &FrameInput,
+    globals: &ViewGlobals,
+    store: &ProbeStore,
+) -> Vec<Option<TexelRect>> {
+    let normals: Vec<glam::Vec3> = globals
+        .side_planes()
+        .iter()
+        .map(|p| glam::Vec3::new(p[0], p[1], p[2]))
+        .collect();
+    input
+        .captures
+        .iter()
+        .map(|c| {
+            let cone = input.camera.ortho_height.is_none();
+            (c.slot == Slot::Eye && input.schedule == Schedule::Ours && cone).then(|| {
+                let n = store.slot(c.slot).n;
+                let margin = EYE_CONE_MARGIN_TEXELS * 2.0 / n as f32;
+                face_cone_rect(&normals, c.face, n, margin).unwrap_or(TexelRect {
+                    x0: 0,
+                    y0: 0,
+                    x1: 0,
+                    y1: 0,
+                })
+            })
+        })
+        .collect()
 }
 
 /// The (slot, face) pairs the frame splats, and how the cull pass visits each: our

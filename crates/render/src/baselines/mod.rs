@@ -360,7 +360,7 @@ impl BaselineRenderer {
         let (d, q, store) = (&ctx.device, &ctx.queue, &self.store);
         let mut timer = Timer::new(ctx, self.queries.as_ref());
         timer.run("capture", |enc| {
-            self.capture.record(d, q, enc, &caps, store, scene);
+            self.capture.record(d, q, enc, &caps, &[], store, scene);
         });
         timer.run("shade", |enc| {
             let look = &view.look;
@@ -374,6 +374,7 @@ impl BaselineRenderer {
                     valid: texel_probes::cube::FaceMask::ALL,
                     border: false,
                     view_cull: false,
+                    rect: None,
                 })
                 .collect();
             s.record(d, q, enc, &jobs, store, scene, look, None);

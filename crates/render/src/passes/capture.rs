@@ -4,6 +4,8 @@ use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
 use super::{RenderSpec, UNIFORM_STRIDE, bind_group, entry, render_pipeline, storage, uniform};
+use texel_probes::visibility::TexelRect;
+
 use crate::gpu_scene::GpuScene;
 use crate::input::CaptureInput;
 use crate::probe_store::{ALBEDO_FORMAT, DEPTH_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore};
@@ -71,13 +73,16 @@ impl CapturePass {
         })
     }
 
-    /// Records one render pass per capture (at most [`MAX_CAPTURES`]).
+    /// Records one render pass per capture (at most [`MAX_CAPTURES`]). `rects[i]`, when
+    /// given, limits capture `i` to those texels (the rest of the face is cleared to sky).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
         captures: &[CaptureInput],
+        rects: &[Option<TexelRect>],
         store: &ProbeStore,
         scene: &GpuScene,
     ) {
@@ -145,8 +150,12 @@ impl CapturePass {
                 occlusion_query_set: None,
                 multiview_mask: None,
             });
-            if scene.vertex_count == 0 {
+            let rect = rects.get(i).copied().flatten();
+            if scene.vertex_count == 0 || rect.is_some_and(|r| r.area() == 0) {
                 continue;
+            }
+            if let Some(r) = rect {
+                pass.set_scissor_rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
             }
             pass.set_pipeline(&self.pipeline);
             pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);

@@ -14,6 +14,7 @@ use crate::probe_store::{LIT_FORMAT, ProbeStore};
 use crate::shader;
 use texel_probes::cube::FaceMask;
 use texel_probes::probe_set::Slot;
+use texel_probes::visibility::TexelRect;
 
 /// Most shade jobs in a frame: every capture plus edge re-shades of up to four neighbours.
 pub const MAX_JOBS: usize = MAX_CAPTURES * 3;
@@ -28,7 +29,8 @@ struct ShadeFace {
     valid_mask: u32,
     job: u32,
     slot: u32,
-    _pad: [u32; 3],
+    _pad: u32,
+    rect_min: [u32; 2],
 }
 
 /// Size of `ShadeFace` (WGSL `ShadeFace`).
@@ -49,6 +51,8 @@ pub struct ShadeJob {
     pub border: bool,
     /// Only texels the view can see (eye faces in our schedule).
     pub view_cull: bool,
+    /// Only these texels (None: the whole face; ignored for borders).
+    pub rect: Option<TexelRect>,
 }
 
 /// `Sun` in `shaders/lib/lighting.wgsl`: direction toward the light, colour × intensity.
@@ -255,7 +259,8 @@ impl ShadePass {
                 valid_mask: u32::from(j.valid.bits()),
                 job: i as u32,
                 slot: j.slot.index() as u32,
-                _pad: [0; 3],
+                _pad: 0,
+                rect_min: j.rect.map_or([0, 0], |r| [r.x0, r.y0]),
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
@@ -293,9 +298,13 @@ impl ShadePass {
                 pass.set_pipeline(&self.border_pipeline);
                 pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
             } else {
+                let (w, h) = j.rect.map_or((n, n), |r| (r.x1 - r.x0, r.y1 - r.y0));
+                if w == 0 || h == 0 {
+                    continue;
+                }
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(3, &job_args, &[]);
-                pass.dispatch_workgroups(n.div_ceil(8), n.div_ceil(8), 1);
+                pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
                 pass.set_pipeline(&self.light_pipeline);
                 pass.dispatch_workgroups_indirect(&self.job_args, i as u64 * JOB_ARGS_BYTES);
             }
