@@ -38,6 +38,12 @@ pub const FACE_BUDGET: u32 = 9;
 /// Stable-probe faces captured per frame at most: a cell crossing adds at most this many
 /// faces to a frame, and the new grid probe completes over the following frames.
 pub const STABLE_FACES_PER_FRAME: u32 = 2;
+/// Stable faces of the next cell's grid probe captured per quiet frame ahead of a crossing.
+pub const PREFETCH_FACES_PER_FRAME: u32 = 1;
+/// How far ahead, in seconds of the camera's current velocity, a crossing is predicted.
+pub const PREFETCH_LOOKAHEAD_S: f32 = 0.3;
+/// Time constant of the camera velocity estimate, seconds.
+const VELOCITY_TAU_S: f32 = 0.15;
 /// Far distance of face visibility and captures.
 pub const CAPTURE_FAR: f32 = texel_render::passes::capture::CAPTURE_FAR;
 
@@ -64,6 +70,9 @@ pub struct FrameDriver {
     start: Camera,
     frame_index: u64,
     fade_frame: u64,
+    /// Camera position last frame and the smoothed velocity, for prefetching.
+    last_position: Option<Vec3>,
+    velocity: Vec3,
 }
 
 impl FrameDriver {
@@ -96,6 +105,8 @@ impl FrameDriver {
             start,
             frame_index: 0,
             fade_frame: 0,
+            last_position: None,
+            velocity: Vec3::ZERO,
         })
     }
 
@@ -122,6 +133,7 @@ impl FrameDriver {
         schedule: Schedule,
     ) -> Result<FrameInput, DriverError> {
         let choice = resolve_grid(camera.position, &self.defaults, &self.overrides)?;
+        self.track_velocity(camera.position, dt);
         let event = match &mut self.probes {
             Some(p) => p.begin_frame(camera.position, choice.key, dt),
             None => {
@@ -149,7 +161,17 @@ impl FrameDriver {
             far: camera.far.min(CAPTURE_FAR),
         };
         let frustum = frustum(&view).map_err(|e| DriverError::View(e.to_string()))?;
-        let plan = self.scheduler.plan(&frustum, probes, 0);
+        let mut plan = self.scheduler.plan(&frustum, probes, 0);
+        if schedule == Schedule::Ours {
+            let ahead = camera.position + self.velocity * PREFETCH_LOOKAHEAD_S;
+            let next = resolve_grid(ahead, &self.defaults, &self.overrides)
+                .ok()
+                .and_then(|c| probes.next_probe(c.key));
+            if let Some(next) = next {
+                let faces = PREFETCH_FACES_PER_FRAME;
+                self.scheduler.prefetch(&mut plan, &frustum, &next, faces);
+            }
+        }
         if event == TransitionEvent::CrossingStarted {
             self.fade_frame = 0;
         }
@@ -169,6 +191,10 @@ impl FrameDriver {
             grid: view(&plan.grid),
             previous: plan.previous.as_ref().map(view),
             fade_t: probes.fade_t(),
+            prefetch: plan.prefetch.as_ref().map(|p| ProbeView {
+                draw: FaceMask::EMPTY,
+                ..view(p)
+            }),
             captures,
             schedule,
         };
@@ -178,6 +204,24 @@ impl FrameDriver {
         self.frame_index += 1;
         self.fade_frame += 1;
         Ok(input)
+    }
+
+    /// Updates the smoothed camera velocity (a jump of more than a few cells, e.g. a
+    /// teleport, resets it).
+    fn track_velocity(&mut self, position: Vec3, dt: f32) {
+        if let Some(last) = self.last_position
+            && dt > 0.0
+            && dt.is_finite()
+        {
+            let v = (position - last) / dt;
+            if v.is_finite() && (position - last).length() < 4.0 * self.defaults.cell_size {
+                let alpha = 1.0 - (-dt / VELOCITY_TAU_S).exp();
+                self.velocity += (v - self.velocity) * alpha;
+            } else {
+                self.velocity = Vec3::ZERO;
+            }
+        }
+        self.last_position = position.is_finite().then_some(position);
     }
 
     /// The reference's schedule: eye and grid every frame; previous as well on the crossing
@@ -314,4 +358,48 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use texel_probes::probe_set::Slot;
+
+    /// Walking slowly toward a cell boundary, quiet frames capture the next cell's grid
+    /// probe ahead of time, so the crossing frame captures no stable face.
+    #[test]
+    fn a_slow_walk_prefetches_the_next_cell_before_crossing_it() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
+            .expect("level loads");
+        let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
+        let dt = 1.0 / 30.0;
+        let mut prefetched = 0;
+        let mut crossing = None;
+        for i in 0..30 {
+            // 1 unit/s toward -z; the cell boundary at z = 12.5 comes after 15 frames.
+            let camera =
+                Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, 13.0 - i as f32 * dt), 0.0, -5.0);
+            let input = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+            if let Some(p) = input.prefetch {
+                assert_eq!(p.draw, FaceMask::EMPTY, "a prefetched probe is not drawn");
+                assert_ne!(p.slot, input.grid.slot);
+                prefetched += input.captures.iter().filter(|c| c.slot == p.slot).count();
+            }
+            if input.previous.is_some() && crossing.is_none() {
+                let stable = input
+                    .captures
+                    .iter()
+                    .filter(|c| c.slot != Slot::Eye)
+                    .count();
+                crossing = Some((i, stable));
+            }
+        }
+        let (frame, stable) = crossing.expect("the walk crosses a cell");
+        assert!(prefetched >= 2, "prefetched {prefetched} faces");
+        assert_eq!(
+            stable, 0,
+            "the crossing at frame {frame} still captured {stable} faces"
+        );
+    }
 }

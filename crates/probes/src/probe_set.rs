@@ -343,6 +343,14 @@ impl ProbeSet {
         probe_of(Role::Grid, self.grid_slot, self.grid)
     }
 
+    /// The probe a crossing into `key` would make the grid probe, while no fade runs and
+    /// `key` is not the grid's: it would go to the free stable slot, so its faces can be
+    /// captured there ahead of the crossing ([`crate::schedule::Scheduler::prefetch`]).
+    pub fn next_probe(&self, key: ProbeKey) -> Option<Probe> {
+        (self.fade.is_none() && key != self.grid)
+            .then(|| probe_of(Role::Grid, self.grid_slot.other_stable(), key))
+    }
+
     /// The previous probe, while a fade runs.
     pub fn previous(&self) -> Option<Probe> {
         self.fade

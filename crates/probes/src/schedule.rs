@@ -20,7 +20,12 @@
 //!   drawing; the fade waits for the grid via [`UpdatePlan::readiness`], and a scene that
 //!   changes every frame cannot stall it.
 //!
-//! Frame order: `ProbeSet::begin_frame` → [`Scheduler::plan`] → render the plan →
+//! - **Prefetch** ([`Scheduler::prefetch`]): on a frame with no stable work, a few faces of
+//!   the grid probe of the cell the camera is heading into, in the free stable slot, so the
+//!   crossing itself captures (almost) nothing.
+//!
+//! Frame order: `ProbeSet::begin_frame` → [`Scheduler::plan`] (→ [`Scheduler::prefetch`]) →
+//! render the plan →
 //! [`Scheduler::commit`] → `ProbeSet::advance_fade(plan.readiness())`.
 
 use std::fmt;
@@ -109,6 +114,9 @@ pub struct UpdatePlan {
     pub grid: ProbePlan,
     /// The previous probe, while a fade runs.
     pub previous: Option<ProbePlan>,
+    /// The next grid probe whose faces are captured ahead of a predicted crossing
+    /// ([`Scheduler::prefetch`]); drawn by nobody yet.
+    pub prefetch: Option<ProbePlan>,
     /// Captures in execution order (eye first).
     pub work: Vec<FaceWork>,
     /// Per-role counts.
@@ -259,9 +267,40 @@ impl Scheduler {
             eye,
             grid,
             previous,
+            prefetch: None,
             work: pass.work,
             counts,
         }
+    }
+
+    /// Adds to `plan` up to `max_faces` captures of `next` (from
+    /// [`ProbeSet::next_probe`]: the grid probe of the cell the camera is about to enter, in
+    /// the free stable slot), faces facing the view first, when the frame has no other
+    /// stable work: a quiet frame pays for the crossing ahead, and the crossing frame finds
+    /// those faces already captured (same slot, origin and resolution), so it neither
+    /// captures nor waits for them.
+    pub fn prefetch(&self, plan: &mut UpdatePlan, frustum: &Frustum, next: &Probe, max_faces: u32) {
+        let stable_work = plan.work.iter().any(|w| w.role != Role::Eye);
+        if stable_work || plan.previous.is_some() || next.slot == plan.grid.probe.slot {
+            return;
+        }
+        let spare = self.max_faces.saturating_sub(plan.counts.total());
+        let mut pass = Pass {
+            frustum,
+            forward: view_forward(frustum),
+            scene_generation: plan.scene_generation,
+            budget: max_faces.min(spare),
+            work: Vec::new(),
+        };
+        let mut needs = self.needs(&pass, next);
+        needs.capture = pass.take(needs.missing);
+        if needs.capture.is_empty() {
+            return;
+        }
+        pass.queue(next, needs.capture);
+        plan.work.extend(pass.work);
+        plan.counts.grid += needs.capture.count();
+        plan.prefetch = Some(needs.into_plan());
     }
 
     fn plan_eye(&self, pass: &mut Pass<'_>, eye: &Probe) -> ProbePlan {

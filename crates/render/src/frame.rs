@@ -405,10 +405,15 @@ fn begin_draw<'e>(
 /// next to a face captured this frame but not captured itself (its seam texels looked
 /// across into data that has just changed).
 fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> {
-    let probes: Vec<&ProbeView> = [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
-        .into_iter()
-        .flatten()
-        .collect();
+    let probes: Vec<&ProbeView> = [
+        Some(&input.eye),
+        Some(&input.grid),
+        input.previous.as_ref(),
+        input.prefetch.as_ref(),
+    ]
+    .into_iter()
+    .flatten()
+    .collect();
     let valid_of = |slot| {
         probes
             .iter()

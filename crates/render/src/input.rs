@@ -203,6 +203,9 @@ pub struct FrameInput {
     pub previous: Option<ProbeView>,
     /// Crossfade progress: 0 = previous draws everything, 1 = grid does.
     pub fade_t: f32,
+    /// The grid probe of the cell the camera is heading into, whose faces are being
+    /// captured ahead of the crossing (in the free stable slot); not drawn.
+    pub prefetch: Option<ProbeView>,
     /// Faces to capture and shade first.
     pub captures: Vec<CaptureInput>,
     /// Scheduling and culling method.

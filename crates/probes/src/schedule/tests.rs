@@ -314,3 +314,57 @@ fn a_stable_cap_limits_each_crossing_frame() {
         "a wide view needs more than two faces: the cap spread them"
     );
 }
+
+#[test]
+fn prefetched_faces_spare_the_crossing_frame() {
+    let mut rig = Rig::new(12);
+    let camera = Vec3::new(0.2, 0.1, -0.3);
+    let frustum = view_at(camera, 1.4, 1.2);
+    // Settle the grid probe of cell 0.
+    for _ in 0..4 {
+        rig.frame(camera, 0, 1.4, 1.2);
+    }
+    assert_eq!(rig.probes.next_probe(key(0)), None, "the grid's own cell");
+    let next = rig.probes.next_probe(key(1)).expect("no fade runs");
+    assert_ne!(next.slot, rig.probes.grid().slot);
+    let mut prefetched = 0;
+    for _ in 0..8 {
+        rig.probes.begin_frame(camera, key(0), DT);
+        let mut plan = rig.scheduler.plan(&frustum, &rig.probes, rig.generation);
+        rig.scheduler.prefetch(&mut plan, &frustum, &next, 1);
+        let extra: Vec<_> = plan.work.iter().filter(|w| w.role != Role::Eye).collect();
+        assert!(extra.len() <= 1, "one face per frame: {extra:?}");
+        assert!(
+            extra
+                .iter()
+                .all(|w| w.slot == next.slot && w.origin == next.origin)
+        );
+        prefetched += extra.len();
+        rig.scheduler.commit(&plan);
+        rig.probes.advance_fade(plan.readiness());
+    }
+    assert!(prefetched >= 2, "prefetched {prefetched} faces");
+    // The crossing: the new grid probe's visible faces are already there.
+    let plan = rig.frame(Vec3::new(1.2, 0.1, -0.3), 1, 1.4, 1.2);
+    assert!(plan.previous.is_some(), "a fade starts");
+    assert_eq!(plan.counts.grid, 0, "nothing left to capture: {plan:?}");
+    assert!(plan.readiness().grid);
+    // No prefetch while that fade runs.
+    assert_eq!(rig.probes.next_probe(key(2)), None);
+}
+
+#[test]
+fn prefetch_waits_for_stable_work() {
+    let mut rig = Rig::new(12);
+    let camera = Vec3::new(0.2, 0.1, -0.3);
+    let frustum = view_at(camera, 0.3, 1.2);
+    rig.probes.begin_frame(camera, key(0), DT);
+    // The first frame still captures the grid probe: no prefetch on top.
+    let next = rig.probes.next_probe(key(1)).expect("no fade");
+    let mut plan = rig.scheduler.plan(&frustum, &rig.probes, rig.generation);
+    assert!(plan.counts.grid > 0);
+    let before = plan.work.len();
+    rig.scheduler.prefetch(&mut plan, &frustum, &next, 1);
+    assert_eq!(plan.work.len(), before);
+    assert_eq!(plan.prefetch, None);
+}
