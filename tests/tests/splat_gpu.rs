@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use glam::{UVec2, Vec3};
-use texel_render::input::Camera;
+use texel_render::input::{Camera, Schedule};
 use texel_tests::{Harness, check_golden};
 
 const DT: f32 = 1.0 / 30.0;
@@ -312,4 +312,34 @@ fn runs_draw_what_one_quad_per_texel_draws() {
     );
     let (a, b) = (m.screen_visible_texels, s.screen_visible_texels);
     assert!(a.abs_diff(b) * 50 <= b, "visible texels {a} vs {b}");
+}
+
+/// Faces lit under the paper schedule (which draws texel by texel) get their runs before our
+/// schedule draws them: switching schedules (Tab in `texel-run play`) shows the same picture.
+#[test]
+fn switching_from_the_paper_schedule_draws_the_same_frame() {
+    let size = UVec2::new(160, 90);
+    let level = "assets/levels/stone_circle.ron";
+    let Some(mut h) = Harness::new(level, size, 32) else {
+        return;
+    };
+    let c = cam(0.0, 1.6, 9.3, 20.0, -4.0);
+    for _ in 0..4 {
+        let input = h.driver.frame(c, DT, Schedule::Paper).expect("plans");
+        h.renderer
+            .render_offscreen(&h.ctx, &input)
+            .expect("renders");
+    }
+    let switched = settled(&mut h, c);
+    let mut fresh = Harness::new(level, size, 32).expect("a second harness");
+    let direct = settled(&mut fresh, c);
+    let differ = switched
+        .chunks(4)
+        .zip(direct.chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert!(
+        differ * 200 <= switched.len() / 4,
+        "{differ} pixels differ after switching from the paper schedule"
+    );
 }
