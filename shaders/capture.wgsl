@@ -3,6 +3,7 @@
 // object flags. Crates/render/src/passes/capture.rs.
 
 #include "lib/common.wgsl"
+#include "lib/raster.wgsl"
 
 struct FaceParams {
     view_proj: mat4x4<f32>,
@@ -12,28 +13,9 @@ struct FaceParams {
 @group(0) @binding(0) var<uniform> face: FaceParams;
 @group(0) @binding(1) var<storage, read> objects: array<Object>;
 
-struct VsOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) @interpolate(flat) object: u32,
-    @location(3) colour: vec4<f32>,
-}
-
 @vertex
-fn vs(
-    @location(0) position: vec3<f32>,
-    @location(1) object: u32,
-    @location(2) normal: vec3<f32>,
-    @location(3) colour: u32,
-) -> VsOut {
-    var out: VsOut;
-    out.clip = face.view_proj * vec4(position, 1.0);
-    out.world = position;
-    out.normal = normal;
-    out.object = object;
-    out.colour = unpack4x8unorm(colour);
-    return out;
+fn vs(v: SceneVertex) -> VsOut {
+    return raster_vertex(v, face.view_proj);
 }
 
 struct FsOut {
@@ -48,6 +30,6 @@ fn fs(in: VsOut) -> FsOut {
     var out: FsOut;
     out.geo = vec4(normalize(in.normal), chebyshev(in.world - face.origin.xyz));
     out.id = in.object + 1u;
-    out.albedo = vec4(obj.albedo * in.colour.rgb, f32(obj.flags) / 255.0);
+    out.albedo = surface_albedo(obj, in.colour);
     return out;
 }

@@ -4,6 +4,7 @@
 // colour with the object flags in alpha, packed RGBA8 (ids.y). The evaluator's reference G-buffer is this pass at full resolution.
 
 #include "lib/common.wgsl"
+#include "lib/raster.wgsl"
 
 struct Camera {
     view_proj: mat4x4<f32>,
@@ -14,28 +15,9 @@ struct Camera {
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<storage, read> objects: array<Object>;
 
-struct VsOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) world: vec3<f32>,
-    @location(1) normal: vec3<f32>,
-    @location(2) @interpolate(flat) object: u32,
-    @location(3) colour: vec4<f32>,
-}
-
 @vertex
-fn vs(
-    @location(0) position: vec3<f32>,
-    @location(1) object: u32,
-    @location(2) normal: vec3<f32>,
-    @location(3) colour: u32,
-) -> VsOut {
-    var out: VsOut;
-    out.clip = camera.view_proj * vec4(position, 1.0);
-    out.world = position;
-    out.normal = normal;
-    out.object = object;
-    out.colour = unpack4x8unorm(colour);
-    return out;
+fn vs(v: SceneVertex) -> VsOut {
+    return raster_vertex(v, camera.view_proj);
 }
 
 struct FsOut {
@@ -50,7 +32,7 @@ fn fs(in: VsOut) -> FsOut {
     var out: FsOut;
     out.world = vec4(in.world, dot(in.world, camera.axis.xyz) - camera.axis.w);
     out.normal = vec4(normalize(in.normal), 0.0);
-    let albedo = vec4(obj.albedo * in.colour.rgb, f32(obj.flags) / 255.0);
+    let albedo = surface_albedo(obj, in.colour);
     out.ids = vec2(in.object + 1u, pack4x8unorm(albedo));
     return out;
 }
