@@ -75,16 +75,26 @@ fn at(seg: u32, i: u32, segments: u32, columns: bool) -> vec2<u32> {
     return vec2(along, line);
 }
 
+// Texels in segment `seg` of `face` (0 when the face is not asked for or `seg` is past
+// the last segment).
+fn segment_length(seg: u32, face: u32) -> u32 {
+    let segments = (rf.n + SEGMENT - 1u) / SEGMENT;
+    if (rf.face_mask & (1u << face)) == 0u || seg >= segments * rf.n {
+        return 0u;
+    }
+    return min(SEGMENT, rf.n - (seg % segments) * SEGMENT);
+}
+
 // Row runs over every texel.
 @compute @workgroup_size(64)
 fn rows(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = rf.n;
     let segments = (n + SEGMENT - 1u) / SEGMENT;
     let face = gid.z;
-    if (rf.face_mask & (1u << face)) == 0u || gid.x >= segments * n {
+    let count = segment_length(gid.x, face);
+    if count == 0u {
         return;
     }
-    let count = min(SEGMENT, n - (gid.x % segments) * SEGMENT);
     var head_i = 0u;
     var head = load(at(gid.x, 0u, segments, false), face);
     var prev = head;
@@ -109,10 +119,10 @@ fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = rf.n;
     let segments = (n + SEGMENT - 1u) / SEGMENT;
     let face = gid.z;
-    if (rf.face_mask & (1u << face)) == 0u || gid.x >= segments * n {
+    let count = segment_length(gid.x, face);
+    if count == 0u {
         return;
     }
-    let count = min(SEGMENT, n - (gid.x % segments) * SEGMENT);
     var head_i = 0u;
     var len = 0u;
     var head: Texel;

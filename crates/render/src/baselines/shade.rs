@@ -2,7 +2,7 @@
 //! the texel shade pass's lighting, posterization and outline rule, so the baselines differ
 //! from texel splatting only in where colours are computed, never in how (haze included).
 
-use crate::passes::{bind_group, compute_pipeline};
+use crate::passes::{bind_group, compute_pipeline, storage_texture};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -66,11 +66,7 @@ impl ScreenShadePass {
                 entry(
                     4,
                     c,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: LIT_FORMAT,
-                        view_dimension: d2,
-                    },
+                    storage_texture(wgpu::StorageTextureAccess::WriteOnly, LIT_FORMAT, d2),
                 ),
                 entry(5, c, storage(true)),
                 entry(6, c, storage(true)),

@@ -57,6 +57,19 @@ pub(crate) fn texture(
     }
 }
 
+/// A storage texture binding of `format` with `access`.
+pub(crate) fn storage_texture(
+    access: wgpu::StorageTextureAccess,
+    format: wgpu::TextureFormat,
+    dim: wgpu::TextureViewDimension,
+) -> wgpu::BindingType {
+    wgpu::BindingType::StorageTexture {
+        access,
+        format,
+        view_dimension: dim,
+    }
+}
+
 /// Unfilterable float sample type (textureLoad only).
 pub(crate) const FLOAT: wgpu::TextureSampleType =
     wgpu::TextureSampleType::Float { filterable: false };

@@ -6,7 +6,8 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::{
-    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
+    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage,
+    storage_texture, texture,
 };
 use crate::probe_store::{ProbeStore, RUNS_FORMAT};
 use crate::shader;
@@ -56,11 +57,7 @@ impl RunsPass {
                 entry(
                     4,
                     c,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::ReadWrite,
-                        format: RUNS_FORMAT,
-                        view_dimension: ARRAY,
-                    },
+                    storage_texture(wgpu::StorageTextureAccess::ReadWrite, RUNS_FORMAT, ARRAY),
                 ),
                 entry(5, c, storage(false)),
                 entry(6, c, storage(false)),

@@ -4,8 +4,8 @@ use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
 use super::{
-    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
-    uniform,
+    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage,
+    storage_texture, texture, uniform,
 };
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
 use crate::input::Look;
@@ -128,11 +128,7 @@ impl ShadePass {
                 entry(
                     5,
                     c,
-                    wgpu::BindingType::StorageTexture {
-                        access: wgpu::StorageTextureAccess::WriteOnly,
-                        format: LIT_FORMAT,
-                        view_dimension: ARRAY,
-                    },
+                    storage_texture(wgpu::StorageTextureAccess::WriteOnly, LIT_FORMAT, ARRAY),
                 ),
                 entry(6, c, storage(true)),
                 entry(7, c, storage(true)),
