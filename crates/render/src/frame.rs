@@ -1,6 +1,6 @@
 //! The renderer: owns the passes and the probe store, and orders one frame
-//! (capture → shade → cull → background + splat → visible). This is the only file that
-//! knows the pass order.
+//! (capture → shade → runs → cull → splat → background → visible → present). This is the
+//! only file that knows the pass order.
 
 use std::time::Instant;
 
@@ -46,9 +46,10 @@ pub enum RenderError {
 }
 
 /// Names of the timed stages, in order.
-pub const STAGES: [&str; 7] = [
+pub const STAGES: [&str; 8] = [
     "capture",
     "shade",
+    "runs",
     "cull",
     "splat",
     "background",
@@ -284,6 +285,9 @@ impl Renderer {
             let view = Some(&self.view);
             let shade = &mut self.shade;
             shade.record(d, q, enc, &jobs, store, scene, look, view);
+        });
+        stages.run(|enc| {
+            let store = &self.store;
             // Runs of the stable faces just lit (the paper schedule draws texel by texel
             // and leaves them for when our schedule draws again).
             let mut lit = [FaceMask::EMPTY; 3];
