@@ -5,8 +5,8 @@
 // (a floor seen from a side face, a wall facing its face): their quads then lie in one
 // plane and abut, so one quad spanning them covers what they would. Rows (then columns) are
 // cut into aligned segments of SEGMENT texels, each scanned by one thread; the first texel
-// of a run stores its length (| COLUMN for a column run), the others 0; `heads` then lists
-// the heads of the face for the cull pass (lib/lists.wgsl). Runs depend on the probe's data
+// of a run stores its length (| COLUMN for a column run), the others 0; `columns` also lists the
+// heads of the face for the cull pass (lib/lists.wgsl). Runs depend on the probe's data
 // alone, so they are cached with its shading. crates/render/src/passes/runs.rs.
 
 #include "lib/common.wgsl"
@@ -113,7 +113,19 @@ fn rows(@builtin(global_invocation_id) gid: vec3<u32>) {
     textureStore(runs_out, at(gid.x, head_i, segments, false), face, vec4(count - head_i));
 }
 
-// Column runs over the texels the row runs left alone (runs of one).
+// Ends the column run of `len` texels from `head` (at `t`): a run of several is marked and
+// listed; a lone texel is listed unless it is sky.
+fn close_column(t: vec2<u32>, face: u32, len: u32, head: Texel) {
+    if len > 1u {
+        textureStore(runs_out, t, face, vec4(len | COLUMN));
+        list_push(rf.slot, face, rf.n, t);
+    } else if len == 1u && head.id != 0u {
+        list_push(rf.slot, face, rf.n, t);
+    }
+}
+
+// Column runs over the texels the row runs left alone (runs of one); then every head, of a
+// row run or of a column run, goes on the face's draw list.
 @compute @workgroup_size(64)
 fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
     let n = rf.n;
@@ -129,7 +141,8 @@ fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
     var prev: Texel;
     for (var i = 0u; i < count; i++) {
         let t = at(gid.x, i, segments, true);
-        let alone = textureLoad(runs_out, t, face).r == 1u;
+        let run = textureLoad(runs_out, t, face).r;
+        let alone = run == 1u;
         var next: Texel;
         if alone {
             next = load(t, face);
@@ -138,8 +151,10 @@ fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
             textureStore(runs_out, t, face, vec4(0u));
             len += 1u;
         } else {
-            if len > 1u {
-                textureStore(runs_out, at(gid.x, head_i, segments, true), face, vec4(len | COLUMN));
+            close_column(at(gid.x, head_i, segments, true), face, len, head);
+            if run > 1u {
+                // The head of a row run (never sky).
+                list_push(rf.slot, face, n, t);
             }
             len = select(0u, 1u, alone);
             head_i = i;
@@ -147,21 +162,5 @@ fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         prev = next;
     }
-    if len > 1u {
-        textureStore(runs_out, at(gid.x, head_i, segments, true), face, vec4(len | COLUMN));
-    }
-}
-
-// Lists the heads of non-sky runs.
-@compute @workgroup_size(8, 8)
-fn heads(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let n = rf.n;
-    let t = gid.xy;
-    let face = gid.z;
-    if (rf.face_mask & (1u << face)) == 0u || t.x >= n || t.y >= n {
-        return;
-    }
-    if textureLoad(runs_out, t, face).r != 0u && textureLoad(id_tex, t, face, 0).r != 0u {
-        list_push(rf.slot, face, n, t);
-    }
+    close_column(at(gid.x, head_i, segments, true), face, len, head);
 }

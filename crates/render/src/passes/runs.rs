@@ -37,7 +37,6 @@ pub const COLUMN: u32 = 0x10000;
 pub struct RunsPass {
     rows: wgpu::ComputePipeline,
     columns: wgpu::ComputePipeline,
-    heads: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
 }
@@ -65,7 +64,6 @@ impl RunsPass {
         });
         let rows = compute_pipeline(device, "runs::rows", &module, "rows", &[&layout]);
         let columns = compute_pipeline(device, "runs::columns", &module, "columns", &[&layout]);
-        let heads = compute_pipeline(device, "runs::heads", &module, "heads", &[&layout]);
         let faces = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("runs::faces"),
             size: UNIFORM_STRIDE * Slot::ALL.len() as u64,
@@ -75,7 +73,6 @@ impl RunsPass {
         Ok(RunsPass {
             rows,
             columns,
-            heads,
             layout,
             faces,
         })
@@ -144,8 +141,6 @@ impl RunsPass {
                 pass.set_pipeline(pipeline);
                 pass.dispatch_workgroups(groups, 1, 6);
             }
-            pass.set_pipeline(&self.heads);
-            pass.dispatch_workgroups(t.n.div_ceil(8), t.n.div_ceil(8), 6);
         }
     }
 }
