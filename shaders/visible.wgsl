@@ -16,7 +16,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let k = key - 1u;
-    if (k >> 5u) < arrayLength(&bits) {
-        atomicOr(&bits[k >> 5u], 1u << (k & 31u));
+    let word = k >> 5u;
+    let bit = 1u << (k & 31u);
+    // Most pixels repeat a neighbour's texel: read first, and write only a new bit.
+    if word < arrayLength(&bits) && (atomicLoad(&bits[word]) & bit) == 0u {
+        atomicOr(&bits[word], bit);
     }
 }
