@@ -30,23 +30,48 @@ struct VsOut {
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
-    return corner_of(vi, ii);
-}
-
-// One texel per quad: the same corners without `along`.
-@vertex
-fn vs_texel(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> TexelIn {
-    let v = corner_of(vi, ii);
-    return TexelIn(v.clip, v.colour, v.key, v.run);
-}
-
-fn corner_of(vi: u32, ii: u32) -> VsOut {
     var out: VsOut;
     if ii >= arrayLength(&splats) {
         out.clip = vec4(0.0, 0.0, 2.0, 1.0);
         return out;
     }
     let s = splats[ii];
+    let shape = bitcast<u32>(s.c2.w);
+    let role = shape & 0xffu;
+    let column = (shape & SPLAT_COLUMN) != 0u;
+    let texels = max((shape & 0xffffu) >> 8u, 1u);
+    out.clip = corner_clip(s, vi, role);
+    out.colour = splat_colour(s);
+    out.key = bitcast<u32>(s.c0.w);
+    out.run = (texels - 1u) | (select(0u, 1u, column) << 8u) | (role << 9u);
+    // Texel coordinate along the run: the first texel's centre is 0.5, the last's
+    // texels − 0.5. Corners 0–3 are top-left, top-right, bottom-right, bottom-left: a row
+    // run starts on the left (0, 3), a column run at the top (0, 1).
+    let reach = unpack2x16unorm(bitcast<u32>(s.c3.w));
+    let at_start = select(vi == 0u || vi == 3u, vi <= 1u, column);
+    out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
+    return out;
+}
+
+// One texel per quad: no run to decode and no `along`.
+@vertex
+fn vs_texel(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> TexelIn {
+    var out: TexelIn;
+    if ii >= arrayLength(&splats) {
+        out.clip = vec4(0.0, 0.0, 2.0, 1.0);
+        return out;
+    }
+    let s = splats[ii];
+    let role = bitcast<u32>(s.c2.w) & 0xffu;
+    out.clip = corner_clip(s, vi, role);
+    out.colour = splat_colour(s);
+    out.key = bitcast<u32>(s.c0.w);
+    out.run = role << 9u;
+    return out;
+}
+
+// Clip position of corner `vi` of splat `s`.
+fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
     var corner: vec3<f32>;
     switch vi {
         case 0u: { corner = s.c0.xyz; }
@@ -54,32 +79,22 @@ fn corner_of(vi: u32, ii: u32) -> VsOut {
         case 2u: { corner = s.c2.xyz; }
         default: { corner = s.c3.xyz; }
     }
-    let shape = bitcast<u32>(s.c2.w);
-    let role = shape & 0xffu;
-    let column = (shape & SPLAT_COLUMN) != 0u;
-    // Corners 0–3 are top-left, top-right, bottom-right, bottom-left: a row run starts on
-    // the left (0, 3), a column run at the top (0, 1).
-    let texels = max((shape & 0xffffu) >> 8u, 1u);
-    out.run = (texels - 1u) | (select(0u, 1u, column) << 8u) | (role << 9u);
-    // Texel coordinate along the run: the first texel's centre is 0.5, the last's texels − 0.5.
-    let reach = unpack2x16unorm(bitcast<u32>(s.c3.w));
-    let at_start = select(vi == 0u || vi == 3u, vi <= 1u, column);
-    out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
-    let key = bitcast<u32>(s.c0.w);
     var clip = view.view_proj * vec4(corner, 1.0);
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
     // depth and be resolved by draw order, which the cull pass's atomics leave unspecified;
     // a tiny per-texel offset makes the winner a function of the texel alone.
-    let tie = f32((key * 2654435761u) >> 24u) * 1.0e-9;
-    var bias = tie;
+    let key = bitcast<u32>(s.c0.w);
+    var bias = f32((key * 2654435761u) >> 24u) * 1.0e-9;
     if role == ROLE_EYE {
         bias += view.eye_bias;
     }
     clip.z = min(clip.z + bias * clip.w, clip.w);
-    out.clip = clip;
-    out.colour = srgb_to_linear(unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb);
-    out.key = key;
-    return out;
+    return clip;
+}
+
+// Linear colour of splat `s` (stored as packed sRGB).
+fn splat_colour(s: Splat) -> vec3<f32> {
+    return srgb_to_linear(unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb);
 }
 
 struct FsOut {
