@@ -210,7 +210,7 @@ impl BaselineRenderer {
                 shade: ScreenShadePass::new(d)?,
                 upscale: UpscalePass::new(d)?,
                 capture: CapturePass::new(d)?,
-                cube_shade: ShadePass::new(d, true)?,
+                cube_shade: ShadePass::new(d)?,
                 cube: CubemapPass::new(d)?,
                 store: ProbeStore::new(ctx, 8),
                 scene: None,
@@ -364,7 +364,7 @@ impl BaselineRenderer {
         });
         timer.run("shade", |enc| {
             let look = &view.look;
-            let s = &mut self.cube_shade;
+            let s = &self.cube_shade;
             let jobs: Vec<crate::passes::shade::ShadeJob> = caps
                 .iter()
                 .map(|c| crate::passes::shade::ShadeJob {
