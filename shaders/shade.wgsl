@@ -18,7 +18,10 @@ struct ShadeFace {
     view_cull: u32,
     // Bit f: face f of this probe holds data for this origin (neighbours are read there only).
     valid_mask: u32,
+    // This job's record in `job_args`.
+    job: u32,
     slot: u32,
+    _pad0: u32,
     // First texel of the dispatch (the eye's faces: only the part the view can see).
     rect_min: vec2<u32>,
 }
@@ -41,10 +44,20 @@ struct ShadeGlobals {
 @group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
-@group(0) @binding(8) var<storage, read_write> shaded: atomic<u32>;
+// Work of this frame's jobs: the texels lit (WORK_SHADED), each job's queue length (from
+// WORK_COUNTS), and the queue of the current job's texels that need lighting (from
+// WORK_QUEUE; x | y << 16), gathered by `main` so that `light` runs them densely: lighting
+// (shadow rays) is the expensive part, and lanes of a group that skip it would otherwise
+// wait for the ones that do.
+@group(0) @binding(8) var<storage, read_write> work: array<atomic<u32>>;
+const WORK_SHADED: u32 = 0u;
+const WORK_COUNTS: u32 = 1u;
+const WORK_QUEUE: u32 = 64u;
 // The slot's draw list: view-culled (eye) jobs list the texels they light for the cull pass.
 @group(0) @binding(9) var<storage, read_write> list: array<atomic<u32>>;
 @group(0) @binding(10) var<storage, read_write> list_args: array<atomic<u32>>;
+// Per job: `light`'s indirect dispatch arguments (x, y, z, padding); bound for `main` only.
+@group(3) @binding(0) var<storage, read_write> job_args: array<atomic<u32>>;
 // The two stable slots (grid and previous, in whichever order the slots hold them) and the
 // frame's view: an eye texel whose surface every drawing stable probe already shows is not
 // splatted, and is read only by the hole fill, so it copies the stable probe's colour
@@ -91,18 +104,31 @@ fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
 
 var<workgroup> group_count: atomic<u32>;
 
-// Lights the texels of a face (the eye's: only those in view and not shown by a stable
-// probe).
+// Sorts the texels of a face: sky, off-view and covered texels are settled here, the rest
+// queued for `light`.
 @compute @workgroup_size(8, 8)
-fn main(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let t = gid.xy + sf.rect_min;
     if t.x < sf.n && t.y < sf.n && needs_light(t) {
-        light_texel(t);
+        let index = atomicAdd(&work[WORK_COUNTS + sf.job], 1u);
+        if index % 64u == 0u {
+            atomicAdd(&job_args[sf.job * 4u], 1u);
+        }
+        atomicStore(&work[WORK_QUEUE + index], t.x | (t.y << 16u));
+    }
+}
+
+// Lights the texels `main` queued.
+@compute @workgroup_size(64)
+fn light(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    if gid.x < atomicLoad(&work[WORK_COUNTS + sf.job]) {
+        let packed = atomicLoad(&work[WORK_QUEUE + gid.x]);
+        light_texel(vec2(packed & 0xffffu, packed >> 16u));
         atomicAdd(&group_count, 1u);
     }
     workgroupBarrier();
     if li == 0u {
-        atomicAdd(&shaded, atomicLoad(&group_count));
+        atomicAdd(&work[WORK_SHADED], atomicLoad(&group_count));
     }
 }
 
@@ -130,7 +156,7 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
     }
     workgroupBarrier();
     if li == 0u {
-        atomicAdd(&shaded, atomicLoad(&group_count));
+        atomicAdd(&work[WORK_SHADED], atomicLoad(&group_count));
     }
 }
 

@@ -283,7 +283,7 @@ impl Renderer {
         stages.run(|enc| {
             let (store, look) = (&self.store, &input.look);
             let view = Some(&self.view);
-            let shade = &self.shade;
+            let shade = &mut self.shade;
             shade.record(d, q, enc, &jobs, store, scene, look, view);
         });
         stages.run(|enc| {
@@ -336,7 +336,7 @@ impl Renderer {
         });
         let copies = [
             (&self.cull.args, size_of::<DrawArgs>() as u64),
-            (&self.shade.shaded, 4),
+            (&self.shade.work, 4),
             (&self.visible.bits, self.visible.bytes()),
         ];
         let (passes, gpu_timestamps, readback) = stages.finish(&copies)?;

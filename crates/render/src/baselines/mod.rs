@@ -364,7 +364,7 @@ impl BaselineRenderer {
         });
         timer.run("shade", |enc| {
             let look = &view.look;
-            let s = &self.cube_shade;
+            let s = &mut self.cube_shade;
             let jobs: Vec<crate::passes::shade::ShadeJob> = caps
                 .iter()
                 .map(|c| crate::passes::shade::ShadeJob {

@@ -27,9 +27,10 @@ struct ShadeFace {
     n: u32,
     view_cull: u32,
     valid_mask: u32,
+    job: u32,
     slot: u32,
+    _pad: u32,
     rect_min: [u32; 2],
-    _pad: [u32; 2],
 }
 
 /// Size of `ShadeFace` (WGSL `ShadeFace`).
@@ -88,6 +89,7 @@ pub struct ShadeGlobals {
 /// The shade pass.
 pub struct ShadePass {
     pipeline: wgpu::ComputePipeline,
+    light_pipeline: wgpu::ComputePipeline,
     border_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
@@ -95,9 +97,20 @@ pub struct ShadePass {
     no_view: wgpu::Buffer,
     faces: wgpu::Buffer,
     globals: wgpu::Buffer,
-    /// Texels lit this frame (one `u32`, counted on the GPU).
-    pub shaded: wgpu::Buffer,
+    /// `work` in `shade.wgsl`: first the texels lit this frame (one `u32`, counted on the
+    /// GPU), then each job's queue length, then the queue of texels waiting for `light`.
+    pub work: wgpu::Buffer,
+    /// Per job: `light`'s indirect dispatch arguments (bound for `main` only: a buffer may
+    /// not be storage and indirect arguments in one dispatch).
+    job_args: wgpu::Buffer,
+    args_layout: wgpu::BindGroupLayout,
 }
+
+/// Bytes of one job's record in `job_args`: x, y, z workgroups and padding.
+const JOB_ARGS_BYTES: u64 = 16;
+/// Where the queue starts in `work` (`WORK_QUEUE` in `shade.wgsl`), in `u32`s.
+const WORK_QUEUE: u64 = 64;
+const _: () = assert!((MAX_JOBS as u64) < WORK_QUEUE);
 
 impl ShadePass {
     /// Builds the pipeline.
@@ -139,10 +152,16 @@ impl ShadePass {
             label: Some("shade::stable_layout"),
             entries: &stable_entries,
         });
-        let layouts = [&layout, &bvh_layout, &stable_layout];
+        let args_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("shade::args_layout"),
+            entries: &[entry(0, c, storage(false))],
+        });
+        let layouts = [&layout, &bvh_layout, &stable_layout, &args_layout];
         let pipeline = compute_pipeline(device, "shade", &module, "main", &layouts);
+        let light_pipeline =
+            compute_pipeline(device, "shade::light", &module, "light", &layouts[..3]);
         let border_pipeline =
-            compute_pipeline(device, "shade::border", &module, "border", &layouts);
+            compute_pipeline(device, "shade::border", &module, "border", &layouts[..3]);
         let buffer = |label, size| {
             device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some(label),
@@ -157,15 +176,23 @@ impl ShadePass {
             usage: wgpu::BufferUsages::UNIFORM,
             mapped_at_creation: false,
         });
-        Ok(ShadePass {
-            shaded: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("shade::shaded"),
-                size: 4,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::COPY_SRC
-                    | wgpu::BufferUsages::COPY_DST,
+        let storage_buffer = |label, size, extra| {
+            device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some(label),
+                size,
+                usage: wgpu::BufferUsages::STORAGE | extra,
                 mapped_at_creation: false,
-            }),
+            })
+        };
+        Ok(ShadePass {
+            light_pipeline,
+            work: work_buffer(device, 0),
+            job_args: storage_buffer(
+                "shade::job_args",
+                JOB_ARGS_BYTES * MAX_JOBS as u64,
+                wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
+            ),
+            args_layout,
             no_view,
             stable_layout,
             pipeline,
@@ -179,10 +206,10 @@ impl ShadePass {
 
     /// Records the shade jobs; view-culled jobs read the frame's `view` (its frustum and the
     /// stable probes).
-    /// The texels lit are counted in [`Self::shaded`].
+    /// The texels lit are counted in the first word of [`Self::work`].
     #[allow(clippy::too_many_arguments)]
     pub fn record(
-        &self,
+        &mut self,
         device: &wgpu::Device,
         queue: &wgpu::Queue,
         encoder: &mut wgpu::CommandEncoder,
@@ -195,16 +222,29 @@ impl ShadePass {
         // Without a frame's view (the cubemap baseline), nothing is view-culled and the view
         // is never read; a zeroed one fills the binding.
         let view = view.unwrap_or(&self.no_view);
-        encoder.clear_buffer(&self.shaded, 0, None);
         let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
+        let max_n = jobs.iter().map(|j| store.slot(j.slot).n).max().unwrap_or(1);
+        let want = u64::from(max_n) * u64::from(max_n);
+        if self.work.size() < 4 * (WORK_QUEUE + want) {
+            self.work = work_buffer(device, want);
+        }
+        encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
         if jobs.is_empty() {
             return;
         }
         let g = globals(scene, look);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
+        let args: Vec<[u32; 4]> = jobs.iter().map(|_| [0, 1, 1, 0]).collect();
+        queue.write_buffer(&self.job_args, 0, bytemuck::cast_slice(&args));
         for j in jobs.iter().filter(|j| j.view_cull && !j.border) {
             store.clear_lists(queue, j.slot, FaceMask::single(j.face));
         }
+        let job_args = bind_group(
+            device,
+            "shade::job_args",
+            &self.args_layout,
+            &[self.job_args.as_entire_binding()],
+        );
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * jobs.len()];
         for (i, j) in jobs.iter().enumerate() {
             let f = ShadeFace {
@@ -213,9 +253,10 @@ impl ShadePass {
                 n: store.slot(j.slot).n,
                 view_cull: u32::from(j.view_cull),
                 valid_mask: u32::from(j.valid.bits()),
+                job: i as u32,
                 slot: j.slot.index() as u32,
+                _pad: 0,
                 rect_min: j.rect.map_or([0, 0], |r| [r.x0, r.y0]),
-                _pad: [0; 2],
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
@@ -258,7 +299,10 @@ impl ShadePass {
                     continue;
                 }
                 pass.set_pipeline(&self.pipeline);
+                pass.set_bind_group(3, &job_args, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+                pass.set_pipeline(&self.light_pipeline);
+                pass.dispatch_workgroups_indirect(&self.job_args, i as u64 * JOB_ARGS_BYTES);
             }
         }
     }
@@ -308,7 +352,7 @@ impl ShadePass {
                 tex(&slot.lit.array_view),
                 scene.objects.as_entire_binding(),
                 scene.points.as_entire_binding(),
-                self.shaded.as_entire_binding(),
+                self.work.as_entire_binding(),
                 slot.list.as_entire_binding(),
                 store.list_args.as_entire_binding(),
             ],
@@ -328,4 +372,16 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         bands: look.bands.max(2),
         _pad: 0,
     }
+}
+
+/// The `work` buffer, with room for a queue of `queue` texels.
+fn work_buffer(device: &wgpu::Device, queue: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("shade::work"),
+        size: 4 * (WORK_QUEUE + queue),
+        usage: wgpu::BufferUsages::STORAGE
+            | wgpu::BufferUsages::COPY_SRC
+            | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
