@@ -18,7 +18,7 @@ struct ShadeFace {
     view_cull: u32,
     // Bit f: face f of this probe holds data for this origin (neighbours are read there only).
     valid_mask: u32,
-    // This job's record in `job_args`.
+    // This job's index (its record in `all_faces`).
     job: u32,
     slot: u32,
     _pad0: u32,
@@ -34,9 +34,22 @@ struct ShadeGlobals {
     point_count: u32,
     bands: u32,
     _pad0: u32,
+    // Where each slot's part of the light queue starts in `work` (after WORK_QUEUE).
+    queue_base: vec4<u32>,
 }
 
-@group(0) @binding(0) var<uniform> sf: ShadeFace;
+// A job's record at its 256-byte uniform stride.
+struct JobRecord {
+    f: ShadeFace,
+    _pad: array<vec4<u32>, 13>,
+}
+
+// The job of this dispatch (dynamic offset); for `light`, any job of the slot it lights.
+@group(0) @binding(0) var<uniform> job_face: ShadeFace;
+// Every job of the frame, for `light`, which runs texels of several jobs of one slot.
+@group(0) @binding(11) var<uniform> all_faces: array<JobRecord, 54>;
+// The job whose texel this invocation shades (set first by every entry point).
+var<private> sf: ShadeFace;
 @group(0) @binding(1) var<uniform> globals: ShadeGlobals;
 @group(0) @binding(2) var geo_tex: texture_2d_array<f32>;
 @group(0) @binding(3) var id_tex: texture_2d_array<u32>;
@@ -45,8 +58,9 @@ struct ShadeGlobals {
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
 // Work of this frame's jobs: the texels lit (WORK_SHADED), each job's queue length (from
-// WORK_COUNTS), and the queue of the current job's texels that need lighting (from
-// WORK_QUEUE; x | y << 16), gathered by `main` so that `light` runs them densely: lighting
+// WORK_COUNTS, per slot), and the queue of texels that need lighting (from WORK_QUEUE, each
+// slot's part at `globals.queue_base`; job | x << 6 | y << 19), gathered by `main` so that
+// `light` runs them densely, one dispatch per slot rather than per job: lighting
 // (shadow rays) is the expensive part, and lanes of a group that skip it would otherwise
 // wait for the ones that do.
 @group(0) @binding(8) var<storage, read_write> work: array<atomic<u32>>;
@@ -108,22 +122,26 @@ var<workgroup> group_count: atomic<u32>;
 // queued for `light`.
 @compute @workgroup_size(8, 8)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
+    sf = job_face;
     let t = gid.xy + sf.rect_min;
     if t.x < sf.n && t.y < sf.n && needs_light(t) {
-        let index = atomicAdd(&work[WORK_COUNTS + sf.job], 1u);
+        let index = atomicAdd(&work[WORK_COUNTS + sf.slot], 1u);
         if index % 64u == 0u {
-            atomicAdd(&job_args[sf.job * 4u], 1u);
+            atomicAdd(&job_args[sf.slot * 4u], 1u);
         }
-        atomicStore(&work[WORK_QUEUE + index], t.x | (t.y << 16u));
+        let at = WORK_QUEUE + globals.queue_base[sf.slot] + index;
+        atomicStore(&work[at], sf.job | (t.x << 6u) | (t.y << 19u));
     }
 }
 
-// Lights the texels `main` queued.
+// Lights the texels `main` queued for the slot of `job_face`.
 @compute @workgroup_size(64)
 fn light(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
-    if gid.x < atomicLoad(&work[WORK_COUNTS + sf.job]) {
-        let packed = atomicLoad(&work[WORK_QUEUE + gid.x]);
-        light_texel(vec2(packed & 0xffffu, packed >> 16u));
+    let slot = job_face.slot;
+    if gid.x < atomicLoad(&work[WORK_COUNTS + slot]) {
+        let packed = atomicLoad(&work[WORK_QUEUE + globals.queue_base[slot] + gid.x]);
+        sf = all_faces[packed & 63u].f;
+        light_texel(vec2((packed >> 6u) & 0x1fffu, packed >> 19u));
         atomicAdd(&group_count, 1u);
     }
     workgroupBarrier();
@@ -136,6 +154,7 @@ fn light(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
 // texels whose outlines and neighbour bits look across that seam.
 @compute @workgroup_size(64)
 fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+    sf = job_face;
     let n = sf.n;
     let i = gid.x;
     let lights_it = i < 4u * n;

@@ -84,6 +84,7 @@ pub struct ShadeGlobals {
     point_count: u32,
     bands: u32,
     _pad: u32,
+    queue_base: [u32; 4],
 }
 
 /// The shade pass.
@@ -111,6 +112,8 @@ const JOB_ARGS_BYTES: u64 = 16;
 /// Where the queue starts in `work` (`WORK_QUEUE` in `shade.wgsl`), in `u32`s.
 const WORK_QUEUE: u64 = 64;
 const _: () = assert!((MAX_JOBS as u64) < WORK_QUEUE);
+// A queued texel packs its job in 6 bits (`shade.wgsl`), and `all_faces` holds 54 records.
+const _: () = assert!(MAX_JOBS == 54);
 
 impl ShadePass {
     /// Builds the pipeline.
@@ -135,6 +138,7 @@ impl ShadePass {
                 entry(8, c, storage(false)),
                 entry(9, c, storage(false)),
                 entry(10, c, storage(false)),
+                entry(11, c, uniform(false)),
             ],
         });
         let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -223,18 +227,37 @@ impl ShadePass {
         // is never read; a zeroed one fills the binding.
         let view = view.unwrap_or(&self.no_view);
         let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
-        let max_n = jobs.iter().map(|j| store.slot(j.slot).n).max().unwrap_or(1);
-        let want = u64::from(max_n) * u64::from(max_n);
-        if self.work.size() < 4 * (WORK_QUEUE + want) {
-            self.work = work_buffer(device, want);
+        // The light queue: each slot's part holds at most the texels its jobs dispatch over.
+        let area = |j: &ShadeJob| {
+            let n = store.slot(j.slot).n;
+            let (w, h) = j.rect.map_or((n, n), |r| (r.x1 - r.x0, r.y1 - r.y0));
+            if j.border {
+                0
+            } else {
+                u64::from(w) * u64::from(h)
+            }
+        };
+        let mut queue_base = [0u32; 4];
+        let mut total = 0u64;
+        for slot in Slot::ALL {
+            queue_base[slot.index()] = total as u32;
+            total += jobs
+                .iter()
+                .filter(|j| j.slot == slot)
+                .map(area)
+                .sum::<u64>();
+        }
+        if self.work.size() < 4 * (WORK_QUEUE + total) {
+            self.work = work_buffer(device, total);
         }
         encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
         if jobs.is_empty() {
             return;
         }
-        let g = globals(scene, look);
+        let mut g = globals(scene, look);
+        g.queue_base = queue_base;
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
-        let args: Vec<[u32; 4]> = jobs.iter().map(|_| [0, 1, 1, 0]).collect();
+        let args: Vec<[u32; 4]> = Slot::ALL.iter().map(|_| [0, 1, 1, 0]).collect();
         queue.write_buffer(&self.job_args, 0, bytemuck::cast_slice(&args));
         for j in jobs.iter().filter(|j| j.view_cull && !j.border) {
             store.clear_lists(queue, j.slot, FaceMask::single(j.face));
@@ -280,29 +303,50 @@ impl ShadePass {
         // they get the eye slot's textures (which they do not read).
         let for_eye = self.stable_bind_group(device, store, [Slot::StableA, Slot::StableB], view);
         let for_stable = self.stable_bind_group(device, store, [Slot::Eye, Slot::Eye], view);
-        for (i, j) in jobs.iter().enumerate() {
-            let stable = if j.slot == Slot::Eye {
-                &for_eye
-            } else {
-                &for_stable
+        // Stable slots first: eye texels may copy their colours in the same pass. Per slot:
+        // sort every job's texels into the queue, light the queue in one dispatch, then the
+        // edges of faces next to new ones.
+        for slot in [Slot::StableA, Slot::StableB, Slot::Eye] {
+            let mine: Vec<(usize, &ShadeJob)> = jobs
+                .iter()
+                .enumerate()
+                .filter(|(_, j)| j.slot == slot)
+                .collect();
+            let Some(&(first, _)) = mine.first() else {
+                continue;
             };
-            pass.set_bind_group(2, stable, &[]);
-            let n = store.slot(j.slot).n;
-            let bind = self.slot_bind_group(device, store, j.slot, scene);
-            pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
-            if j.border {
-                pass.set_pipeline(&self.border_pipeline);
-                pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
-            } else {
+            pass.set_bind_group(
+                2,
+                if slot == Slot::Eye {
+                    &for_eye
+                } else {
+                    &for_stable
+                },
+                &[],
+            );
+            let n = store.slot(slot).n;
+            let bind = self.slot_bind_group(device, store, slot, scene);
+            let offset = |i: usize| (i as u64 * UNIFORM_STRIDE) as u32;
+            for &(i, j) in mine.iter().filter(|(_, j)| !j.border) {
                 let (w, h) = j.rect.map_or((n, n), |r| (r.x1 - r.x0, r.y1 - r.y0));
                 if w == 0 || h == 0 {
                     continue;
                 }
+                pass.set_bind_group(0, &bind, &[offset(i)]);
                 pass.set_pipeline(&self.pipeline);
                 pass.set_bind_group(3, &job_args, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+            }
+            if mine.iter().any(|(_, j)| area(j) > 0) {
+                pass.set_bind_group(0, &bind, &[offset(first)]);
                 pass.set_pipeline(&self.light_pipeline);
-                pass.dispatch_workgroups_indirect(&self.job_args, i as u64 * JOB_ARGS_BYTES);
+                let args = slot.index() as u64 * JOB_ARGS_BYTES;
+                pass.dispatch_workgroups_indirect(&self.job_args, args);
+            }
+            for &(i, _) in mine.iter().filter(|(_, j)| j.border) {
+                pass.set_bind_group(0, &bind, &[offset(i)]);
+                pass.set_pipeline(&self.border_pipeline);
+                pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
             }
         }
     }
@@ -355,6 +399,11 @@ impl ShadePass {
                 self.work.as_entire_binding(),
                 slot.list.as_entire_binding(),
                 store.list_args.as_entire_binding(),
+                wgpu::BindingResource::Buffer(wgpu::BufferBinding {
+                    buffer: &self.faces,
+                    offset: 0,
+                    size: wgpu::BufferSize::new(UNIFORM_STRIDE * MAX_JOBS as u64),
+                }),
             ],
         )
     }
@@ -371,6 +420,7 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         point_count: scene.point_count,
         bands: look.bands.max(2),
         _pad: 0,
+        queue_base: [0; 4],
     }
 }
 
