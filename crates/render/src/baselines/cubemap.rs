@@ -12,7 +12,7 @@ use texel_probes::probe_set::Slot;
 use super::{Output, fullscreen_pipeline};
 use crate::gpu_scene::GpuScene;
 use crate::input::{CaptureInput, Look};
-use crate::passes::{ARRAY, FLOAT, UINT, entry, storage, texture, uniform};
+use crate::passes::{ARRAY, FLOAT, UINT, entry, storage, texture, uniform, uniform_buffer};
 use crate::probe_store::SlotTextures;
 use crate::shader;
 
@@ -66,12 +66,11 @@ impl CubemapPass {
             ],
         });
         let pipeline = fullscreen_pipeline(device, &module, &layout, "baselines::cubemap");
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("baselines::cubemap::uniform"),
-            size: size_of::<CubeView>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let uniform = uniform_buffer(
+            device,
+            "baselines::cubemap::uniform",
+            size_of::<CubeView>() as u64,
+        );
         Ok(CubemapPass {
             pipeline,
             layout,

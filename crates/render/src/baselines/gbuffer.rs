@@ -4,7 +4,7 @@
 //! evaluator's reference G-buffer.
 
 use crate::passes::bind_group;
-use crate::passes::{RenderSpec, render_pipeline};
+use crate::passes::{RenderSpec, render_pipeline, uniform_buffer};
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec2, Vec3};
 
@@ -153,12 +153,11 @@ impl GBufferPass {
                 depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
             },
         );
-        let camera = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("baselines::gbuffer::camera"),
-            size: size_of::<CameraUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let camera = uniform_buffer(
+            device,
+            "baselines::gbuffer::camera",
+            size_of::<CameraUniform>() as u64,
+        );
         Ok(GBufferPass {
             pipeline,
             layout,

@@ -2,7 +2,7 @@
 //! the texel shade pass's lighting, posterization and outline rule, so the baselines differ
 //! from texel splatting only in where colours are computed, never in how (haze included).
 
-use crate::passes::{bind_group, compute_pipeline, storage_texture};
+use crate::passes::{bind_group, compute_pipeline, storage_texture, uniform_buffer};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -78,12 +78,11 @@ impl ScreenShadePass {
         });
         let layouts = [&layout, &bvh_layout];
         let pipeline = compute_pipeline(device, "baselines::shade", &module, "main", &layouts);
-        let globals = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("baselines::shade::globals"),
-            size: size_of::<ScreenGlobals>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let globals = uniform_buffer(
+            device,
+            "baselines::shade::globals",
+            size_of::<ScreenGlobals>() as u64,
+        );
         Ok(ScreenShadePass {
             pipeline,
             layout,

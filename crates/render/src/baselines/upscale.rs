@@ -9,7 +9,7 @@ use glam::Vec2;
 use super::gbuffer::ScreenTargets;
 use super::{Output, fullscreen_pipeline};
 use crate::gpu_scene::GpuScene;
-use crate::passes::{FLOAT, UINT, entry, storage, texture, uniform};
+use crate::passes::{FLOAT, UINT, entry, storage, texture, uniform, uniform_buffer};
 use crate::shader;
 
 #[repr(C)]
@@ -53,12 +53,11 @@ impl UpscalePass {
             ],
         });
         let pipeline = fullscreen_pipeline(device, &module, &layout, "baselines::upscale");
-        let uniform = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("baselines::upscale::uniform"),
-            size: size_of::<UpscaleUniform>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let uniform = uniform_buffer(
+            device,
+            "baselines::upscale::uniform",
+            size_of::<UpscaleUniform>() as u64,
+        );
         Ok(UpscalePass {
             pipeline,
             layout,

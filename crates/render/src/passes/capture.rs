@@ -3,7 +3,10 @@
 use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
-use super::{RenderSpec, UNIFORM_STRIDE, bind_group, entry, render_pipeline, storage, uniform};
+use super::{
+    RenderSpec, UNIFORM_STRIDE, bind_group, entry, render_pipeline, storage, uniform,
+    uniform_buffer,
+};
 use texel_probes::visibility::TexelRect;
 
 use crate::gpu_scene::GpuScene;
@@ -60,12 +63,11 @@ impl CapturePass {
                 depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
             },
         );
-        let faces = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("capture::faces"),
-            size: UNIFORM_STRIDE * MAX_CAPTURES as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let faces = uniform_buffer(
+            device,
+            "capture::faces",
+            UNIFORM_STRIDE * MAX_CAPTURES as u64,
+        );
         Ok(CapturePass {
             pipeline,
             layout,

@@ -5,7 +5,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::{
     ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
-    uniform,
+    uniform, uniform_buffer,
 };
 use crate::probe_store::{LIST_ARGS_BYTES, ProbeStore};
 use crate::shader;
@@ -115,12 +115,7 @@ impl CullPass {
             "listed",
             &[&layout, &textures_layout, &listed_layout],
         );
-        let listed_faces = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cull::listed_faces"),
-            size: UNIFORM_STRIDE * 18,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let listed_faces = uniform_buffer(device, "cull::listed_faces", UNIFORM_STRIDE * 18);
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
             size: size_of::<DrawArgs>() as u64,
@@ -130,12 +125,7 @@ impl CullPass {
                 | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
-        let work = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cull::work"),
-            size: size_of::<CullWork>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let work = uniform_buffer(device, "cull::work", size_of::<CullWork>() as u64);
         Ok(CullPass {
             work,
             pipeline,

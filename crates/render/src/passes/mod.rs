@@ -57,6 +57,16 @@ pub(crate) fn texture(
     }
 }
 
+/// A uniform buffer of `size` bytes the CPU writes (`queue.write_buffer`).
+pub(crate) fn uniform_buffer(device: &wgpu::Device, label: &str, size: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size,
+        usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
 /// A storage texture binding of `format` with `access`.
 pub(crate) fn storage_texture(
     access: wgpu::StorageTextureAccess,

@@ -2,7 +2,9 @@
 
 use bytemuck::{Pod, Zeroable};
 
-use super::{FLOAT, RenderSpec, bind_group, entry, render_pipeline, texture, uniform};
+use super::{
+    FLOAT, RenderSpec, bind_group, entry, render_pipeline, texture, uniform, uniform_buffer,
+};
 use crate::shader;
 
 #[repr(C)]
@@ -69,12 +71,7 @@ impl PresentPass {
                 depth: None,
             },
         );
-        let sizes = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("present::sizes"),
-            size: size_of::<Sizes>() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let sizes = uniform_buffer(device, "present::sizes", size_of::<Sizes>() as u64);
         Ok(PresentPass {
             pipeline,
             layout,

@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 
 use super::{
     ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage,
-    storage_texture, texture,
+    storage_texture, texture, uniform_buffer,
 };
 use crate::probe_store::{ProbeStore, RUNS_FORMAT};
 use crate::shader;
@@ -64,12 +64,11 @@ impl RunsPass {
         });
         let rows = compute_pipeline(device, "runs::rows", &module, "rows", &[&layout]);
         let columns = compute_pipeline(device, "runs::columns", &module, "columns", &[&layout]);
-        let faces = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("runs::faces"),
-            size: UNIFORM_STRIDE * Slot::ALL.len() as u64,
-            usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-            mapped_at_creation: false,
-        });
+        let faces = uniform_buffer(
+            device,
+            "runs::faces",
+            UNIFORM_STRIDE * Slot::ALL.len() as u64,
+        );
         Ok(RunsPass {
             rows,
             columns,

@@ -5,7 +5,7 @@ use glam::Vec3;
 
 use super::{
     ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage,
-    storage_texture, texture, uniform,
+    storage_texture, texture, uniform, uniform_buffer,
 };
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
 use crate::input::Look;
@@ -166,14 +166,7 @@ impl ShadePass {
             compute_pipeline(device, "shade::light", &module, "light", &layouts[..3]);
         let border_pipeline =
             compute_pipeline(device, "shade::border", &module, "border", &layouts[..3]);
-        let buffer = |label, size| {
-            device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some(label),
-                size,
-                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            })
-        };
+        let buffer = |label, size| uniform_buffer(device, label, size);
         let no_view = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shade::no_view"),
             size: size_of::<crate::view::ViewGlobals>() as u64,
