@@ -65,7 +65,6 @@ struct ListedFace {
 }
 @group(2) @binding(0) var<uniform> listed_face: ListedFace;
 
-const LIST_HEADER: u32 = 8u;
 
 fn load_list(slot: u32, i: u32) -> u32 {
     switch slot {
@@ -98,9 +97,6 @@ fn load_lit(slot: u32, t: vec2<u32>, f: u32) -> vec4<f32> {
         default: { return textureLoad(lit2, t, f, 0); }
     }
 }
-
-// A run down a column (runs.wgsl's COLUMN).
-const RUN_COLUMN: u32 = 0x10000u;
 
 fn load_run(slot: u32, t: vec2<u32>, f: u32) -> u32 {
     switch slot {

@@ -5,7 +5,7 @@
 // (a floor seen from a side face, a wall facing its face): their quads then lie in one
 // plane and abut, so one quad spanning them covers what they would. Rows (then columns) are
 // cut into aligned segments of SEGMENT texels, each scanned by one thread; the first texel
-// of a run stores its length (| COLUMN for a column run), the others 0; `columns` also lists the
+// of a run stores its length (| RUN_COLUMN for a column run), the others 0; `columns` also lists the
 // heads of the face for the cull pass (lib/lists.wgsl). Runs depend on the probe's data
 // alone, so they are cached with its shading. crates/render/src/passes/runs.rs.
 
@@ -13,8 +13,6 @@
 #include "lib/lists.wgsl"
 
 const SEGMENT: u32 = 16u;
-// Set in a run's length when it runs down a column.
-const COLUMN: u32 = 0x10000u;
 // How far a run's depth may wander from its head's, in units of the depth step between
 // neighbours on a surface at 45° to the face (2/n of the depth).
 const DEPTH_TOLERANCE: f32 = 0.01;
@@ -117,7 +115,7 @@ fn rows(@builtin(global_invocation_id) gid: vec3<u32>) {
 // listed; a lone texel is listed unless it is sky.
 fn close_column(t: vec2<u32>, face: u32, len: u32, head: Texel) {
     if len > 1u {
-        textureStore(runs_out, t, face, vec4(len | COLUMN));
+        textureStore(runs_out, t, face, vec4(len | RUN_COLUMN));
         list_push(rf.slot, face, rf.n, t);
     } else if len == 1u && head.id != 0u {
         list_push(rf.slot, face, rf.n, t);

@@ -57,7 +57,7 @@ var<private> sf: ShadeFace;
 @group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
-// Work of this frame's jobs: the texels lit (WORK_SHADED), each job's queue length (from
+// Work of this frame's jobs: the texels lit (WORK_SHADED), each slot's queue length (from
 // WORK_COUNTS, per slot), and the queue of texels that need lighting (from WORK_QUEUE, each
 // slot's part at `globals.queue_base`; job | x << 6 | y << 19), gathered by `main` so that
 // `light` runs them densely, one dispatch per slot rather than per job: lighting
@@ -70,7 +70,7 @@ const WORK_QUEUE: u32 = 64u;
 // The slot's draw list: view-culled (eye) jobs list the texels they light for the cull pass.
 @group(0) @binding(9) var<storage, read_write> list: array<atomic<u32>>;
 @group(0) @binding(10) var<storage, read_write> list_args: array<atomic<u32>>;
-// Per job: `light`'s indirect dispatch arguments (x, y, z, padding); bound for `main` only.
+// Per slot: `light`'s indirect dispatch arguments (x, y, z, padding); bound for `main` only.
 @group(3) @binding(0) var<storage, read_write> job_args: array<atomic<u32>>;
 // The two stable slots (grid and previous, in whichever order the slots hold them) and the
 // frame's view: an eye texel whose surface every drawing stable probe already shows is not

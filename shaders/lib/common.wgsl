@@ -140,3 +140,8 @@ fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
     let x = clamp(c, vec3(0.0), vec3(1.0));
     return select(1.055 * pow(x, vec3(1.0 / 2.4)) - 0.055, x * 12.92, x <= vec3(0.0031308));
 }
+
+// Draw lists (lib/lists.wgsl): the per-face counts before the entries, in u32s.
+const LIST_HEADER: u32 = 8u;
+// In a run's length (runs.wgsl's runs texture): the run goes down a column.
+const RUN_COLUMN: u32 = 0x10000u;

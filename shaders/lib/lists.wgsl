@@ -3,9 +3,8 @@
 // (x | y << 16). Per (slot, face), the cull's indirect dispatch arguments (x, y, z, unused)
 // in `list_args`, with x = workgroups of 64 over the entries. Filled by the runs pass (run
 // heads of stable faces) and the shade pass (eye texels lit this frame). The includer
-// declares `list: array<atomic<u32>>` and `list_args: array<atomic<u32>>`, read_write.
-
-const LIST_HEADER: u32 = 8u;
+// declares `list: array<atomic<u32>>` and `list_args: array<atomic<u32>>`, read_write, and
+// includes lib/common.wgsl (`LIST_HEADER`).
 
 fn list_push(slot: u32, face: u32, n: u32, t: vec2<u32>) {
     let index = atomicAdd(&list[face], 1u);

@@ -438,8 +438,6 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
             rect: *rect,
         })
         .collect();
-    // Stable faces first: eye texels may copy their colours in the same pass.
-    jobs.sort_by_key(|j| j.slot == Slot::Eye);
     for p in &probes {
         let captured: Vec<Face> = input
             .captures

@@ -30,9 +30,6 @@ struct RunsFaces {
 /// Size of `RunsFaces` (WGSL `RunsFaces`).
 pub const RUNS_FACES_SIZE: usize = size_of::<RunsFaces>();
 
-/// Set in a run's length when it runs down a column (`COLUMN` in `runs.wgsl`).
-pub const COLUMN: u32 = 0x10000;
-
 /// The runs pass.
 pub struct RunsPass {
     rows: wgpu::ComputePipeline,

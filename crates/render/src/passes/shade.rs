@@ -55,6 +55,13 @@ pub struct ShadeJob {
     pub rect: Option<TexelRect>,
 }
 
+impl ShadeJob {
+    /// Columns × rows the job dispatches over on a face of `n` texels.
+    fn extent(&self, n: u32) -> (u32, u32) {
+        self.rect.map_or((n, n), |r| (r.x1 - r.x0, r.y1 - r.y0))
+    }
+}
+
 /// `Sun` in `shaders/lib/lighting.wgsl`: direction toward the light, colour × intensity.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -99,15 +106,15 @@ pub struct ShadePass {
     faces: wgpu::Buffer,
     globals: wgpu::Buffer,
     /// `work` in `shade.wgsl`: first the texels lit this frame (one `u32`, counted on the
-    /// GPU), then each job's queue length, then the queue of texels waiting for `light`.
+    /// GPU), then each slot's queue length, then the queue of texels waiting for `light`.
     pub work: wgpu::Buffer,
-    /// Per job: `light`'s indirect dispatch arguments (bound for `main` only: a buffer may
+    /// Per slot: `light`'s indirect dispatch arguments (bound for `main` only: a buffer may
     /// not be storage and indirect arguments in one dispatch).
     job_args: wgpu::Buffer,
     args_layout: wgpu::BindGroupLayout,
 }
 
-/// Bytes of one job's record in `job_args`: x, y, z workgroups and padding.
+/// Bytes of one slot's record in `job_args`: x, y, z workgroups and padding.
 const JOB_ARGS_BYTES: u64 = 16;
 /// Where the queue starts in `work` (`WORK_QUEUE` in `shade.wgsl`), in `u32`s.
 const WORK_QUEUE: u64 = 64;
@@ -186,7 +193,7 @@ impl ShadePass {
             work: work_buffer(device, 0),
             job_args: storage_buffer(
                 "shade::job_args",
-                JOB_ARGS_BYTES * MAX_JOBS as u64,
+                JOB_ARGS_BYTES * Slot::ALL.len() as u64,
                 wgpu::BufferUsages::INDIRECT | wgpu::BufferUsages::COPY_DST,
             ),
             args_layout,
@@ -222,8 +229,7 @@ impl ShadePass {
         let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
         // The light queue: each slot's part holds at most the texels its jobs dispatch over.
         let area = |j: &ShadeJob| {
-            let n = store.slot(j.slot).n;
-            let (w, h) = j.rect.map_or((n, n), |r| (r.x1 - r.x0, r.y1 - r.y0));
+            let (w, h) = j.extent(store.slot(j.slot).n);
             if j.border {
                 0
             } else {
@@ -321,7 +327,7 @@ impl ShadePass {
             let bind = self.slot_bind_group(device, store, slot, scene);
             let offset = |i: usize| (i as u64 * UNIFORM_STRIDE) as u32;
             for &(i, j) in mine.iter().filter(|(_, j)| !j.border) {
-                let (w, h) = j.rect.map_or((n, n), |r| (r.x1 - r.x0, r.y1 - r.y0));
+                let (w, h) = j.extent(n);
                 if w == 0 || h == 0 {
                     continue;
                 }
