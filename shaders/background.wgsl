@@ -1,6 +1,7 @@
 // Background: a fullscreen triangle at the far plane, drawn after the splats with a depth
 // test, so it shades only the pixels no quad covered. Each shows the eye probe's lit texel in
-// its view direction (the sky where the eye probe saw none). crates/render/src/passes/background.rs.
+// its view direction (the sky where the eye probe saw none), sRGB-encoded like the splats.
+// crates/render/src/passes/background.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
@@ -36,7 +37,7 @@ fn fs(in: VsOut) -> FsOut {
     let eye = view.slots[view.eye_slot];
     let fu = cube_face_uv(dir);
     if (eye.draw_mask & (1u << fu.face)) == 0u {
-        return FsOut(vec4(view.sky.rgb, 1.0), 0u);
+        return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u);
     }
     let t = texel_of_uv(fu.uv, eye.n);
     let lit = textureLoad(eye_lit, t, fu.face, 0);
@@ -47,5 +48,5 @@ fn fs(in: VsOut) -> FsOut {
         let d = textureLoad(eye_geo, t, fu.face, 0).w;
         colour = hazed(colour, d * length(dir) / chebyshev(dir));
     }
-    return FsOut(vec4(colour, 1.0), key);
+    return FsOut(vec4(linear_to_srgb(colour), 1.0), key);
 }

@@ -1,6 +1,9 @@
 // Present: the nearest-neighbour upscale of the internal-resolution frame to the output
 // (crates/render/src/passes/present.rs). Texel-exact: each output pixel copies the internal
-// pixel under its centre.
+// pixel under its centre. The internal frame holds sRGB-encoded bytes in a plain unorm
+// texture: `fs` copies them to a plain target, `fs_decode` decodes them for an sRGB one.
+
+#include "lib/common.wgsl"
 
 struct Sizes {
     output: vec2<u32>,
@@ -19,10 +22,20 @@ fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
     return vec4(xy, 0.0, 1.0);
 }
 
+// The internal pixel under output pixel `pos`'s centre (one multiply: no per-pixel integer
+// division, which CPU rasterizers run lane by lane); present.rs mirrors it.
+fn source(pos: vec2<f32>) -> vec4<f32> {
+    let src = min(vec2<u32>(pos * sizes.scale), sizes.internal - vec2(1u));
+    return textureLoad(frame, src, 0);
+}
+
 @fragment
 fn fs(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    // The internal pixel under this pixel's centre (one multiply: no per-pixel integer
-    // division, which CPU rasterizers run lane by lane); present.rs mirrors it.
-    let src = min(vec2<u32>(pos.xy * sizes.scale), sizes.internal - vec2(1u));
-    return textureLoad(frame, src, 0);
+    return source(pos.xy);
+}
+
+@fragment
+fn fs_decode(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let c = source(pos.xy);
+    return vec4(srgb_to_linear(c.rgb), c.a);
 }

@@ -1,7 +1,8 @@
 // Splat: draws the culled texels as world-space quads (4 vertices, indexed, corners pulled
 // from the cull pass's list; a quad may span a run of texels along a face row). Eye quads are pushed back in depth so grid and previous quads
 // win where both exist; grid and previous split the screen with complementary 4×4 Bayer
-// patterns while a crossfade runs. Writes the colour and the texel key of every pixel.
+// patterns while a crossfade runs. Writes the colour (sRGB-encoded, into a plain unorm target:
+// no per-pixel encode) and the texel key of every pixel.
 // crates/render/src/passes/splat.rs.
 
 #include "lib/common.wgsl"
@@ -92,9 +93,9 @@ fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
     return clip;
 }
 
-// Linear colour of splat `s` (stored as packed sRGB).
+// The sRGB-encoded colour of splat `s` (stored packed), written to the target as it is.
 fn splat_colour(s: Splat) -> vec3<f32> {
-    return srgb_to_linear(unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb);
+    return unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb;
 }
 
 struct FsOut {

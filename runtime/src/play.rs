@@ -99,7 +99,8 @@ pub trait FrameSource {
 }
 
 /// What draws the level in the window: the one place the renderer plugs into the shell.
-/// `format` is the (sRGB) format of the views `draw` receives.
+/// `format` is the format of the views `draw` receives (a plain one is the renderer's fast
+/// path; see `Renderer::new`).
 pub fn frame_source(
     ctx: &GpuContext,
     level: Arc<LoadedLevel>,
@@ -419,8 +420,8 @@ impl App {
         let config = surface_config(&surface, &ctx, window.inner_size())?;
         surface.configure(&ctx.device, &config);
         let size = UVec2::new(config.width, config.height);
-        let format = view_format(&config);
-        let source = frame_source(&ctx, self.level.clone(), format, size)?;
+        let source = frame_source(&ctx, self.level.clone(), config.format, size)?;
+        let format = overlay_format(&config);
         let egui_ctx = egui::Context::default();
         let max_texture = ctx.device.limits().max_texture_dimension_2d as usize;
         let egui_state = egui_winit::State::new(
@@ -536,8 +537,9 @@ impl App {
                 bail!("the window surface reported a validation error")
             }
         };
-        let target = frame.texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(view_format(&r.config)),
+        let target = frame.texture.create_view(&Default::default());
+        let overlay = frame.texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(overlay_format(&r.config)),
             ..Default::default()
         });
         let size = UVec2::new(frame.texture.width(), frame.texture.height());
@@ -551,7 +553,7 @@ impl App {
         let lines = self
             .overlay
             .then(|| overlay_lines(&stats, fps, self.schedule, &self.camera));
-        paint_overlay(r, lines.as_deref(), &target, size);
+        paint_overlay(r, lines.as_deref(), &overlay, size);
         r.window.pre_present_notify();
         r.ctx.queue.present(frame);
         if suboptimal || (r.config.width, r.config.height) != (inner.width, inner.height) {
@@ -640,14 +642,15 @@ fn confined_motion_doubles(event_loop: &ActiveEventLoop) -> bool {
     }
 }
 
-/// The format frames are drawn in: the surface's, as sRGB (the renderer and the overlay
-/// write linear colour and let the view encode it).
-fn view_format(config: &wgpu::SurfaceConfiguration) -> wgpu::TextureFormat {
+/// The format the overlay is drawn in: the surface's, as sRGB (egui writes linear colour and
+/// lets the view encode it).
+fn overlay_format(config: &wgpu::SurfaceConfiguration) -> wgpu::TextureFormat {
     config.format.add_srgb_suffix()
 }
 
-/// A FIFO configuration for `surface`, preferring an sRGB format, else viewing the chosen
-/// one as sRGB.
+/// A FIFO configuration for `surface`. The renderer draws into the surface's own format,
+/// which is plain where the adapter can also view it as sRGB (for the overlay): the renderer
+/// writes sRGB-encoded bytes itself, and an sRGB target would encode every pixel again.
 fn surface_config(
     surface: &wgpu::Surface<'_>,
     ctx: &GpuContext,
@@ -658,8 +661,13 @@ fn surface_config(
         .get_default_config(&ctx.adapter, w, h)
         .ok_or_else(|| anyhow!("the GPU `{}` cannot present to this window", ctx.describe()))?;
     let caps = surface.get_capabilities(&ctx.adapter);
-    if let Some(srgb) = caps.formats.iter().find(|f| f.is_srgb()) {
-        config.format = *srgb;
+    let views = (ctx.adapter.get_downlevel_capabilities().flags)
+        .contains(wgpu::DownlevelFlags::SURFACE_VIEW_FORMATS);
+    // A plain format with an sRGB twin, when the overlay can view it as that twin.
+    let plain = (caps.formats.iter()).find(|f| !f.is_srgb() && f.add_srgb_suffix() != **f);
+    let srgb = caps.formats.iter().find(|f| f.is_srgb());
+    if let Some(format) = plain.filter(|_| views).or(srgb) {
+        config.format = *format;
     }
     // FIFO is the one mode every surface supports, and it paces the loop to the display.
     config.present_mode = wgpu::PresentMode::Fifo;

@@ -20,7 +20,7 @@ use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
 use crate::stats::{Counters, FrameStats, PassTime};
-use crate::target::{OFFSCREEN_FORMAT, OffscreenTarget, read_buffer};
+use crate::target::{FRAME_FORMAT, OffscreenTarget, read_buffer};
 use crate::view::ViewGlobals;
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::visibility::{TexelRect, face_cone_rect};
@@ -63,8 +63,8 @@ pub(crate) struct Screen {
     pub(crate) size: (u32, u32),
     /// Output size.
     pub(crate) output: (u32, u32),
-    /// The internal colour target, when the output is larger (else the frame is drawn
-    /// straight into the caller's target).
+    /// The internal colour target (plain unorm, sRGB-encoded bytes), when the output is
+    /// larger or sRGB (else the frame is drawn straight into the caller's target).
     pub(crate) colour: Option<wgpu::TextureView>,
     pub(crate) depth: wgpu::TextureView,
     pub(crate) keys: wgpu::Texture,
@@ -101,10 +101,13 @@ impl Screen {
             KEY_FORMAT,
             U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC,
         );
-        let colour = (size != output).then(|| {
+        // The frame is drawn sRGB-encoded into a plain unorm target (the splats' colours are
+        // stored so, and an sRGB target would encode every fragment): into the caller's
+        // target when it is plain and of the output size, else into this texture.
+        let colour = (size != output || format.is_srgb()).then(|| {
             tex(
                 "frame::internal_colour",
-                format,
+                format.remove_srgb_suffix(),
                 U::RENDER_ATTACHMENT | U::TEXTURE_BINDING,
             )
             .create_view(&Default::default())
@@ -143,8 +146,11 @@ pub struct Renderer {
 }
 
 impl Renderer {
-    /// Builds every pass for a colour target of `colour` format. A shader or pipeline the
-    /// device rejects is an error, not a panic.
+    /// Builds every pass for views of `colour` format to draw into. A plain format (say
+    /// `Rgba8Unorm`) is the fast path: it receives sRGB-encoded bytes, as a PNG or a window
+    /// shows them; an sRGB format costs a decode per output pixel (the frame is drawn into
+    /// an internal plain texture first). A shader or pipeline the device rejects is an
+    /// error, not a panic.
     pub fn new(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let built = Self::build(ctx, colour);
@@ -169,8 +175,8 @@ impl Renderer {
             runs: RunsPass::new(d)?,
             runs_stale: [FaceMask::EMPTY; 3],
             cull: CullPass::new(d)?,
-            splat: SplatPass::new(d, colour)?,
-            background: BackgroundPass::new(d, colour)?,
+            splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
+            background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
             present: PresentPass::new(d, colour)?,
             colour,
@@ -193,7 +199,7 @@ impl Renderer {
 
     /// A renderer for offscreen frames ([`Renderer::render_offscreen`]).
     pub fn headless(ctx: &GpuContext) -> Result<Self, RenderError> {
-        Self::new(ctx, OFFSCREEN_FORMAT)
+        Self::new(ctx, FRAME_FORMAT)
     }
 
     /// Uploads the scene (meshes, materials, lights, shadow BVH).
@@ -225,7 +231,8 @@ impl Renderer {
     ) -> Result<(FrameStats, Vec<u8>), RenderError> {
         let size = (input.size.x, input.size.y);
         if self.offscreen.as_ref().is_none_or(|t| t.size != size) {
-            self.offscreen = Some(OffscreenTarget::new(ctx, size.0, size.1));
+            let format = self.colour;
+            self.offscreen = Some(OffscreenTarget::with_format(ctx, size.0, size.1, format));
         }
         let target = self.offscreen.take().ok_or(RenderError::NoScene)?;
         let result = self.render(ctx, input, &target.view);

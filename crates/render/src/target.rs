@@ -5,6 +5,10 @@ use crate::context::{GpuContext, GpuError};
 /// The colour format the renderer writes offscreen (sRGB, so PNGs look as on screen).
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
+/// The format the texel renderer draws offscreen: sRGB-encoded bytes in a plain unorm
+/// texture (the renderer encodes in its shaders; see `Renderer::new`).
+pub const FRAME_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+
 /// A texture to render into and read back.
 pub struct OffscreenTarget {
     /// The texture.
@@ -18,6 +22,16 @@ pub struct OffscreenTarget {
 impl OffscreenTarget {
     /// A new `width × height` target of [`OFFSCREEN_FORMAT`].
     pub fn new(ctx: &GpuContext, width: u32, height: u32) -> Self {
+        Self::with_format(ctx, width, height, OFFSCREEN_FORMAT)
+    }
+
+    /// A new `width × height` target of an RGBA8 `format`.
+    pub fn with_format(
+        ctx: &GpuContext,
+        width: u32,
+        height: u32,
+        format: wgpu::TextureFormat,
+    ) -> Self {
         let texture = ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("target::offscreen"),
             size: wgpu::Extent3d {
@@ -28,7 +42,7 @@ impl OffscreenTarget {
             mip_level_count: 1,
             sample_count: 1,
             dimension: wgpu::TextureDimension::D2,
-            format: OFFSCREEN_FORMAT,
+            format,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
             view_formats: &[],
         });

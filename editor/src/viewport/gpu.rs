@@ -16,8 +16,11 @@ use texel_render::target::read_texture_layer;
 use texel_runtime::driver::{FrameDriver, scene_input};
 use texel_runtime::load::LoadedLevel;
 
-/// The renderer's output format (sRGB, filterable, as egui samples it).
+/// The viewport texture's format (sRGB, filterable, as egui samples it).
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
+/// The view of it the renderer draws into: the same bytes, plain, so the renderer writes its
+/// sRGB-encoded colours without an encode per pixel.
+const DRAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// What the last render cost.
 #[derive(Debug, Clone, Default)]
@@ -33,7 +36,8 @@ pub struct RenderReport {
 }
 
 struct Target {
-    view: wgpu::TextureView,
+    /// The plain view the renderer draws into (egui samples an sRGB one).
+    draw: wgpu::TextureView,
     id: egui::TextureId,
     size: UVec2,
 }
@@ -76,7 +80,7 @@ impl GpuView {
             // Only when eframe's device was created with them.
             timestamps: rs.device.features().contains(wanted),
         };
-        let renderer = Renderer::new(&ctx, FORMAT).map_err(|e| e.to_string())?;
+        let renderer = Renderer::new(&ctx, DRAW_FORMAT).map_err(|e| e.to_string())?;
         Ok(GpuView {
             ctx,
             renderer,
@@ -129,7 +133,7 @@ impl GpuView {
         let t = Instant::now();
         let stats = self
             .renderer
-            .render(&self.ctx, &input, &target.view)
+            .render(&self.ctx, &input, &target.draw)
             .map_err(|e| e.to_string())?;
         self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
         self.report.stats = Some(stats);
@@ -182,9 +186,13 @@ impl GpuView {
             dimension: wgpu::TextureDimension::D2,
             format: FORMAT,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
+            view_formats: &[DRAW_FORMAT],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
+        let draw = texture.create_view(&wgpu::TextureViewDescriptor {
+            format: Some(DRAW_FORMAT),
+            ..Default::default()
+        });
         let mut egui = self.egui.write();
         let id = match self.target.take() {
             Some(old) => {
@@ -200,7 +208,7 @@ impl GpuView {
                 egui.register_native_texture(&self.ctx.device, &view, wgpu::FilterMode::Nearest)
             }
         };
-        self.target = Some(Target { view, id, size });
+        self.target = Some(Target { draw, id, size });
         id
     }
 }

@@ -44,7 +44,8 @@ pub struct PresentPass {
 }
 
 impl PresentPass {
-    /// Builds the pipeline for a `colour` output.
+    /// Builds the pipeline for a `colour` output: a plain copy of the internal frame's
+    /// sRGB-encoded bytes, or a decode for an sRGB output (which encodes again on write).
     pub fn new(
         device: &wgpu::Device,
         colour: wgpu::TextureFormat,
@@ -66,7 +67,7 @@ impl PresentPass {
                 vertex: "vs",
                 layouts: &[&layout],
                 vertex_buffers: &[],
-                fragment: "fs",
+                fragment: if colour.is_srgb() { "fs_decode" } else { "fs" },
                 targets: &[colour],
                 depth: None,
             },
