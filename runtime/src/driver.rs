@@ -11,7 +11,9 @@
 //! origin, newly visible), within a budget so a cell crossing is spread over frames. The
 //! **paper** schedule, for comparison, re-captures and re-lights the grid probe's visible faces
 //! every frame, all three probes on the crossing frame, and grid and previous on alternate
-//! frames during a fade, as the reference does.
+//! frames during a fade, as the reference does. Its faces are the reference's too: those
+//! within 103° (98° for the eye) of the view direction ([`reference_faces`]), plus any our
+//! frustum test keeps, so it never draws less than ours.
 
 use std::sync::Arc;
 
@@ -19,8 +21,10 @@ use glam::{UVec2, Vec3};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::grid::{GridDefaults, GridError, GridOverride, resolve_grid};
 use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
-use texel_probes::schedule::{ProbePlan, Scheduler, UpdatePlan};
-use texel_probes::visibility::{CameraView, frustum};
+use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
+use texel_probes::visibility::{
+    CameraView, REFERENCE_EYE_FACE_DEG, REFERENCE_STABLE_FACE_DEG, frustum, reference_faces,
+};
 use texel_render::input::{
     Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
     SceneInput, Schedule, SunInput, internal_size,
@@ -175,12 +179,13 @@ impl FrameDriver {
         if event == TransitionEvent::CrossingStarted {
             self.fade_frame = 0;
         }
-        let captures = match schedule {
-            Schedule::Ours => plan.work.iter().map(capture_of).collect(),
-            Schedule::Paper => self.paper_captures(&plan, event),
-        };
+        if schedule == Schedule::Paper {
+            widen_to_reference(&mut plan, camera.forward);
+            plan.work = self.paper_work(&plan, event);
+        }
+        let captures: Vec<CaptureInput> = plan.work.iter().map(capture_of).collect();
         self.scheduler.commit(&plan);
-        let view = |p: &ProbePlan| self.probe_view(p, &captures);
+        let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
         let n = plan.grid.probe.face_resolution;
         let input = FrameInput {
             camera,
@@ -226,18 +231,17 @@ impl FrameDriver {
 
     /// The reference's schedule: eye and grid every frame; previous as well on the crossing
     /// frame; grid and previous alternating while a fade runs.
-    fn paper_captures(&self, plan: &UpdatePlan, event: TransitionEvent) -> Vec<CaptureInput> {
-        let mut out: Vec<CaptureInput> = Vec::new();
+    fn paper_work(&self, plan: &UpdatePlan, event: TransitionEvent) -> Vec<FaceWork> {
+        let mut out: Vec<FaceWork> = Vec::new();
         let mut add = |p: &ProbePlan, mask: FaceMask| {
-            for face in Face::ALL {
-                if mask.contains(face) {
-                    out.push(CaptureInput {
-                        slot: p.probe.slot,
-                        face,
-                        origin: p.probe.origin,
-                        face_resolution: p.probe.face_resolution,
-                    });
-                }
+            for face in mask.iter() {
+                out.push(FaceWork {
+                    role: p.probe.role,
+                    slot: p.probe.slot,
+                    face,
+                    origin: p.probe.origin,
+                    face_resolution: p.probe.face_resolution,
+                });
             }
         };
         add(&plan.eye, plan.eye.visible);
@@ -253,12 +257,24 @@ impl FrameDriver {
         }
         // Faces our scheduler needs (newly visible ones) must be there too.
         for w in &plan.work {
-            let c = capture_of(w);
-            if !out.contains(&c) {
-                out.push(c);
+            if !out.iter().any(|o| (o.slot, o.face) == (w.slot, w.face)) {
+                out.push(*w);
             }
         }
         out
+    }
+}
+
+/// Widens the plan's visible faces to the reference's face mask (the paper schedule).
+fn widen_to_reference(plan: &mut UpdatePlan, forward: Vec3) {
+    let eye = reference_faces(forward, REFERENCE_EYE_FACE_DEG);
+    let stable = reference_faces(forward, REFERENCE_STABLE_FACE_DEG);
+    plan.eye.visible = plan.eye.visible.union(eye);
+    for p in [Some(&mut plan.grid), plan.previous.as_mut()]
+        .into_iter()
+        .flatten()
+    {
+        p.visible = p.visible.union(stable);
     }
 }
 
@@ -274,7 +290,14 @@ fn capture_of(w: &texel_probes::schedule::FaceWork) -> CaptureInput {
 impl FrameDriver {
     /// The renderer's view of a probe: what to draw, and which faces hold data for its
     /// origin (captured this frame, or earlier for the same origin and resolution).
-    fn probe_view(&self, p: &ProbePlan, captures: &[CaptureInput]) -> ProbeView {
+    /// The paper schedule draws every visible face with data (as the reference does); ours
+    /// what the scheduler planned.
+    fn probe_view(
+        &self,
+        p: &ProbePlan,
+        captures: &[CaptureInput],
+        schedule: Schedule,
+    ) -> ProbeView {
         let mut valid = FaceMask::EMPTY;
         for face in Face::ALL {
             let now = captures
@@ -293,10 +316,10 @@ impl FrameDriver {
             slot: p.probe.slot,
             origin: p.probe.origin,
             face_resolution: p.probe.face_resolution,
-            draw: if p.probe.role == Role::Eye {
-                p.visible
-            } else {
-                p.draw
+            draw: match (p.probe.role, schedule) {
+                (Role::Eye, _) => p.visible,
+                (_, Schedule::Paper) => p.visible.intersection(valid),
+                _ => p.draw,
             },
             valid,
         }
@@ -401,5 +424,52 @@ mod tests {
             stable, 0,
             "the crossing at frame {frame} still captured {stable} faces"
         );
+    }
+
+    /// The paper schedule does the reference's work: with the camera level, the eye and
+    /// the grid probe each capture and draw five faces (all but the one behind), every
+    /// frame, where ours captures only what its frustum test needs, once.
+    #[test]
+    fn the_paper_schedule_captures_the_reference_faces_every_frame() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
+            .expect("level loads");
+        let camera = Camera::from_yaw_pitch(Vec3::new(0.2, 1.6, 13.0), 0.0, 0.0);
+        let behind = Face::ALL
+            .into_iter()
+            .min_by(|a, b| {
+                camera
+                    .forward
+                    .dot(a.axis())
+                    .total_cmp(&camera.forward.dot(b.axis()))
+            })
+            .expect("six faces");
+        let five: FaceMask = Face::ALL.into_iter().filter(|f| *f != behind).collect();
+        let size = UVec2::new(320, 180);
+        let mut paper = FrameDriver::new(&level, size, 1.0).expect("driver");
+        let mut ours = FrameDriver::new(&level, size, 1.0).expect("driver");
+        for frame in 0..3 {
+            let input = paper
+                .frame(camera, 1.0 / 60.0, Schedule::Paper)
+                .expect("frame");
+            assert_eq!(input.eye.draw, five, "frame {frame}");
+            assert_eq!(input.grid.draw, five, "frame {frame}");
+            let of = |slot| {
+                let faces = input.captures.iter().filter(|c| c.slot == slot);
+                faces.map(|c| c.face).collect::<FaceMask>()
+            };
+            assert_eq!(of(input.eye.slot), five, "frame {frame}");
+            assert_eq!(of(input.grid.slot), five, "frame {frame}");
+            let input = ours
+                .frame(camera, 1.0 / 60.0, Schedule::Ours)
+                .expect("frame");
+            assert!(input.eye.draw.count() < 5 && input.grid.draw.count() < 5);
+            let stable = input
+                .captures
+                .iter()
+                .filter(|c| c.slot != Slot::Eye)
+                .count();
+            assert_eq!(stable == 0, frame > 1, "ours captures the grid probe once");
+        }
     }
 }

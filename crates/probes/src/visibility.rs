@@ -290,6 +290,26 @@ pub fn visible_faces(frustum: &Frustum, origin: Vec3, depth_limit: f32, extent: 
         .collect()
 }
 
+/// The reference's face mask for the grid and previous probes: faces whose axis lies within
+/// this angle of the camera's forward direction, degrees.
+pub const REFERENCE_STABLE_FACE_DEG: f32 = 103.0;
+/// The reference's face mask for the eye probe, degrees.
+pub const REFERENCE_EYE_FACE_DEG: f32 = 98.0;
+
+/// The faces the public reference captures and splats: those whose axis is within
+/// `max_angle_deg` of `forward` (`forward · axis ≥ cos max_angle`), whatever the field of
+/// view or the probe's position. At [`REFERENCE_STABLE_FACE_DEG`] and
+/// [`REFERENCE_EYE_FACE_DEG`] that is 3 to 5 faces. The paper schedule uses it, so that it
+/// does the reference's work; our schedule uses [`visible_faces`].
+pub fn reference_faces(forward: Vec3, max_angle_deg: f32) -> FaceMask {
+    let forward = forward.normalize_or_zero();
+    let min_cos = max_angle_deg.to_radians().cos();
+    Face::ALL
+        .into_iter()
+        .filter(|f| forward.dot(f.axis()) >= min_cos)
+        .collect()
+}
+
 /// A rectangle of texels on a face: columns `x0..x1`, rows `y0..y1`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub struct TexelRect {
@@ -409,6 +429,28 @@ mod tests {
         let seen = faces(&v, Vec3::new(-5.0, 0.0, -1.0));
         assert!(seen.contains(&Face::PosX));
         assert!(!seen.contains(&Face::NegX));
+    }
+
+    #[test]
+    fn the_reference_mask_keeps_three_to_five_faces() {
+        let level = reference_faces(Vec3::Z, REFERENCE_STABLE_FACE_DEG);
+        assert_eq!(level.count(), 5, "forward and the four side faces");
+        assert!(!level.contains(Face::NegZ));
+        let diagonal = reference_faces(Vec3::new(1.0, 0.0, 1.0), REFERENCE_STABLE_FACE_DEG);
+        let want = [Face::PosX, Face::PosZ, Face::PosY, Face::NegY];
+        assert_eq!(diagonal, want.into_iter().collect::<FaceMask>());
+        let corner = reference_faces(Vec3::ONE, REFERENCE_EYE_FACE_DEG);
+        assert_eq!(
+            corner.count(),
+            3,
+            "the three faces around the corner it looks into"
+        );
+        // A face at exactly 90° is in, one just past the eye's 98° is out.
+        let a = 99.0f32.to_radians();
+        let tilted = Vec3::new(0.0, a.cos(), a.sin()); // 99° from +Y
+        assert!(reference_faces(Vec3::Z, REFERENCE_EYE_FACE_DEG).contains(Face::PosY));
+        assert!(!reference_faces(tilted, REFERENCE_EYE_FACE_DEG).contains(Face::PosY));
+        assert!(reference_faces(tilted, REFERENCE_STABLE_FACE_DEG).contains(Face::PosY));
     }
 
     #[test]
