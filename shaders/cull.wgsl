@@ -1,6 +1,7 @@
 // Cull: turns the drawn faces' texels into a compact list of splat quads with indirect draw
-// arguments. Our schedule walks each face's draw list (`listed`: a stable face's run heads,
-// runs.wgsl; the eye texels the shade pass lit this frame), so it never scans a face, and
+// arguments. Our schedule walks the faces' draw lists (`listed`, one dispatch for all of
+// them: a stable face's run heads, runs.wgsl; the eye texels the shade pass lit this frame),
+// so it never scans a face, and
 // skips quads that lie outside the view frustum or face away from the camera; one quad
 // draws a whole run. The paper schedule (and ours with runs off) scans every texel of the
 // drawn faces (`main`). The quad corners are computed from the probe's data alone (never the
@@ -31,10 +32,11 @@ struct DrawArgs {
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var<storage, read_write> splats: array<Splat>;
 @group(0) @binding(2) var<storage, read_write> args: DrawArgs;
-// The drawn (slot, face) pairs; the dispatch's z runs over them.
+// The drawn (slot, face) pairs: the `count` that `main` scans (its dispatch's z runs over
+// them), then the `listed` ones whose draw lists `listed` walks.
 struct CullWork {
     count: u32,
-    _pad0: u32,
+    listed: u32,
     _pad1: u32,
     _pad2: u32,
     faces: array<vec4<u32>, 18>,
@@ -56,15 +58,6 @@ struct CullWork {
 @group(1) @binding(12) var<storage, read> list0: array<u32>;
 @group(1) @binding(13) var<storage, read> list1: array<u32>;
 @group(1) @binding(14) var<storage, read> list2: array<u32>;
-// The (slot, face) whose draw list a `listed` dispatch walks.
-struct ListedFace {
-    slot: u32,
-    face: u32,
-    _pad0: u32,
-    _pad1: u32,
-}
-@group(2) @binding(0) var<uniform> listed_face: ListedFace;
-
 
 fn load_list(slot: u32, i: u32) -> u32 {
     switch slot {
@@ -125,23 +118,27 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
 }
 
-// The draw list of one (slot, face) (our schedule): a stable face's run heads, or the eye
-// texels the shade pass lit this frame.
+// The draw lists of the listed faces (our schedule): stable faces' run heads, the eye
+// texels the shade pass lit this frame. One fixed-size dispatch strides over all of them:
+// the lists are short, and a dispatch per face costs more than its work on a CPU driver.
 @compute @workgroup_size(64)
-fn listed(@builtin(global_invocation_id) gid: vec3<u32>) {
-    let slot = listed_face.slot;
-    let face = listed_face.face;
-    let n = view.slots[slot].n;
-    if gid.x >= load_list(slot, face) {
-        return;
+fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let stride = groups.x * 64u;
+    for (var k = work.count; k < work.count + work.listed; k++) {
+        let slot = work.faces[k].x;
+        let face = work.faces[k].y;
+        let n = view.slots[slot].n;
+        let length = load_list(slot, face);
+        for (var i = gid.x; i < length; i += stride) {
+            let packed = load_list(slot, LIST_HEADER + face * n * n + i);
+            let t = vec2(packed & 0xffffu, packed >> 16u);
+            var run = 1u;
+            if view.slots[slot].role != ROLE_EYE {
+                run = load_run(slot, t, face);
+            }
+            emit(slot, face, t, run);
+        }
     }
-    let packed = load_list(slot, LIST_HEADER + face * n * n + gid.x);
-    let t = vec2(packed & 0xffffu, packed >> 16u);
-    var run = 1u;
-    if view.slots[slot].role != ROLE_EYE {
-        run = load_run(slot, t, face);
-    }
-    emit(slot, face, t, run);
 }
 
 // Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,

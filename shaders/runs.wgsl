@@ -31,7 +31,6 @@ struct RunsFaces {
 @group(0) @binding(3) var lit_tex: texture_2d_array<f32>;
 @group(0) @binding(4) var runs_out: texture_storage_2d_array<r32uint, read_write>;
 @group(0) @binding(5) var<storage, read_write> list: array<atomic<u32>>;
-@group(0) @binding(6) var<storage, read_write> list_args: array<atomic<u32>>;
 
 struct Texel {
     geo: vec4<f32>,
@@ -116,9 +115,9 @@ fn rows(@builtin(global_invocation_id) gid: vec3<u32>) {
 fn close_column(t: vec2<u32>, face: u32, len: u32, head: Texel) {
     if len > 1u {
         textureStore(runs_out, t, face, vec4(len | RUN_COLUMN));
-        list_push(rf.slot, face, rf.n, t);
+        list_push(face, rf.n, t);
     } else if len == 1u && head.id != 0u {
-        list_push(rf.slot, face, rf.n, t);
+        list_push(face, rf.n, t);
     }
 }
 
@@ -152,7 +151,7 @@ fn columns(@builtin(global_invocation_id) gid: vec3<u32>) {
             close_column(at(gid.x, head_i, segments, true), face, len, head);
             if run > 1u {
                 // The head of a row run (never sky).
-                list_push(rf.slot, face, n, t);
+                list_push(face, n, t);
             }
             len = select(0u, 1u, alone);
             head_i = i;

@@ -47,7 +47,7 @@ struct JobRecord {
 // The job of this dispatch (dynamic offset); for `light`, any job of the slot it lights.
 @group(0) @binding(0) var<uniform> job_face: ShadeFace;
 // Every job of the frame, for `light`, which runs texels of several jobs of one slot.
-@group(0) @binding(11) var<uniform> all_faces: array<JobRecord, 54>;
+@group(0) @binding(10) var<uniform> all_faces: array<JobRecord, 54>;
 // The job whose texel this invocation shades (set first by every entry point).
 var<private> sf: ShadeFace;
 @group(0) @binding(1) var<uniform> globals: ShadeGlobals;
@@ -69,7 +69,6 @@ const WORK_COUNTS: u32 = 1u;
 const WORK_QUEUE: u32 = 64u;
 // The slot's draw list: view-culled (eye) jobs list the texels they light for the cull pass.
 @group(0) @binding(9) var<storage, read_write> list: array<atomic<u32>>;
-@group(0) @binding(10) var<storage, read_write> list_args: array<atomic<u32>>;
 // Per slot: `light`'s indirect dispatch arguments (x, y, z, padding); bound for `main` only.
 @group(3) @binding(0) var<storage, read_write> job_args: array<atomic<u32>>;
 // The two stable slots (grid and previous, in whichever order the slots hold them) and the
@@ -309,6 +308,6 @@ fn light_texel(t: vec2<u32>) {
     textureStore(lit_out, t, sf.face, vec4(posterize(colour, globals.bands, shift), f32(similar)));
     // The cull pass draws exactly the eye texels lit this frame.
     if sf.view_cull != 0u {
-        list_push(sf.slot, sf.face, n, t);
+        list_push(sf.face, n, t);
     }
 }

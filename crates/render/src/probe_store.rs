@@ -11,8 +11,7 @@
 //! | `runs` | `r32uint` | stable slots: texels in the row run this texel heads (0 = inside a run) |
 //!
 //! Beside the textures, each slot has a draw list (`shaders/lib/lists.wgsl`): the texels the
-//! cull pass visits per face, with their indirect dispatch arguments in
-//! [`ProbeStore::list_args`].
+//! cull pass visits per face.
 
 use texel_probes::cube::FaceMask;
 use texel_probes::probe_set::Slot;
@@ -146,15 +145,10 @@ impl SlotTextures {
 
 /// Counts at the head of a draw list (`LIST_HEADER` in `lib/lists.wgsl`).
 const LIST_HEADER: u64 = 8;
-/// Bytes of one (slot, face)'s indirect dispatch arguments in [`ProbeStore::list_args`].
-pub const LIST_ARGS_BYTES: u64 = 16;
 
 /// The three slots. A slot is reallocated when asked for another face resolution.
 pub struct ProbeStore {
     slots: [SlotTextures; 3],
-    /// Per (slot, face), at `(slot · 6 + face) · 16`: the cull pass's indirect dispatch
-    /// arguments over that face's draw list.
-    pub list_args: wgpu::Buffer,
     /// Bumped whenever any slot is reallocated (bind groups must be rebuilt).
     pub generation: u64,
 }
@@ -164,14 +158,6 @@ impl ProbeStore {
     pub fn new(ctx: &GpuContext, n: u32) -> Self {
         let store = ProbeStore {
             slots: Slot::ALL.map(|s| SlotTextures::new(ctx, s, n)),
-            list_args: ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("probes::list_args"),
-                size: LIST_ARGS_BYTES * 18,
-                usage: wgpu::BufferUsages::STORAGE
-                    | wgpu::BufferUsages::INDIRECT
-                    | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
             generation: 0,
         };
         for slot in Slot::ALL {
@@ -203,8 +189,6 @@ impl ProbeStore {
         for face in faces.iter() {
             let f = face.index() as u64;
             queue.write_buffer(list, 4 * f, &[0; 4]);
-            let at = (slot.index() as u64 * 6 + f) * LIST_ARGS_BYTES;
-            queue.write_buffer(&self.list_args, at, bytemuck::cast_slice(&[0u32, 1, 1, 0]));
         }
     }
 }

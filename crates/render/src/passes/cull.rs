@@ -4,10 +4,10 @@
 use bytemuck::{Pod, Zeroable};
 
 use super::{
-    ARRAY, FLOAT, UINT, UNIFORM_STRIDE, bind_group, compute_pipeline, entry, storage, texture,
-    uniform, uniform_buffer,
+    ARRAY, FLOAT, UINT, bind_group, compute_pipeline, entry, storage, texture, uniform,
+    uniform_buffer,
 };
-use crate::probe_store::{LIST_ARGS_BYTES, ProbeStore};
+use crate::probe_store::ProbeStore;
 use crate::shader;
 use texel_probes::cube::Face;
 use texel_probes::probe_set::Slot;
@@ -16,6 +16,9 @@ use texel_probes::probe_set::Slot;
 pub const SPLAT_BYTES: u64 = 64;
 /// Most splats one frame may hold (128 MiB of records, the binding limit lavapipe has).
 pub const MAX_SPLATS: u64 = (128 << 20) / SPLAT_BYTES;
+/// Workgroups (of 64) of the one dispatch that walks every draw list; each invocation
+/// strides over the lists' entries.
+const LISTED_GROUPS: u32 = 8;
 
 /// `wgpu`'s indexed indirect arguments.
 #[repr(C)]
@@ -39,8 +42,6 @@ pub struct CullPass {
     listed_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     textures_layout: wgpu::BindGroupLayout,
-    listed_layout: wgpu::BindGroupLayout,
-    listed_faces: wgpu::Buffer,
     /// The splat records.
     pub splats: wgpu::Buffer,
     /// Indirect draw arguments (`DrawArgs`).
@@ -49,29 +50,19 @@ pub struct CullPass {
     work: wgpu::Buffer,
 }
 
-/// `CullWork` in `cull.wgsl`: the drawn (slot, face) pairs.
+/// `CullWork` in `cull.wgsl`: the drawn (slot, face) pairs, the `count` scanned first, then
+/// the `listed` ones.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 struct CullWork {
     count: u32,
-    _pad: [u32; 3],
+    listed: u32,
+    _pad: [u32; 2],
     faces: [[u32; 4]; 18],
 }
 
 /// Size of `CullWork` (WGSL `CullWork`).
 pub const CULL_WORK_SIZE: usize = size_of::<CullWork>();
-
-/// `ListedFace` in `cull.wgsl`: the (slot, face) whose draw list one dispatch walks.
-#[repr(C)]
-#[derive(Clone, Copy, Pod, Zeroable)]
-struct ListedFace {
-    slot: u32,
-    face: u32,
-    _pad: [u32; 2],
-}
-
-/// Size of `ListedFace` (WGSL `ListedFace`).
-pub const LISTED_FACE_SIZE: usize = size_of::<ListedFace>();
 
 /// How the cull pass visits one drawn face.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -97,10 +88,6 @@ impl CullPass {
             ],
         });
         let textures_layout = probe_textures_layout(device, c);
-        let listed_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("cull::listed_layout"),
-            entries: &[entry(0, c, uniform(true))],
-        });
         let pipeline = compute_pipeline(
             device,
             "cull",
@@ -113,9 +100,8 @@ impl CullPass {
             "cull::listed",
             &module,
             "listed",
-            &[&layout, &textures_layout, &listed_layout],
+            &[&layout, &textures_layout],
         );
-        let listed_faces = uniform_buffer(device, "cull::listed_faces", UNIFORM_STRIDE * 18);
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
             size: size_of::<DrawArgs>() as u64,
@@ -130,8 +116,6 @@ impl CullPass {
             work,
             pipeline,
             listed_pipeline,
-            listed_layout,
-            listed_faces,
             layout,
             textures_layout,
             splats: splat_buffer(device, 1024),
@@ -165,29 +149,14 @@ impl CullPass {
     ) {
         let drawn = &drawn[..drawn.len().min(18)];
         let mut work = CullWork::zeroed();
-        let mut listed = vec![0u8; UNIFORM_STRIDE as usize * drawn.len()];
-        for (i, (slot, face, visit)) in drawn.iter().enumerate() {
-            let (slot, face) = (slot.index() as u32, face.index() as u32);
-            match visit {
-                Visit::Scan => {
-                    work.faces[work.count as usize] = [slot, face, 0, 0];
-                    work.count += 1;
-                }
-                Visit::List => {
-                    let f = ListedFace {
-                        slot,
-                        face,
-                        _pad: [0; 2],
-                    };
-                    let at = i * UNIFORM_STRIDE as usize;
-                    listed[at..at + LISTED_FACE_SIZE].copy_from_slice(bytemuck::bytes_of(&f));
-                }
-            }
+        let scanned = drawn.iter().filter(|d| d.2 == Visit::Scan);
+        let listed = drawn.iter().filter(|d| d.2 == Visit::List);
+        for (i, (slot, face, _)) in scanned.chain(listed).enumerate() {
+            work.faces[i] = [slot.index() as u32, face.index() as u32, 0, 0];
         }
+        work.count = drawn.iter().filter(|d| d.2 == Visit::Scan).count() as u32;
+        work.listed = drawn.len() as u32 - work.count;
         queue.write_buffer(&self.work, 0, bytemuck::bytes_of(&work));
-        if !listed.is_empty() {
-            queue.write_buffer(&self.listed_faces, 0, &listed);
-        }
         let reset = DrawArgs {
             index_count: 6,
             instance_count: 0,
@@ -208,16 +177,6 @@ impl CullPass {
             ],
         );
         let textures = probe_textures_bind_group(device, &self.textures_layout, store);
-        let listed_bind = bind_group(
-            device,
-            "cull::listed",
-            &self.listed_layout,
-            &[wgpu::BindingResource::Buffer(wgpu::BufferBinding {
-                buffer: &self.listed_faces,
-                offset: 0,
-                size: wgpu::BufferSize::new(LISTED_FACE_SIZE as u64),
-            })],
-        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("cull::pass"),
             timestamp_writes: None,
@@ -229,14 +188,9 @@ impl CullPass {
             let groups = max_n.div_ceil(8);
             pass.dispatch_workgroups(groups, groups, work.count);
         }
-        pass.set_pipeline(&self.listed_pipeline);
-        for (i, (slot, face, visit)) in drawn.iter().enumerate() {
-            if *visit == Visit::List {
-                let offset = (i as u64 * UNIFORM_STRIDE) as u32;
-                pass.set_bind_group(2, &listed_bind, &[offset]);
-                let args = (slot.index() as u64 * 6 + face.index() as u64) * LIST_ARGS_BYTES;
-                pass.dispatch_workgroups_indirect(&store.list_args, args);
-            }
+        if work.listed > 0 {
+            pass.set_pipeline(&self.listed_pipeline);
+            pass.dispatch_workgroups(LISTED_GROUPS, 1, 1);
         }
     }
 }

@@ -123,7 +123,6 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         ),
         ("cull.wgsl", "SlotView", size_of::<crate::view::SlotView>()),
         ("cull.wgsl", "CullWork", cull::CULL_WORK_SIZE),
-        ("cull.wgsl", "ListedFace", cull::LISTED_FACE_SIZE),
         ("cull.wgsl", "DrawArgs", size_of::<cull::DrawArgs>()),
         ("cull.wgsl", "Splat", cull::SPLAT_BYTES as usize),
         ("present.wgsl", "Sizes", present::SIZES_SIZE),

@@ -56,7 +56,6 @@ impl RunsPass {
                     storage_texture(wgpu::StorageTextureAccess::ReadWrite, RUNS_FORMAT, ARRAY),
                 ),
                 entry(5, c, storage(false)),
-                entry(6, c, storage(false)),
             ],
         });
         let rows = compute_pipeline(device, "runs::rows", &module, "rows", &[&layout]);
@@ -127,7 +126,6 @@ impl RunsPass {
                     tex(&t.lit.array_view),
                     tex(&t.runs.array_view),
                     t.list.as_entire_binding(),
-                    store.list_args.as_entire_binding(),
                 ],
             );
             let offset = (slot.index() as u64 * UNIFORM_STRIDE) as u32;

@@ -144,8 +144,7 @@ impl ShadePass {
                 entry(7, c, storage(true)),
                 entry(8, c, storage(false)),
                 entry(9, c, storage(false)),
-                entry(10, c, storage(false)),
-                entry(11, c, uniform(false)),
+                entry(10, c, uniform(false)),
             ],
         });
         let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -397,7 +396,6 @@ impl ShadePass {
                 scene.points.as_entire_binding(),
                 self.work.as_entire_binding(),
                 slot.list.as_entire_binding(),
-                store.list_args.as_entire_binding(),
                 wgpu::BindingResource::Buffer(wgpu::BufferBinding {
                     buffer: &self.faces,
                     offset: 0,
