@@ -42,6 +42,9 @@ pub const FACE_BUDGET: u32 = 9;
 /// Stable-probe faces captured per frame at most: a cell crossing adds at most this many
 /// faces to a frame, and the new grid probe completes over the following frames.
 pub const STABLE_FACES_PER_FRAME: u32 = 2;
+/// Stable faces captured at most on the frame that crosses into a new cell (which also
+/// captures the eye and draws the previous probe alone); the rest follow.
+pub const CROSSING_STABLE_FACES: u32 = 1;
 /// Stable faces of the next cell's grid probe captured per quiet frame ahead of a crossing.
 pub const PREFETCH_FACES_PER_FRAME: u32 = 1;
 /// How far ahead, in seconds of the camera's current velocity, a crossing is predicted.
@@ -104,7 +107,8 @@ impl FrameDriver {
             probes: None,
             scheduler: Scheduler::new(FACE_BUDGET, CAPTURE_FAR)
                 .map_err(|e| DriverError::View(e.to_string()))?
-                .with_stable_faces_per_frame(STABLE_FACES_PER_FRAME),
+                .with_stable_faces_per_frame(STABLE_FACES_PER_FRAME)
+                .with_crossing_faces(CROSSING_STABLE_FACES),
             size,
             start,
             frame_index: 0,

@@ -18,7 +18,9 @@
 //!   to the view direction first. So on a cell crossing the new grid probe's faces spread
 //!   over frames, while the previous probe (same slot, same stamps: nothing to do) keeps
 //!   drawing; the fade waits for the grid via [`UpdatePlan::readiness`], and a scene that
-//!   changes every frame cannot stall it.
+//!   changes every frame cannot stall it. The crossing frame itself (a new grid origin with
+//!   nothing captured yet, the previous probe drawing) may take a lower cap
+//!   ([`Scheduler::with_crossing_faces`]): it is the frame that also pays for everything else.
 //!
 //! - **Prefetch** ([`Scheduler::prefetch`]): on a frame with no stable work, a few faces of
 //!   the grid probe of the cell the camera is heading into, in the free stable slot, so the
@@ -169,6 +171,8 @@ impl std::error::Error for ScheduleError {}
 pub struct Scheduler {
     max_faces: u32,
     stable_cap: Option<u32>,
+    /// Stable faces per frame at most on a cell-crossing frame.
+    crossing_cap: Option<u32>,
     capture_far: f32,
     stamps: [[Option<CaptureStamp>; 6]; 3],
 }
@@ -186,6 +190,7 @@ impl Scheduler {
         Ok(Scheduler {
             max_faces,
             stable_cap: None,
+            crossing_cap: None,
             capture_far,
             stamps: [[None; 6]; 3],
         })
@@ -197,6 +202,13 @@ impl Scheduler {
     /// previous probe keeps drawing.
     pub fn with_stable_faces_per_frame(mut self, n: u32) -> Self {
         self.stable_cap = Some(n.max(1));
+        self
+    }
+
+    /// Caps the stable faces captured on a cell-crossing frame (the first frame of a new grid
+    /// origin, while the previous probe draws) at `n` (at least 1), below the per-frame cap.
+    pub fn with_crossing_faces(mut self, n: u32) -> Self {
+        self.crossing_cap = Some(n.max(1));
         self
     }
 
@@ -241,6 +253,15 @@ impl Scheduler {
         }
         let mut grid = self.needs(&pass, &probes.grid());
         let mut previous = probes.previous().map(|p| self.needs(&pass, &p));
+        // The frame that crosses into a new cell (a grid probe with nothing captured at its
+        // origin while the previous one still draws) captures fewer stable faces: it also
+        // pays for the eye and the previous probe, and the rest follow next frame.
+        if let Some(cap) = self.crossing_cap
+            && previous.is_some()
+            && grid.drawable.is_empty()
+        {
+            pass.budget = pass.budget.min(cap);
+        }
         let mut order = vec![&mut grid];
         if let Some(prev) = previous.as_mut() {
             // The probe drawing more pixels first (grid on ties).

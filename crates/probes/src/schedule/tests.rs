@@ -316,6 +316,27 @@ fn a_stable_cap_limits_each_crossing_frame() {
 }
 
 #[test]
+fn the_crossing_frame_captures_fewer_stable_faces() {
+    let mut rig = Rig::new(18);
+    rig.scheduler = Scheduler::new(18, FAR)
+        .unwrap()
+        .with_stable_faces_per_frame(2)
+        .with_crossing_faces(1);
+    let wide = 100f32.to_radians();
+    let stable = |plan: &UpdatePlan| plan.counts.grid + plan.counts.previous;
+    let first = rig.frame(Vec3::new(0.2, 0.1, -0.3), 0, 0.3, wide);
+    assert_eq!(stable(&first), 2, "no previous probe yet: the usual cap");
+    for _ in 0..10 {
+        rig.frame(Vec3::new(0.2, 0.1, -0.3), 0, 0.3, wide);
+    }
+    let crossing = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+    assert!(crossing.previous.is_some());
+    assert_eq!(stable(&crossing), 1);
+    let next = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+    assert_eq!(stable(&next), 2, "the rest follow at the usual cap");
+}
+
+#[test]
 fn prefetched_faces_spare_the_crossing_frame() {
     let mut rig = Rig::new(12);
     let camera = Vec3::new(0.2, 0.1, -0.3);
