@@ -1,9 +1,8 @@
 // Cull: turns the drawn faces' texels into a compact list of splat quads with indirect draw
 // arguments. Our schedule walks the faces' draw lists (`listed`, one dispatch for all of
 // them: a stable face's run heads, runs.wgsl; the eye texels the shade pass lit this frame),
-// so it never scans a face, and
-// skips quads that lie outside the view frustum or face away from the camera; one quad
-// draws a whole run. The paper schedule (and ours with runs off) scans every texel of the
+// so it never scans a face, and skips quads that lie outside the view frustum or face away
+// from the camera; one quad draws a whole run. The paper schedule (and ours with runs off) scans every texel of the
 // drawn faces (`main`). The quad corners are computed from the probe's data alone (never the
 // camera), so they are bit-identical while the probe stays. crates/render/src/passes/cull.rs.
 

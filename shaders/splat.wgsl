@@ -1,7 +1,8 @@
 // Splat: draws the culled texels as world-space quads (4 vertices, indexed, corners pulled
-// from the cull pass's list; a quad may span a run of texels along a face row). Eye quads are pushed back in depth so grid and previous quads
-// win where both exist; grid and previous split the screen with complementary 4×4 Bayer
-// patterns while a crossfade runs. Writes the colour (sRGB-encoded, into a plain unorm target:
+// from the cull pass's list; a quad may span a run of texels along a face row or column).
+// Eye quads are pushed back in depth so grid and previous quads win where both exist; grid
+// and previous split the screen with complementary 4×4 Bayer patterns while a crossfade
+// runs. Writes the colour (sRGB-encoded, into a plain unorm target:
 // no per-pixel encode) and the texel key of every pixel.
 // crates/render/src/passes/splat.rs.
 

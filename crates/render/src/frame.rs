@@ -489,12 +489,12 @@ fn capture_rects(
         .iter()
         .map(|p| glam::Vec3::new(p[0], p[1], p[2]))
         .collect();
+    let cone = input.camera.ortho_height.is_none() && input.schedule == Schedule::Ours;
     input
         .captures
         .iter()
         .map(|c| {
-            let cone = input.camera.ortho_height.is_none();
-            (c.slot == Slot::Eye && input.schedule == Schedule::Ours && cone).then(|| {
+            (c.slot == Slot::Eye && cone).then(|| {
                 let n = store.slot(c.slot).n;
                 let margin = EYE_CONE_MARGIN_TEXELS * 2.0 / n as f32;
                 face_cone_rect(&normals, c.face, n, margin).unwrap_or(TexelRect {

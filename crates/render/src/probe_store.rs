@@ -8,7 +8,7 @@
 //! | `albedo` | `rgba8unorm` | albedo × vertex colour (rgb), object flags (a) |
 //! | `depth` | `depth32float` | capture depth test |
 //! | `lit` | `rgba16float` | shaded, posterized, outlined colour (rgb); similar-neighbour bits (a) |
-//! | `runs` | `r32uint` | stable slots: texels in the row run this texel heads (0 = inside a run) |
+//! | `runs` | `r32uint` | stable slots: texels in the run this texel heads (`RUN_COLUMN` set for a column run; 0 = inside a run) |
 //!
 //! Beside the textures, each slot has a draw list (`shaders/lib/lists.wgsl`): the texels the
 //! cull pass visits per face.
@@ -28,7 +28,7 @@ pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Lit colour.
 pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
-/// Row runs.
+/// Runs of alike texels.
 pub const RUNS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 
 /// One texture array and a view per layer.
@@ -101,7 +101,7 @@ pub struct SlotTextures {
     pub depth: LayeredTexture,
     /// Lit colour.
     pub lit: LayeredTexture,
-    /// Row runs (`shaders/runs.wgsl`).
+    /// Runs of alike texels along rows or columns (`shaders/runs.wgsl`).
     pub runs: LayeredTexture,
     /// Draw list: per-face counts, then per-face entries (`shaders/lib/lists.wgsl`).
     pub list: wgpu::Buffer,

@@ -2,7 +2,7 @@
 
 use crate::context::{GpuContext, GpuError};
 
-/// The colour format the renderer writes offscreen (sRGB, so PNGs look as on screen).
+/// The colour format the baselines write offscreen (sRGB, so PNGs look as on screen).
 pub const OFFSCREEN_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
 
 /// The format the texel renderer draws offscreen: sRGB-encoded bytes in a plain unorm

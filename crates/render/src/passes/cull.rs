@@ -151,11 +151,11 @@ impl CullPass {
         let mut work = CullWork::zeroed();
         let scanned = drawn.iter().filter(|d| d.2 == Visit::Scan);
         let listed = drawn.iter().filter(|d| d.2 == Visit::List);
+        work.count = scanned.clone().count() as u32;
+        work.listed = drawn.len() as u32 - work.count;
         for (i, (slot, face, _)) in scanned.chain(listed).enumerate() {
             work.faces[i] = [slot.index() as u32, face.index() as u32, 0, 0];
         }
-        work.count = drawn.iter().filter(|d| d.2 == Visit::Scan).count() as u32;
-        work.listed = drawn.len() as u32 - work.count;
         queue.write_buffer(&self.work, 0, bytemuck::bytes_of(&work));
         let reset = DrawArgs {
             index_count: 6,
