@@ -158,11 +158,7 @@ impl FrameDriver {
         let view = CameraView {
             position: camera.position,
             forward: camera.forward,
-            up: if camera.forward.y.abs() > 0.999 {
-                Vec3::Z
-            } else {
-                Vec3::Y
-            },
+            up: camera.up(),
             fov_y: camera.fov_y,
             aspect: self.size.x as f32 / self.size.y.max(1) as f32,
             near: camera.near,
@@ -343,6 +339,17 @@ pub fn start_camera(scene: &Scene) -> Camera {
     Camera::looking(Vec3::new(0.0, 1.6, 10.0), -Vec3::Z)
 }
 
+/// The renderer's id of the entity at `index` in the level's order (0 is the sky): the rule
+/// [`scene_input`] numbers objects by and [`entity_index`] inverts.
+pub fn entity_id(index: usize) -> u32 {
+    index as u32 + 1
+}
+
+/// The level index of the entity a renderer id names, `None` for the sky (0).
+pub fn entity_index(id: u32) -> Option<usize> {
+    id.checked_sub(1).map(|i| i as usize)
+}
+
 /// The renderer's view of the scene: one object per entity with geometry, lights.
 pub fn scene_input(level: &LoadedLevel) -> SceneInput {
     let scene = &level.scene;
@@ -366,7 +373,7 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
                         casts_shadows: m.casts_shadows,
                         outlined: m.outlined,
                     },
-                    id: index as u32 + 1,
+                    id: entity_id(index),
                 });
             }
         }

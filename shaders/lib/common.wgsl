@@ -5,7 +5,7 @@
 //   +X (1, −v, −u)   −X (−1, −v, u)   +Y (u, 1, v)   −Y (u, −1, −v)   +Z (u, −v, 1)   −Z (−u, −v, −1)
 // On ties X wins over Y, Y over Z.
 
-const SKY_DEPTH: f32 = 1.0e9;
+#include "lib/constants.wgsl"
 
 fn cube_dir(face: u32, u: f32, v: f32) -> vec3<f32> {
     switch face {

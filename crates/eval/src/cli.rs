@@ -196,8 +196,8 @@ fn parse_list(s: &str, flag: &str) -> Result<Vec<u32>> {
                 .trim()
                 .parse()
                 .with_context(|| format!("{flag}: `{x}` is not a whole number"))?;
-            if !(8..=2048).contains(&n) {
-                bail!("{flag}: {n} is outside 8..=2048");
+            if !texel_scene::FACE_RESOLUTIONS.contains(&n) {
+                bail!("{}", texel_scene::limits::face_resolution_error(flag, n));
             }
             Ok(n)
         })

@@ -31,7 +31,7 @@ impl Default for ResolutionRange {
         ResolutionRange {
             multiple: 8,
             min: 16,
-            max: 2048,
+            max: *texel_geom::limits::FACE_RESOLUTIONS.end(),
         }
     }
 }

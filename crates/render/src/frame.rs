@@ -249,7 +249,7 @@ impl Renderer {
         target: &wgpu::TextureView,
     ) -> Result<FrameStats, RenderError> {
         let started = Instant::now();
-        validate(input)?;
+        crate::validate::frame(input)?;
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         for p in [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
             .into_iter()
@@ -520,30 +520,6 @@ fn drawn_faces(input: &FrameInput, runs: bool) -> Vec<(Slot, Face, Visit)> {
         .flatten()
         .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f, visit(p.slot))))
         .collect()
-}
-
-fn validate(input: &FrameInput) -> Result<(), RenderError> {
-    let bad = |m: &str| Err(RenderError::InvalidFrame(m.to_owned()));
-    if input.size.x == 0 || input.size.y == 0 || input.size.x > 8192 || input.size.y > 8192 {
-        return bad("output size must be 1..=8192 on each side");
-    }
-    let (i, o) = (input.internal_size, input.size);
-    if i.x == 0 || i.y == 0 || i.x > o.x || i.y > o.y {
-        return bad("internal size must be non-zero and at most the output size");
-    }
-    let c = &input.camera;
-    if !c.position.is_finite() || !c.forward.is_finite() || c.forward.length_squared() < 1e-12 {
-        return bad("camera position and direction must be finite, direction non-zero");
-    }
-    let n_ok = |n: u32| (8..=2048).contains(&n);
-    let all_n = [input.eye.face_resolution, input.grid.face_resolution]
-        .into_iter()
-        .chain(input.previous.map(|p| p.face_resolution))
-        .chain(input.captures.iter().map(|c| c.face_resolution));
-    if !all_n.into_iter().all(n_ok) {
-        return bad("face resolutions must be within 8..=2048");
-    }
-    Ok(())
 }
 
 /// Times the stages of a frame: GPU timestamps between stages in one submission when the

@@ -7,7 +7,7 @@ use std::sync::Arc;
 use glam::{Mat4, UVec2, Vec3};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::{Role, Slot};
-use texel_scene::TriMesh;
+use texel_geom::TriMesh;
 
 /// How a surface is shaded.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -104,14 +104,18 @@ impl Camera {
         Self::looking(position, forward)
     }
 
-    /// World → view matrix (right-handed, Y up).
-    pub fn view(&self) -> Mat4 {
-        let up = if self.forward.y.abs() > 0.999 {
+    /// The up vector of the view: world +Y, or +Z when looking (nearly) straight up or down.
+    pub fn up(&self) -> Vec3 {
+        if self.forward.y.abs() > 0.999 {
             Vec3::Z
         } else {
             Vec3::Y
-        };
-        glam::camera::rh::view::look_to_mat4(self.position, self.forward, up)
+        }
+    }
+
+    /// World → view matrix (right-handed, [`Camera::up`] up).
+    pub fn view(&self) -> Mat4 {
+        glam::camera::rh::view::look_to_mat4(self.position, self.forward, self.up())
     }
 
     /// View → clip matrix (depth 0..1).

@@ -21,4 +21,5 @@ pub mod readback;
 pub mod shader;
 pub mod stats;
 pub mod target;
+pub mod validate;
 pub mod view;

@@ -272,12 +272,7 @@ impl Default for PlayerStart {
     }
 }
 
-/// Range of cube-face resolutions a level may ask for.
-pub const FACE_RESOLUTIONS: std::ops::RangeInclusive<u32> = 8..=2048;
-/// Range of posterization band counts.
-pub const BANDS: std::ops::RangeInclusive<u32> = 2..=256;
-/// Range of segment counts for round primitives.
-pub const SEGMENTS: std::ops::RangeInclusive<u32> = 3..=256;
+pub use texel_geom::limits::{BANDS, FACE_RESOLUTIONS, SEGMENTS};
 
 /// How big the art pixels are: a fixed cube-face resolution, or a wanted on-screen size of
 /// a texel at the view centre (in screen pixels), from which the resolution follows.

@@ -8,7 +8,6 @@ pub mod assets;
 pub mod components;
 pub mod gltf_import;
 pub mod level;
-pub mod mesh;
 pub mod migrate;
 pub mod num;
 pub mod primitives;
@@ -17,5 +16,5 @@ pub mod scene;
 
 pub use components::*;
 pub use level::{CURRENT_VERSION, EntityRow, ErrorKind, Level, LevelError};
-pub use mesh::TriMesh;
+pub use texel_geom::{TriMesh, limits, mesh};
 pub use scene::{KindCounts, Scene};

@@ -3,7 +3,7 @@
 
 use egui::Ui;
 use glam::{Vec2, Vec3};
-use texel_scene::{
+use texel_scene::{BANDS, FACE_RESOLUTIONS, SEGMENTS, 
     DirectionalLight, EntityRow, Geometry, LevelSettings, Material, Name, PixelScale, PlayerStart,
     PointLight, ProbeGridOverride, Transform,
 };
@@ -154,7 +154,7 @@ fn geometry(ui: &mut Ui, g: &mut Geometry) {
         }
         Geometry::Sphere { radius, segments } => {
             scalar(ui, "Radius", radius, 0.01, MIN_SIZE, BIG);
-            integer(ui, "Segments", segments, 3, 256);
+            integer(ui, "Segments", segments, SEGMENTS);
         }
         Geometry::Cylinder {
             radius,
@@ -163,7 +163,7 @@ fn geometry(ui: &mut Ui, g: &mut Geometry) {
         } => {
             scalar(ui, "Radius", radius, 0.01, MIN_SIZE, BIG);
             scalar(ui, "Height", height, 0.02, MIN_SIZE, BIG);
-            integer(ui, "Segments", segments, 3, 256);
+            integer(ui, "Segments", segments, SEGMENTS);
         }
         Geometry::Plane { size } => {
             vec2(ui, "Size", size, 0.05, MIN_SIZE);
@@ -210,7 +210,7 @@ fn probe(ui: &mut Ui, o: &mut ProbeGridOverride) {
         _ => {}
     }
     if let Some(n) = &mut o.face_resolution {
-        integer(ui, "Face resolution", n, 8, 2048);
+        integer(ui, "Face resolution", n, FACE_RESOLUTIONS);
     }
     ui.horizontal(|ui| {
         ui.label("Priority");
@@ -231,7 +231,7 @@ pub fn settings(ui: &mut Ui, state: &mut EditorState) {
     let mut s = before;
     colour(ui, "Sky", &mut s.sky);
     colour(ui, "Ambient", &mut s.ambient);
-    integer(ui, "Bands", &mut s.bands, 2, 256);
+    integer(ui, "Bands", &mut s.bands, BANDS);
     let mut fixed = matches!(s.pixel_scale, PixelScale::FaceResolution(_));
     ui.horizontal(|ui| {
         ui.radio_value(&mut fixed, false, "Pixel size");
@@ -247,7 +247,7 @@ pub fn settings(ui: &mut Ui, state: &mut EditorState) {
             scalar(ui, "Pixel size", k, 0.05, 0.1, 64.0);
         }
         PixelScale::FaceResolution(n) => {
-            integer(ui, "Face resolution", n, 8, 2048);
+            integer(ui, "Face resolution", n, FACE_RESOLUTIONS);
         }
     }
     scalar(ui, "Default cell size", &mut s.cell_size, 0.01, 0.01, BIG);

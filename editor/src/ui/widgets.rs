@@ -1,5 +1,7 @@
 //! Small widgets shared by the panels: labelled vectors, colours, kind icons.
 
+use std::ops::RangeInclusive;
+
 use egui::{DragValue, Ui};
 use glam::{Vec2, Vec3};
 use texel_scene::EntityRow;
@@ -46,10 +48,10 @@ pub fn scalar(ui: &mut Ui, name: &str, v: &mut f32, speed: f32, min: f32, max: f
 }
 
 /// One labelled integer drag value.
-pub fn integer(ui: &mut Ui, name: &str, v: &mut u32, min: u32, max: u32) -> bool {
+pub fn integer(ui: &mut Ui, name: &str, v: &mut u32, range: RangeInclusive<u32>) -> bool {
     ui.horizontal(|ui| {
         ui.label(name);
-        ui.add(DragValue::new(v).range(min..=max))
+        ui.add(DragValue::new(v).range(range))
             .accessible_name(name)
             .changed()
     })

@@ -141,7 +141,7 @@ impl GpuView {
         Ok(id)
     }
 
-    /// The entity id under `pixel` of the last frame (level position + 1).
+    /// The entity id under `pixel` of the last frame (`texel_runtime::driver::entity_id`).
     pub fn pick(&self, pixel: UVec2) -> Result<Option<u32>, String> {
         self.renderer
             .pick(&self.ctx, pixel)

@@ -492,8 +492,7 @@ impl Viewport {
             ((uv.y * size.y as f32) as u32).min(size.y - 1),
         );
         match gpu.pick(pixel) {
-            Ok(Some(id)) if id > 0 => state.selection = Some(id as usize - 1),
-            Ok(_) => state.selection = None,
+            Ok(id) => state.selection = id.and_then(texel_runtime::driver::entity_index),
             Err(e) => self.error = Some(e),
         }
     }

@@ -25,8 +25,7 @@ pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Depth test.
 pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
-/// The depth written for sky pixels (`SKY_DEPTH` in `lib/common.wgsl`).
-pub const SKY_DEPTH: f32 = 1.0e9;
+pub use texel_geom::limits::SKY_DEPTH;
 
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]

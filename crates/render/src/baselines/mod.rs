@@ -401,7 +401,7 @@ impl BaselineRenderer {
         camera: &Camera,
         size: UVec2,
     ) -> Result<GBuffer, RenderError> {
-        validate_size_and_camera(camera, size)?;
+        crate::validate::view(camera, size)?;
         let screen = self.take_screen(ctx, size);
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         let vp = camera.projection(size.x as f32 / size.y as f32) * camera.view();
@@ -445,26 +445,7 @@ impl BaselineRenderer {
     }
 }
 
-fn validate_size_and_camera(c: &Camera, size: UVec2) -> Result<(), RenderError> {
-    let bad = |m: &str| Err(RenderError::InvalidFrame(m.to_owned()));
-    if size.x == 0 || size.y == 0 || size.x > 8192 || size.y > 8192 {
-        return bad("output size must be 1..=8192 on each side");
-    }
-    if !c.position.is_finite() || !c.forward.is_finite() || c.forward.length_squared() < 1e-12 {
-        return bad("camera position and direction must be finite, direction non-zero");
-    }
-    if c.ortho_height.is_some_and(|h| !(h.is_finite() && h > 0.0)) {
-        return bad("orthographic height must be finite and > 0");
-    }
-    Ok(())
-}
-
 fn validate(view: &BaselineView) -> Result<(), RenderError> {
-    validate_size_and_camera(&view.camera, view.size)?;
-    if !(8..=2048).contains(&view.face_res) {
-        return Err(RenderError::InvalidFrame(
-            "face resolution must be within 8..=2048".to_owned(),
-        ));
-    }
-    Ok(())
+    crate::validate::view(&view.camera, view.size)?;
+    crate::validate::face_resolution(view.face_res)
 }

@@ -131,7 +131,7 @@ impl CapturePass {
                 r: 0.0,
                 g: 0.0,
                 b: 0.0,
-                a: 1.0e9,
+                a: f64::from(texel_geom::limits::SKY_DEPTH),
             };
             let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
                 label: Some("capture::face"),
