@@ -14,13 +14,14 @@ use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
-use crate::passes::shade::{ShadeJob, ShadePass};
+use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
-use crate::stats::{Counters, FrameStats, PassTime};
-use crate::target::{FRAME_FORMAT, OffscreenTarget, read_buffer};
+use crate::stats::{Counters, FrameStats};
+use crate::target::{FRAME_FORMAT, OffscreenTarget};
+use crate::timing::{self, Stages};
 use crate::view::ViewGlobals;
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::visibility::{TexelRect, face_cone_rect};
@@ -44,18 +45,6 @@ pub enum RenderError {
     #[error("invalid frame: {0}")]
     InvalidFrame(String),
 }
-
-/// Names of the timed stages, in order.
-pub const STAGES: [&str; 8] = [
-    "capture",
-    "shade",
-    "runs",
-    "cull",
-    "splat",
-    "background",
-    "visible",
-    "present",
-];
 
 /// Screen-sized targets besides the colour target.
 pub(crate) struct Screen {
@@ -162,13 +151,7 @@ impl Renderer {
 
     fn build(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
         let d = &ctx.device;
-        let queries = ctx.timestamps.then(|| {
-            d.create_query_set(&wgpu::QuerySetDescriptor {
-                label: Some("frame::timestamps"),
-                ty: wgpu::QueryType::Timestamp,
-                count: STAGES.len() as u32 + 1,
-            })
-        });
+        let queries = timing::query_set(ctx, "frame::timestamps");
         Ok(Renderer {
             capture: CapturePass::new(d)?,
             shade: ShadePass::new(d)?,
@@ -278,94 +261,94 @@ impl Renderer {
         let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
         let draw_target = screen.colour.as_ref().unwrap_or(target);
 
+        let store = &self.store;
         let mut stages = Stages::new(ctx, self.queries.as_ref());
-        let (d, q) = (&ctx.device, &ctx.queue);
-        let rects = capture_rects(input, &globals, &self.store);
-        stages.run(|enc| {
-            let (captures, store) = (&input.captures, &self.store);
-            self.capture
-                .record(d, q, enc, captures, &rects, store, scene)
+        let rects = capture_rects(input, &globals, store);
+        stages.run("capture", |enc| {
+            (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         let jobs = shade_jobs(input, &rects);
-        stages.run(|enc| {
-            let (store, look) = (&self.store, &input.look);
-            let view = Some(&self.view);
-            let shade = &mut self.shade;
-            shade.record(d, q, enc, &jobs, store, scene, look, view);
-        });
-        stages.run(|enc| {
-            let store = &self.store;
-            // Runs of the stable faces just lit (the paper schedule draws texel by texel
-            // and leaves them for when our schedule draws again).
-            let mut lit = [FaceMask::EMPTY; 3];
-            for j in jobs.iter().filter(|j| j.slot != Slot::Eye) {
-                lit[j.slot.index()].insert(j.face);
-            }
-            for (stale, lit) in self.runs_stale.iter_mut().zip(&mut lit) {
-                if input.schedule == Schedule::Ours {
-                    *lit = lit.union(*stale);
-                    *stale = FaceMask::EMPTY;
-                } else {
-                    *stale = stale.union(*lit);
-                    *lit = FaceMask::EMPTY;
-                }
-            }
-            self.runs.record(d, q, enc, store, lit);
-        });
+        let inputs = ShadeInputs {
+            store,
+            scene,
+            look: &input.look,
+            view: Some(&self.view),
+        };
+        let shaded = stages.run("shade", |enc| self.shade.record(ctx, enc, &jobs, &inputs));
+        let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded.stable);
+        stages.run("runs", |enc| self.runs.record(ctx, enc, store, runs_faces));
         let drawn = drawn_faces(input, self.runs_on);
-        stages.run(|enc| {
-            let (view, store) = (&self.view, &self.store);
-            self.cull
-                .record(d, q, enc, view, store, globals.max_n, &drawn);
+        let list = stages.run("cull", |enc| {
+            (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
         });
-        let splat_bind = self.splat.bind_group(d, &self.view, &self.cull.splats);
-        let bg_bind = self
-            .background
-            .bind_group(d, &self.view, self.store.slot(Slot::Eye));
+        let splat_bind = self.splat.bind_group(ctx, &self.view, list);
+        let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
         let dither = input.previous.is_some() && input.fade_t < 1.0;
-        stages.run(|enc| {
+        let runs =
+            (drawn.iter()).any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
+        stages.run("splat", |enc| {
             let mut pass = begin_draw(enc, draw_target, screen, true);
-            let runs = drawn
-                .iter()
-                .any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
-            let (splat, args) = (&self.splat, &self.cull.args);
-            splat.draw(&mut pass, &splat_bind, args, runs, dither);
+            self.splat.draw(&mut pass, &splat_bind, list, runs, dither);
         });
-        stages.run(|enc| {
+        stages.run("background", |enc| {
             let mut pass = begin_draw(enc, draw_target, screen, false);
             self.background.draw(&mut pass, &bg_bind);
         });
-        stages.run(|enc| self.visible.record(d, enc, &screen.keys_view, size));
-        stages.run(|enc| {
+        stages.run("visible", |enc| {
+            self.visible.record(ctx, enc, &screen.keys_view, size);
+        });
+        stages.run("present", |enc| {
             if let Some(frame) = &screen.colour {
-                self.present.record(d, q, enc, frame, target, size, output);
+                self.present.record(ctx, enc, frame, target, size, output);
             }
         });
-        let copies = [
-            (&self.cull.args, size_of::<DrawArgs>() as u64),
-            (&self.shade.work, 4),
+        let timed = stages.finish(&[
+            (list.args, size_of::<DrawArgs>() as u64),
+            (shaded.texels, 4),
             (&self.visible.bits, self.visible.bytes()),
-        ];
-        let (passes, gpu_timestamps, readback) = stages.finish(&copies)?;
-        let (args_bytes, rest) = readback.split_at(size_of::<DrawArgs>());
-        let args: DrawArgs = *bytemuck::from_bytes(args_bytes);
+        ])?;
+        let (args_bytes, rest) = timed.readback.split_at(size_of::<DrawArgs>());
+        let args: DrawArgs = bytemuck::pod_read_unaligned(args_bytes);
         let (shaded, bits) = rest.split_at(4);
         let texels_shaded = u64::from(u32::from_le_bytes([
             shaded[0], shaded[1], shaded[2], shaded[3],
         ]));
-        let bits: &[u32] = bytemuck::cast_slice(bits);
+        let screen_visible_texels = (bits.chunks_exact(4))
+            .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]]).count_ones()))
+            .sum();
         Ok(FrameStats {
-            passes,
-            gpu_timestamps,
+            passes: timed.passes,
+            gpu_timestamps: timed.gpu_timestamps,
             frame_ms: started.elapsed().as_secs_f64() * 1e3,
             counters: Counters {
                 faces_captured: input.captures.len() as u32,
                 texels_shaded,
                 quads_splatted: u64::from(args.instance_count),
-                screen_visible_texels: bits.iter().map(|w| u64::from(w.count_ones())).sum(),
+                screen_visible_texels,
             },
         })
     }
+}
+
+/// The stable faces whose runs to recompute: in our schedule, the faces just lit and those
+/// the paper schedule lit since our schedule last drew (it draws texel by texel and leaves
+/// its faces `stale`); in the paper schedule none (they are added to `stale`).
+fn runs_to_compute(
+    stale: &mut [FaceMask; 3],
+    schedule: Schedule,
+    lit: [FaceMask; 3],
+) -> [FaceMask; 3] {
+    let mut out = lit;
+    for (stale, lit) in stale.iter_mut().zip(&mut out) {
+        if schedule == Schedule::Ours {
+            *lit = lit.union(*stale);
+            *stale = FaceMask::EMPTY;
+        } else {
+            *stale = stale.union(*lit);
+            *lit = FaceMask::EMPTY;
+        }
+    }
+    out
 }
 
 /// The on-screen render pass: colour and key targets, splat depth. The first pass of a frame
@@ -520,111 +503,4 @@ fn drawn_faces(input: &FrameInput, runs: bool) -> Vec<(Slot, Face, Visit)> {
         .flatten()
         .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f, visit(p.slot))))
         .collect()
-}
-
-/// Times the stages of a frame: GPU timestamps between stages in one submission when the
-/// adapter has them, else one submission per stage timed on the CPU.
-struct Stages<'a> {
-    ctx: &'a GpuContext,
-    queries: Option<&'a wgpu::QuerySet>,
-    encoder: wgpu::CommandEncoder,
-    cpu_ms: Vec<f64>,
-    index: u32,
-}
-
-impl<'a> Stages<'a> {
-    fn new(ctx: &'a GpuContext, queries: Option<&'a wgpu::QuerySet>) -> Self {
-        let mut encoder = ctx.device.create_command_encoder(&Default::default());
-        if let Some(q) = queries {
-            encoder.write_timestamp(q, 0);
-        }
-        Stages {
-            ctx,
-            queries,
-            encoder,
-            cpu_ms: Vec::new(),
-            index: 0,
-        }
-    }
-
-    fn run(&mut self, f: impl FnOnce(&mut wgpu::CommandEncoder)) {
-        self.index += 1;
-        match self.queries {
-            Some(q) => {
-                f(&mut self.encoder);
-                self.encoder.write_timestamp(q, self.index);
-            }
-            None => {
-                let t = Instant::now();
-                f(&mut self.encoder);
-                let done = std::mem::replace(
-                    &mut self.encoder,
-                    self.ctx.device.create_command_encoder(&Default::default()),
-                );
-                self.ctx.queue.submit([done.finish()]);
-                let _ = self.ctx.wait_idle();
-                self.cpu_ms.push(t.elapsed().as_secs_f64() * 1e3);
-            }
-        }
-    }
-
-    /// Submits, copies each `(buffer, bytes)` back (concatenated, in order), and returns the
-    /// per-stage times.
-    fn finish(
-        mut self,
-        copies: &[(&wgpu::Buffer, u64)],
-    ) -> Result<(Vec<PassTime>, bool, Vec<u8>), GpuError> {
-        let stamps_bytes = 8 * u64::from(self.index + 1);
-        let copied: u64 = copies.iter().map(|(_, n)| n).sum();
-        let stamps_at = copied.next_multiple_of(256);
-        let readback = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("frame::readback"),
-            size: stamps_at + stamps_bytes,
-            usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-            mapped_at_creation: false,
-        });
-        let mut at = 0;
-        for (buffer, bytes) in copies {
-            self.encoder
-                .copy_buffer_to_buffer(buffer, 0, &readback, at, *bytes);
-            at += bytes;
-        }
-        let resolve = self.queries.map(|q| {
-            let buf = self.ctx.device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("frame::timestamps"),
-                size: stamps_bytes,
-                usage: wgpu::BufferUsages::QUERY_RESOLVE | wgpu::BufferUsages::COPY_SRC,
-                mapped_at_creation: false,
-            });
-            self.encoder
-                .resolve_query_set(q, 0..self.index + 1, &buf, 0);
-            self.encoder
-                .copy_buffer_to_buffer(&buf, 0, &readback, stamps_at, stamps_bytes);
-            buf
-        });
-        self.ctx.queue.submit([self.encoder.finish()]);
-        let bytes = read_buffer(self.ctx, &readback)?;
-        drop(resolve);
-        let times: Vec<f64> = match self.queries {
-            Some(_) => {
-                let stamps: &[u64] = bytemuck::cast_slice(&bytes[stamps_at as usize..]);
-                let period = f64::from(self.ctx.queue.get_timestamp_period());
-                stamps
-                    .windows(2)
-                    .map(|w| w[1].saturating_sub(w[0]) as f64 * period / 1e6)
-                    .collect()
-            }
-            None => self.cpu_ms,
-        };
-        let passes = STAGES
-            .iter()
-            .zip(times)
-            .map(|(pass, ms)| PassTime { pass, ms })
-            .collect();
-        Ok((
-            passes,
-            self.queries.is_some(),
-            bytes[..stamps_at as usize].to_vec(),
-        ))
-    }
 }

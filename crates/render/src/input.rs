@@ -5,9 +5,9 @@
 use std::sync::Arc;
 
 use glam::{Mat4, UVec2, Vec3};
+use texel_geom::TriMesh;
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::{Role, Slot};
-use texel_geom::TriMesh;
 
 /// How a surface is shaded.
 #[derive(Debug, Clone, Copy, PartialEq)]

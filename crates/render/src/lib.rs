@@ -21,5 +21,6 @@ pub mod readback;
 pub mod shader;
 pub mod stats;
 pub mod target;
+mod timing;
 pub mod validate;
 pub mod view;

@@ -155,7 +155,10 @@ mod tests {
         let bg = assemble("background.wgsl").unwrap();
         assert!(!bg.contains("#include"));
         assert_eq!(bg.matches("fn oklab_from_linear").count(), 1);
-        assert_eq!(bg.matches("const SKY_DEPTH: f32 = 1000000000.0;").count(), 1);
+        assert_eq!(
+            bg.matches("const SKY_DEPTH: f32 = 1000000000.0;").count(),
+            1
+        );
         let err = assemble("nope.wgsl").unwrap_err().to_string();
         assert!(err.contains("nope.wgsl"), "{err}");
     }

@@ -16,5 +16,5 @@ pub mod scene;
 
 pub use components::*;
 pub use level::{CURRENT_VERSION, EntityRow, ErrorKind, Level, LevelError};
-pub use texel_geom::{TriMesh, limits, mesh};
 pub use scene::{KindCounts, Scene};
+pub use texel_geom::{TriMesh, limits, mesh};

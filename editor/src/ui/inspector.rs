@@ -3,9 +3,9 @@
 
 use egui::Ui;
 use glam::{Vec2, Vec3};
-use texel_scene::{BANDS, FACE_RESOLUTIONS, SEGMENTS, 
-    DirectionalLight, EntityRow, Geometry, LevelSettings, Material, Name, PixelScale, PlayerStart,
-    PointLight, ProbeGridOverride, Transform,
+use texel_scene::{
+    BANDS, DirectionalLight, EntityRow, FACE_RESOLUTIONS, Geometry, LevelSettings, Material, Name,
+    PixelScale, PlayerStart, PointLight, ProbeGridOverride, SEGMENTS, Transform,
 };
 
 use crate::command::Command;

@@ -3,6 +3,7 @@
 //! shade passes (into a probe store of the baseline's own), then each output pixel shows the
 //! lit texel in its view direction, nearest-sampled.
 
+use crate::context::GpuContext;
 use crate::passes::bind_group;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -43,6 +44,17 @@ pub fn captures(eye: Vec3, n: u32) -> Vec<CaptureInput> {
         .collect()
 }
 
+/// What the cubemap is drawn for: the camera's `view_proj` and position, and the look.
+#[derive(Debug, Clone, Copy)]
+pub struct CubeCamera {
+    /// World → clip of the output camera.
+    pub view_proj: Mat4,
+    /// The camera position (the cubemap's centre).
+    pub eye: Vec3,
+    /// Sky and haze.
+    pub look: Look,
+}
+
 /// The pass drawing the cubemap at the output size.
 pub struct CubemapPass {
     pipeline: wgpu::RenderPipeline,
@@ -80,19 +92,21 @@ impl CubemapPass {
 
     /// Records drawing the lit cubemap in `slot`, centred at `eye`, into `out`, hazed by
     /// `look.haze` as the draw passes are.
-    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         slot: &SlotTextures,
         scene: &GpuScene,
-        view_proj: Mat4,
-        eye: Vec3,
-        look: &Look,
+        camera: &CubeCamera,
         out: &Output,
     ) {
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        let CubeCamera {
+            view_proj,
+            eye,
+            look,
+        } = *camera;
         let u = CubeView {
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             eye: eye.extend(1.0).to_array(),

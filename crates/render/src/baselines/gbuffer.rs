@@ -3,8 +3,10 @@
 //! packed albedo). The low-resolution methods shade it per pixel; at full resolution it is the
 //! evaluator's reference G-buffer.
 
+use crate::context::GpuContext;
 use crate::passes::bind_group;
-use crate::passes::{RenderSpec, render_pipeline, uniform_buffer};
+use crate::passes::raster::{self, RasterDraw, RasterTargets};
+use crate::passes::uniform_buffer;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec2, Vec3};
 
@@ -23,7 +25,7 @@ pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rg32Uint;
 /// Shaded colour, linear.
 pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
 /// Depth test.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+pub use crate::passes::raster::DEPTH_FORMAT;
 
 pub use texel_geom::limits::SKY_DEPTH;
 
@@ -121,6 +123,18 @@ impl ScreenTargets {
     }
 }
 
+/// What the G-buffer sees: `view_proj` for the raster; depth is measured along the unit
+/// `axis` from `eye`.
+#[derive(Debug, Clone, Copy)]
+pub struct RasterCamera {
+    /// World → clip.
+    pub view_proj: Mat4,
+    /// The eye.
+    pub eye: Vec3,
+    /// Unit view axis.
+    pub axis: Vec3,
+}
+
 /// The G-buffer pass.
 pub struct GBufferPass {
     pipeline: wgpu::RenderPipeline,
@@ -137,21 +151,8 @@ impl GBufferPass {
             label: Some("baselines::gbuffer::layout"),
             entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
         });
-        // Both sides, as the capture pass: planes are one-sided surfaces.
-        let vertex_buffers = [Some(GpuScene::vertex_layout())];
-        let pipeline = render_pipeline(
-            device,
-            RenderSpec {
-                owner: "baselines::gbuffer",
-                module: &module,
-                vertex: "vs",
-                layouts: &[&layout],
-                vertex_buffers: &vertex_buffers,
-                fragment: "fs",
-                targets: &[WORLD_FORMAT, NORMAL_FORMAT, ID_FORMAT],
-                depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
-            },
-        );
+        let targets = [WORLD_FORMAT, NORMAL_FORMAT, ID_FORMAT];
+        let pipeline = raster::pipeline(device, "baselines::gbuffer", &module, &layout, &targets);
         let camera = uniform_buffer(
             device,
             "baselines::gbuffer::camera",
@@ -164,20 +165,21 @@ impl GBufferPass {
         })
     }
 
-    /// Records the rasterization of `scene` through `view_proj` into `targets`; depth is
-    /// measured along the unit `axis` from `eye`.
-    #[allow(clippy::too_many_arguments)]
+    /// Records the rasterization of `scene` seen by `camera` into `targets`.
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         targets: &ScreenTargets,
         scene: &GpuScene,
-        view_proj: Mat4,
-        eye: Vec3,
-        axis: Vec3,
+        camera: &RasterCamera,
     ) {
+        let (device, queue) = (&ctx.device, &ctx.queue);
+        let RasterCamera {
+            view_proj,
+            eye,
+            axis,
+        } = *camera;
         let cam = CameraUniform {
             view_proj: view_proj.to_cols_array_2d(),
             axis: axis.extend(axis.dot(eye)).to_array(),
@@ -192,47 +194,22 @@ impl GBufferPass {
                 scene.objects.as_entire_binding(),
             ],
         );
-        let attach = |view, clear| {
-            Some(wgpu::RenderPassColorAttachment {
-                view,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
-                    store: wgpu::StoreOp::Store,
-                },
-            })
-        };
-        let sky = wgpu::Color {
-            a: f64::from(SKY_DEPTH),
-            ..wgpu::Color::TRANSPARENT
-        };
         let clear = wgpu::Color::TRANSPARENT;
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("baselines::gbuffer::pass"),
-            color_attachments: &[
-                attach(&targets.world.view, sky),
-                attach(&targets.normal.view, clear),
-                attach(&targets.ids.view, clear),
-            ],
-            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
-                view: &targets.depth.view,
-                depth_ops: Some(wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(1.0),
-                    store: wgpu::StoreOp::Discard,
-                }),
-                stencil_ops: None,
-            }),
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        if scene.vertex_count == 0 {
-            return;
-        }
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.set_vertex_buffer(0, scene.vertices.slice(..));
-        pass.draw(0..scene.vertex_count, 0..1);
+        let colour = [
+            (&targets.world.view, raster::SKY_CLEAR),
+            (&targets.normal.view, clear),
+            (&targets.ids.view, clear),
+        ];
+        let targets = RasterTargets {
+            colour: &colour,
+            depth: &targets.depth.view,
+        };
+        let draw = RasterDraw {
+            pipeline: &self.pipeline,
+            bind: &bind,
+            offsets: &[],
+            scissor: None,
+        };
+        raster::record(encoder, "baselines::gbuffer::pass", &targets, scene, &draw);
     }
 }

@@ -12,7 +12,6 @@ pub mod cubemap;
 pub mod gbuffer;
 pub mod shade;
 pub mod snap;
-mod timer;
 pub mod upscale;
 
 use crate::passes::{RenderSpec, render_pipeline};
@@ -26,14 +25,15 @@ use crate::gpu_scene::GpuScene;
 use crate::input::{Camera, Look, SceneInput};
 use crate::passes::capture::CapturePass;
 use crate::passes::shade::ShadePass;
+use crate::passes::shade::{ShadeInputs, ShadeJob};
 use crate::probe_store::ProbeStore;
 use crate::stats::{Counters, FrameStats, PassTime};
 use crate::target::{OFFSCREEN_FORMAT, OffscreenTarget, read_texture_layer};
-use cubemap::{CUBE_SLOT, CubemapPass};
-use gbuffer::{GBufferPass, SKY_DEPTH, ScreenTargets, Target};
+use crate::timing::Stages;
+use cubemap::{CUBE_SLOT, CubeCamera, CubemapPass};
+use gbuffer::{GBufferPass, RasterCamera, SKY_DEPTH, ScreenTargets, Target};
 use shade::{Eye, ScreenShadePass};
 pub use snap::{art_pixel_height, low_res_size, snap_plan};
-use timer::{MAX_STAGES, Timer};
 use upscale::{Mapping, UpscalePass};
 
 /// A baseline render method.
@@ -216,13 +216,7 @@ impl BaselineRenderer {
                 scene: None,
                 screens: Vec::new(),
                 output: None,
-                queries: ctx.timestamps.then(|| {
-                    d.create_query_set(&wgpu::QuerySetDescriptor {
-                        label: Some("baselines::timestamps"),
-                        ty: wgpu::QueryType::Timestamp,
-                        count: MAX_STAGES + 1,
-                    })
-                }),
+                queries: crate::timing::query_set(ctx, "baselines::timestamps"),
             })
         })();
         if let Some(e) = pollster::block_on(scope.pop()) {
@@ -313,35 +307,36 @@ impl BaselineRenderer {
         let screen = self.take_screen(ctx, target);
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
-        let (d, q) = (&ctx.device, &ctx.queue);
         let eye = Eye {
             position: drawn.position,
             axis: drawn.forward.normalize(),
             ortho: drawn.ortho_height.is_some(),
+            outlines: method != Baseline::Raster,
         };
-        let mut timer = Timer::new(ctx, self.queries.as_ref());
-        timer.run("gbuffer", |enc| {
-            let g = &self.gbuffer;
-            g.record(d, q, enc, &screen, scene, view_proj, eye.position, eye.axis);
+        let camera = RasterCamera {
+            view_proj,
+            eye: eye.position,
+            axis: eye.axis,
+        };
+        let mut stages = Stages::new(ctx, self.queries.as_ref());
+        stages.run("gbuffer", |enc| {
+            self.gbuffer.record(ctx, enc, &screen, scene, &camera);
         });
-        let mut shaded = 0;
-        timer.run("shade", |enc| {
-            let outlines = method != Baseline::Raster;
-            let s = &self.shade;
-            shaded = s.record(d, q, enc, &screen, scene, &view.look, eye, outlines);
+        let shaded = stages.run("shade", |enc| {
+            self.shade.record(ctx, enc, &screen, scene, &view.look, eye)
         });
-        timer.run("upscale", |enc| {
+        stages.run("upscale", |enc| {
             let mapping = Mapping { scale, offset };
-            self.upscale.record(d, q, enc, &screen, scene, mapping, out);
+            self.upscale.record(ctx, enc, &screen, scene, mapping, out);
         });
-        let result = timer.finish();
+        let result = stages.finish(&[]);
         self.keep_screen(screen);
-        let (passes, gpu) = result?;
+        let timed = result?;
         let counters = Counters {
             texels_shaded: shaded,
             ..Default::default()
         };
-        Ok((passes, gpu, counters))
+        Ok((timed.passes, timed.gpu_timestamps, counters))
     }
 
     /// Cubemap: capture and shade six faces around the camera, then draw them.
@@ -357,17 +352,15 @@ impl BaselineRenderer {
         let vp = cam.projection(view.size.x as f32 / view.size.y as f32) * cam.view();
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
-        let (d, q, store) = (&ctx.device, &ctx.queue, &self.store);
-        let mut timer = Timer::new(ctx, self.queries.as_ref());
-        timer.run("capture", |enc| {
-            self.capture.record(d, q, enc, &caps, &[], store, scene);
+        let store = &self.store;
+        let mut stages = Stages::new(ctx, self.queries.as_ref());
+        stages.run("capture", |enc| {
+            self.capture.record(ctx, enc, &caps, &[], store, scene);
         });
-        timer.run("shade", |enc| {
-            let look = &view.look;
-            let s = &mut self.cube_shade;
-            let jobs: Vec<crate::passes::shade::ShadeJob> = caps
+        stages.run("shade", |enc| {
+            let jobs: Vec<ShadeJob> = caps
                 .iter()
-                .map(|c| crate::passes::shade::ShadeJob {
+                .map(|c| ShadeJob {
                     slot: c.slot,
                     face: c.face,
                     origin: c.origin,
@@ -377,14 +370,25 @@ impl BaselineRenderer {
                     rect: None,
                 })
                 .collect();
-            s.record(d, q, enc, &jobs, store, scene, look, None);
+            let inputs = ShadeInputs {
+                store,
+                scene,
+                look: &view.look,
+                view: None,
+            };
+            self.cube_shade.record(ctx, enc, &jobs, &inputs);
         });
-        timer.run("cubemap", |enc| {
+        stages.run("cubemap", |enc| {
+            let camera = CubeCamera {
+                view_proj: vp,
+                eye: cam.position,
+                look: view.look,
+            };
             let slot = store.slot(CUBE_SLOT);
-            self.cube
-                .record(d, q, enc, slot, scene, vp, cam.position, &view.look, out);
+            self.cube.record(ctx, enc, slot, scene, &camera, out);
         });
-        let (passes, gpu) = timer.finish()?;
+        let timed = stages.finish(&[])?;
+        let (passes, gpu) = (timed.passes, timed.gpu_timestamps);
         let counters = Counters {
             faces_captured: caps.len() as u32,
             texels_shaded: caps.len() as u64 * u64::from(n) * u64::from(n),
@@ -406,11 +410,13 @@ impl BaselineRenderer {
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         let vp = camera.projection(size.x as f32 / size.y as f32) * camera.view();
         let mut enc = ctx.device.create_command_encoder(&Default::default());
-        let axis = camera.forward.normalize();
-        let (d, q) = (&ctx.device, &ctx.queue);
-        self.gbuffer
-            .record(d, q, &mut enc, &screen, scene, vp, camera.position, axis);
-        q.submit([enc.finish()]);
+        let camera = RasterCamera {
+            view_proj: vp,
+            eye: camera.position,
+            axis: camera.forward.normalize(),
+        };
+        self.gbuffer.record(ctx, &mut enc, &screen, scene, &camera);
+        ctx.queue.submit([enc.finish()]);
         let world = read_texture_layer(ctx, &screen.world.texture, 0, 16);
         let ids = read_texture_layer(ctx, &screen.ids.texture, 0, 8);
         self.keep_screen(screen);

@@ -2,6 +2,7 @@
 //! the texel shade pass's lighting, posterization and outline rule, so the baselines differ
 //! from texel splatting only in where colours are computed, never in how (haze included).
 
+use crate::context::GpuContext;
 use crate::passes::{bind_group, compute_pipeline, storage_texture, uniform_buffer};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -40,6 +41,8 @@ pub struct Eye {
     pub axis: Vec3,
     /// Whether the camera is orthographic (every ray is `axis`).
     pub ortho: bool,
+    /// Whether outlines are drawn (the low-resolution methods; not the plain raster).
+    pub outlines: bool,
 }
 
 /// The screen shade pass.
@@ -93,18 +96,16 @@ impl ScreenShadePass {
 
     /// Records the shading of every pixel of `targets` into `targets.lit`, with screen-space
     /// outlines when `outlines`. Returns the number of pixels shaded.
-    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         targets: &ScreenTargets,
         scene: &GpuScene,
         look: &Look,
         eye: Eye,
-        outlines: bool,
     ) -> u64 {
+        let (device, queue) = (&ctx.device, &ctx.queue);
         let (suns, sun_count) = gpu_suns(scene);
         let g = ScreenGlobals {
             suns,
@@ -119,7 +120,7 @@ impl ScreenShadePass {
             point_count: scene.point_count,
             // The same floor as the shade pass.
             bands: look.bands.max(2),
-            outlines: u32::from(outlines),
+            outlines: u32::from(eye.outlines),
             size: targets.size.to_array(),
             haze: look.haze.max(0.0),
             _pad: 0,

@@ -2,6 +2,7 @@
 //! nearest sampling and a sub-texel offset, writing colour and entity id. Raster uses it at
 //! scale 1, Naive at the art-pixel scale, Snap with its margin and restored remainder.
 
+use crate::context::GpuContext;
 use crate::passes::bind_group;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
@@ -66,17 +67,16 @@ impl UpscalePass {
     }
 
     /// Records drawing `src.lit` (and its ids) into `out` through `mapping`.
-    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         src: &ScreenTargets,
         scene: &GpuScene,
         mapping: Mapping,
         out: &Output,
     ) {
+        let (device, queue) = (&ctx.device, &ctx.queue);
         let u = UpscaleUniform {
             scale: mapping.scale.to_array(),
             offset: mapping.offset.to_array(),

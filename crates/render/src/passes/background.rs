@@ -1,6 +1,7 @@
 //! Background: the eye probe (or the sky) behind every pixel (`shaders/background.wgsl`).
 
 use super::{ARRAY, FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, texture, uniform};
+use crate::context::GpuContext;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::probe_store::SlotTextures;
 use crate::shader;
@@ -48,12 +49,12 @@ impl BackgroundPass {
     /// The bind group over the view globals and the eye slot.
     pub fn bind_group(
         &self,
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         view: &wgpu::Buffer,
         eye: &SlotTextures,
     ) -> wgpu::BindGroup {
         bind_group(
-            device,
+            &ctx.device,
             "background::bind",
             &self.layout,
             &[

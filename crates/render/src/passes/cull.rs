@@ -1,6 +1,7 @@
 //! Cull: compacts the texels worth drawing into a splat list with indirect draw arguments
 //! (`shaders/cull.wgsl`).
 
+use crate::context::GpuContext;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -36,16 +37,23 @@ pub struct DrawArgs {
     pub first_instance: u32,
 }
 
+/// What the cull pass produces: the splat records and the indirect arguments that draw them.
+#[derive(Clone, Copy)]
+pub struct SplatList<'a> {
+    /// The splat records.
+    pub splats: &'a wgpu::Buffer,
+    /// Indirect draw arguments (`DrawArgs`): the count of `splats` written.
+    pub args: &'a wgpu::Buffer,
+}
+
 /// The cull pass and the splat list it fills.
 pub struct CullPass {
     pipeline: wgpu::ComputePipeline,
     listed_pipeline: wgpu::ComputePipeline,
     layout: wgpu::BindGroupLayout,
     textures_layout: wgpu::BindGroupLayout,
-    /// The splat records.
-    pub splats: wgpu::Buffer,
-    /// Indirect draw arguments (`DrawArgs`).
-    pub args: wgpu::Buffer,
+    splats: wgpu::Buffer,
+    args: wgpu::Buffer,
     capacity: u64,
     work: wgpu::Buffer,
 }
@@ -134,19 +142,26 @@ impl CullPass {
         }
     }
 
+    /// The splat list the last [`CullPass::record`] filled.
+    pub fn list(&self) -> SplatList<'_> {
+        SplatList {
+            splats: &self.splats,
+            args: &self.args,
+        }
+    }
+
     /// Records the cull dispatches over the drawn faces, `(slot, face)` pairs, each visited
-    /// as `visit` says.
-    #[allow(clippy::too_many_arguments)]
+    /// as `visit` says; returns the splat list they fill.
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         view: &wgpu::Buffer,
         store: &ProbeStore,
         max_n: u32,
         drawn: &[(Slot, Face, Visit)],
-    ) {
+    ) -> SplatList<'_> {
+        let (device, queue) = (&ctx.device, &ctx.queue);
         let drawn = &drawn[..drawn.len().min(18)];
         let mut work = CullWork::zeroed();
         let scanned = drawn.iter().filter(|d| d.2 == Visit::Scan);
@@ -192,6 +207,8 @@ impl CullPass {
             pass.set_pipeline(&self.listed_pipeline);
             pass.dispatch_workgroups(LISTED_GROUPS, 1, 1);
         }
+        drop(pass);
+        self.list()
     }
 }
 

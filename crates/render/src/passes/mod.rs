@@ -5,6 +5,7 @@ pub mod background;
 pub mod capture;
 pub mod cull;
 pub mod present;
+pub mod raster;
 pub mod runs;
 pub mod shade;
 pub mod splat;

@@ -1,5 +1,6 @@
 //! Present: nearest upscale of the internal frame to the output (`shaders/present.wgsl`).
 
+use crate::context::GpuContext;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -81,17 +82,16 @@ impl PresentPass {
     }
 
     /// Records the upscale of `frame` (`internal` pixels) into `target` (`output` pixels).
-    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         frame: &wgpu::TextureView,
         target: &wgpu::TextureView,
         internal: (u32, u32),
         output: (u32, u32),
     ) {
+        let (device, queue) = (&ctx.device, &ctx.queue);
         let sizes = Sizes {
             output: [output.0, output.1],
             internal: [internal.0, internal.1],

@@ -3,6 +3,7 @@
 //! which then emits one quad per run instead of one per texel. Runs are cached with the
 //! shading: only faces lit this frame are redone.
 
+use crate::context::GpuContext;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -76,12 +77,12 @@ impl RunsPass {
     /// Recomputes the runs of `faces` in each slot (indexed by [`Slot::index`]).
     pub fn record(
         &self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         store: &ProbeStore,
         faces: [FaceMask; 3],
     ) {
+        let (device, queue) = (&ctx.device, &ctx.queue);
         if faces.iter().all(|m| m.is_empty()) {
             return;
         }

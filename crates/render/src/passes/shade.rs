@@ -1,5 +1,6 @@
 //! Shade: lights the captured faces, once per texel (`shaders/shade.wgsl`).
 
+use crate::context::GpuContext;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -62,6 +63,28 @@ impl ShadeJob {
     }
 }
 
+/// What the shade pass reads besides its jobs.
+#[derive(Clone, Copy)]
+pub struct ShadeInputs<'a> {
+    /// The probe textures (captured faces in, lit colours out).
+    pub store: &'a ProbeStore,
+    /// Lights, objects and the shadow BVH.
+    pub scene: &'a GpuScene,
+    /// Sky, ambient light and bands.
+    pub look: &'a Look,
+    /// The frame's view (frustum, stable probes), read by view-culled jobs only; `None`
+    /// when no job is view-culled (the cubemap baseline).
+    pub view: Option<&'a wgpu::Buffer>,
+}
+
+/// What the shade pass produces.
+pub struct Shaded<'a> {
+    /// Per slot ([`Slot::index`]), the stable faces lit (whole or at their edges).
+    pub stable: [FaceMask; 3],
+    /// Its first `u32` counts the texels lit, on the GPU.
+    pub texels: &'a wgpu::Buffer,
+}
+
 /// `Sun` in `shaders/lib/lighting.wgsl`: direction toward the light, colour × intensity.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -107,7 +130,7 @@ pub struct ShadePass {
     globals: wgpu::Buffer,
     /// `work` in `shade.wgsl`: first the texels lit this frame (one `u32`, counted on the
     /// GPU), then each slot's queue length, then the queue of texels waiting for `light`.
-    pub work: wgpu::Buffer,
+    work: wgpu::Buffer,
     /// Per slot: `light`'s indirect dispatch arguments (bound for `main` only: a buffer may
     /// not be storage and indirect arguments in one dispatch).
     job_args: wgpu::Buffer,
@@ -207,21 +230,40 @@ impl ShadePass {
         })
     }
 
-    /// Records the shade jobs; view-culled jobs read the frame's `view` (its frustum and the
-    /// stable probes).
-    /// The texels lit are counted in the first word of [`Self::work`].
-    #[allow(clippy::too_many_arguments)]
+    /// Records the shade jobs (view-culled jobs read the frame's view: its frustum and the
+    /// stable probes) and returns what they light.
     pub fn record(
         &mut self,
-        device: &wgpu::Device,
-        queue: &wgpu::Queue,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         jobs: &[ShadeJob],
-        store: &ProbeStore,
-        scene: &GpuScene,
-        look: &Look,
-        view: Option<&wgpu::Buffer>,
+        inputs: &ShadeInputs<'_>,
+    ) -> Shaded<'_> {
+        let mut stable = [FaceMask::EMPTY; 3];
+        for j in jobs.iter().filter(|j| j.slot != Slot::Eye) {
+            stable[j.slot.index()].insert(j.face);
+        }
+        self.dispatch(ctx, encoder, jobs, inputs);
+        Shaded {
+            stable,
+            texels: &self.work,
+        }
+    }
+
+    fn dispatch(
+        &mut self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        jobs: &[ShadeJob],
+        inputs: &ShadeInputs<'_>,
     ) {
+        let ShadeInputs {
+            store,
+            scene,
+            look,
+            view,
+        } = *inputs;
+        let (device, queue) = (&ctx.device, &ctx.queue);
         // Without a frame's view (the cubemap baseline), nothing is view-culled and the view
         // is never read; a zeroed one fills the binding.
         let view = view.unwrap_or(&self.no_view);

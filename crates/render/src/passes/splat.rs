@@ -1,5 +1,7 @@
 //! Splat: draws the culled texels as indexed, instanced world-space quads (`shaders/splat.wgsl`).
 
+use crate::context::GpuContext;
+use crate::passes::cull::SplatList;
 use wgpu::util::DeviceExt;
 
 use super::{RenderSpec, bind_group, entry, render_pipeline, storage, uniform};
@@ -67,32 +69,32 @@ impl SplatPass {
     /// The bind group over the view globals and the splat list.
     pub fn bind_group(
         &self,
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         view: &wgpu::Buffer,
-        splats: &wgpu::Buffer,
+        list: SplatList<'_>,
     ) -> wgpu::BindGroup {
         bind_group(
-            device,
+            &ctx.device,
             "splat::bind",
             &self.layout,
-            &[view.as_entire_binding(), splats.as_entire_binding()],
+            &[view.as_entire_binding(), list.splats.as_entire_binding()],
         )
     }
 
-    /// Draws the splats whose count the cull pass wrote into `args`; `runs` when some quads
-    /// may span several texels; `dither` while a crossfade runs (grid and previous split the
-    /// pixels with Bayer patterns).
+    /// Draws the cull pass's `list` (`bind` from [`SplatPass::bind_group`] over it); `runs`
+    /// when some quads may span several texels; `dither` while a crossfade runs (grid and
+    /// previous split the pixels with Bayer patterns).
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         bind: &wgpu::BindGroup,
-        args: &wgpu::Buffer,
+        list: SplatList<'_>,
         runs: bool,
         dither: bool,
     ) {
         pass.set_pipeline(&self.pipelines[usize::from(runs)][usize::from(dither)]);
         pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
-        pass.draw_indexed_indirect(args, 0);
+        pass.draw_indexed_indirect(list.args, 0);
     }
 }

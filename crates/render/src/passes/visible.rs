@@ -1,6 +1,7 @@
 //! Visible: counts the distinct probe texels the final frame shows (`shaders/visible.wgsl`).
 
 use super::{UINT, bind_group, compute_pipeline, entry, storage, texture};
+use crate::context::GpuContext;
 use crate::shader;
 
 /// The visible-texel counting pass and its bitset.
@@ -50,14 +51,14 @@ impl VisiblePass {
     /// Clears the bitset and marks the keys of `keys`.
     pub fn record(
         &self,
-        device: &wgpu::Device,
+        ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         keys: &wgpu::TextureView,
         size: (u32, u32),
     ) {
         encoder.clear_buffer(&self.bits, 0, None);
         let bind = bind_group(
-            device,
+            &ctx.device,
             "visible::bind",
             &self.layout,
             &[

@@ -1,0 +1,112 @@
+//! The scene raster that capture and the reference G-buffer share (`lib/raster.wgsl` on the
+//! WGSL side): one pipeline shape over the scene's vertex buffer, and one recorded pass that
+//! clears the targets and draws every scene triangle.
+
+use texel_probes::visibility::TexelRect;
+
+use super::{RenderSpec, render_pipeline};
+use crate::gpu_scene::GpuScene;
+
+/// Depth format of every scene raster.
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+
+/// A scene-raster pipeline (entry points `vs`, `fs`) writing `targets`. Both sides of each
+/// triangle are drawn (default primitive state): a cube face's projection flips Y (and so the
+/// winding), and planes are one-sided surfaces that must still occlude from below.
+pub(crate) fn pipeline(
+    device: &wgpu::Device,
+    owner: &str,
+    module: &wgpu::ShaderModule,
+    layout: &wgpu::BindGroupLayout,
+    targets: &[wgpu::TextureFormat],
+) -> wgpu::RenderPipeline {
+    let vertex_buffers = [Some(GpuScene::vertex_layout())];
+    render_pipeline(
+        device,
+        RenderSpec {
+            owner,
+            module,
+            vertex: "vs",
+            layouts: &[layout],
+            vertex_buffers: &vertex_buffers,
+            fragment: "fs",
+            targets,
+            depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
+        },
+    )
+}
+
+/// Where one scene raster draws: colour targets with their clear values, and a depth view.
+pub(crate) struct RasterTargets<'a> {
+    /// Colour targets, location 0 first, each cleared to its colour.
+    pub(crate) colour: &'a [(&'a wgpu::TextureView, wgpu::Color)],
+    /// Depth, cleared to 1 and discarded afterwards.
+    pub(crate) depth: &'a wgpu::TextureView,
+}
+
+/// How one scene raster draws: the pipeline, its group-0 bind group with dynamic offsets,
+/// and an optional scissor (an empty one draws nothing).
+pub(crate) struct RasterDraw<'a> {
+    pub(crate) pipeline: &'a wgpu::RenderPipeline,
+    pub(crate) bind: &'a wgpu::BindGroup,
+    pub(crate) offsets: &'a [u32],
+    pub(crate) scissor: Option<TexelRect>,
+}
+
+/// Records one render pass that clears `targets` and draws every triangle of `scene`.
+pub(crate) fn record(
+    encoder: &mut wgpu::CommandEncoder,
+    label: &str,
+    targets: &RasterTargets<'_>,
+    scene: &GpuScene,
+    draw: &RasterDraw<'_>,
+) {
+    let colour: Vec<Option<wgpu::RenderPassColorAttachment<'_>>> = targets
+        .colour
+        .iter()
+        .map(|&(view, clear)| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(clear),
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        })
+        .collect();
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some(label),
+        color_attachments: &colour,
+        depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+            view: targets.depth,
+            depth_ops: Some(wgpu::Operations {
+                load: wgpu::LoadOp::Clear(1.0),
+                store: wgpu::StoreOp::Discard,
+            }),
+            stencil_ops: None,
+        }),
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    if scene.vertex_count == 0 || draw.scissor.is_some_and(|r| r.area() == 0) {
+        return;
+    }
+    if let Some(r) = draw.scissor {
+        pass.set_scissor_rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
+    }
+    pass.set_pipeline(draw.pipeline);
+    pass.set_bind_group(0, draw.bind, draw.offsets);
+    pass.set_vertex_buffer(0, scene.vertices.slice(..));
+    pass.draw(0..scene.vertex_count, 0..1);
+}
+
+/// The clear value of a target storing depth in alpha: [`texel_geom::limits::SKY_DEPTH`].
+pub(crate) const SKY_CLEAR: wgpu::Color = wgpu::Color {
+    r: 0.0,
+    g: 0.0,
+    b: 0.0,
+    a: texel_geom::limits::SKY_DEPTH as f64,
+};
