@@ -9,8 +9,8 @@ use texel_render::context::GpuContext;
 use texel_render::frame::Renderer;
 use texel_render::input::{Camera, FrameInput, Schedule};
 use texel_render::stats::FrameStats;
-use texel_runtime::driver::FrameDriver;
 use texel_runtime::load::load_level;
+use texel_runtime::session::{FrameRequest, Session, set_face_resolution};
 
 /// The repository root (the folder that holds `assets/` and `shaders/`).
 pub fn repo_root() -> PathBuf {
@@ -74,14 +74,13 @@ pub fn check_golden(name: &str, pixels: &[u8], size: UVec2, max_diff_fraction: f
     }
 }
 
-/// A level played through the runtime's frame driver on a headless GPU.
+/// A level played through a runtime session on a headless GPU.
 pub struct Harness {
     /// The GPU.
     pub ctx: GpuContext,
-    /// The renderer.
-    pub renderer: Renderer,
-    /// The driver (probe logic).
-    pub driver: FrameDriver,
+    /// The session (frame driver and renderer).
+    pub session: Session,
+    size: UVec2,
 }
 
 impl Harness {
@@ -90,27 +89,38 @@ impl Harness {
     pub fn new(level: &str, size: UVec2, face_res: u32) -> Option<Harness> {
         let ctx = texel_render::context::test_context()?;
         let mut loaded = load_level(&repo_root().join(level)).expect("level loads");
-        loaded.scene.settings.pixel_scale = texel_scene::PixelScale::FaceResolution(face_res);
-        let driver = FrameDriver::new(&loaded, size, 60f32.to_radians()).expect("driver");
-        let mut renderer = Renderer::headless(&ctx).expect("renderer");
-        renderer.set_scene(&ctx, driver.scene_input());
-        Some(Harness {
-            ctx,
-            renderer,
-            driver,
-        })
+        set_face_resolution(&mut loaded, face_res).expect("a valid face resolution");
+        let session = Session::headless(&ctx, &loaded, size, 60f32.to_radians()).expect("session");
+        Some(Harness { ctx, session, size })
     }
 
-    /// Plans and renders one frame; returns its input, stats and RGBA8 pixels.
+    /// The renderer.
+    pub fn renderer(&self) -> &Renderer {
+        self.session.renderer()
+    }
+
+    /// Plans and renders one frame of our schedule; returns its input, stats and RGBA8
+    /// pixels.
     pub fn frame(&mut self, camera: Camera, dt: f32) -> (FrameInput, FrameStats, Vec<u8>) {
-        let input = self
-            .driver
-            .frame(camera, dt, Schedule::Ours)
-            .expect("frame plans");
-        let (stats, px) = self
-            .renderer
-            .render_offscreen(&self.ctx, &input)
+        self.frame_with(camera, dt, Schedule::Ours)
+    }
+
+    /// [`Harness::frame`] with `schedule`.
+    pub fn frame_with(
+        &mut self,
+        camera: Camera,
+        dt: f32,
+        schedule: Schedule,
+    ) -> (FrameInput, FrameStats, Vec<u8>) {
+        let request = FrameRequest {
+            camera,
+            dt,
+            schedule,
+            size: self.size,
+        };
+        let (frame, px) = (self.session)
+            .draw_offscreen(&self.ctx, &request)
             .expect("frame renders");
-        (input, stats, px)
+        (frame.input, frame.stats, px)
     }
 }

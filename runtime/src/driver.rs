@@ -31,10 +31,10 @@ use texel_render::input::{
 };
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::{
-    DirectionalLight, Geometry, Material, PlayerStart, PointLight, Scene, Transform,
+    DirectionalLight, Geometry, Material, PixelScale, PlayerStart, PointLight, Scene, Transform,
 };
 
-use crate::extract::{Viewport, grid_settings};
+use crate::extract::{Viewport, face_resolution, grid_overrides};
 use crate::load::LoadedLevel;
 
 /// Faces captured per frame at most in our schedule (eye faces count against it).
@@ -65,10 +65,59 @@ pub enum DriverError {
     View(String),
 }
 
+/// What the frame driver and the renderer need of a level, extracted from it once: the scene
+/// to upload, the look, the probe-grid settings that do not depend on the viewport, and the
+/// player start.
+#[derive(Debug, Clone)]
+pub struct PreparedLevel {
+    /// The renderer's view of the scene.
+    pub scene: SceneInput,
+    /// Sky, ambient light, bands and haze.
+    pub look: Look,
+    pixel_scale: PixelScale,
+    cell_size: f32,
+    overrides: Vec<GridOverride>,
+    start: Camera,
+}
+
+impl PreparedLevel {
+    /// Extracts what frames of `level` need.
+    pub fn new(level: &LoadedLevel) -> Self {
+        let s = &level.scene.settings;
+        PreparedLevel {
+            scene: scene_input(level),
+            look: level_look(&level.scene),
+            pixel_scale: s.pixel_scale,
+            cell_size: s.cell_size,
+            overrides: grid_overrides(&level.scene),
+            start: start_camera(&level.scene),
+        }
+    }
+
+    /// The grid defaults on a viewport (the face resolution may follow its height).
+    fn grid_defaults(&self, viewport: Viewport) -> GridDefaults {
+        GridDefaults {
+            cell_size: self.cell_size,
+            face_resolution: face_resolution(self.pixel_scale, viewport),
+        }
+    }
+}
+
+/// The level's look: sky, ambient light, bands and haze (what every method draws with).
+pub fn level_look(scene: &Scene) -> Look {
+    let s = &scene.settings;
+    Look {
+        sky: s.sky,
+        ambient: s.ambient,
+        bands: s.bands,
+        haze: s.haze,
+    }
+}
+
 /// Per-level, per-frame probe logic.
 pub struct FrameDriver {
-    scene: SceneInput,
-    look: Look,
+    level: Arc<PreparedLevel>,
+    fov_y: f32,
     defaults: GridDefaults,
     overrides: Vec<GridOverride>,
     probes: Option<ProbeSet>,
@@ -86,22 +135,26 @@ impl FrameDriver {
     /// A driver for `level` on an output of `size` pixels with a vertical field of view of
     /// `fov_y` radians.
     pub fn new(level: &LoadedLevel, size: UVec2, fov_y: f32) -> Result<Self, DriverError> {
+        Self::prepared(Arc::new(PreparedLevel::new(level)), size, fov_y)
+    }
+
+    /// A driver for a level already extracted (drivers for several viewports share it).
+    pub fn prepared(
+        level: Arc<PreparedLevel>,
+        size: UVec2,
+        fov_y: f32,
+    ) -> Result<Self, DriverError> {
         let viewport = Viewport {
             height: size.y,
             fov_y,
         };
-        let (defaults, overrides) = grid_settings(&level.scene, viewport);
-        let s = &level.scene.settings;
-        let mut start = start_camera(&level.scene);
+        let defaults = level.grid_defaults(viewport);
+        let overrides = level.overrides.clone();
+        let mut start = level.start;
         start.fov_y = fov_y;
         Ok(FrameDriver {
-            scene: scene_input(level),
-            look: Look {
-                sky: s.sky,
-                ambient: s.ambient,
-                bands: s.bands,
-                haze: s.haze,
-            },
+            level,
+            fov_y,
             defaults,
             overrides,
             probes: None,
@@ -120,7 +173,12 @@ impl FrameDriver {
 
     /// The scene to upload to the renderer.
     pub fn scene_input(&self) -> &SceneInput {
-        &self.scene
+        &self.level.scene
+    }
+
+    /// The vertical field of view it plans for, radians.
+    pub fn fov_y(&self) -> f32 {
+        self.fov_y
     }
 
     /// The camera at the level's player start (or looking at the origin from +Z).
@@ -191,7 +249,7 @@ impl FrameDriver {
             camera,
             size: self.size,
             internal_size: internal_size(self.size, n, camera.fov_y),
-            look: self.look,
+            look: self.level.look,
             eye: view(&plan.eye),
             grid: view(&plan.grid),
             previous: plan.previous.as_ref().map(view),

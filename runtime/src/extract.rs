@@ -16,7 +16,12 @@ pub struct Viewport {
 /// The level's face resolution on `viewport`: the fixed one, or the one whose texels cover
 /// the wanted number of screen pixels at the view centre.
 pub fn level_face_resolution(scene: &Scene, viewport: Viewport) -> u32 {
-    match scene.settings.pixel_scale {
+    face_resolution(scene.settings.pixel_scale, viewport)
+}
+
+/// The face resolution `pixel_scale` asks for on `viewport`.
+pub fn face_resolution(pixel_scale: PixelScale, viewport: Viewport) -> u32 {
+    match pixel_scale {
         PixelScale::FaceResolution(n) => n,
         PixelScale::PixelSize(k) => face_resolution_for_pixel_size(
             viewport.height,
@@ -35,8 +40,14 @@ pub fn grid_settings(scene: &Scene, viewport: Viewport) -> (GridDefaults, Vec<Gr
         cell_size: scene.settings.cell_size,
         face_resolution: level_face_resolution(scene, viewport),
     };
+    (defaults, grid_overrides(scene))
+}
+
+/// The level's probe-grid override volumes, in level order (they do not depend on the
+/// viewport).
+pub fn grid_overrides(scene: &Scene) -> Vec<GridOverride> {
     let world = scene.world();
-    let overrides = scene
+    scene
         .entities()
         .filter_map(|e| {
             let o = *world.get::<&ProbeGridOverride>(e).ok()?;
@@ -50,6 +61,5 @@ pub fn grid_settings(scene: &Scene, viewport: Viewport) -> (GridDefaults, Vec<Gr
                 priority: o.priority,
             })
         })
-        .collect();
-    (defaults, overrides)
+        .collect()
 }

@@ -3,17 +3,16 @@
 
 use std::path::{Path, PathBuf};
 
-use anyhow::{Context, Result, bail};
+use anyhow::{Context, Result, anyhow};
 use glam::UVec2;
 use serde::Serialize;
 use texel_render::context::GpuContext;
-use texel_render::frame::Renderer;
 use texel_render::input::Schedule;
 use texel_render::stats::FrameStats;
 
-use crate::driver::FrameDriver;
 use crate::load::load_level;
 use crate::path::CameraPath;
+use crate::session::{FrameRequest, Session, set_face_resolution};
 
 /// Options of a headless run.
 #[derive(Debug, Clone)]
@@ -81,22 +80,17 @@ pub fn schedule_name(s: Schedule) -> &'static str {
 pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> Result<RunRecord> {
     let mut loaded = load_level(level)?;
     if let Some(n) = opts.face_res {
-        if !(8..=2048).contains(&n) {
-            bail!("--face-res must be within 8..=2048, got {n}");
-        }
-        loaded.scene.settings.pixel_scale = texel_scene::PixelScale::FaceResolution(n);
+        set_face_resolution(&mut loaded, n).map_err(|e| anyhow!("--face-res: {e}"))?;
     }
     std::fs::create_dir_all(&opts.out)
         .with_context(|| format!("creating {}", opts.out.display()))?;
     let ctx = GpuContext::headless()?;
-    let mut renderer = Renderer::headless(&ctx)?;
-    let mut driver = FrameDriver::new(&loaded, opts.size, opts.fov_y)?;
-    renderer.set_scene(&ctx, driver.scene_input());
+    let mut session = Session::headless(&ctx, &loaded, opts.size, opts.fov_y)?;
     let default_path;
     let path = match path {
         Some(p) => p,
         None => {
-            let c = driver.start_camera();
+            let c = session.start_camera();
             let (yaw, pitch) = yaw_pitch(c.forward);
             default_path = CameraPath::still(
                 crate::path::Keyframe {
@@ -109,16 +103,18 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
             &default_path
         }
     };
-    // Warm up (shader compilation on first use) with a throwaway driver, so frame 0 is honest.
-    let mut warm = FrameDriver::new(&loaded, opts.size, opts.fov_y)?;
-    let input = warm.frame(path.camera(0, opts.fov_y), path.dt, opts.schedule)?;
-    renderer.render_offscreen(&ctx, &input)?;
+    let request = |i: u32| FrameRequest {
+        camera: path.camera(i, opts.fov_y),
+        dt: path.dt,
+        schedule: opts.schedule,
+        size: opts.size,
+    };
+    // Warm up (shader compilation on first use), so frame 0 is honest.
+    session.warm_up(&ctx, &request(0))?;
 
     let mut frames = Vec::new();
     for i in 0..path.frames {
-        let camera = path.camera(i, opts.fov_y);
-        let input = driver.frame(camera, path.dt, opts.schedule)?;
-        let (stats, pixels) = renderer.render_offscreen(&ctx, &input)?;
+        let (frame, pixels) = session.draw_offscreen(&ctx, &request(i))?;
         if opts.all_frames || i + 1 == path.frames {
             let file = opts.out.join(format!("frame_{i:04}.png"));
             image::save_buffer(
@@ -130,6 +126,7 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
             )
             .with_context(|| format!("writing {}", file.display()))?;
         }
+        let (stats, input) = (frame.stats, frame.input);
         eprint!(
             "\rframe {}/{} ({:.0} ms)   ",
             i + 1,
@@ -138,7 +135,7 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
         );
         frames.push(FrameRecord {
             frame: i,
-            camera: camera.position.to_array(),
+            camera: input.camera.position.to_array(),
             grid_origin: input.grid.origin.to_array(),
             crossfading: input.previous.is_some(),
             fade_t: input.fade_t,

@@ -11,3 +11,4 @@ pub mod headless;
 pub mod load;
 pub mod path;
 pub mod play;
+pub mod session;

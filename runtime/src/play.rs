@@ -1,8 +1,7 @@
 //! The windowed "play" shell: a winit window, a wgpu surface, the first-person camera and an
 //! egui overlay with frame times and work counters, on top of whatever draws the frame.
 //!
-//! The frame itself comes from a [`FrameSource`]; [`frame_source`] is the one place that
-//! chooses it, so the renderer plugs in there. Controls: click to capture the mouse, WASD to
+//! The frame is drawn by a [`Session`], the overlay by `overlay`. Controls: click to capture the mouse, WASD to
 //! move, Shift to run, Space/E and Ctrl/Q to rise and sink in fly mode, F to toggle flying,
 //! Tab to switch the schedule, F3 to hide the overlay, Esc to release the mouse and Esc
 //! again (or closing the window) to quit.
@@ -14,9 +13,7 @@ use std::time::Instant;
 use anyhow::{Context as _, anyhow, bail};
 use glam::{UVec2, Vec2};
 use texel_render::context::{GpuContext, new_instance};
-use texel_render::frame::Renderer;
-use texel_render::input::{Camera, Schedule};
-use texel_render::stats::FrameStats;
+use texel_render::input::Schedule;
 use winit::application::ApplicationHandler;
 use winit::dpi::PhysicalSize;
 use winit::error::EventLoopError;
@@ -26,19 +23,15 @@ use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
 use crate::camera::{InputState, WalkCamera};
-use crate::driver::FrameDriver;
-use crate::headless::schedule_name;
 use crate::load::{LoadedLevel, load_level};
+use crate::session::{FrameRequest, Session};
+
+mod overlay;
+use overlay::{FpsMeter, Overlay, overlay_lines};
 
 /// Vertical field of view of the play camera, degrees.
 pub const FOV_Y_DEG: f32 = 60.0;
-/// Seconds over which the overlay averages frames per second.
-pub const FPS_WINDOW: f32 = 0.5;
-/// The controls, as the overlay lists them.
-pub const KEY_HELP: [&str; 2] = [
-    "click: mouse look · WASD: move · Shift: run · Space/E, Ctrl/Q: up, down (fly)",
-    "F: walk/fly · Tab: schedule · F3: overlay · Esc: release mouse, again to quit",
-];
+pub use overlay::{FPS_WINDOW, KEY_HELP};
 
 /// How to run [`play`].
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
@@ -70,82 +63,6 @@ pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
             .filter(|v| (1..=16384).contains(v))
     };
     Ok((side(w).ok_or_else(bad)?, side(h).ok_or_else(bad)?))
-}
-
-/// What a [`FrameSource`] is asked to draw.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FrameRequest {
-    /// The eye.
-    pub camera: Camera,
-    /// Seconds since the previous frame.
-    pub dt: f32,
-    /// Scheduling method chosen with Tab.
-    pub schedule: Schedule,
-    /// Target size in pixels; it changes when the window is resized.
-    pub size: UVec2,
-}
-
-/// Draws one frame of the level into the window's texture (covering all of it); the
-/// overlay is drawn on top afterwards. [`frame_source`] picks the one `play` uses.
-pub trait FrameSource {
-    /// Draws `request` into `target`, an sRGB view of `request.size` pixels, and submits
-    /// the work.
-    fn draw(
-        &mut self,
-        ctx: &GpuContext,
-        request: &FrameRequest,
-        target: &wgpu::TextureView,
-    ) -> anyhow::Result<FrameStats>;
-}
-
-/// What draws the level in the window: the one place the renderer plugs into the shell.
-/// `format` is the format of the views `draw` receives (a plain one is the renderer's fast
-/// path; see `Renderer::new`).
-pub fn frame_source(
-    ctx: &GpuContext,
-    level: Arc<LoadedLevel>,
-    format: wgpu::TextureFormat,
-    size: UVec2,
-) -> anyhow::Result<Box<dyn FrameSource>> {
-    let fov_y = FOV_Y_DEG.to_radians();
-    let driver = FrameDriver::new(&level, size, fov_y)?;
-    let mut renderer = Renderer::new(ctx, format)?;
-    renderer.set_scene(ctx, driver.scene_input());
-    Ok(Box::new(RendererSource {
-        renderer,
-        driver,
-        level,
-        size,
-        fov_y,
-    }))
-}
-
-/// The probe renderer, fed by a [`FrameDriver`].
-struct RendererSource {
-    renderer: Renderer,
-    driver: FrameDriver,
-    level: Arc<LoadedLevel>,
-    size: UVec2,
-    fov_y: f32,
-}
-
-impl FrameSource for RendererSource {
-    fn draw(
-        &mut self,
-        ctx: &GpuContext,
-        request: &FrameRequest,
-        target: &wgpu::TextureView,
-    ) -> anyhow::Result<FrameStats> {
-        if (request.size, request.camera.fov_y) != (self.size, self.fov_y) {
-            // The face resolution follows the viewport: plan afresh (probes re-capture).
-            self.driver = FrameDriver::new(&self.level, request.size, request.camera.fov_y)?;
-            (self.size, self.fov_y) = (request.size, request.camera.fov_y);
-        }
-        let input = self
-            .driver
-            .frame(request.camera, request.dt, request.schedule)?;
-        Ok(self.renderer.render(ctx, &input, target)?)
-    }
 }
 
 /// Opens a window on `level_path` and plays it until the window closes (or, with
@@ -244,94 +161,10 @@ fn key_action(code: KeyCode) -> Option<KeyAction> {
     })
 }
 
-/// Frames per second averaged over [`FPS_WINDOW`] seconds.
-#[derive(Debug, Clone, Copy, Default, PartialEq)]
-struct FpsMeter {
-    frames: u32,
-    elapsed: f32,
-    fps: f32,
-}
-
-impl FpsMeter {
-    fn tick(&mut self, dt: f32) -> f32 {
-        self.frames += 1;
-        self.elapsed += dt;
-        if self.elapsed >= FPS_WINDOW {
-            self.fps = self.frames as f32 / self.elapsed;
-            *self = FpsMeter {
-                fps: self.fps,
-                ..FpsMeter::default()
-            };
-        }
-        self.fps
-    }
-}
-
-/// The overlay's lines: rate, per-pass times, counters, modes and the controls.
-fn overlay_lines(
-    stats: &FrameStats,
-    fps: f32,
-    schedule: Schedule,
-    camera: &WalkCamera,
-) -> Vec<String> {
-    let clock = if stats.gpu_timestamps { "GPU" } else { "CPU" };
-    let eye = camera.eye();
-    let mut lines = vec![
-        format!(
-            "{fps:5.1} fps   frame {:.2} ms   schedule: {}   {}",
-            stats.frame_ms,
-            schedule_name(schedule),
-            if camera.fly { "fly" } else { "walk" }
-        ),
-        format!(
-            "eye ({:.2}, {:.2}, {:.2})   yaw {:.1}°   pitch {:.1}°",
-            eye.x, eye.y, eye.z, camera.yaw_deg, camera.pitch_deg
-        ),
-    ];
-    lines.extend(
-        stats
-            .passes
-            .iter()
-            .map(|p| format!("  {:<10} {:8.3} ms ({clock})", p.pass, p.ms)),
-    );
-    let c = &stats.counters;
-    lines.push(format!(
-        "faces captured {}   texels shaded {}",
-        c.faces_captured, c.texels_shaded
-    ));
-    lines.push(format!(
-        "quads splatted {}   visible texels {}",
-        c.quads_splatted, c.screen_visible_texels
-    ));
-    lines.extend(KEY_HELP.map(str::to_owned));
-    lines
-}
-
-fn draw_overlay(ctx: &egui::Context, lines: &[String]) {
-    egui::Area::new(egui::Id::unique("play::overlay"))
-        .anchor(egui::Align2::LEFT_TOP, egui::vec2(8.0, 8.0))
-        .interactable(false)
-        .show(ctx, |ui| {
-            egui::Frame::new()
-                .fill(egui::Color32::from_black_alpha(170))
-                .inner_margin(8.0)
-                .corner_radius(4.0)
-                .show(ui, |ui| {
-                    for line in lines {
-                        let text = egui::RichText::new(line)
-                            .monospace()
-                            .color(egui::Color32::WHITE);
-                        ui.add(egui::Label::new(text).extend());
-                    }
-                });
-        });
-}
-
 /// Everything that exists once the window is open.
 struct Running {
-    egui_renderer: egui_wgpu::Renderer,
-    egui_state: egui_winit::State,
-    source: Box<dyn FrameSource>,
+    overlay: Overlay,
+    session: Session,
     surface: wgpu::Surface<'static>,
     config: wgpu::SurfaceConfiguration,
     ctx: GpuContext,
@@ -420,25 +253,13 @@ impl App {
         let config = surface_config(&surface, &ctx, window.inner_size())?;
         surface.configure(&ctx.device, &config);
         let size = UVec2::new(config.width, config.height);
-        let source = frame_source(&ctx, self.level.clone(), config.format, size)?;
-        let format = overlay_format(&config);
-        let egui_ctx = egui::Context::default();
-        let max_texture = ctx.device.limits().max_texture_dimension_2d as usize;
-        let egui_state = egui_winit::State::new(
-            egui_ctx,
-            egui::ViewportId::ROOT,
-            &window,
-            Some(window.scale_factor() as f32),
-            window.theme(),
-            Some(max_texture),
-        );
-        let egui_renderer =
-            egui_wgpu::Renderer::new(&ctx.device, format, egui_wgpu::RendererOptions::default());
+        let fov_y = FOV_Y_DEG.to_radians();
+        let session = Session::new(&ctx, &self.level, config.format, size, fov_y)?;
+        let overlay = Overlay::new(&ctx, &window, overlay_format(&config));
         eprintln!("play: {} on {}", self.title(), ctx.describe());
         Ok(Running {
-            egui_renderer,
-            egui_state,
-            source,
+            overlay,
+            session,
             surface,
             config,
             ctx,
@@ -549,11 +370,11 @@ impl App {
             schedule: self.schedule,
             size,
         };
-        let stats = r.source.draw(&r.ctx, &request, &target)?;
+        let stats = r.session.draw(&r.ctx, &request, &target)?.stats;
         let lines = self
             .overlay
             .then(|| overlay_lines(&stats, fps, self.schedule, &self.camera));
-        paint_overlay(r, lines.as_deref(), &overlay, size);
+        (r.overlay).paint(&r.ctx, &r.window, lines.as_deref(), &overlay, size);
         r.window.pre_present_notify();
         r.ctx.queue.present(frame);
         if suboptimal || (r.config.width, r.config.height) != (inner.width, inner.height) {
@@ -561,63 +382,6 @@ impl App {
         }
         Ok(true)
     }
-}
-
-/// Runs egui for the overlay (or for nothing, so its textures stay in step) and paints it
-/// over `target`.
-fn paint_overlay(
-    r: &mut Running,
-    lines: Option<&[String]>,
-    target: &wgpu::TextureView,
-    size: UVec2,
-) {
-    let raw = r.egui_state.take_egui_input(&r.window);
-    let egui_ctx = r.egui_state.egui_ctx().clone();
-    let mut out = egui_ctx.run_pass(raw, |ctx| {
-        if let Some(lines) = lines {
-            draw_overlay(ctx, lines);
-        }
-    });
-    let (device, queue) = (&r.ctx.device, &r.ctx.queue);
-    for (id, deltas) in &out.textures_delta.set {
-        for delta in deltas {
-            r.egui_renderer.update_texture(device, queue, *id, delta);
-        }
-    }
-    let jobs = egui_ctx.tessellate(std::mem::take(&mut out.shapes), out.pixels_per_point);
-    let screen = egui_wgpu::ScreenDescriptor {
-        size_in_pixels: size.to_array(),
-        pixels_per_point: out.pixels_per_point,
-    };
-    let mut encoder = device.create_command_encoder(&wgpu::CommandEncoderDescriptor {
-        label: Some("play::overlay"),
-    });
-    let mut commands = r
-        .egui_renderer
-        .update_buffers(device, queue, &mut encoder, &jobs, &screen);
-    {
-        let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("play::overlay"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Load,
-                    store: wgpu::StoreOp::Store,
-                },
-            })],
-            ..Default::default()
-        });
-        r.egui_renderer
-            .render(&mut pass.forget_lifetime(), &jobs, &screen);
-    }
-    commands.push(encoder.finish());
-    queue.submit(commands);
-    for id in &out.textures_delta.free {
-        r.egui_renderer.free_texture(id);
-    }
-    out.textures_delta.clear();
 }
 
 /// Whether raw mouse motion arrives twice while the cursor is confined: winit 0.30's X11
@@ -695,8 +459,7 @@ impl ApplicationHandler for App {
 
     fn window_event(&mut self, event_loop: &ActiveEventLoop, _id: WindowId, event: WindowEvent) {
         if let Some(r) = &mut self.running {
-            // The overlay takes no input; egui only needs sizes, scale and time.
-            let _ = r.egui_state.on_window_event(&r.window, &event);
+            r.overlay.on_window_event(&r.window, &event);
         }
         match event {
             WindowEvent::CloseRequested => event_loop.exit(),

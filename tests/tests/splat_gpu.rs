@@ -44,7 +44,7 @@ type Corners = [[u32; 3]; 4];
 
 /// Texel key → corner bits of every quad of `role` in the last frame.
 fn quads(h: &Harness, role: u32) -> HashMap<u32, Corners> {
-    h.renderer
+    h.renderer()
         .read_splats(&h.ctx)
         .expect("splats read back")
         .into_iter()
@@ -162,7 +162,7 @@ fn inside_a_closed_room_no_pixel_is_left_uncovered() {
         let px = settled(&mut h, c);
         let keys = texel_render::target::read_texture_layer(
             &h.ctx,
-            h.renderer.keys_texture().expect("keys"),
+            h.renderer().keys_texture().expect("keys"),
             0,
             4,
         )
@@ -190,14 +190,14 @@ fn picking_names_the_entity_under_a_pixel() {
     };
     settled(&mut h, cam(0.0, 1.6, 13.0, 0.0, -5.0));
     // Level order: 1 is the ground (bottom of the view); the sky (top row) is nothing.
-    let ground = h.renderer.pick(&h.ctx, UVec2::new(80, 88)).unwrap();
+    let ground = h.renderer().pick(&h.ctx, UVec2::new(80, 88)).unwrap();
     assert_eq!(ground, Some(1));
-    assert_eq!(h.renderer.pick(&h.ctx, UVec2::new(80, 1)).unwrap(), None);
-    assert_eq!(h.renderer.pick(&h.ctx, UVec2::new(500, 1)).unwrap(), None);
+    assert_eq!(h.renderer().pick(&h.ctx, UVec2::new(80, 1)).unwrap(), None);
+    assert_eq!(h.renderer().pick(&h.ctx, UVec2::new(500, 1)).unwrap(), None);
     // Somewhere in the middle band there are stones (ids above 1).
     let stones = (40..120)
         .step_by(4)
-        .filter_map(|x| h.renderer.pick(&h.ctx, UVec2::new(x, 45)).unwrap())
+        .filter_map(|x| h.renderer().pick(&h.ctx, UVec2::new(x, 45)).unwrap())
         .filter(|id| *id > 1)
         .count();
     assert!(stones > 0, "no stone picked across the middle of the view");
@@ -210,11 +210,11 @@ fn frame_ids_agree_with_picking_and_mark_eye_pixels() {
         return;
     };
     settled(&mut h, cam(0.0, 1.6, 13.0, 0.0, -5.0));
-    let ids = h.renderer.read_frame_ids(&h.ctx).unwrap();
+    let ids = h.renderer().read_frame_ids(&h.ctx).unwrap();
     assert_eq!(ids.entity.len(), (size.x * size.y) as usize);
     for (x, y) in [(80, 88), (80, 1), (60, 45), (100, 50)] {
         let picked = h
-            .renderer
+            .renderer()
             .pick(&h.ctx, UVec2::new(x, y))
             .unwrap()
             .unwrap_or(0);
@@ -269,11 +269,11 @@ fn runs_draw_what_one_quad_per_texel_draws() {
     let c = cam(0.0, 1.6, 13.0, 0.0, -5.0);
     settled(&mut h, c);
     let (_, merged, merged_px) = h.frame(c, DT);
-    let runs = h.renderer.read_splats(&h.ctx).expect("splats");
-    h.renderer.set_runs(false);
+    let runs = h.renderer().read_splats(&h.ctx).expect("splats");
+    h.session.renderer_mut().set_runs(false);
     let (_, single, single_px) = h.frame(c, DT);
-    let texels = h.renderer.read_splats(&h.ctx).expect("splats");
-    h.renderer.set_runs(true);
+    let texels = h.renderer().read_splats(&h.ctx).expect("splats");
+    h.session.renderer_mut().set_runs(true);
 
     let (m, s) = (merged.counters, single.counters);
     assert!(
@@ -325,10 +325,7 @@ fn switching_from_the_paper_schedule_draws_the_same_frame() {
     };
     let c = cam(0.0, 1.6, 9.3, 20.0, -4.0);
     for _ in 0..4 {
-        let input = h.driver.frame(c, DT, Schedule::Paper).expect("plans");
-        h.renderer
-            .render_offscreen(&h.ctx, &input)
-            .expect("renders");
+        h.frame_with(c, DT, Schedule::Paper);
     }
     let switched = settled(&mut h, c);
     let mut fresh = Harness::new(level, size, 32).expect("a second harness");

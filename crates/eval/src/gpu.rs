@@ -5,10 +5,9 @@
 use glam::UVec2;
 use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
 use texel_render::context::GpuContext;
-use texel_render::frame::Renderer;
 use texel_render::input::{Camera, Look, SceneInput, Schedule};
-use texel_runtime::driver::FrameDriver;
 use texel_runtime::load::LoadedLevel;
+use texel_runtime::session::{FrameRequest, Session, set_face_resolution};
 
 use crate::metrics::Reference;
 use crate::reference::CpuScene;
@@ -20,31 +19,19 @@ fn render_err(e: impl std::fmt::Display) -> EvalError {
 
 /// Sets the level's default grid to `face_res` texels per face edge.
 pub fn set_face_res(level: &mut LoadedLevel, face_res: u32) -> Result<(), EvalError> {
-    if !(8..=2048).contains(&face_res) {
-        return Err(EvalError::Render(format!(
-            "face resolution must be within 8..=2048, got {face_res}"
-        )));
-    }
-    level.scene.settings.pixel_scale = texel_scene::PixelScale::FaceResolution(face_res);
-    Ok(())
+    set_face_resolution(level, face_res).map_err(EvalError::Render)
 }
 
-/// The level's look (sky, ambient light, bands), as the frame driver builds it.
+/// The level's look (sky, ambient light, bands, haze), as every method draws it.
 pub fn level_look(level: &LoadedLevel) -> Look {
-    let s = &level.scene.settings;
-    Look {
-        sky: s.sky,
-        ambient: s.ambient,
-        bands: s.bands,
-        haze: 0.0,
-    }
+    texel_runtime::driver::level_look(&level.scene)
 }
 
 /// Texel splatting with our schedule or the paper's.
 pub struct SplatSource<'a> {
     ctx: &'a GpuContext,
-    renderer: Renderer,
-    driver: FrameDriver,
+    session: Session,
+    size: UVec2,
     schedule: Schedule,
 }
 
@@ -58,20 +45,18 @@ impl<'a> SplatSource<'a> {
         schedule: Schedule,
         warm_up: &Camera,
     ) -> Result<Self, EvalError> {
-        let mut renderer = Renderer::headless(ctx).map_err(render_err)?;
-        let driver = FrameDriver::new(level, size, fov_y).map_err(render_err)?;
-        renderer.set_scene(ctx, driver.scene_input());
-        // Compile shaders and allocate targets with a throwaway driver, so frame 0 is timed
-        // honestly and the measured driver starts from nothing.
-        let mut warm = FrameDriver::new(level, size, fov_y).map_err(render_err)?;
-        let input = warm
-            .frame(*warm_up, 1.0 / 30.0, schedule)
-            .map_err(render_err)?;
-        renderer.render_offscreen(ctx, &input).map_err(render_err)?;
+        let mut session = Session::headless(ctx, level, size, fov_y).map_err(render_err)?;
+        let request = FrameRequest {
+            camera: *warm_up,
+            dt: 1.0 / 30.0,
+            schedule,
+            size,
+        };
+        session.warm_up(ctx, &request).map_err(render_err)?;
         Ok(SplatSource {
             ctx,
-            renderer,
-            driver,
+            session,
+            size,
             schedule,
         })
     }
@@ -79,17 +64,19 @@ impl<'a> SplatSource<'a> {
 
 impl FrameSource for SplatSource<'_> {
     fn render(&mut self, _i: u32, camera: &Camera, dt: f32) -> Result<RenderedFrame, EvalError> {
-        let input = self
-            .driver
-            .frame(*camera, dt, self.schedule)
+        let request = FrameRequest {
+            camera: *camera,
+            dt,
+            schedule: self.schedule,
+            size: self.size,
+        };
+        let (frame, pixels) = (self.session)
+            .draw_offscreen(self.ctx, &request)
             .map_err(render_err)?;
-        let (stats, pixels) = self
-            .renderer
-            .render_offscreen(self.ctx, &input)
-            .map_err(render_err)?;
-        let ids = self.renderer.read_frame_ids(self.ctx).map_err(render_err)?;
+        let renderer = self.session.renderer();
+        let ids = renderer.read_frame_ids(self.ctx).map_err(render_err)?;
         Ok(RenderedFrame {
-            stats,
+            stats: frame.stats,
             pixels,
             ids: ids.entity,
             from_eye: Some(ids.from_eye),

@@ -1,6 +1,6 @@
-//! The level rendered by `texel_render` on eframe's own wgpu device, into a texture egui
-//! shows. The scene is uploaded again only when the document changed; the frame driver is
-//! rebuilt when the document or the output size changed.
+//! The level rendered by a `texel_runtime` session on eframe's own wgpu device, into a
+//! texture egui shows. The level is handed to the session again only when the document
+//! changed (the session re-plans by itself when the output size changes).
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -13,8 +13,8 @@ use texel_render::input::{Camera, ProbeView, Schedule};
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
 use texel_render::target::read_texture_layer;
-use texel_runtime::driver::{FrameDriver, scene_input};
 use texel_runtime::load::LoadedLevel;
+use texel_runtime::session::{FrameRequest, Session, SessionError};
 
 /// The viewport texture's format (sRGB, filterable, as egui samples it).
 pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
@@ -45,11 +45,10 @@ struct Target {
 /// The GPU side of the viewport.
 pub struct GpuView {
     ctx: GpuContext,
-    renderer: Renderer,
+    /// The session and the document revision it shows (made on the first render).
+    session: Option<(Session, u64)>,
     egui: Arc<RwLock<egui_wgpu::Renderer>>,
     target: Option<Target>,
-    driver: Option<(FrameDriver, u64, UVec2)>,
-    uploaded: Option<u64>,
     /// Cost of the last frame.
     pub report: RenderReport,
     /// The probes the last frame drew: eye, grid and (during a crossfade) previous.
@@ -80,14 +79,11 @@ impl GpuView {
             // Only when eframe's device was created with them.
             timestamps: rs.device.features().contains(wanted),
         };
-        let renderer = Renderer::new(&ctx, DRAW_FORMAT).map_err(|e| e.to_string())?;
         Ok(GpuView {
             ctx,
-            renderer,
+            session: None,
             egui: rs.renderer.clone(),
             target: None,
-            driver: None,
-            uploaded: None,
             report: RenderReport::default(),
             probes: None,
         })
@@ -105,52 +101,60 @@ impl GpuView {
         dt: f32,
     ) -> Result<egui::TextureId, String> {
         let size = size.max(UVec2::splat(16));
-        if self.uploaded != Some(revision) {
-            let t = Instant::now();
-            self.renderer.set_scene(&self.ctx, &scene_input(level));
-            self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
-            self.uploaded = Some(revision);
+        let err = |e: SessionError| e.to_string();
+        let t = Instant::now();
+        match &mut self.session {
+            Some((_, r)) if *r == revision => {}
+            Some((session, r)) => {
+                session.set_level(&self.ctx, level).map_err(err)?;
+                *r = revision;
+                self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
+            }
+            None => {
+                let fov_y = camera.fov_y;
+                let session = Session::new(&self.ctx, level, DRAW_FORMAT, size, fov_y);
+                self.session = Some((session.map_err(err)?, revision));
+                self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
+            }
         }
-        let stale = self
-            .driver
-            .as_ref()
-            .is_none_or(|(_, r, s)| *r != revision || *s != size);
-        if stale {
-            let d = FrameDriver::new(level, size, camera.fov_y).map_err(|e| e.to_string())?;
-            self.driver = Some((d, revision, size));
-        }
-        let (driver, _, _) = self.driver.as_mut().ok_or("no frame driver")?;
-        let input = driver
-            .frame(camera, dt, schedule)
-            .map_err(|e| e.to_string())?;
+        let id = self.ensure_target(size);
+        let target = self.target.as_ref().ok_or("no target")?;
+        let (session, _) = self.session.as_mut().ok_or("no session")?;
+        let request = FrameRequest {
+            camera,
+            dt,
+            schedule,
+            size,
+        };
+        let t = Instant::now();
+        let frame = session
+            .draw(&self.ctx, &request, &target.draw)
+            .map_err(err)?;
+        self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
+        let input = frame.input;
         self.probes = Some(LastProbes {
             eye: input.eye,
             grid: input.grid,
             previous: input.previous,
         });
-        let id = self.ensure_target(size);
-        let target = self.target.as_ref().ok_or("no target")?;
-        let t = Instant::now();
-        let stats = self
-            .renderer
-            .render(&self.ctx, &input, &target.draw)
-            .map_err(|e| e.to_string())?;
-        self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
-        self.report.stats = Some(stats);
+        self.report.stats = Some(frame.stats);
         self.report.size = size;
         Ok(id)
     }
 
     /// The entity id under `pixel` of the last frame (`texel_runtime::driver::entity_id`).
     pub fn pick(&self, pixel: UVec2) -> Result<Option<u32>, String> {
-        self.renderer
+        let Some((session, _)) = &self.session else {
+            return Ok(None);
+        };
+        (session.renderer())
             .pick(&self.ctx, pixel)
             .map_err(|e| e.to_string())
     }
 
     /// Per pixel of the last frame: entity id and whether the eye probe drew it.
     pub fn frame_ids(&self) -> Result<FrameIds, String> {
-        self.renderer
+        self.renderer()?
             .read_frame_ids(&self.ctx)
             .map_err(|e| e.to_string())
     }
@@ -158,7 +162,7 @@ impl GpuView {
     /// The six lit faces of `view`'s slot, read back and converted to sRGB8 RGBA
     /// (`n × n` texels each, rows top to bottom), with `n`.
     pub fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String> {
-        let slot = self.renderer.probes().slot(view.slot);
+        let slot = self.renderer()?.probes().slot(view.slot);
         let mut faces = Vec::with_capacity(6);
         for layer in 0..6 {
             let raw = read_texture_layer(&self.ctx, &slot.lit.texture, layer, 8)
@@ -214,6 +218,12 @@ impl GpuView {
 }
 
 impl GpuView {
+    /// The renderer, once a frame was rendered.
+    fn renderer(&self) -> Result<&Renderer, String> {
+        let (session, _) = self.session.as_ref().ok_or("nothing rendered yet")?;
+        Ok(session.renderer())
+    }
+
     /// The texture of the last frame, if one was rendered.
     pub fn texture(&self) -> Option<egui::TextureId> {
         self.target.as_ref().map(|t| t.id)

@@ -1,6 +1,6 @@
 //! Unit tests of the play loop's pure parts.
 use super::*;
-use texel_render::stats::PassTime;
+use texel_render::stats::{FrameStats, PassTime};
 
 #[test]
 fn sizes_parse() {

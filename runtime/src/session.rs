@@ -1,0 +1,179 @@
+//! A level being rendered: the one owner of "frame driver + renderer + scene upload +
+//! warm-up + re-plan on a new viewport or level" that `texel-run render`, `texel-run play`,
+//! the editor's viewport and the evaluator all use.
+
+use std::sync::Arc;
+
+use glam::UVec2;
+use texel_render::context::GpuContext;
+use texel_render::frame::{RenderError, Renderer};
+use texel_render::input::{Camera, FrameInput, Schedule};
+use texel_render::stats::FrameStats;
+use texel_scene::PixelScale;
+use texel_scene::limits::{FACE_RESOLUTIONS, face_resolution_error};
+
+use crate::driver::{DriverError, FrameDriver, PreparedLevel};
+use crate::load::LoadedLevel;
+
+/// Why a session could not draw.
+#[derive(Debug, thiserror::Error)]
+pub enum SessionError {
+    /// The frame could not be planned.
+    #[error(transparent)]
+    Driver(#[from] DriverError),
+    /// The renderer failed.
+    #[error(transparent)]
+    Render(#[from] RenderError),
+}
+
+/// What to draw.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct FrameRequest {
+    /// The eye.
+    pub camera: Camera,
+    /// Seconds since the previous frame.
+    pub dt: f32,
+    /// Scheduling method.
+    pub schedule: Schedule,
+    /// Target size in pixels (it may change between frames, e.g. a resized window).
+    pub size: UVec2,
+}
+
+/// One frame drawn: what it cost and what it was asked to draw (the probes, captures).
+#[derive(Debug, Clone)]
+pub struct DrawnFrame {
+    /// Cost and work.
+    pub stats: FrameStats,
+    /// The renderer's input of the frame.
+    pub input: FrameInput,
+}
+
+/// A level on the GPU with its frame driver.
+pub struct Session {
+    level: Arc<PreparedLevel>,
+    renderer: Renderer,
+    driver: FrameDriver,
+}
+
+impl Session {
+    /// A session drawing `level` into views of `colour` format (a plain format is the
+    /// renderer's fast path: see `Renderer::new`), planned for `size` and `fov_y` radians.
+    pub fn new(
+        ctx: &GpuContext,
+        level: &LoadedLevel,
+        colour: wgpu::TextureFormat,
+        size: UVec2,
+        fov_y: f32,
+    ) -> Result<Self, SessionError> {
+        Self::with_renderer(ctx, level, Renderer::new(ctx, colour)?, size, fov_y)
+    }
+
+    /// A session for offscreen frames ([`Session::draw_offscreen`]).
+    pub fn headless(
+        ctx: &GpuContext,
+        level: &LoadedLevel,
+        size: UVec2,
+        fov_y: f32,
+    ) -> Result<Self, SessionError> {
+        Self::with_renderer(ctx, level, Renderer::headless(ctx)?, size, fov_y)
+    }
+
+    fn with_renderer(
+        ctx: &GpuContext,
+        level: &LoadedLevel,
+        mut renderer: Renderer,
+        size: UVec2,
+        fov_y: f32,
+    ) -> Result<Self, SessionError> {
+        let level = Arc::new(PreparedLevel::new(level));
+        renderer.set_scene(ctx, &level.scene);
+        let driver = FrameDriver::prepared(level.clone(), size, fov_y)?;
+        Ok(Session {
+            level,
+            renderer,
+            driver,
+        })
+    }
+
+    /// Replaces the level (after an edit): uploads its scene and plans afresh.
+    pub fn set_level(&mut self, ctx: &GpuContext, level: &LoadedLevel) -> Result<(), SessionError> {
+        self.level = Arc::new(PreparedLevel::new(level));
+        self.renderer.set_scene(ctx, &self.level.scene);
+        let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
+        self.driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        Ok(())
+    }
+
+    /// Renders `request` once offscreen with a throwaway driver, so shaders are compiled and
+    /// targets allocated before the first measured frame, and the session's own driver still
+    /// starts from nothing.
+    pub fn warm_up(
+        &mut self,
+        ctx: &GpuContext,
+        request: &FrameRequest,
+    ) -> Result<(), SessionError> {
+        let fov_y = request.camera.fov_y;
+        let mut warm = FrameDriver::prepared(self.level.clone(), request.size, fov_y)?;
+        let input = warm.frame(request.camera, request.dt, request.schedule)?;
+        self.renderer.render_offscreen(ctx, &input)?;
+        Ok(())
+    }
+
+    /// Plans `request`: a new viewport (size or field of view) plans afresh, since the face
+    /// resolution may follow it.
+    fn plan(&mut self, request: &FrameRequest) -> Result<FrameInput, SessionError> {
+        let fov_y = request.camera.fov_y;
+        if (request.size, fov_y) != (self.driver.size(), self.driver.fov_y()) {
+            self.driver = FrameDriver::prepared(self.level.clone(), request.size, fov_y)?;
+        }
+        Ok((self.driver).frame(request.camera, request.dt, request.schedule)?)
+    }
+
+    /// Draws `request` into `target`, a view of `request.size` pixels.
+    pub fn draw(
+        &mut self,
+        ctx: &GpuContext,
+        request: &FrameRequest,
+        target: &wgpu::TextureView,
+    ) -> Result<DrawnFrame, SessionError> {
+        let input = self.plan(request)?;
+        let stats = self.renderer.render(ctx, &input, target)?;
+        Ok(DrawnFrame { stats, input })
+    }
+
+    /// Draws `request` offscreen and reads it back as RGBA8 (sRGB-encoded bytes).
+    pub fn draw_offscreen(
+        &mut self,
+        ctx: &GpuContext,
+        request: &FrameRequest,
+    ) -> Result<(DrawnFrame, Vec<u8>), SessionError> {
+        let input = self.plan(request)?;
+        let (stats, pixels) = self.renderer.render_offscreen(ctx, &input)?;
+        Ok((DrawnFrame { stats, input }, pixels))
+    }
+
+    /// The camera at the level's player start, with the session's field of view.
+    pub fn start_camera(&self) -> Camera {
+        self.driver.start_camera()
+    }
+
+    /// The renderer (picking, read-backs, debug data of the last frame).
+    pub fn renderer(&self) -> &Renderer {
+        &self.renderer
+    }
+
+    /// The renderer, to change its options.
+    pub fn renderer_mut(&mut self) -> &mut Renderer {
+        &mut self.renderer
+    }
+}
+
+/// Makes `level` use faces of `n` texels (a command line's `--face-res`), checked against
+/// the engine's range.
+pub fn set_face_resolution(level: &mut LoadedLevel, n: u32) -> Result<(), String> {
+    if !FACE_RESOLUTIONS.contains(&n) {
+        return Err(face_resolution_error("face resolution", n));
+    }
+    level.scene.settings.pixel_scale = PixelScale::FaceResolution(n);
+    Ok(())
+}
