@@ -77,14 +77,14 @@ impl Renderer {
             ctx.queue.submit([enc.finish()]);
             read_buffer(ctx, &dst)
         };
-        let args_bytes = copy(&self.cull.list().args, size_of::<DrawArgs>() as u64)?;
+        let args_bytes = copy(self.cull.list().args, size_of::<DrawArgs>() as u64)?;
         let args: DrawArgs = *bytemuck::from_bytes(&args_bytes);
         let count =
             u64::from(args.instance_count).min(self.cull.list().splats.size() / SPLAT_BYTES);
         if count == 0 {
             return Ok(Vec::new());
         }
-        let raw = copy(&self.cull.list().splats, count * SPLAT_BYTES)?;
+        let raw = copy(self.cull.list().splats, count * SPLAT_BYTES)?;
         let words: &[[f32; 16]] = bytemuck::cast_slice(&raw);
         Ok(words
             .iter()
