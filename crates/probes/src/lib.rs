@@ -19,6 +19,7 @@
 pub mod bayer;
 pub mod cube;
 pub mod grid;
+pub mod placement;
 pub mod probe_set;
 pub mod resolution;
 pub mod schedule;

@@ -133,6 +133,12 @@ impl BvhTriangle {
     /// Whether the ray crosses this triangle at `t` in `(T_MIN, t_max)` (Möller–Trumbore,
     /// both faces; the same operations as `bvh_triangle_hit` in WGSL).
     pub fn hit(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+        self.hit_at(origin, dir, t_max).is_some()
+    }
+
+    /// The `t` at which the ray crosses this triangle, if in `(T_MIN, t_max)` (see
+    /// [`BvhTriangle::hit`]).
+    pub fn hit_at(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<f32> {
         let (v0, e1, e2) = (
             Vec3::from(self.v0),
             Vec3::from(self.e1),
@@ -141,21 +147,27 @@ impl BvhTriangle {
         let p = dir.cross(e2);
         let det = e1.dot(p);
         if det == 0.0 {
-            return false;
+            return None;
         }
         let inv = 1.0 / det;
         let s = origin - v0;
         let u = s.dot(p) * inv;
         if !(0.0..=1.0).contains(&u) {
-            return false;
+            return None;
         }
         let q = s.cross(e1);
         let v = dir.dot(q) * inv;
         if v < 0.0 || u + v > 1.0 {
-            return false;
+            return None;
         }
         let t = e2.dot(q) * inv;
-        t > T_MIN && t < t_max
+        (t > T_MIN && t < t_max).then_some(t)
+    }
+
+    /// The geometric normal `e1 × e2` (not normalised): it points out of the side the
+    /// triangle's vertices wind counter-clockwise around.
+    pub fn normal(&self) -> Vec3 {
+        Vec3::from(self.e1).cross(Vec3::from(self.e2))
     }
 }
 
@@ -426,6 +438,43 @@ pub fn any_hit_cpu(bvh: &GpuBvh, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         };
     }
     true
+}
+
+/// The nearest triangle the ray `origin + t * dir` crosses at `t` in `(T_MIN, t_max)`, with
+/// that `t` (the CPU's closest-hit query, e.g. for probe placement).
+pub fn first_hit_cpu(
+    bvh: &GpuBvh,
+    origin: Vec3,
+    dir: Vec3,
+    t_max: f32,
+) -> Option<(f32, &BvhTriangle)> {
+    let safe = Vec3::select(
+        dir.abs().cmplt(Vec3::splat(DIR_EPS)),
+        Vec3::splat(DIR_EPS),
+        dir,
+    );
+    let inv_dir = safe.recip();
+    let mut best: Option<(f32, &BvhTriangle)> = None;
+    let mut todo = vec![0u32];
+    while let Some(i) = todo.pop() {
+        let node = &bvh.nodes[i as usize];
+        let reach = best.map_or(t_max, |(t, _)| t);
+        if box_entry(node, origin, inv_dir, reach).is_none() {
+            continue;
+        }
+        if node.is_leaf() {
+            let range = node.first as usize..(node.first + node.count) as usize;
+            for tri in &bvh.triangles[range] {
+                let reach = best.map_or(t_max, |(t, _)| t);
+                if let Some(t) = tri.hit_at(origin, dir, reach) {
+                    best = Some((t, tri));
+                }
+            }
+        } else if todo.len() < bvh.nodes.len() {
+            todo.extend([node.first, node.first + 1]);
+        }
+    }
+    best
 }
 
 /// The reference answer: tests every finite triangle of `triangles` with the same
