@@ -19,7 +19,8 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec3};
 use texel_probes::cube::{Face, FaceMask};
-use texel_probes::grid::{GridDefaults, GridError, GridOverride, resolve_grid};
+use texel_probes::grid::{GridChoice, GridDefaults, GridError, GridOverride};
+use texel_probes::placement::Placements;
 use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
 use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
 use texel_probes::visibility::{
@@ -36,6 +37,7 @@ use texel_scene::{
 
 use crate::extract::{Viewport, face_resolution, grid_overrides};
 use crate::load::LoadedLevel;
+use crate::placement::SceneRays;
 
 /// Faces captured per frame at most in our schedule (eye faces count against it).
 pub const FACE_BUDGET: u32 = 9;
@@ -78,14 +80,18 @@ pub struct PreparedLevel {
     cell_size: f32,
     overrides: Vec<GridOverride>,
     start: Camera,
+    /// Ray queries for probe placement.
+    rays: SceneRays,
 }
 
 impl PreparedLevel {
     /// Extracts what frames of `level` need.
     pub fn new(level: &LoadedLevel) -> Self {
         let s = &level.scene.settings;
+        let scene = scene_input(level);
         PreparedLevel {
-            scene: scene_input(level),
+            rays: SceneRays::new(&scene),
+            scene,
             look: level_look(&level.scene),
             pixel_scale: s.pixel_scale,
             cell_size: s.cell_size,
@@ -117,6 +123,8 @@ pub fn level_look(scene: &Scene) -> Look {
 /// Per-level, per-frame probe logic.
 pub struct FrameDriver {
     level: Arc<PreparedLevel>,
+    /// Where each cell's grid probe sits (cached per cell).
+    placements: Placements,
     fov_y: f32,
     defaults: GridDefaults,
     overrides: Vec<GridOverride>,
@@ -154,6 +162,7 @@ impl FrameDriver {
         start.fov_y = fov_y;
         Ok(FrameDriver {
             level,
+            placements: Placements::new(),
             fov_y,
             defaults,
             overrides,
@@ -198,7 +207,7 @@ impl FrameDriver {
         dt: f32,
         schedule: Schedule,
     ) -> Result<FrameInput, DriverError> {
-        let choice = resolve_grid(camera.position, &self.defaults, &self.overrides)?;
+        let choice = self.resolve(camera.position)?;
         self.track_velocity(camera.position, dt);
         let event = match &mut self.probes {
             Some(p) => p.begin_frame(camera.position, choice.key, dt),
@@ -226,7 +235,8 @@ impl FrameDriver {
         let mut plan = self.scheduler.plan(&frustum, probes, 0);
         if schedule == Schedule::Ours {
             let ahead = camera.position + self.velocity * PREFETCH_LOOKAHEAD_S;
-            let next = resolve_grid(ahead, &self.defaults, &self.overrides)
+            let next = (self.placements)
+                .resolve(ahead, &self.defaults, &self.overrides, &self.level.rays)
                 .ok()
                 .and_then(|c| probes.next_probe(c.key));
             if let Some(next) = next {
@@ -267,6 +277,11 @@ impl FrameDriver {
         self.frame_index += 1;
         self.fade_frame += 1;
         Ok(input)
+    }
+
+    /// The grid probe of the cell at `position`, placed where it can see.
+    fn resolve(&mut self, position: Vec3) -> Result<GridChoice, GridError> {
+        (self.placements).resolve(position, &self.defaults, &self.overrides, &self.level.rays)
     }
 
     /// Updates the smoothed camera velocity (a jump of more than a few cells, e.g. a

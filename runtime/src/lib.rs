@@ -10,5 +10,6 @@ pub mod extract;
 pub mod headless;
 pub mod load;
 pub mod path;
+pub mod placement;
 pub mod play;
 pub mod session;

@@ -80,12 +80,16 @@ pub struct ProbeKey {
     pub cell: GridCell,
     /// Texels per face edge.
     pub face_resolution: u32,
+    /// Where the probe sits relative to the cell's vertex: zero, unless placement moved it
+    /// off a spot that would blind it (`placement::place_probe`; a function of the cell and
+    /// the scene only).
+    pub offset: Vec3,
 }
 
 impl ProbeKey {
     /// World position of the probe.
     pub fn origin(&self) -> Vec3 {
-        self.cell.origin()
+        self.cell.origin() + self.offset
     }
 }
 
@@ -270,6 +274,7 @@ pub fn resolve_grid(
         key: ProbeKey {
             cell,
             face_resolution,
+            offset: Vec3::ZERO,
         },
         override_index,
     })

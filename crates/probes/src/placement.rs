@@ -14,7 +14,7 @@ use std::collections::HashMap;
 
 use glam::{IVec3, Vec3};
 
-use crate::grid::GridCell;
+use crate::grid::{GridCell, GridChoice, GridDefaults, GridError, GridOverride, resolve_grid};
 
 /// Least distance, in cell sizes, from a probe to any surface its test rays meet.
 pub const CLEARANCE: f32 = 0.25;
@@ -65,7 +65,12 @@ fn candidates() -> Vec<Vec3> {
         }
     }
     for y in [0.25f32, 0.45, -0.25] {
-        for (x, z) in [(0.25f32, 0.25f32), (-0.25, 0.25), (0.25, -0.25), (-0.25, -0.25)] {
+        for (x, z) in [
+            (0.25f32, 0.25f32),
+            (-0.25, 0.25),
+            (0.25, -0.25),
+            (-0.25, -0.25),
+        ] {
             out.push(Vec3::new(x, y, z));
         }
     }
@@ -137,6 +142,20 @@ impl Placements {
             .or_insert_with(|| place_probe(cell, scene))
     }
 
+    /// The grid that applies at `position` (`grid::resolve_grid`), its probe placed.
+    pub fn resolve(
+        &mut self,
+        position: Vec3,
+        defaults: &GridDefaults,
+        overrides: &[GridOverride],
+        scene: &impl RayQuery,
+    ) -> Result<GridChoice, GridError> {
+        let mut choice = resolve_grid(position, defaults, overrides)?;
+        let cell = choice.key.cell;
+        choice.key.offset = self.position(&cell, scene) - cell.origin();
+        Ok(choice)
+    }
+
     /// Cells placed so far.
     pub fn len(&self) -> usize {
         self.cache.len()
@@ -199,7 +218,10 @@ mod tests {
             ground: 0.0,
             solid: None,
         };
-        assert_eq!(place_probe(&cell(3, 2, -1), &scene), Vec3::new(3.0, 2.0, -1.0));
+        assert_eq!(
+            place_probe(&cell(3, 2, -1), &scene),
+            Vec3::new(3.0, 2.0, -1.0)
+        );
     }
 
     #[test]
@@ -226,8 +248,14 @@ mod tests {
             solid: Some((Vec3::new(-0.2, -0.3, -0.2), Vec3::new(0.2, 0.1, 0.2))),
         };
         let p = place_probe(&cell(0, 0, 0), &boxed);
-        assert!(matches!(fit(p, 2.0, &boxed), Fit::Free(c) if c >= CLEARANCE), "{p}");
-        assert!((p - Vec3::ZERO).abs().max_element() <= 0.5, "{p} left the cell");
+        assert!(
+            matches!(fit(p, 2.0, &boxed), Fit::Free(c) if c >= CLEARANCE),
+            "{p}"
+        );
+        assert!(
+            (p - Vec3::ZERO).abs().max_element() <= 0.5,
+            "{p} left the cell"
+        );
     }
 
     #[test]

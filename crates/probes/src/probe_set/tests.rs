@@ -12,6 +12,7 @@ fn key(x: i32) -> ProbeKey {
             cell_size: 1.0,
         },
         face_resolution: 32,
+        offset: Vec3::ZERO,
     }
 }
 

@@ -14,6 +14,7 @@ fn key(x: i32) -> ProbeKey {
             cell_size: 1.0,
         },
         face_resolution: 16,
+        offset: Vec3::ZERO,
     }
 }
 

@@ -67,7 +67,10 @@ fn agree(bvh: &GpuBvh, tris: &[[Vec3; 3]], rays: impl Iterator<Item = (Vec3, Vec
             .filter_map(|t| BvhTriangle::new(0, t).hit_at(o, d, t_max))
             .min_by(f32::total_cmp);
         let first = first_hit_cpu(bvh, o, d, t_max).map(|(t, _)| t);
-        assert_eq!(first, nearest, "closest hit of ray {o} + t {d}, t_max {t_max}");
+        assert_eq!(
+            first, nearest,
+            "closest hit of ray {o} + t {d}, t_max {t_max}"
+        );
         hits += usize::from(want);
     }
     hits
