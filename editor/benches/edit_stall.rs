@@ -36,7 +36,11 @@ impl Bench {
         let e = scene.entities().nth(1).expect("a stone");
         let mut row = scene.row(e).expect("row");
         let mut t = row.transform.unwrap_or_default();
-        t.translation.x += if self.revision.is_multiple_of(2) { 0.1 } else { -0.1 };
+        t.translation.x += if self.revision.is_multiple_of(2) {
+            0.1
+        } else {
+            -0.1
+        };
         row.transform = Some(t);
         scene.set_row(e, row).expect("set row");
     }
