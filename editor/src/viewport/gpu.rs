@@ -10,9 +10,9 @@ use glam::UVec2;
 use texel_render::context::GpuContext;
 use texel_render::frame::Renderer;
 use texel_render::input::{Camera, ProbeView, Schedule};
+use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
-use texel_render::target::read_texture_layer;
 use texel_runtime::driver::{FrameDriver, scene_input};
 use texel_runtime::load::LoadedLevel;
 
@@ -158,14 +158,7 @@ impl GpuView {
     /// The six lit faces of `view`'s slot, read back and converted to sRGB8 RGBA
     /// (`n × n` texels each, rows top to bottom), with `n`.
     pub fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String> {
-        let slot = self.renderer.probes().slot(view.slot);
-        let mut faces = Vec::with_capacity(6);
-        for layer in 0..6 {
-            let raw = read_texture_layer(&self.ctx, &slot.lit.texture, layer, 8)
-                .map_err(|e| e.to_string())?;
-            faces.push(super::debug::rgba16f_to_srgb8(&raw));
-        }
-        Ok((slot.n, faces))
+        (self.renderer.read_lit_faces(&self.ctx, view.slot)).map_err(|e| e.to_string())
     }
 
     fn ensure_target(&mut self, size: UVec2) -> egui::TextureId {
@@ -214,6 +207,12 @@ impl GpuView {
 }
 
 impl GpuView {
+    /// Sets the world-space lines drawn, depth-tested, into the following frames (the
+    /// ground grid); an empty list draws none.
+    pub fn set_lines(&mut self, lines: &[LineVertex]) {
+        self.renderer.set_lines(&self.ctx, lines);
+    }
+
     /// The texture of the last frame, if one was rendered.
     pub fn texture(&self) -> Option<egui::TextureId> {
         self.target.as_ref().map(|t| t.id)

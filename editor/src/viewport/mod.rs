@@ -75,6 +75,8 @@ pub struct Viewport {
     pub edit_stall_ms: f64,
     drag: Option<Drag>,
     face_drag: Option<FaceDrag>,
+    /// Whether the renderer was last given the grid (`None`: never told).
+    grid_lines: Option<bool>,
     grab_lost: bool,
     settle: u32,
     last: Option<(u64, EditorCamera, UVec2)>,
@@ -98,6 +100,7 @@ impl Default for Viewport {
             edit_stall_ms: 0.0,
             drag: None,
             face_drag: None,
+            grid_lines: None,
             grab_lost: false,
             settle: SETTLE_FRAMES,
             last: None,
@@ -199,7 +202,19 @@ impl Viewport {
             self.settle = SETTLE_FRAMES;
             self.last = Some(key);
         }
+        // The ground grid is drawn by the renderer, hidden by the scene; not in Play.
+        let grid = !self.playing();
         if let Some(gpu) = &mut self.gpu {
+            if self.grid_lines != Some(grid) {
+                let lines = if grid {
+                    overlay::grid_lines()
+                } else {
+                    Vec::new()
+                };
+                gpu.set_lines(&lines);
+                self.grid_lines = Some(grid);
+                self.settle = SETTLE_FRAMES;
+            }
             let rendered = self.settle > 0;
             if rendered {
                 let t = Instant::now();
@@ -280,7 +295,6 @@ impl Viewport {
             );
             return Ok(());
         }
-        overlay::grid(&painter, &proj);
         overlay::markers(&painter, &proj, state.scene(), state.selection);
         let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;
         let on_gizmo = !on_face && self.gizmo_ui(ui, &response, &painter, &proj, state)?;
