@@ -8,6 +8,7 @@ use std::time::Instant;
 use egui::{Key, KeyboardShortcut, Modifiers, Ui};
 use texel_scene::{EntityRow, Geometry, Material, Name, Transform};
 
+use crate::command::CommandError;
 use crate::document::Document;
 use crate::files::{self, Picked, Recent};
 use crate::state::EditorState;
@@ -113,29 +114,42 @@ impl EditorApp {
             }
         });
         egui::Panel::bottom("status").show(ui, |ui| self.status(ui));
-        egui::Panel::left("hierarchy")
+        let edited = egui::Panel::left("hierarchy")
             .default_size(230.0)
             .show(ui, |ui| {
                 // While playing the document is frozen: Esc returns to it unchanged.
                 ui.add_enabled_ui(!playing, |ui| {
                     hierarchy::show(ui, &mut self.state, &mut self.rename)
-                });
-            });
-        egui::Panel::right("inspector")
+                })
+                .inner
+            })
+            .inner;
+        self.report("edit", edited);
+        let edited = egui::Panel::right("inspector")
             .default_size(320.0)
             .show(ui, |ui| {
                 ui.add_enabled_ui(!playing, |ui| {
-                    egui::ScrollArea::vertical().show(ui, |ui| {
-                        ui.heading("Inspector");
-                        inspector::entity(ui, &mut self.state);
-                        ui.separator();
-                        egui::CollapsingHeader::new("Level settings")
-                            .default_open(self.state.selection.is_none())
-                            .show(ui, |ui| inspector::settings(ui, &mut self.state));
-                    });
-                });
-            });
-        egui::CentralPanel::no_frame().show(ui, |ui| self.viewport.show(ui, &mut self.state));
+                    egui::ScrollArea::vertical()
+                        .show(ui, |ui| {
+                            ui.heading("Inspector");
+                            let entity = inspector::entity(ui, &mut self.state);
+                            ui.separator();
+                            let settings = egui::CollapsingHeader::new("Level settings")
+                                .default_open(self.state.selection.is_none())
+                                .show(ui, |ui| inspector::settings(ui, &mut self.state))
+                                .body_returned;
+                            entity.and(settings.unwrap_or(Ok(())))
+                        })
+                        .inner
+                })
+                .inner
+            })
+            .inner;
+        self.report("edit", edited);
+        let edited = egui::CentralPanel::no_frame()
+            .show(ui, |ui| self.viewport.show(ui, &mut self.state))
+            .inner;
+        self.report("edit", edited);
         if let Some(answer) = self.dialogs.show(&ctx) {
             self.answer(answer);
         }
@@ -244,25 +258,30 @@ impl EditorApp {
             },
             Action::SaveAs => self.ask(Purpose::SaveAs),
             Action::Undo => {
-                self.state.undo();
+                let undone = self.state.undo().map(|_| ());
+                self.report("undo", undone);
             }
             Action::Redo => {
-                self.state.redo();
+                let redone = self.state.redo().map(|_| ());
+                self.report("redo", redone);
             }
             Action::Add(row) => {
                 self.viewport.stop();
-                self.state.add(*row);
+                let added = self.state.add(*row);
+                self.report("add", added);
             }
             Action::AddMesh => self.ask(Purpose::Mesh),
             Action::AddMeshPath(p) => self.add_mesh(&p),
             Action::Duplicate => {
                 if let Some(i) = self.state.selection {
-                    self.state.duplicate(i);
+                    let duplicated = self.state.duplicate(i);
+                    self.report("duplicate", duplicated);
                 }
             }
             Action::Delete => {
                 if let Some(i) = self.state.selection {
-                    self.state.delete(i);
+                    let deleted = self.state.delete(i);
+                    self.report("delete", deleted);
                 }
             }
             Action::TogglePlay => {
@@ -392,10 +411,23 @@ impl EditorApp {
             material: Some(Material::default()),
             ..EntityRow::default()
         };
-        self.state.add(row);
+        if let Err(e) = self.state.add(row) {
+            self.report("add the mesh", Err(e));
+            return;
+        }
         if let Err(e) = self.state.document.reload_meshes() {
-            self.state.undo();
-            self.dialogs.error = Some(e);
+            // Take the entity back out; the load error is what the person needs to see.
+            self.dialogs.error = Some(match self.state.undo() {
+                Ok(_) => e,
+                Err(u) => format!("{e} (and the mesh could not be taken out again: {u})"),
+            });
+        }
+    }
+
+    /// Shows a command that failed in the error dialog (the document is left as it was).
+    fn report(&mut self, what: &str, result: Result<(), CommandError>) {
+        if let Err(e) = result {
+            self.dialogs.error = Some(format!("could not {what}: {e}"));
         }
     }
 

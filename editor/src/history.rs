@@ -6,8 +6,33 @@
 
 use crate::command::Command;
 
-/// Identifies what a continuing edit is about, e.g. "entity 3's transform".
-pub type MergeKey = String;
+/// Identifies what a continuing edit is about: pushes with equal keys fold into one step
+/// while the entry is open.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
+pub enum MergeKey {
+    /// The inspector editing the row of the entity at `index` through one widget.
+    Row {
+        /// Position in the level order.
+        index: usize,
+        /// The widget being dragged or typed into.
+        widget: egui::Id,
+    },
+    /// The inspector editing the level settings through one widget.
+    Settings {
+        /// The widget being dragged or typed into.
+        widget: egui::Id,
+    },
+    /// The viewport gizmo dragging the entity at `index`.
+    Gizmo {
+        /// Position in the level order.
+        index: usize,
+    },
+    /// A face handle resizing the probe-grid override of the entity at `index`.
+    Resize {
+        /// Position in the level order.
+        index: usize,
+    },
+}
 
 struct Entry {
     command: Command,
@@ -29,8 +54,8 @@ impl History {
     pub fn push(&mut self, command: Command, merge: Option<MergeKey>) -> bool {
         self.redo.clear();
         self.next_id += 1;
-        if let (true, Some(key), Some(last)) = (self.open, &merge, self.undo.last_mut())
-            && last.merge.as_ref() == Some(key)
+        if let (true, Some(key), Some(last)) = (self.open, merge, self.undo.last_mut())
+            && last.merge == Some(key)
             && last.command.absorb(&command)
         {
             last.id = self.next_id;
@@ -98,5 +123,32 @@ impl History {
     /// Number of undo steps.
     pub fn undo_len(&self) -> usize {
         self.undo.len()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use texel_scene::LevelSettings;
+
+    fn settings(bands: u32) -> Command {
+        let before = LevelSettings::default();
+        let after = LevelSettings { bands, ..before };
+        Command::SetSettings { before, after }
+    }
+
+    #[test]
+    fn only_pushes_with_the_same_key_fold() {
+        let mut h = History::default();
+        let (a, b) = (egui::Id::unique("a"), egui::Id::unique("b"));
+        let key = |widget| Some(MergeKey::Settings { widget });
+        assert!(!h.push(settings(3), key(a)));
+        assert!(h.push(settings(4), key(a)));
+        assert!(!h.push(settings(5), key(b)));
+        assert!(!h.push(settings(6), None));
+        assert!(!h.push(settings(7), None), "no key never folds");
+        h.seal();
+        assert!(!h.push(settings(8), key(a)), "a sealed entry stays closed");
+        assert_eq!(h.undo_len(), 5);
     }
 }

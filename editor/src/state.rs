@@ -47,36 +47,38 @@ impl EditorState {
         Ok(())
     }
 
-    /// Undoes the last step; false when there is none.
-    pub fn undo(&mut self) -> bool {
+    /// Undoes the last step: `Ok(false)` when there is none; an error (with the step kept
+    /// on the undo stack) when the scene no longer matches it.
+    pub fn undo(&mut self) -> Result<bool, CommandError> {
         let Some(cmd) = self.history.pop_undo().cloned() else {
-            return false;
+            return Ok(false);
         };
         match cmd.revert(self.document.scene_mut()) {
             Ok(f) => {
                 self.focus(f);
-                true
+                Ok(true)
             }
-            Err(_) => {
+            Err(e) => {
                 self.history.cancel_undo();
-                false
+                Err(e)
             }
         }
     }
 
-    /// Redoes the last undone step; false when there is none.
-    pub fn redo(&mut self) -> bool {
+    /// Redoes the last undone step: `Ok(false)` when there is none; an error (with the step
+    /// kept on the redo stack) when the scene no longer matches it.
+    pub fn redo(&mut self) -> Result<bool, CommandError> {
         let Some(cmd) = self.history.pop_redo().cloned() else {
-            return false;
+            return Ok(false);
         };
         match cmd.execute(self.document.scene_mut()) {
             Ok(f) => {
                 self.focus(f);
-                true
+                Ok(true)
             }
-            Err(_) => {
+            Err(e) => {
                 self.history.cancel_redo();
-                false
+                Err(e)
             }
         }
     }
@@ -122,59 +124,53 @@ impl EditorState {
         self.scene().row(e)
     }
 
-    /// Replaces the components of the entity at `index` (one undo step per gesture `merge`).
-    pub fn set_row(&mut self, index: usize, after: EntityRow, merge: Option<MergeKey>) {
-        if let Some(before) = self.row_at(index)
-            && before != after
-        {
-            let cmd = Command::SetRow {
-                index,
-                before: Box::new(before),
-                after: Box::new(after),
-            };
-            let _ = self.apply(cmd, merge);
+    /// Replaces the components of the entity at `index` (one undo step per gesture `merge`);
+    /// nothing happens when they are unchanged.
+    pub fn set_row(
+        &mut self,
+        index: usize,
+        after: EntityRow,
+        merge: Option<MergeKey>,
+    ) -> Result<(), CommandError> {
+        let before = self.existing_row(index)?;
+        if before == after {
+            return Ok(());
         }
+        let cmd = Command::SetRow {
+            index,
+            before: Box::new(before),
+            after: Box::new(after),
+        };
+        self.apply(cmd, merge)
     }
 
     /// Adds an entity at the end of the level and selects it.
-    pub fn add(&mut self, row: EntityRow) {
+    pub fn add(&mut self, row: EntityRow) -> Result<(), CommandError> {
         let index = self.scene().len();
-        let _ = self.apply(
-            Command::Spawn {
-                index,
-                row: Box::new(row),
-            },
-            None,
-        );
+        let row = Box::new(row);
+        self.apply(Command::Spawn { index, row }, None)
     }
 
     /// Duplicates the entity at `index`, placing the copy right after it.
-    pub fn duplicate(&mut self, index: usize) {
-        if let Some(mut row) = self.row_at(index) {
-            if let Some(n) = &mut row.name {
-                n.0.push_str(" copy");
-            }
-            let _ = self.apply(
-                Command::Spawn {
-                    index: index + 1,
-                    row: Box::new(row),
-                },
-                None,
-            );
+    pub fn duplicate(&mut self, index: usize) -> Result<(), CommandError> {
+        let mut row = self.existing_row(index)?;
+        if let Some(n) = &mut row.name {
+            n.0.push_str(" copy");
         }
+        let (index, row) = (index + 1, Box::new(row));
+        self.apply(Command::Spawn { index, row }, None)
     }
 
     /// Deletes the entity at `index`.
-    pub fn delete(&mut self, index: usize) {
-        if let Some(row) = self.row_at(index) {
-            let _ = self.apply(
-                Command::Despawn {
-                    index,
-                    row: Box::new(row),
-                },
-                None,
-            );
-        }
+    pub fn delete(&mut self, index: usize) -> Result<(), CommandError> {
+        let row = Box::new(self.existing_row(index)?);
+        self.apply(Command::Despawn { index, row }, None)
+    }
+
+    /// The components of the entity at `index`, or why there is none.
+    fn existing_row(&self, index: usize) -> Result<EntityRow, CommandError> {
+        self.row_at(index)
+            .ok_or_else(|| CommandError(format!("no entity at position {index}")))
     }
 }
 
@@ -195,18 +191,18 @@ mod tests {
     fn undo_redo_round_trip_and_dirty_mark() {
         let mut s = EditorState::new(Document::new_empty());
         assert!(!s.is_dirty());
-        s.add(boxed("a"));
-        s.duplicate(0);
+        s.add(boxed("a")).expect("add");
+        s.duplicate(0).expect("duplicate");
         assert_eq!(s.scene().len(), 2);
         assert_eq!(s.selection, Some(1));
         assert!(s.is_dirty());
-        assert!(s.undo());
-        assert!(s.undo());
+        assert_eq!(s.undo(), Ok(true));
+        assert_eq!(s.undo(), Ok(true));
         assert!(!s.is_dirty());
         assert!(s.scene().is_empty());
-        assert!(!s.undo());
-        assert!(s.redo());
-        assert!(s.redo());
+        assert_eq!(s.undo(), Ok(false));
+        assert_eq!(s.redo(), Ok(true));
+        assert_eq!(s.redo(), Ok(true));
         assert_eq!(s.scene().len(), 2);
         assert_eq!(
             s.row_at(1).and_then(|r| r.name).map(|n| n.0),
@@ -217,18 +213,34 @@ mod tests {
     #[test]
     fn a_gesture_is_one_step() {
         let mut s = EditorState::new(Document::new_empty());
-        s.add(boxed("a"));
+        s.add(boxed("a")).expect("add");
         s.history.seal();
         for x in 1..=5 {
             let mut r = boxed("a");
             if let Some(t) = &mut r.transform {
                 t.translation.x = x as f32;
             }
-            s.set_row(0, r, Some("t0".into()));
+            s.set_row(0, r, Some(MergeKey::Gizmo { index: 0 }))
+                .expect("set");
         }
         s.history.seal();
         assert_eq!(s.history.undo_len(), 2);
-        assert!(s.undo());
+        assert_eq!(s.undo(), Ok(true));
         assert_eq!(s.row_at(0), Some(boxed("a")));
+    }
+
+    #[test]
+    fn failed_commands_are_errors_and_leave_the_history_alone() {
+        let mut s = EditorState::new(Document::new_empty());
+        assert!(s.delete(0).is_err());
+        assert!(s.duplicate(3).is_err());
+        assert!(s.set_row(0, boxed("x"), None).is_err());
+        assert_eq!(s.history.undo_len(), 0);
+        s.add(boxed("a")).expect("add");
+        // The scene changes behind the history's back: undoing the add finds no entity.
+        let e = entity_at(s.scene(), 0).expect("entity");
+        assert!(s.document.scene_mut().despawn(e).is_some());
+        assert!(s.undo().is_err());
+        assert_eq!(s.history.undo_len(), 1, "the failed undo stays undoable");
     }
 }

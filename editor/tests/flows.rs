@@ -197,6 +197,15 @@ fn discarding_changes_needs_confirmation() {
     assert!(!h.state().state.is_dirty());
 }
 
+/// Sets the modification time of the file at `path`.
+fn set_modified(path: &Path, time: std::time::SystemTime) {
+    std::fs::File::options()
+        .write(true)
+        .open(path)
+        .and_then(|f| f.set_modified(time))
+        .expect("set file time");
+}
+
 #[test]
 fn typed_path_saves_and_autosave_is_recovered() {
     let dir = tempfile::tempdir().expect("tempdir");
@@ -216,9 +225,19 @@ fn typed_path_saves_and_autosave_is_recovered() {
 
     // A crash after an autosave: the next open offers to recover it.
     add_from_menu(&mut h, "Point light");
-    std::thread::sleep(std::time::Duration::from_millis(20));
     h.state_mut().autosave_now(&path);
-    assert!(files::autosave_path(&path).exists());
+    let auto = files::autosave_path(&path);
+    assert!(auto.exists());
+    // File times are set explicitly rather than waited for (file systems round them): an
+    // autosave older than the level is stale, a newer one is offered.
+    let saved = std::fs::metadata(&path)
+        .and_then(|m| m.modified())
+        .expect("level time");
+    let minute = std::time::Duration::from_secs(60);
+    set_modified(&auto, saved - minute);
+    assert_eq!(files::recoverable(&path), None);
+    set_modified(&auto, saved + minute);
+    assert_eq!(files::recoverable(&path), Some(auto.clone()));
     drop(h);
     let mut h = harness(EditorApp::with_recent(Some(&path), Recent::default()));
     h.run();
@@ -283,7 +302,10 @@ fn gltf_mesh_is_added_relative_to_the_level() {
     row.geometry = Some(Geometry::Mesh {
         path: "meshes/arch2.glb".into(),
     });
-    h.state_mut().state.set_row(index, row, None);
+    h.state_mut()
+        .state
+        .set_row(index, row, None)
+        .expect("set row");
     h.run();
     let meshes = &h.state().state.document.level.meshes;
     assert!(meshes.get("meshes/arch2.glb").is_some());
@@ -309,4 +331,16 @@ fn level_settings_edits_are_undoable() {
     h.run();
     assert_eq!(h.state().state.scene().settings.bands, 32);
     assert!(!h.state().state.is_dirty());
+}
+
+#[test]
+fn a_failed_command_is_shown_in_the_error_dialog() {
+    let mut app = EditorApp::with_recent(None, Recent::default());
+    // A selection the scene does not have (as after an outside change): deleting it fails.
+    app.state.selection = Some(3);
+    app.act(Action::Delete);
+    let error = app.dialogs.error.clone().expect("an error is shown");
+    assert!(error.contains("no entity at position 3"), "{error}");
+    assert!(app.state.scene().is_empty());
+    assert_eq!(app.state.history.undo_len(), 0);
 }

@@ -2,40 +2,22 @@
 //! texture egui can show, picking returns the entity under a pixel, and an edit re-uploads
 //! the scene. Prints the frame times measured.
 
-use std::path::Path;
-use std::sync::Arc;
-
-use egui::mutex::RwLock;
 use glam::{UVec2, Vec3};
-use texel_editor::camera::EditorCamera;
-use texel_editor::viewport::gpu::{FORMAT, GpuView};
 use texel_render::context::test_context;
 use texel_render::input::Schedule;
-use texel_runtime::load::load_level;
 use texel_scene::Transform;
+
+mod support;
 
 #[test]
 fn viewport_renders_and_picks_on_eframes_kind_of_device() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, FORMAT, Default::default());
-    let rs = egui_wgpu::RenderState {
-        adapter: ctx.adapter.clone(),
-        available_adapters: vec![ctx.adapter.clone()],
-        instance: ctx.instance.clone(),
-        device: ctx.device.clone(),
-        queue: ctx.queue.clone(),
-        target_format: FORMAT,
-        renderer: Arc::new(RwLock::new(egui_renderer)),
-    };
-    let mut gpu = GpuView::new(&rs).expect("renderer on the shared device");
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/stone_circle.ron");
-    let mut level = load_level(&path).expect("stone_circle");
-    let mut camera = EditorCamera::default();
+    let mut gpu = support::gpu_view(&ctx);
+    let mut level = support::stone_circle();
     // Look straight at the first upright of trilithon 1.
-    let target = Vec3::new(1.206, 1.6, 5.946);
-    camera.focus(target, 6.0);
+    let camera = support::camera();
     let size = UVec2::new(160, 120);
     let mut times = Vec::new();
     for _ in 0..4 {

@@ -1,6 +1,6 @@
 //! The renderer: owns the passes and the probe store, and orders one frame
-//! (capture → shade → runs → cull → splat → background → visible → present). This is the
-//! only file that knows the pass order.
+//! (capture → shade → runs → cull → splat → background (+ lines) → visible → present). This
+//! is the only file that knows the pass order.
 
 use std::time::Instant;
 
@@ -12,6 +12,7 @@ use crate::input::{FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
+use crate::passes::lines::LinesPass;
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
@@ -122,6 +123,7 @@ pub struct Renderer {
     pub(crate) cull: CullPass,
     splat: SplatPass,
     background: BackgroundPass,
+    pub(crate) lines: LinesPass,
     visible: VisiblePass,
     present: PresentPass,
     colour: wgpu::TextureFormat,
@@ -160,6 +162,7 @@ impl Renderer {
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
+            lines: LinesPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
             present: PresentPass::new(d, colour)?,
             colour,
@@ -293,6 +296,7 @@ impl Renderer {
         stages.run("background", |enc| {
             let mut pass = begin_draw(enc, draw_target, screen, false);
             self.background.draw(&mut pass, &bg_bind);
+            self.lines.draw(ctx, &mut pass, &self.view);
         });
         stages.run("visible", |enc| {
             self.visible.record(ctx, enc, &screen.keys_view, size);

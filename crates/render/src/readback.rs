@@ -1,5 +1,6 @@
 //! Reading a rendered frame back to the CPU, for tests, the editor's picking and the
-//! evaluator: the splat list, the entity under a pixel, and per-pixel provenance.
+//! evaluator: the splat list, the entity under a pixel, per-pixel provenance, and a probe
+//! slot's lit faces as sRGB8 images (the editor's debug view).
 
 use texel_probes::probe_set::Slot;
 
@@ -187,6 +188,71 @@ impl Renderer {
     }
 }
 
+impl Renderer {
+    /// The six lit faces of `slot` (in [`texel_probes::cube::Face`] order), read back and
+    /// converted to opaque sRGB8 RGBA, `n × n` texels each with rows top to bottom, and the
+    /// slot's face resolution `n`. The probe store's internal format (linear half floats,
+    /// neighbour bits in alpha) stays the renderer's business.
+    pub fn read_lit_faces(
+        &self,
+        ctx: &GpuContext,
+        slot: Slot,
+    ) -> Result<(u32, Vec<Vec<u8>>), GpuError> {
+        let textures = self.store.slot(slot);
+        let faces = (0..6)
+            .map(|layer| {
+                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 8)
+                    .map(|raw| rgba16f_to_srgb8(&raw))
+            })
+            .collect::<Result<_, _>>()?;
+        Ok((textures.n, faces))
+    }
+}
+
+/// `Rgba16Float` texels (linear colour) to opaque sRGB8 RGBA (the lit texture's alpha holds
+/// neighbour bits, not coverage, so it is dropped).
+fn rgba16f_to_srgb8(raw: &[u8]) -> Vec<u8> {
+    raw.chunks_exact(8)
+        .flat_map(|t| {
+            let ch = |i: usize| half_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
+            [
+                linear_to_srgb8(ch(0)),
+                linear_to_srgb8(ch(1)),
+                linear_to_srgb8(ch(2)),
+                255,
+            ]
+        })
+        .collect()
+}
+
+/// IEEE half to f32.
+fn half_to_f32(h: u16) -> f32 {
+    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
+    let exp = i32::from((h >> 10) & 0x1f);
+    let frac = f32::from(h & 0x3ff);
+    match exp {
+        0 => sign * frac * 2f32.powi(-24),
+        31 if frac == 0.0 => sign * f32::INFINITY,
+        31 => f32::NAN,
+        e => sign * (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
+    }
+}
+
+/// Linear colour in 0..1 to an sRGB byte (clamped; non-finite values give 0).
+fn linear_to_srgb8(c: f32) -> u8 {
+    let c = if c.is_finite() {
+        c.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let s = if c <= 0.003_130_8 {
+        c * 12.92
+    } else {
+        1.055 * c.powf(1.0 / 2.4) - 0.055
+    };
+    (s * 255.0).round() as u8
+}
+
 /// One `u32` texel of an `R32Uint` texture layer.
 fn read_texel_u32(
     ctx: &GpuContext,
@@ -229,4 +295,28 @@ fn read_texel_u32(
     ctx.queue.submit([enc.finish()]);
     let bytes = read_buffer(ctx, &buffer)?;
     Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn half_floats_convert_to_opaque_srgb_bytes() {
+        // 1.0 = 0x3C00, 0.5 = 0x3800, 0.0, then alpha 0.25 (dropped); then 2.0, -2.0, NaN.
+        let mut raw = Vec::new();
+        for h in [
+            0x3C00u16, 0x3800, 0x0000, 0x3400, 0x4000, 0xC000, 0x7C01, 0x0000,
+        ] {
+            raw.extend_from_slice(&h.to_le_bytes());
+        }
+        assert_eq!(
+            rgba16f_to_srgb8(&raw),
+            vec![255, 188, 0, 255, 255, 0, 0, 255]
+        );
+        assert_eq!(half_to_f32(0xC000), -2.0);
+        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
+        assert!(half_to_f32(0x7C01).is_nan());
+        assert_eq!(half_to_f32(0xFC00), f32::NEG_INFINITY);
+    }
 }

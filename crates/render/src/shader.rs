@@ -31,6 +31,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/bvh.wgsl"),
     ),
     ("runs.wgsl", include_str!("../../../shaders/runs.wgsl")),
+    ("lines.wgsl", include_str!("../../../shaders/lines.wgsl")),
     (
         "background.wgsl",
         include_str!("../../../shaders/background.wgsl"),

@@ -4,11 +4,17 @@
 use egui::Ui;
 use texel_scene::Name;
 
+use crate::command::CommandError;
 use crate::state::EditorState;
 use crate::ui::widgets::{display_name, kind_icon};
 
-/// Draws the list. `rename` holds the entity being renamed and its edited name.
-pub fn show(ui: &mut Ui, state: &mut EditorState, rename: &mut Option<(usize, String)>) {
+/// Draws the list. `rename` holds the entity being renamed and its edited name. A command
+/// that fails is returned, for the caller to show.
+pub fn show(
+    ui: &mut Ui,
+    state: &mut EditorState,
+    rename: &mut Option<(usize, String)>,
+) -> Result<(), CommandError> {
     ui.heading("Scene");
     let rows: Vec<_> = {
         let scene = state.scene();
@@ -51,17 +57,18 @@ pub fn show(ui: &mut Ui, state: &mut EditorState, rename: &mut Option<(usize, St
     });
     match action {
         Some(Action::Select(i)) => state.selection = Some(i),
-        Some(Action::Duplicate(i)) => state.duplicate(i),
-        Some(Action::Delete(i)) => state.delete(i),
+        Some(Action::Duplicate(i)) => state.duplicate(i)?,
+        Some(Action::Delete(i)) => state.delete(i)?,
         Some(Action::Rename(i, text)) => {
             *rename = None;
             if let Some(mut row) = state.row_at(i) {
                 row.name = (!text.trim().is_empty()).then(|| Name(text.trim().to_owned()));
-                state.set_row(i, row, None);
+                state.set_row(i, row, None)?;
             }
         }
         None => {}
     }
+    Ok(())
 }
 
 enum Action {

@@ -8,25 +8,28 @@ use texel_scene::{
     PixelScale, PlayerStart, PointLight, ProbeGridOverride, SEGMENTS, Transform,
 };
 
-use crate::command::Command;
+use crate::command::{Command, CommandError};
+use crate::history::MergeKey;
 use crate::state::EditorState;
 use crate::ui::widgets::{colour, integer, scalar, vec2, vec3};
 
 const BIG: f32 = 1.0e6;
 const MIN_SIZE: f32 = 0.001;
 
-/// The selected entity's components.
-pub fn entity(ui: &mut Ui, state: &mut EditorState) {
+/// The selected entity's components. A command that fails is returned, for the caller to
+/// show.
+pub fn entity(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
     let Some((index, before)) = state.selected_row() else {
         ui.label("Nothing selected");
-        return;
+        return Ok(());
     };
     let mut row = before.clone();
     edit_row(ui, &mut row);
     if row != before {
-        let key = gesture_key(ui.ctx(), &format!("row{index}"));
-        state.set_row(index, row, key);
+        let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Row { index, widget });
+        state.set_row(index, row, key)?;
     }
+    Ok(())
 }
 
 fn edit_row(ui: &mut Ui, row: &mut EntityRow) {
@@ -225,8 +228,8 @@ fn start(ui: &mut Ui, p: &mut PlayerStart) {
     scalar(ui, "Eye height", &mut p.eye_height, 0.01, 0.01, 100.0);
 }
 
-/// The level settings.
-pub fn settings(ui: &mut Ui, state: &mut EditorState) {
+/// The level settings. A command that fails is returned, for the caller to show.
+pub fn settings(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
     let before: LevelSettings = state.scene().settings;
     let mut s = before;
     colour(ui, "Sky", &mut s.sky);
@@ -252,16 +255,14 @@ pub fn settings(ui: &mut Ui, state: &mut EditorState) {
     }
     scalar(ui, "Default cell size", &mut s.cell_size, 0.01, 0.01, BIG);
     if s != before {
-        let _ = state.apply(
-            Command::SetSettings { before, after: s },
-            gesture_key(ui.ctx(), "settings"),
-        );
+        let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Settings { widget });
+        state.apply(Command::SetSettings { before, after: s }, key)?;
     }
+    Ok(())
 }
 
-/// The merge key of a continuing gesture on one widget (the one being dragged or typed
-/// into), so that a drag or typing is one undo step; `None` for one-shot changes.
-pub fn gesture_key(ctx: &egui::Context, base: &str) -> Option<String> {
-    let id = ctx.dragged_id().or_else(|| ctx.memory(|m| m.focused()))?;
-    Some(format!("{base}:{id:?}"))
+/// The widget of a continuing gesture (the one being dragged or typed into), for the merge
+/// key that makes a drag or typing one undo step; `None` for one-shot changes.
+pub fn gesture_widget(ctx: &egui::Context) -> Option<egui::Id> {
+    ctx.dragged_id().or_else(|| ctx.memory(|m| m.focused()))
 }

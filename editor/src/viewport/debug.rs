@@ -422,67 +422,10 @@ fn pieced_box(p: &Painter, proj: &Projector, min: Vec3, max: Vec3, stroke: Strok
     }
 }
 
-/// IEEE half to f32.
-fn half_to_f32(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exp = i32::from((h >> 10) & 0x1f);
-    let frac = f32::from(h & 0x3ff);
-    match exp {
-        0 => sign * frac * 2f32.powi(-24),
-        31 if frac == 0.0 => sign * f32::INFINITY,
-        31 => f32::NAN,
-        e => sign * (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
-    }
-}
-
-/// Linear colour in 0..1 to an sRGB byte (non-finite values give 0).
-fn linear_to_srgb8(c: f32) -> u8 {
-    let c = if c.is_finite() {
-        c.clamp(0.0, 1.0)
-    } else {
-        0.0
-    };
-    let s = if c <= 0.003_130_8 {
-        c * 12.92
-    } else {
-        1.055 * c.powf(1.0 / 2.4) - 0.055
-    };
-    (s * 255.0).round() as u8
-}
-
-/// `Rgba16Float` texels (linear colour) to opaque sRGB8 RGBA (the alpha channel holds
-/// neighbour bits, not coverage, so it is dropped).
-pub fn rgba16f_to_srgb8(raw: &[u8]) -> Vec<u8> {
-    raw.chunks_exact(8)
-        .flat_map(|t| {
-            let ch = |i: usize| half_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
-            [
-                linear_to_srgb8(ch(0)),
-                linear_to_srgb8(ch(1)),
-                linear_to_srgb8(ch(2)),
-                255,
-            ]
-        })
-        .collect()
-}
-
 #[cfg(test)]
 mod tests {
     use super::*;
     use glam::{IVec3, UVec2};
-
-    #[test]
-    fn half_floats_convert_to_srgb_bytes() {
-        // 1.0 = 0x3C00, 0.5 = 0x3800, 0.0, then alpha 0.25 (dropped).
-        let mut raw = Vec::new();
-        for h in [0x3C00u16, 0x3800, 0x0000, 0x3400] {
-            raw.extend_from_slice(&h.to_le_bytes());
-        }
-        assert_eq!(rgba16f_to_srgb8(&raw), vec![255, 188, 0, 255]);
-        assert_eq!(half_to_f32(0xC000), -2.0);
-        assert!(half_to_f32(0x7C01).is_nan());
-        assert_eq!(linear_to_srgb8(f32::NAN), 0);
-    }
 
     #[test]
     fn eye_mask_tints_only_eye_pixels() {

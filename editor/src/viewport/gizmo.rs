@@ -2,10 +2,11 @@
 //! rotate (E) or scale (R) the selection, with snapping while Ctrl is held. A drag is one
 //! undo step (its commands share a merge key until the pointer is released).
 
-use egui::{Color32, Painter, Pos2, Stroke, Vec2};
+use egui::{Color32, Painter, Pos2, Stroke};
 use glam::Vec3;
 use texel_scene::Transform;
 
+use super::drag::{AXIS_COLOURS, HandleDrag};
 use crate::camera::Projector;
 
 /// Which transform the gizmo changes.
@@ -29,22 +30,10 @@ pub const SNAP_SCALE: f32 = 0.1;
 const HANDLE_PX: f32 = 80.0;
 const PICK_PX: f32 = 8.0;
 const AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
-const COLOURS: [Color32; 3] = [
-    Color32::from_rgb(230, 70, 70),
-    Color32::from_rgb(80, 210, 80),
-    Color32::from_rgb(80, 120, 240),
-];
 
-/// A drag in progress.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct Drag {
-    /// Axis index (0 X, 1 Y, 2 Z).
-    pub axis: usize,
-    /// The transform when the drag began.
-    pub start: Transform,
-    /// Accumulated pointer motion, pixels.
-    pub moved: Vec2,
-}
+/// A drag in progress: `handle` is the axis index (0 X, 1 Y, 2 Z), `start` the transform
+/// when the drag began.
+pub type Drag = HandleDrag<Transform>;
 
 /// The screen ends of the three handles of a gizmo at `origin`.
 pub fn handles(proj: &Projector, origin: Vec3, cam_eye: Vec3) -> Option<(Pos2, [Pos2; 3])> {
@@ -63,17 +52,17 @@ pub fn handles(proj: &Projector, origin: Vec3, cam_eye: Vec3) -> Option<(Pos2, [
 pub fn draw(p: &Painter, o: Pos2, ends: [Pos2; 3], mode: Mode, hot: Option<usize>) {
     for (k, end) in ends.iter().enumerate() {
         let width = if hot == Some(k) { 4.0 } else { 2.5 };
-        p.line_segment([o, *end], Stroke::new(width, COLOURS[k]));
+        p.line_segment([o, *end], Stroke::new(width, AXIS_COLOURS[k]));
         match mode {
             Mode::Translate => {
-                p.circle_filled(*end, 5.0, COLOURS[k]);
+                p.circle_filled(*end, 5.0, AXIS_COLOURS[k]);
             }
             Mode::Rotate => {
-                p.circle_stroke(*end, 7.0, Stroke::new(width, COLOURS[k]));
+                p.circle_stroke(*end, 7.0, Stroke::new(width, AXIS_COLOURS[k]));
             }
             Mode::Scale => {
                 let r = egui::Rect::from_center_size(*end, egui::vec2(9.0, 9.0));
-                p.rect_filled(r, 0.0, COLOURS[k]);
+                p.rect_filled(r, 0.0, AXIS_COLOURS[k]);
             }
         }
     }
@@ -102,7 +91,7 @@ pub fn apply(drag: &Drag, mode: Mode, o: Pos2, end: Pos2, world_len: f32, snap: 
     let len_px = axis_px.length().max(1.0);
     let along = drag.moved.dot(axis_px / len_px);
     let mut t = drag.start;
-    let k = drag.axis;
+    let k = drag.handle;
     match mode {
         Mode::Translate => {
             let mut d = along / len_px * world_len;
@@ -142,7 +131,7 @@ mod tests {
     #[test]
     fn translate_follows_the_axis_and_snaps() {
         let drag = Drag {
-            axis: 0,
+            handle: 0,
             start: Transform::default(),
             moved: egui::vec2(50.0, 0.0),
         };

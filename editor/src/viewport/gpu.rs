@@ -10,9 +10,9 @@ use glam::UVec2;
 use texel_render::context::GpuContext;
 use texel_render::frame::Renderer;
 use texel_render::input::{Camera, ProbeView, Schedule};
+use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
-use texel_render::target::read_texture_layer;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, SessionError};
 
@@ -47,6 +47,8 @@ pub struct GpuView {
     ctx: GpuContext,
     /// The session and the document revision it shows (made on the first render).
     session: Option<(Session, u64)>,
+    /// The lines the renderer draws (kept for a session made later).
+    lines: Vec<LineVertex>,
     egui: Arc<RwLock<egui_wgpu::Renderer>>,
     target: Option<Target>,
     /// Cost of the last frame.
@@ -82,6 +84,7 @@ impl GpuView {
         Ok(GpuView {
             ctx,
             session: None,
+            lines: Vec::new(),
             egui: rs.renderer.clone(),
             target: None,
             report: RenderReport::default(),
@@ -112,8 +115,10 @@ impl GpuView {
             }
             None => {
                 let fov_y = camera.fov_y;
-                let session = Session::new(&self.ctx, level, DRAW_FORMAT, size, fov_y);
-                self.session = Some((session.map_err(err)?, revision));
+                let mut session =
+                    Session::new(&self.ctx, level, DRAW_FORMAT, size, fov_y).map_err(err)?;
+                session.renderer_mut().set_lines(&self.ctx, &self.lines);
+                self.session = Some((session, revision));
                 self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
             }
         }
@@ -162,14 +167,7 @@ impl GpuView {
     /// The six lit faces of `view`'s slot, read back and converted to sRGB8 RGBA
     /// (`n × n` texels each, rows top to bottom), with `n`.
     pub fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String> {
-        let slot = self.renderer()?.probes().slot(view.slot);
-        let mut faces = Vec::with_capacity(6);
-        for layer in 0..6 {
-            let raw = read_texture_layer(&self.ctx, &slot.lit.texture, layer, 8)
-                .map_err(|e| e.to_string())?;
-            faces.push(super::debug::rgba16f_to_srgb8(&raw));
-        }
-        Ok((slot.n, faces))
+        (self.renderer()?.read_lit_faces(&self.ctx, view.slot)).map_err(|e| e.to_string())
     }
 
     fn ensure_target(&mut self, size: UVec2) -> egui::TextureId {
@@ -222,6 +220,15 @@ impl GpuView {
     fn renderer(&self) -> Result<&Renderer, String> {
         let (session, _) = self.session.as_ref().ok_or("nothing rendered yet")?;
         Ok(session.renderer())
+    }
+
+    /// Sets the world-space lines drawn, depth-tested, into the following frames (the
+    /// ground grid); an empty list draws none.
+    pub fn set_lines(&mut self, lines: &[LineVertex]) {
+        self.lines = lines.to_vec();
+        if let Some((session, _)) = &mut self.session {
+            session.renderer_mut().set_lines(&self.ctx, lines);
+        }
     }
 
     /// The texture of the last frame, if one was rendered.

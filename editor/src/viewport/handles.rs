@@ -3,10 +3,11 @@
 //! face stays put, so one command changes the volume's `size` and the transform's
 //! `translation` together. A drag is one undo step (one merge key until release).
 
-use egui::{Color32, Painter, Pos2, Stroke, Vec2};
+use egui::{Color32, Painter, Pos2, Stroke};
 use glam::Vec3;
 use texel_scene::{ProbeGridOverride, Transform};
 
+use super::drag::{AXIS_COLOURS, HandleDrag};
 use crate::camera::Projector;
 
 /// Pick radius around a handle, pixels.
@@ -15,24 +16,10 @@ const PICK_PX: f32 = 9.0;
 pub const MIN_EXTENT: f32 = 0.05;
 /// Snap step of a face drag while Ctrl is held, world units.
 pub const SNAP: f32 = 0.25;
-const COLOURS: [Color32; 3] = [
-    Color32::from_rgb(230, 70, 70),
-    Color32::from_rgb(80, 210, 80),
-    Color32::from_rgb(80, 120, 240),
-];
 
-/// A face drag in progress.
-#[derive(Debug, Clone, Copy, PartialEq)]
-pub struct FaceDrag {
-    /// Face index: axis `face / 2`, outward normal positive when `face` is even.
-    pub face: usize,
-    /// The transform when the drag began.
-    pub start: Transform,
-    /// The volume when the drag began.
-    pub volume: ProbeGridOverride,
-    /// Accumulated pointer motion, pixels.
-    pub moved: Vec2,
-}
+/// A face drag in progress: `handle` is the face index (axis `face / 2`, outward normal
+/// positive when `face` is even), `start` the transform and the volume when it began.
+pub type FaceDrag = HandleDrag<(Transform, ProbeGridOverride)>;
 
 /// Unit outward normal of `face`.
 pub fn normal(face: usize) -> Vec3 {
@@ -68,7 +55,7 @@ pub fn draw(p: &Painter, handles: &[Option<Pos2>; 6], hot: Option<usize>) {
         if let Some(h) = h {
             let r = if hot == Some(f) { 6.0 } else { 4.5 };
             let rect = egui::Rect::from_center_size(*h, egui::vec2(r * 2.0, r * 2.0));
-            p.rect_filled(rect, 1.0, COLOURS[f / 2]);
+            p.rect_filled(rect, 1.0, AXIS_COLOURS[f / 2]);
             p.rect_stroke(
                 rect,
                 1.0,
@@ -82,10 +69,11 @@ pub fn draw(p: &Painter, handles: &[Option<Pos2>; 6], hot: Option<usize>) {
 /// World distance the pointer moved the face outward: `drag.moved` projected on the face
 /// normal's screen direction, scaled by how many pixels one world unit spans there.
 pub fn outward(proj: &Projector, drag: &FaceDrag) -> f32 {
-    let centre = face_centres(&drag.start, &drag.volume)[drag.face];
+    let (t, volume) = &drag.start;
+    let centre = face_centres(t, volume)[drag.handle];
     let (Some(a), Some(b)) = (
         proj.project(centre),
-        proj.project(centre + normal(drag.face)),
+        proj.project(centre + normal(drag.handle)),
     ) else {
         return 0.0;
     };
@@ -180,9 +168,8 @@ mod tests {
         assert_eq!(hit(&hs, top + egui::vec2(2.0, 1.0)), Some(2));
         // Dragging the +Y handle up the screen moves it outward.
         let drag = FaceDrag {
-            face: 2,
-            start: t,
-            volume: o,
+            handle: 2,
+            start: (t, o),
             moved: egui::vec2(0.0, -40.0),
         };
         assert!(outward(&proj, &drag) > 0.1);

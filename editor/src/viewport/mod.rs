@@ -4,6 +4,7 @@
 //! Debug views of the probes ([`debug`]) paint over the render in both modes.
 
 pub mod debug;
+pub mod drag;
 pub mod gizmo;
 pub mod gpu;
 pub mod handles;
@@ -17,11 +18,13 @@ use glam::{UVec2, Vec2, Vec3};
 use texel_render::input::Schedule;
 use texel_runtime::camera::{InputState, WalkCamera};
 use texel_runtime::extract::Viewport as ExtractViewport;
-use texel_scene::ProbeGridOverride;
 
 use crate::camera::{EditorCamera, FOV_Y_DEG, Projector};
+use crate::command::CommandError;
+use crate::history::MergeKey;
 use crate::state::EditorState;
 use debug::DebugState;
+use drag::Pointer;
 use gizmo::{Drag, Mode};
 use gpu::GpuView;
 use handles::FaceDrag;
@@ -72,6 +75,8 @@ pub struct Viewport {
     pub edit_stall_ms: f64,
     drag: Option<Drag>,
     face_drag: Option<FaceDrag>,
+    /// Whether the renderer was last given the grid (`None`: never told).
+    grid_lines: Option<bool>,
     grab_lost: bool,
     settle: u32,
     last: Option<(u64, EditorCamera, UVec2)>,
@@ -95,6 +100,7 @@ impl Default for Viewport {
             edit_stall_ms: 0.0,
             drag: None,
             face_drag: None,
+            grid_lines: None,
             grab_lost: false,
             settle: SETTLE_FRAMES,
             last: None,
@@ -140,8 +146,9 @@ impl Viewport {
         }
     }
 
-    /// Draws the viewport into the remaining space of `ui`.
-    pub fn show(&mut self, ui: &mut Ui, state: &mut EditorState) {
+    /// Draws the viewport into the remaining space of `ui`. A command of the gizmo or the
+    /// face handles that fails is returned, for the caller to show.
+    pub fn show(&mut self, ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
         let dt = self.clock.map_or(0.0, |c| c.elapsed().as_secs_f32());
         self.clock = Some(Instant::now());
         self.ui_frame_ms = dt * 1e3;
@@ -195,7 +202,19 @@ impl Viewport {
             self.settle = SETTLE_FRAMES;
             self.last = Some(key);
         }
+        // The ground grid is drawn by the renderer, hidden by the scene; not in Play.
+        let grid = !self.playing();
         if let Some(gpu) = &mut self.gpu {
+            if self.grid_lines != Some(grid) {
+                let lines = if grid {
+                    overlay::grid_lines()
+                } else {
+                    Vec::new()
+                };
+                gpu.set_lines(&lines);
+                self.grid_lines = Some(grid);
+                self.settle = SETTLE_FRAMES;
+            }
             let rendered = self.settle > 0;
             if rendered {
                 let t = Instant::now();
@@ -274,15 +293,15 @@ impl Viewport {
                 egui::FontId::proportional(14.0),
                 Color32::WHITE,
             );
-            return;
+            return Ok(());
         }
-        overlay::grid(&painter, &proj);
         overlay::markers(&painter, &proj, state.scene(), state.selection);
-        let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state);
-        let on_gizmo = !on_face && self.gizmo_ui(ui, &response, &painter, &proj, state);
+        let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;
+        let on_gizmo = !on_face && self.gizmo_ui(ui, &response, &painter, &proj, state)?;
         if response.clicked() && !on_gizmo && !on_face {
             self.select_at(&response, rect, size, state);
         }
+        Ok(())
     }
 
     fn handle_camera(&mut self, ui: &Ui, response: &egui::Response, dt: f32, typing: bool) {
@@ -368,56 +387,36 @@ impl Viewport {
         painter: &egui::Painter,
         proj: &Projector,
         state: &mut EditorState,
-    ) -> bool {
+    ) -> Result<bool, CommandError> {
         let Some((index, row)) = state.selected_row() else {
             self.face_drag = None;
-            return false;
+            return Ok(false);
         };
         let Some(volume) = row.probe_grid_override else {
             self.face_drag = None;
-            return false;
+            return Ok(false);
         };
         let t = row.transform.unwrap_or_default();
         let hs = handles::handles(proj, &t, &volume);
-        let pointer = response.interact_pointer_pos().or(response.hover_pos());
-        let hot = pointer.and_then(|p| handles::hit(&hs, p));
-        // A drag starts once the pointer has moved a few pixels: hit-test where it was pressed.
-        let pressed = ui.input(|i| i.pointer.press_origin());
-        if response.drag_started_by(PointerButton::Primary)
-            && let Some(face) = pressed.and_then(|p| handles::hit(&hs, p))
-        {
-            self.face_drag = Some(FaceDrag {
-                face,
-                start: t,
-                volume,
-                moved: egui::Vec2::ZERO,
-            });
+        let pointer = Pointer::read(ui, response);
+        let hit = |p| handles::hit(&hs, p);
+        let frame = drag::update(&mut self.face_drag, &pointer, hit, (t, volume));
+        handles::draw(painter, &hs, frame.highlight);
+        if let Some(d) = frame.dragged {
+            let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let (start, start_volume) = &d.start;
+            let moved = handles::outward(proj, &d);
+            let (t2, o2) = handles::resize(start, start_volume, d.handle, moved, snap);
+            let mut row = row;
+            row.transform = Some(t2);
+            row.probe_grid_override = Some(o2);
+            state.set_row(index, row, Some(MergeKey::Resize { index }))?;
         }
-        let mut used = hot.is_some();
-        if let Some(drag) = &mut self.face_drag {
-            used = true;
-            if response.dragged_by(PointerButton::Primary) {
-                // From where the button went down, so the drag threshold is not lost.
-                drag.moved = match (response.interact_pointer_pos(), pressed) {
-                    (Some(now), Some(from)) => now - from,
-                    _ => drag.moved + response.drag_delta(),
-                };
-                let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
-                let d = handles::outward(proj, drag);
-                let (t2, o2): (_, ProbeGridOverride) =
-                    handles::resize(&drag.start, &drag.volume, drag.face, d, snap);
-                let mut row = row.clone();
-                row.transform = Some(t2);
-                row.probe_grid_override = Some(o2);
-                state.set_row(index, row, Some(format!("resize{index}")));
-            } else {
-                self.face_drag = None;
-            }
-        }
-        handles::draw(painter, &hs, self.face_drag.map(|d| d.face).or(hot));
-        used
+        Ok(frame.used)
     }
 
+    /// The transform gizmo of the selected entity; true when the pointer is on a handle or
+    /// a gizmo drag is in progress.
     fn gizmo_ui(
         &mut self,
         ui: &Ui,
@@ -425,55 +424,32 @@ impl Viewport {
         painter: &egui::Painter,
         proj: &Projector,
         state: &mut EditorState,
-    ) -> bool {
+    ) -> Result<bool, CommandError> {
         let Some((index, row)) = state.selected_row() else {
             self.drag = None;
-            return false;
+            return Ok(false);
         };
         let Some(t) = row.transform else {
-            return false;
+            return Ok(false);
         };
         let eye = self.camera.eye;
         let Some((o, ends)) = gizmo::handles(proj, t.translation, eye) else {
-            return false;
+            return Ok(false);
         };
-        let pointer = response.interact_pointer_pos().or(response.hover_pos());
-        let hot = pointer.and_then(|p| gizmo::hit(o, ends, p));
-        let pressed = ui.input(|i| i.pointer.press_origin());
-        if response.drag_started_by(PointerButton::Primary)
-            && let Some(axis) = pressed.and_then(|p| gizmo::hit(o, ends, p))
-        {
-            self.drag = Some(Drag {
-                axis,
-                start: t,
-                moved: egui::Vec2::ZERO,
-            });
+        let pointer = Pointer::read(ui, response);
+        let hit = |p| gizmo::hit(o, ends, p);
+        let frame = drag::update(&mut self.drag, &pointer, hit, t);
+        gizmo::draw(painter, o, ends, self.gizmo, frame.highlight);
+        if let Some(d) = frame.dragged {
+            let world_len = gizmo::world_len(proj, d.start.translation, eye);
+            let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let (o0, ends0) = gizmo::handles(proj, d.start.translation, eye).unwrap_or((o, ends));
+            let next = gizmo::apply(&d, self.gizmo, o0, ends0[d.handle], world_len, snap);
+            let mut row = row;
+            row.transform = Some(next);
+            state.set_row(index, row, Some(MergeKey::Gizmo { index }))?;
         }
-        let mut used = hot.is_some();
-        if let Some(drag) = &mut self.drag {
-            used = true;
-            if response.dragged_by(PointerButton::Primary) {
-                drag.moved += response.drag_delta();
-                let world_len = gizmo::world_len(proj, drag.start.translation, eye);
-                let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
-                let (o0, ends0) =
-                    gizmo::handles(proj, drag.start.translation, eye).unwrap_or((o, ends));
-                let next = gizmo::apply(drag, self.gizmo, o0, ends0[drag.axis], world_len, snap);
-                let mut row = row.clone();
-                row.transform = Some(next);
-                state.set_row(index, row, Some(format!("gizmo{index}")));
-            } else {
-                self.drag = None;
-            }
-        }
-        gizmo::draw(
-            painter,
-            o,
-            ends,
-            self.gizmo,
-            self.drag.map(|d| d.axis).or(hot),
-        );
-        used
+        Ok(frame.used)
     }
 
     fn select_at(

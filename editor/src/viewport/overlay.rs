@@ -1,8 +1,10 @@
-//! What the viewport paints over the render with the egui painter: the ground grid, icons
-//! for lights and the player start, probe-grid override volumes as boxes, the selection.
+//! What the viewport draws over the scene: the ground grid (as lines the renderer draws,
+//! depth-tested), and with the egui painter icons for lights and the player start,
+//! probe-grid override volumes as boxes, the selection.
 
 use egui::{Color32, Painter, Pos2, Stroke};
 use glam::Vec3;
+use texel_render::passes::lines::LineVertex;
 use texel_scene::{DirectionalLight, PlayerStart, PointLight, ProbeGridOverride, Scene, Transform};
 
 use crate::camera::Projector;
@@ -17,22 +19,26 @@ pub fn segment(p: &Painter, proj: &Projector, a: Vec3, b: Vec3, stroke: Stroke) 
     }
 }
 
-/// The ground grid on y = 0, one line per world unit, split into short pieces so lines
-/// passing behind the camera still show their visible part.
-pub fn grid(p: &Painter, proj: &Projector) {
-    let faint = Stroke::new(1.0, Color32::from_white_alpha(28));
-    let axis_x = Stroke::new(1.5, Color32::from_rgba_unmultiplied(220, 60, 60, 120));
-    let axis_z = Stroke::new(1.5, Color32::from_rgba_unmultiplied(60, 90, 230, 120));
+/// The ground grid on y = 0, one line per world unit, with the X and Z axes coloured: line
+/// segments the renderer draws depth-tested into the frame (`Renderer::set_lines`), so the
+/// scene hides them.
+pub fn grid_lines() -> Vec<LineVertex> {
+    let faint = [255, 255, 255, 28];
+    let (axis_x, axis_z) = ([220, 60, 60, 120], [60, 90, 230, 120]);
+    let half = GRID_HALF as f32;
+    let mut out = Vec::with_capacity((GRID_HALF as usize * 2 + 1) * 4);
     for i in -GRID_HALF..=GRID_HALF {
         let f = i as f32;
-        for j in -GRID_HALF..GRID_HALF {
-            let (g0, g1) = (j as f32, j as f32 + 1.0);
-            let sx = if i == 0 { axis_x } else { faint };
-            let sz = if i == 0 { axis_z } else { faint };
-            segment(p, proj, Vec3::new(g0, 0.0, f), Vec3::new(g1, 0.0, f), sx);
-            segment(p, proj, Vec3::new(f, 0.0, g0), Vec3::new(f, 0.0, g1), sz);
-        }
+        let (sx, sz) = if i == 0 {
+            (axis_x, axis_z)
+        } else {
+            (faint, faint)
+        };
+        let v = |position, colour| LineVertex { position, colour };
+        out.extend([v([-half, 0.0, f], sx), v([half, 0.0, f], sx)]);
+        out.extend([v([f, 0.0, -half], sz), v([f, 0.0, half], sz)]);
     }
+    out
 }
 
 /// The 12 edges of an axis-aligned box.
@@ -94,4 +100,28 @@ fn label(p: &Painter, at: Pos2, text: &str, colour: Color32) {
         egui::FontId::proportional(14.0),
         colour,
     );
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn grid_lines_cover_the_ground_with_coloured_axes() {
+        let lines = grid_lines();
+        assert_eq!(lines.len(), 41 * 4);
+        assert!(lines.iter().all(|v| v.position[1] == 0.0));
+        let extent = lines
+            .iter()
+            .map(|v| v.position[0].abs().max(v.position[2].abs()))
+            .fold(0.0, f32::max);
+        assert_eq!(extent, GRID_HALF as f32);
+        // The lines through the origin are the coloured axes, drawn stronger.
+        let axes: Vec<_> = lines.iter().filter(|v| v.colour[3] == 120).collect();
+        assert_eq!(axes.len(), 4);
+        assert!(
+            axes.iter()
+                .all(|v| v.position[0] == 0.0 || v.position[2] == 0.0)
+        );
+    }
 }

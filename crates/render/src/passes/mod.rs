@@ -4,6 +4,7 @@
 pub mod background;
 pub mod capture;
 pub mod cull;
+pub mod lines;
 pub mod present;
 pub mod raster;
 pub mod runs;
@@ -168,15 +169,36 @@ pub(crate) fn pipeline_layout(
 
 /// The render pipeline of `spec`.
 pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wgpu::RenderPipeline {
+    let writes = vec![(None, wgpu::ColorWrites::ALL); spec.targets.len()];
+    pipeline_of(device, spec, &writes, wgpu::PrimitiveTopology::TriangleList)
+}
+
+/// The render pipeline of `spec` drawing line lists, with each colour target's blend and
+/// write mask (`writes[i]` for `spec.targets[i]`).
+pub(crate) fn line_pipeline(
+    device: &wgpu::Device,
+    spec: RenderSpec<'_>,
+    writes: &[(Option<wgpu::BlendState>, wgpu::ColorWrites)],
+) -> wgpu::RenderPipeline {
+    pipeline_of(device, spec, writes, wgpu::PrimitiveTopology::LineList)
+}
+
+fn pipeline_of(
+    device: &wgpu::Device,
+    spec: RenderSpec<'_>,
+    writes: &[(Option<wgpu::BlendState>, wgpu::ColorWrites)],
+    topology: wgpu::PrimitiveTopology,
+) -> wgpu::RenderPipeline {
     let layout = pipeline_layout(device, spec.owner, spec.layouts);
     let targets: Vec<Option<wgpu::ColorTargetState>> = spec
         .targets
         .iter()
-        .map(|&format| {
+        .zip(writes)
+        .map(|(&format, &(blend, write_mask))| {
             Some(wgpu::ColorTargetState {
                 format,
-                blend: None,
-                write_mask: wgpu::ColorWrites::ALL,
+                blend,
+                write_mask,
             })
         })
         .collect();
@@ -195,7 +217,10 @@ pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wg
             compilation_options: Default::default(),
             targets: &targets,
         }),
-        primitive: wgpu::PrimitiveState::default(),
+        primitive: wgpu::PrimitiveState {
+            topology,
+            ..Default::default()
+        },
         depth_stencil: spec
             .depth
             .map(|(format, write, compare)| wgpu::DepthStencilState {

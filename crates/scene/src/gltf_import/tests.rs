@@ -1,4 +1,10 @@
 //! Unit tests of the glTF importer's internals.
+
+use glam::Vec3;
+use gltf::mesh::Mode;
+
+use super::buffers::percent_decode;
+use super::geometry::{flat_shaded, triangle_list};
 use super::*;
 
 fn name() -> &'static Path {

@@ -1,0 +1,103 @@
+//! Buffers: the GLB binary chunk, `data:` URIs, or files next to the glTF.
+
+use std::borrow::Cow;
+use std::path::{Path, PathBuf};
+
+use gltf::Document;
+use gltf::buffer::Source;
+
+use super::GltfError;
+
+/// Loads every buffer: the GLB binary chunk (borrowed), `data:` URIs, or files next to the glTF.
+pub(super) fn load_buffers<'a>(
+    doc: &Document,
+    blob: Option<&'a [u8]>,
+    base_dir: Option<&Path>,
+    name: &Path,
+) -> Result<Vec<Cow<'a, [u8]>>, GltfError> {
+    doc.buffers()
+        .map(|buffer| {
+            let fail = |detail| GltfError::Buffer {
+                path: name.to_path_buf(),
+                index: buffer.index(),
+                detail,
+            };
+            let data = match buffer.source() {
+                Source::Bin => blob.map(Cow::Borrowed).ok_or_else(|| {
+                    "refers to the binary chunk of a .glb, but the file has none".to_string()
+                }),
+                Source::Uri(uri) => read_uri(uri, base_dir).map(Cow::Owned),
+            }
+            .map_err(fail)?;
+            if data.len() < buffer.length() {
+                return Err(fail(format!(
+                    "{} is truncated: {} bytes, but the glTF declares {}",
+                    source_label(buffer.source(), base_dir),
+                    data.len(),
+                    buffer.length()
+                )));
+            }
+            Ok(data)
+        })
+        .collect()
+}
+
+/// Reads a buffer URI: a `data:` URI, or a percent-encoded path relative to `base_dir`.
+pub(super) fn read_uri(uri: &str, base_dir: Option<&Path>) -> Result<Vec<u8>, String> {
+    if uri.starts_with("data:") {
+        return gltf::buffer::Data::from_source(Source::Uri(uri), None)
+            .map(|data| data.0)
+            .map_err(|e| format!("invalid data: URI: {e}"));
+    }
+    if uri.contains(':') {
+        return Err(format!(
+            "unsupported URI `{}` (only relative file paths and data: URIs are read)",
+            short(uri)
+        ));
+    }
+    let relative = percent_decode(uri)
+        .ok_or_else(|| format!("URI `{}` has invalid percent-encoding", short(uri)))?;
+    let base = base_dir.ok_or_else(|| {
+        format!("refers to external file `{relative}`, but no base directory was given")
+    })?;
+    let file = base.join(&relative);
+    std::fs::read(&file).map_err(|e| format!("cannot read `{}`: {e}", file.display()))
+}
+
+/// Where a buffer's bytes came from, for messages.
+pub(super) fn source_label(source: Source<'_>, base_dir: Option<&Path>) -> String {
+    match source {
+        Source::Bin => "the .glb binary chunk".into(),
+        Source::Uri(uri) if uri.starts_with("data:") => "its data: URI".into(),
+        Source::Uri(uri) => {
+            let relative = percent_decode(uri).unwrap_or_else(|| uri.to_string());
+            let file = base_dir.map_or_else(|| PathBuf::from(&relative), |b| b.join(&relative));
+            format!("`{}`", file.display())
+        }
+    }
+}
+
+/// Decodes `%XX` escapes; `None` for a bad escape or a result that is not UTF-8.
+pub(super) fn percent_decode(text: &str) -> Option<String> {
+    let mut out = Vec::with_capacity(text.len());
+    let mut bytes = text.bytes();
+    while let Some(b) = bytes.next() {
+        if b == b'%' {
+            let high = char::from(bytes.next()?).to_digit(16)?;
+            let low = char::from(bytes.next()?).to_digit(16)?;
+            out.push((high * 16 + low) as u8);
+        } else {
+            out.push(b);
+        }
+    }
+    String::from_utf8(out).ok()
+}
+
+/// The first 60 characters of `text`, for messages.
+pub(super) fn short(text: &str) -> String {
+    const MAX: usize = 60;
+    match text.char_indices().nth(MAX) {
+        Some((end, _)) => format!("{}...", &text[..end]),
+        None => text.to_string(),
+    }
+}

@@ -1,0 +1,40 @@
+//! Helpers shared by the editor's GPU tests and benches: a viewport renderer on a headless
+//! device, the `stone_circle` level and a camera looking at its first trilithon.
+
+use std::path::Path;
+use std::sync::Arc;
+
+use egui::mutex::RwLock;
+use glam::Vec3;
+use texel_editor::camera::EditorCamera;
+use texel_editor::viewport::gpu::{FORMAT, GpuView};
+use texel_render::context::GpuContext;
+use texel_runtime::load::{LoadedLevel, load_level};
+
+/// The viewport's renderer on `ctx`'s device, as eframe would hand it over.
+pub fn gpu_view(ctx: &GpuContext) -> GpuView {
+    let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, FORMAT, Default::default());
+    let rs = egui_wgpu::RenderState {
+        adapter: ctx.adapter.clone(),
+        available_adapters: vec![ctx.adapter.clone()],
+        instance: ctx.instance.clone(),
+        device: ctx.device.clone(),
+        queue: ctx.queue.clone(),
+        target_format: FORMAT,
+        renderer: Arc::new(RwLock::new(egui_renderer)),
+    };
+    GpuView::new(&rs).expect("renderer on the shared device")
+}
+
+/// The `stone_circle` level.
+pub fn stone_circle() -> LoadedLevel {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/stone_circle.ron");
+    load_level(&path).expect("stone_circle")
+}
+
+/// A camera looking at the first trilithon from 6 units away.
+pub fn camera() -> EditorCamera {
+    let mut camera = EditorCamera::default();
+    camera.focus(Vec3::new(1.206, 1.6, 5.946), 6.0);
+    camera
+}
