@@ -6,6 +6,7 @@
 use egui::{Color32, ColorImage, Painter, Stroke, TextureHandle, TextureOptions};
 use glam::Vec3;
 use texel_probes::grid::{GridCell, resolve_grid};
+use texel_probes::probe_set::Role;
 use texel_render::input::ProbeView;
 use texel_render::readback::FrameIds;
 use texel_runtime::extract::{Viewport as ExtractViewport, grid_settings};
@@ -178,8 +179,28 @@ impl DebugState {
             // readout in the corner says where they are relative to the eye.
             // Below the Play banner and the render error line.
             let mut line = proj.rect().left_top() + egui::vec2(8.0, 30.0);
+            // The grid probe's cell vertex: placement moves the probe off it when it would
+            // be blind there (inside a solid, on a surface).
+            let (defaults, overrides) = grid_settings(scene, viewport);
+            let vertex = resolve_grid(camera, &defaults, &overrides).map(|c| c.origin());
             for ((name, colour), v) in ORIGIN_COLOURS.iter().zip(views) {
                 let Some(v) = v else { continue };
+                if v.role == Role::Grid
+                    && let Ok(vertex) = vertex
+                    && (v.origin - vertex).length() > 1e-4
+                {
+                    let m = v.origin - vertex;
+                    let text = format!(
+                        "{name:<8} placed {:>5.2} {:>5.2} {:>5.2} from its cell centre",
+                        m.x, m.y, m.z
+                    );
+                    backed_text(painter, line, text, *colour);
+                    line.y += 15.0;
+                    if let (Some(a), Some(b)) = (proj.project(vertex), proj.project(v.origin)) {
+                        painter.line_segment([a, b], Stroke::new(1.5, *colour));
+                        painter.circle_stroke(a, 3.0, Stroke::new(1.0, *colour));
+                    }
+                }
                 let d = v.origin - camera;
                 backed_text(
                     painter,
