@@ -98,10 +98,24 @@ fn load_run(slot: u32, t: vec2<u32>, f: u32) -> u32 {
     }
 }
 
-// Half-size toward one neighbour, in texels: tight (grazing-scaled by the angle between the
-// surface and the probe ray, camera-independent) toward a similar one, a full texel otherwise.
-fn half_size(similar: bool, cos_theta: f32) -> f32 {
-    if !similar {
+// Half-size toward neighbour `k` (left, right, up, down) of a texel with neighbour `bits`
+// (two bits per side, k and 4 + k: see shade.wgsl), in texels. Toward a similar neighbour,
+// tight (grazing-scaled by the angle between the surface and the probe ray, camera-
+// independent). At a silhouette against farther geometry, exact: this texel occludes it, and
+// the farther quad reaches under this one. Against the sky, a little past the edge, since
+// nothing behind can fill a gap there. Toward a nearer surface, a full texel, reaching under
+// the occluder so no gap opens between them when the camera moves off the probe origin.
+const SKY_SILHOUETTE_HALF: f32 = 0.75;
+
+fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
+    let code = ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
+    if code == 2u {
+        return 0.5;
+    }
+    if code == 3u {
+        return SKY_SILHOUETTE_HALF;
+    }
+    if code == 0u {
         return 1.0;
     }
     let c = max(cos_theta, 0.14);
@@ -189,18 +203,19 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // run shares and its start; the last texel's give its end.
     let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
     let h = 2.0 / f32(s.n);
+    // Sides 0-3 are left, right, up, down: the run's end side comes from its last texel.
     var end_bits = bits;
     if column {
-        end_bits = (bits & 3u) | (last_bits & 8u);
+        end_bits = (bits & 0x33u) | (last_bits & 0x88u);
     } else {
-        end_bits = (bits & 12u) | (last_bits & 2u);
+        end_bits = (bits & 0xccu) | (last_bits & 0x22u);
     }
-    let start_half = half_size((bits & select(1u, 4u, column)) != 0u, cos_theta);
-    let end_half = half_size((end_bits & select(2u, 8u, column)) != 0u, cos_theta);
-    let left = uv.x - half_size((bits & 1u) != 0u, cos_theta) * h;
-    let right = uv_last.x + half_size((end_bits & 2u) != 0u, cos_theta) * h;
-    let top = uv.y - half_size((bits & 4u) != 0u, cos_theta) * h;
-    let bottom = uv_last.y + half_size((end_bits & 8u) != 0u, cos_theta) * h;
+    let start_half = half_size(bits, select(0u, 2u, column), cos_theta);
+    let end_half = half_size(end_bits, select(1u, 3u, column), cos_theta);
+    let left = uv.x - half_size(bits, 0u, cos_theta) * h;
+    let right = uv_last.x + half_size(end_bits, 1u, cos_theta) * h;
+    let top = uv.y - half_size(bits, 2u, cos_theta) * h;
+    let bottom = uv_last.y + half_size(end_bits, 3u, cos_theta) * h;
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;

@@ -54,10 +54,12 @@ fn joins(head: Texel, prev: Texel, next: Texel, n: u32, fore: u32, back: u32, si
     let prev_bits = u32(prev.lit.a);
     let next_bits = u32(next.lit.a);
     let tolerance = head.geo.w * (2.0 / f32(n)) * DEPTH_TOLERANCE;
+    // Across the run, its texels share both their similar and their silhouette bits.
+    let sides_all = sides | (sides << 4u);
     return head.id != 0u && next.id == head.id
         && all(next.lit.rgb == head.lit.rgb)
         && (prev_bits & fore) != 0u && (next_bits & back) != 0u
-        && (next_bits & sides) == (head_bits & sides)
+        && (next_bits & sides_all) == (head_bits & sides_all)
         && abs(next.geo.w - head.geo.w) <= tolerance
         && dot(next.geo.xyz, head.geo.xyz) >= 0.9999;
 }

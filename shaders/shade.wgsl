@@ -278,8 +278,16 @@ fn light_texel(t: vec2<u32>) {
     let tolerance = d * (2.0 / f32(n)) * 0.75;
     for (var k = 0u; k < 4u; k++) {
         let nb = neighbour(t, NEIGHBOURS[k]);
+        // Two bits per side (k and 4 + k), read by cull.wgsl `half_size`: 01 a similar
+        // neighbour; 10 a silhouette against farther geometry (this texel occludes it, so
+        // its quad ends at the edge and the farther quad reaches under it); 11 a silhouette
+        // against the sky; 00 a nearer surface, which this texel's quad reaches under.
         if nb.id == me.id && abs(nb.geo.w - d) <= tolerance {
             similar |= 1u << k;
+        } else if nb.id == 0u {
+            similar |= 17u << k;
+        } else if nb.geo.w > d {
+            similar |= 16u << k;
         }
         if (flags & FLAG_OUTLINED) == 0u {
             continue;
