@@ -32,6 +32,10 @@ struct VsOut {
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut {
+    return run_vertex(vi, ii);
+}
+
+fn run_vertex(vi: u32, ii: u32) -> VsOut {
     var out: VsOut;
     if ii >= arrayLength(&splats) {
         out.clip = vec4(0.0, 0.0, 2.0, 1.0);
@@ -58,6 +62,10 @@ fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut
 // One texel per quad: no run to decode and no `along`.
 @vertex
 fn vs_texel(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> TexelIn {
+    return texel_vertex(vi, ii);
+}
+
+fn texel_vertex(vi: u32, ii: u32) -> TexelIn {
     var out: TexelIn;
     if ii >= arrayLength(&splats) {
         out.clip = vec4(0.0, 0.0, 2.0, 1.0);
@@ -72,16 +80,19 @@ fn vs_texel(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) ->
     return out;
 }
 
+// World position of corner `vi` of splat `s`.
+fn corner_world(s: Splat, vi: u32) -> vec3<f32> {
+    switch vi {
+        case 0u: { return s.c0.xyz; }
+        case 1u: { return s.c1.xyz; }
+        case 2u: { return s.c2.xyz; }
+        default: { return s.c3.xyz; }
+    }
+}
+
 // Clip position of corner `vi` of splat `s`.
 fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
-    var corner: vec3<f32>;
-    switch vi {
-        case 0u: { corner = s.c0.xyz; }
-        case 1u: { corner = s.c1.xyz; }
-        case 2u: { corner = s.c2.xyz; }
-        default: { corner = s.c3.xyz; }
-    }
-    var clip = view.view_proj * vec4(corner, 1.0);
+    var clip = view.view_proj * vec4(corner_world(s, vi), 1.0);
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
     // depth and be resolved by draw order, which the cull pass's atomics leave unspecified;
     // a tiny per-texel offset makes the winner a function of the texel alone.
@@ -120,15 +131,62 @@ fn pixel_key(in: VsOut) -> u32 {
     return in.key + step * u32(clamp(floor(in.along), 0.0, last));
 }
 
-// Whether a crossfade hands this pixel of a `run`'s quad to the other stable probe: grid
-// and previous split the pixels with complementary Bayer patterns.
-fn faded_out(run: u32, pixel: vec2<f32>) -> bool {
+// During a crossfade the vertex stage also passes the quad's world point, so a pixel of
+// the previous probe can tell whether the grid probe has the face that would show it.
+struct FadeOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) @interpolate(flat) colour: vec3<f32>,
+    @location(1) @interpolate(flat) key: u32,
+    @location(2) @interpolate(flat) run: u32,
+    @location(3) along: f32,
+    @location(4) world: vec3<f32>,
+}
+
+fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
+    if ii >= arrayLength(&splats) {
+        return vec3(0.0);
+    }
+    return corner_world(splats[ii], vi);
+}
+
+@vertex
+fn vs_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
+    let v = run_vertex(vi, ii);
+    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, splat_world(vi, ii));
+}
+
+@vertex
+fn vs_texel_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
+    let v = texel_vertex(vi, ii);
+    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, splat_world(vi, ii));
+}
+
+// Whether the grid probe draws the face that would show world point `p`.
+fn grid_draws(p: vec3<f32>) -> bool {
+    for (var s = 1u; s < 3u; s++) {
+        let v = view.slots[s];
+        if v.role == ROLE_GRID {
+            return (v.draw_mask & (1u << cube_face_uv(p - v.origin).face)) != 0u;
+        }
+    }
+    return false;
+}
+
+// Whether a crossfade hands this pixel (at `pixel`, showing world point `p`) of a quad of
+// `run` to the other stable probe: grid and previous split the pixels with complementary
+// Bayer patterns, except where the grid probe has not captured the face that would show
+// `p` yet: there the previous probe keeps the pixel, so the fade need not wait for a whole
+// grid probe (`texel_probes::probe_set::PARTIAL_FADE_LIMIT`).
+fn faded_out(run: u32, pixel: vec2<f32>, p: vec3<f32>) -> bool {
     let role = run >> 9u;
     if role == ROLE_EYE {
         return false;
     }
     let grid_wins = bayer_threshold(vec2<u32>(pixel)) < view.fade_t;
-    return (role == ROLE_GRID) != grid_wins;
+    if role == ROLE_PREVIOUS {
+        return grid_wins && grid_draws(p);
+    }
+    return !grid_wins;
 }
 
 // Without a crossfade: no discard, so the depth test can run before the shader.
@@ -139,11 +197,12 @@ fn fs(in: VsOut) -> FsOut {
 
 // During a crossfade.
 @fragment
-fn fs_dither(in: VsOut) -> FsOut {
-    if faded_out(in.run, in.clip.xy) {
+fn fs_dither(in: FadeOut) -> FsOut {
+    if faded_out(in.run, in.clip.xy, in.world) {
         discard;
     }
-    return FsOut(vec4(in.colour, 1.0), pixel_key(in));
+    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
+    return FsOut(vec4(in.colour, 1.0), pixel_key(v));
 }
 
 // One texel per quad, without a crossfade.
@@ -154,8 +213,8 @@ fn fs_texel(in: TexelIn) -> FsOut {
 
 // One texel per quad, during a crossfade.
 @fragment
-fn fs_texel_dither(in: TexelIn) -> FsOut {
-    if faded_out(in.run, in.clip.xy) {
+fn fs_texel_dither(in: FadeOut) -> FsOut {
+    if faded_out(in.run, in.clip.xy, in.world) {
         discard;
     }
     return FsOut(vec4(in.colour, 1.0), in.key);

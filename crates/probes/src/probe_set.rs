@@ -190,6 +190,10 @@ pub struct Readiness {
     pub grid: bool,
     /// The previous probe is ready (or inactive).
     pub previous: bool,
+    /// The grid probe draws some of its visible faces (the renderer keeps the previous
+    /// probe's pixels where the grid's face is missing, so the fade may run short of its
+    /// end).
+    pub grid_partial: bool,
 }
 
 impl Readiness {
@@ -197,8 +201,23 @@ impl Readiness {
     pub const ALL: Readiness = Readiness {
         grid: true,
         previous: true,
+        grid_partial: true,
     };
+
+    /// Readiness of whole probes only (no partial grid).
+    pub const fn whole(grid: bool, previous: bool) -> Readiness {
+        Readiness {
+            grid,
+            previous,
+            grid_partial: grid,
+        }
+    }
 }
+
+/// Furthest a fade runs toward a grid probe that still misses visible faces: all but one
+/// Bayer level (the previous probe keeps every pixel on the missing faces anyway, and the
+/// fade ends only once the grid probe is whole).
+pub const PARTIAL_FADE_LIMIT: f32 = 15.0 / 16.0;
 
 /// Which way a running crossfade moves.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -294,7 +313,7 @@ impl ProbeSet {
             return false;
         }
         match fade.direction {
-            FadeDirection::TowardGrid => self.fade_forward(fade, step, ready.grid),
+            FadeDirection::TowardGrid => self.fade_forward(fade, step, ready),
             FadeDirection::TowardPrevious => self.fade_backward(fade, step, ready.previous),
         }
     }
@@ -465,9 +484,11 @@ impl ProbeSet {
         (rate * self.frame_dt).min(c.max_step())
     }
 
-    fn fade_forward(&mut self, mut fade: Fade, step: f32, ready: bool) -> bool {
-        if ready {
+    fn fade_forward(&mut self, mut fade: Fade, step: f32, ready: Readiness) -> bool {
+        if ready.grid {
             fade.t = (fade.t + step).min(1.0);
+        } else if ready.grid_partial && fade.t < PARTIAL_FADE_LIMIT {
+            fade.t = (fade.t + step).min(PARTIAL_FADE_LIMIT);
         }
         if fade.t >= 1.0 {
             self.fade = None;

@@ -140,6 +140,7 @@ impl UpdatePlan {
         Readiness {
             grid: self.grid.missing.is_empty(),
             previous: self.previous.is_none_or(|p| p.missing.is_empty()),
+            grid_partial: !self.grid.draw.is_empty(),
         }
     }
 }

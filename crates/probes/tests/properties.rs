@@ -224,7 +224,7 @@ proptest! {
             let fading_before = set.previous_active();
             let direction = set.fade_direction();
             let t0 = set.fade_t();
-            set.advance_fade(Readiness { grid: grid_ready, previous: previous_ready });
+            set.advance_fade(Readiness::whole(grid_ready, previous_ready));
             let t1 = set.fade_t();
             prop_assert!((0.0..=1.0).contains(&t1));
             let after = owners(&set);

@@ -137,10 +137,7 @@ fn smoothing_follows_tau() {
 #[test]
 fn fade_waits_for_a_ready_grid() {
     let mut set = set_at(0);
-    let not_ready = Readiness {
-        grid: false,
-        previous: true,
-    };
+    let not_ready = Readiness::whole(false, true);
     set.update(EDGE, key(1), DT, not_ready);
     for _ in 0..10 {
         set.update(EDGE, key(1), DT, not_ready);
@@ -148,6 +145,30 @@ fn fade_waits_for_a_ready_grid() {
     assert_eq!(set.fade_t(), 0.0);
     set.update(EDGE, key(1), DT, Readiness::ALL);
     assert!(set.fade_t() > 0.0);
+}
+
+#[test]
+fn a_partly_captured_grid_fades_short_of_the_end() {
+    let mut set = set_at(0);
+    let partial = Readiness {
+        grid: false,
+        previous: true,
+        grid_partial: true,
+    };
+    for _ in 0..60 {
+        set.update(EDGE, key(1), DT, partial);
+    }
+    assert_eq!(
+        set.fade_t(),
+        PARTIAL_FADE_LIMIT,
+        "runs to the limit and holds"
+    );
+    assert!(
+        set.previous_active(),
+        "the previous probe keeps the missing faces"
+    );
+    set.update(EDGE, key(1), DT, Readiness::ALL);
+    assert!(set.fade_t() > PARTIAL_FADE_LIMIT || !set.previous_active());
 }
 
 #[test]
@@ -205,10 +226,7 @@ fn third_cell_waits_for_the_running_fade() {
 #[test]
 fn third_cell_retargets_an_invisible_grid() {
     let mut set = set_at(0);
-    let not_ready = Readiness {
-        grid: false,
-        previous: true,
-    };
+    let not_ready = Readiness::whole(false, true);
     set.update(EDGE, key(1), DT, not_ready);
     let slot = set.grid().slot;
     let before = owners(&set);

@@ -148,7 +148,12 @@ fn crossing_spreads_the_new_grid_over_frames() {
 
     let mut frames = 1;
     while !rig.frame(crossed, 1, yaw, fov).readiness().grid {
-        assert_eq!(rig.probes.fade_t(), 0.0, "the fade waits for the grid");
+        // A part-captured grid fades in where it has faces, never to the end.
+        assert!(rig.probes.fade_t() <= crate::probe_set::PARTIAL_FADE_LIMIT);
+        assert!(
+            rig.probes.previous_active(),
+            "the fade waits for the whole grid"
+        );
         frames += 1;
         assert!(frames < 10);
     }

@@ -50,9 +50,12 @@ impl SplatPass {
         let pipelines = [
             [
                 pipeline_for("vs_texel", "fs_texel"),
-                pipeline_for("vs_texel", "fs_texel_dither"),
+                pipeline_for("vs_texel_fade", "fs_texel_dither"),
             ],
-            [pipeline_for("vs", "fs"), pipeline_for("vs", "fs_dither")],
+            [
+                pipeline_for("vs", "fs"),
+                pipeline_for("vs_fade", "fs_dither"),
+            ],
         ];
         let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
             label: Some("splat::indices"),
