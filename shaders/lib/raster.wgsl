@@ -29,6 +29,15 @@ fn raster_vertex(v: SceneVertex, view_proj: mat4x4<f32>) -> VsOut {
 }
 
 // Albedo × vertex colour (rgb) and the object flags (a, as flags / 255).
+//
+// The interpolated vertex colour is snapped back to the 8 bits it was stored in: even a
+// constant colour does not interpolate exactly (the barycentrics sum to 1 within an ulp, and
+// the error is the same along a cube face's raster row, where a floor's depth is), so
+// without the snap the 8-bit albedo target rounds an albedo on a code midpoint — 0.5 × 255 =
+// 127.5, as for every odd tenth — one way on some rows and the other way on the rest, and
+// posterization can make that one code a whole band: long one-texel streaks (issue 17).
+// Snapped, a surface of one colour stores one albedo wherever it is seen from.
 fn surface_albedo(obj: Object, colour: vec4<f32>) -> vec4<f32> {
-    return vec4(obj.albedo * colour.rgb, f32(obj.flags) / 255.0);
+    let c = round(colour.rgb * 255.0) / 255.0;
+    return vec4(obj.albedo * c, f32(obj.flags) / 255.0);
 }
