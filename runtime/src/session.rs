@@ -157,6 +157,11 @@ impl Session {
         self.driver.start_camera()
     }
 
+    /// The scene the renderer holds.
+    pub fn scene(&self) -> &texel_render::input::SceneInput {
+        &self.level.scene
+    }
+
     /// The renderer (picking, read-backs, debug data of the last frame).
     pub fn renderer(&self) -> &Renderer {
         &self.renderer

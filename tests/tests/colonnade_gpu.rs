@@ -13,7 +13,7 @@ fn colonnade_golden_images_from_the_start_and_a_low_camera() {
         return;
     };
     let cameras = [
-        ("colonnade_start", h.driver.start_camera()),
+        ("colonnade_start", h.session.start_camera()),
         (
             "colonnade_low",
             Camera::from_yaw_pitch(Vec3::new(-1.0, 2.5, -4.0), 200.0, -20.0),

@@ -84,7 +84,7 @@ fn a_flat_floor_in_shadow_has_one_colour_per_band_from_every_camera() {
     let Some(mut h) = Harness::new(LEVEL, size, N) else {
         return;
     };
-    let scene = h.driver.scene_input().clone();
+    let scene = h.session.scene().clone();
     let casters: Vec<BvhTriangle> = scene
         .objects
         .iter()
@@ -124,7 +124,7 @@ fn a_flat_floor_in_shadow_has_one_colour_per_band_from_every_camera() {
             input = Some(h.frame(camera, 1.0 / 30.0).0);
         }
         let input = input.expect("frames");
-        let slot = h.renderer.probes().slot(input.grid.slot);
+        let slot = h.renderer().probes().slot(input.grid.slot);
         let origin = input.grid.origin;
         let (mut shadowed, mut lit) = (Census::new(), Census::new());
         for face in input.grid.valid.iter() {
