@@ -53,7 +53,7 @@ fn run_vertex(vi: u32, ii: u32) -> VsOut {
     // Texel coordinate along the run: the first texel's centre is 0.5, the last's
     // texels − 0.5. Corners 0–3 are top-left, top-right, bottom-right, bottom-left: a row
     // run starts on the left (0, 3), a column run at the top (0, 1).
-    let reach = unpack2x16unorm(bitcast<u32>(s.c3.w));
+    let reach = 2.0 * unpack2x16unorm(bitcast<u32>(s.c3.w));
     let at_start = select(vi == 0u || vi == 3u, vi <= 1u, column);
     out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
     return out;

@@ -207,7 +207,16 @@ impl FrameDriver {
         dt: f32,
         schedule: Schedule,
     ) -> Result<FrameInput, DriverError> {
-        let choice = self.resolve(camera.position)?;
+        let choice = match camera.ortho_height {
+            Some(h) => {
+                let n = self.defaults.face_resolution;
+                let probe = ortho_probe(&camera, h, n);
+                let mut c = self.resolve(probe.anchor)?;
+                c.key.face_resolution = probe.face_resolution;
+                c
+            }
+            None => self.resolve(camera.position)?,
+        };
         self.track_velocity(camera.position, dt);
         let event = match &mut self.probes {
             Some(p) => p.begin_frame(camera.position, choice.key, dt),
@@ -233,7 +242,8 @@ impl FrameDriver {
         };
         let frustum = frustum(&view).map_err(|e| DriverError::View(e.to_string()))?;
         let mut plan = self.scheduler.plan(&frustum, probes, 0);
-        if schedule == Schedule::Ours {
+        // An orthographic camera's probe holds still while it pans: nothing to prefetch.
+        if schedule == Schedule::Ours && camera.ortho_height.is_none() {
             let ahead = camera.position + self.velocity * PREFETCH_LOOKAHEAD_S;
             let next = (self.placements)
                 .resolve(ahead, &self.defaults, &self.overrides, &self.level.rays)
@@ -251,14 +261,24 @@ impl FrameDriver {
             widen_to_reference(&mut plan, camera.forward);
             plan.work = self.paper_work(&plan, event);
         }
+        if camera.ortho_height.is_some() {
+            // The eye probe fills the rare gaps (slivers the far probe sees past at its few
+            // degrees of parallax) at the level's resolution.
+            let n = self.defaults.face_resolution;
+            plan.eye.probe.face_resolution = n;
+            for w in plan.work.iter_mut().filter(|w| w.role == Role::Eye) {
+                w.face_resolution = n;
+            }
+        }
         let captures: Vec<CaptureInput> = plan.work.iter().map(capture_of).collect();
         self.scheduler.commit(&plan);
         let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
         let n = plan.grid.probe.face_resolution;
+        let internal = internal_size(self.size, n, camera.fov_y);
         let input = FrameInput {
-            camera,
+            camera: pixel_snapped(camera, internal),
             size: self.size,
-            internal_size: internal_size(self.size, n, camera.fov_y),
+            internal_size: internal,
             look: self.level.look,
             eye: view(&plan.eye),
             grid: view(&plan.grid),
@@ -335,6 +355,61 @@ impl FrameDriver {
             }
         }
         out
+    }
+}
+
+/// Texels per face edge of the probe that serves an orthographic camera.
+pub const ORTHO_FACE_RESOLUTION: u32 = 1024;
+/// How far (world units, in the view plane and along the view) an orthographic camera pans
+/// before its probe moves.
+pub const ORTHO_PAN_STEP: f32 = 64.0;
+
+/// Where the probe of an orthographic camera sits, and its resolution.
+struct OrthoProbe {
+    anchor: Vec3,
+    face_resolution: u32,
+}
+
+/// An orthographic camera sees along parallel rays, so the probe that serves it belongs far
+/// back along the view direction: from there its texels meet the scene almost along the
+/// view rays, so they stay put on screen as the camera pans (no parallax between texels, no
+/// gaps). It sits where a texel at the scene is one art pixel of the level's size (the size
+/// the naive and snap methods draw: `level_face_resolution · tan(fov_y / 2)` art pixels per
+/// view height), `ORTHO_FACE_RESOLUTION / 2` such texels behind the camera, and it moves only
+/// when the camera has panned `ORTHO_PAN_STEP`, so a pan draws from one probe throughout.
+fn ortho_probe(camera: &Camera, ortho_height: f32, level_face_resolution: u32) -> OrthoProbe {
+    let art_pixels = (level_face_resolution as f32 * (camera.fov_y * 0.5).tan()).max(1.0);
+    let texel = ortho_height / art_pixels;
+    let n = ORTHO_FACE_RESOLUTION;
+    let distance = (texel * n as f32 * 0.5).min(0.6 * CAPTURE_FAR);
+    let f = camera.forward.normalize();
+    let r = f.cross(camera.up()).normalize();
+    let u = r.cross(f);
+    let step = |v: f32| (v / ORTHO_PAN_STEP).round() * ORTHO_PAN_STEP;
+    let p = camera.position;
+    let held = r * step(p.dot(r)) + u * step(p.dot(u)) + f * step(p.dot(f));
+    OrthoProbe {
+        anchor: held - f * distance,
+        face_resolution: n,
+    }
+}
+
+/// An orthographic camera moved in its view plane to the nearest whole internal pixel: a pan
+/// then moves every quad by whole pixels, so nothing is resampled (the probe's texels stand
+/// still in the world). A perspective camera is returned as it is.
+fn pixel_snapped(camera: Camera, internal: UVec2) -> Camera {
+    let Some(h) = camera.ortho_height else {
+        return camera;
+    };
+    let pixel = h / internal.y.max(1) as f32;
+    let f = camera.forward.normalize();
+    let r = f.cross(camera.up()).normalize();
+    let u = r.cross(f);
+    let p = camera.position;
+    let snap = |v: f32| (v / pixel).round() * pixel;
+    Camera {
+        position: p + r * (snap(p.dot(r)) - p.dot(r)) + u * (snap(p.dot(u)) - p.dot(u)),
+        ..camera
     }
 }
 
