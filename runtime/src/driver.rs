@@ -364,6 +364,10 @@ pub const ORTHO_FACE_RESOLUTION: u32 = 1024;
 /// before its probe moves.
 pub const ORTHO_PAN_STEP: f32 = 64.0;
 
+/// The view-direction steps (yaw and pitch, degrees) at which an orthographic camera's
+/// probe turns with it.
+pub const ORTHO_TURN_STEP_DEG: f32 = 5.0;
+
 /// Where the probe of an orthographic camera sits, and its resolution.
 struct OrthoProbe {
     anchor: Vec3,
@@ -376,14 +380,26 @@ struct OrthoProbe {
 /// gaps). It sits where a texel at the scene is one art pixel of the level's size (the size
 /// the naive and snap methods draw: `level_face_resolution · tan(fov_y / 2)` art pixels per
 /// view height), `ORTHO_FACE_RESOLUTION / 2` such texels behind the camera, and it moves only
-/// when the camera has panned `ORTHO_PAN_STEP`, so a pan draws from one probe throughout.
+/// when the camera has panned `ORTHO_PAN_STEP` or turned `ORTHO_TURN_STEP_DEG`, so a pan
+/// draws from one probe throughout.
 fn ortho_probe(camera: &Camera, ortho_height: f32, level_face_resolution: u32) -> OrthoProbe {
     let art_pixels = (level_face_resolution as f32 * (camera.fov_y * 0.5).tan()).max(1.0);
     let texel = ortho_height / art_pixels;
     let n = ORTHO_FACE_RESOLUTION;
     let distance = (texel * n as f32 * 0.5).min(0.6 * CAPTURE_FAR);
-    let f = camera.forward.normalize();
-    let r = f.cross(camera.up()).normalize();
+    // The probe looks along the view direction rounded to ORTHO_TURN_STEP_DEG of yaw and
+    // pitch, so a turning camera keeps its probe for a while too.
+    let d = camera.forward.normalize();
+    let turn = ORTHO_TURN_STEP_DEG.to_radians();
+    let yaw = ((-d.x).atan2(-d.z) / turn).round() * turn;
+    let pitch = (d.y.clamp(-1.0, 1.0).asin() / turn).round() * turn;
+    let f = Vec3::new(
+        -yaw.sin() * pitch.cos(),
+        pitch.sin(),
+        -yaw.cos() * pitch.cos(),
+    );
+    let up = if f.y.abs() > 0.999 { Vec3::Z } else { Vec3::Y };
+    let r = f.cross(up).normalize();
     let u = r.cross(f);
     let step = |v: f32| (v / ORTHO_PAN_STEP).round() * ORTHO_PAN_STEP;
     let p = camera.position;

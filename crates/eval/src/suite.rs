@@ -61,7 +61,7 @@ pub struct RunPlan {
 }
 
 /// Which paths the suite flies on which bundled level.
-pub const SUITE_PATHS: [(&str, &str); 9] = [
+pub const SUITE_PATHS: [(&str, &str); 12] = [
     ("stone_circle", "yaw"),
     ("stone_circle", "strafe_in_cell"),
     ("stone_circle", "walk_cells"),
@@ -69,8 +69,11 @@ pub const SUITE_PATHS: [(&str, &str); 9] = [
     ("stone_circle", "dolly"),
     ("stone_circle", "orbit"),
     ("stone_circle", "ortho_pan"),
+    ("stone_circle", "iso_orbit"),
+    ("stone_circle", "low_orbit"),
     ("colonnade", "wall_graze"),
     ("colonnade", "occluder_pass"),
+    ("colonnade", "wall_brush"),
 ];
 
 /// The suite: every bundled path on its level, every method, at `face_res` and `size`.
@@ -235,9 +238,9 @@ mod tests {
             let path = load_path(&p.path).expect("path loads");
             assert!((20..=60).contains(&path.frames), "{}", p.path.display());
         }
-        // 9 paths × (1 method × 1 resolution + the reference) × their frames.
+        // 12 paths × (1 method × 1 resolution + the reference) × their frames.
         let total = total_frames(&plans).expect("loads");
-        assert!(total > 9 * 2 * 20, "{total}");
+        assert!(total > 12 * 2 * 20, "{total}");
     }
 
     #[test]
