@@ -28,7 +28,7 @@ use texel_probes::visibility::{
 };
 use texel_render::input::{
     Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
-    SceneInput, Schedule, SunInput, internal_size,
+    SceneInput, Schedule, SunInput, internal_size, view_up,
 };
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::{
@@ -398,8 +398,7 @@ fn ortho_probe(camera: &Camera, ortho_height: f32, level_face_resolution: u32) -
         pitch.sin(),
         -yaw.cos() * pitch.cos(),
     );
-    let up = if f.y.abs() > 0.999 { Vec3::Z } else { Vec3::Y };
-    let r = f.cross(up).normalize();
+    let r = f.cross(view_up(f)).normalize();
     let u = r.cross(f);
     let step = |v: f32| (v / ORTHO_PAN_STEP).round() * ORTHO_PAN_STEP;
     let p = camera.position;

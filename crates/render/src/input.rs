@@ -104,13 +104,9 @@ impl Camera {
         Self::looking(position, forward)
     }
 
-    /// The up vector of the view: world +Y, or +Z when looking (nearly) straight up or down.
+    /// The up vector of the view ([`view_up`] of its direction).
     pub fn up(&self) -> Vec3 {
-        if self.forward.y.abs() > 0.999 {
-            Vec3::Z
-        } else {
-            Vec3::Y
-        }
+        view_up(self.forward)
     }
 
     /// World → view matrix (right-handed, [`Camera::up`] up).
@@ -129,6 +125,16 @@ impl Camera {
             }
             None => directx::perspective(self.fov_y, aspect, self.near, self.far),
         }
+    }
+}
+
+/// The up vector of a view along the unit `forward`: world +Y, or +Z when looking (nearly)
+/// straight up or down.
+pub fn view_up(forward: Vec3) -> Vec3 {
+    if forward.y.abs() > 0.999 {
+        Vec3::Z
+    } else {
+        Vec3::Y
     }
 }
 
