@@ -5,6 +5,7 @@ use std::process::ExitCode;
 
 use clap::{Parser, Subcommand};
 use texel_scene::Level;
+use texel_scene::read::{FileKind, read_bounded_string};
 
 use crate::load::load_level;
 
@@ -143,7 +144,7 @@ fn fmt(paths: &[PathBuf], check_only: bool) -> ExitCode {
         let result = (|| {
             let level = Level::load(path)?;
             let canonical = level.to_ron_string(path)?;
-            let current = std::fs::read_to_string(path).unwrap_or_default();
+            let current = read_bounded_string(path, FileKind::Level).unwrap_or_default();
             if canonical == current {
                 return Ok(false);
             }
@@ -192,46 +193,94 @@ fn render(args: &RenderArgs) -> ExitCode {
 }
 
 fn render_inner(args: &RenderArgs) -> anyhow::Result<crate::headless::RunRecord> {
-    use crate::path::{CameraPath, Keyframe};
+    use crate::path::CameraPath;
     use texel_render::input::Schedule;
-    let (w, h) = crate::play::parse_size(&args.size).map_err(anyhow::Error::msg)?;
+    // Every number is checked here, before the level is loaded or anything is created on the
+    // GPU (the device's own limits are checked by `headless::render` once it has one).
+    let (w, h) = crate::play::parse_size(&args.size).map_err(|e| anyhow::anyhow!("--size: {e}"))?;
     let schedule = match args.schedule.as_str() {
         "ours" => Schedule::Ours,
         "paper" => Schedule::Paper,
         other => anyhow::bail!("--schedule must be `ours` or `paper`, got `{other}`"),
     };
+    let frames = args.frames.map(check_frames).transpose()?;
+    let fov = check_fov(args.fov)?;
+    if let Some(n) = args.face_res {
+        check_face_res(n)?;
+    }
     let mut path = match (&args.camera, &args.path) {
-        (Some(c), _) => {
-            let v: Vec<f32> = c
-                .split(',')
-                .map(|x| x.trim().parse::<f32>())
-                .collect::<Result<_, _>>()
-                .map_err(|e| anyhow::anyhow!("--camera x,y,z,yaw,pitch: {e}"))?;
-            let [x, y, z, yaw, pitch] = v[..] else {
-                anyhow::bail!("--camera takes five numbers: x,y,z,yaw,pitch");
-            };
-            Some(CameraPath::still(
-                Keyframe {
-                    position: (x, y, z),
-                    yaw,
-                    pitch,
-                },
-                1,
-            ))
-        }
+        (Some(c), _) => Some(CameraPath::still(parse_camera(c)?, 1)),
         (None, Some(p)) => Some(CameraPath::load(p)?),
         (None, None) => None,
     };
-    if let (Some(n), Some(p)) = (args.frames, path.as_mut()) {
+    if let (Some(n), Some(p)) = (frames, path.as_mut()) {
         p.frames = n;
     }
     let opts = crate::headless::RenderOptions {
         size: glam::UVec2::new(w, h),
-        fov_y: args.fov.clamp(1.0, 170.0).to_radians(),
+        fov_y: fov.to_radians(),
         face_res: args.face_res,
         schedule,
         out: args.out.clone(),
         all_frames: args.all_frames,
+        frames,
     };
     crate::headless::render(&args.level, path.as_ref(), &opts)
+}
+
+/// `--frames`: 1..=[`crate::path::MAX_FRAMES`], the range a camera path's `frames` has.
+pub fn check_frames(n: u32) -> anyhow::Result<u32> {
+    use crate::path::MAX_FRAMES;
+    if (1..=MAX_FRAMES).contains(&n) {
+        Ok(n)
+    } else {
+        anyhow::bail!("--frames must be 1..={MAX_FRAMES}, got {n}")
+    }
+}
+
+/// `--fov`: finite and strictly between 1 and 170 degrees, as a camera path's perspective.
+pub fn check_fov(deg: f32) -> anyhow::Result<f32> {
+    if deg.is_finite() && deg > 1.0 && deg < 170.0 {
+        Ok(deg)
+    } else {
+        anyhow::bail!("--fov must be a field of view in (1, 170) degrees, got {deg}")
+    }
+}
+
+/// `--face-res`: within the engine's face resolutions.
+pub fn check_face_res(n: u32) -> anyhow::Result<u32> {
+    use texel_scene::limits::{FACE_RESOLUTIONS, face_resolution_error};
+    if FACE_RESOLUTIONS.contains(&n) {
+        Ok(n)
+    } else {
+        anyhow::bail!(
+            "--face-res: {}",
+            face_resolution_error("face resolution", n)
+        )
+    }
+}
+
+/// `--camera x,y,z,yaw,pitch`: five numbers checked as a level's (finite coordinates within
+/// the level limit, pitch within ±89 degrees).
+pub fn parse_camera(text: &str) -> anyhow::Result<crate::path::Keyframe> {
+    use texel_scene::num::{check_coord, check_pitch};
+    let v: Vec<f32> = text
+        .split(',')
+        .map(|x| x.trim().parse::<f32>())
+        .collect::<Result<_, _>>()
+        .map_err(|e| anyhow::anyhow!("--camera x,y,z,yaw,pitch: {e}"))?;
+    let [x, y, z, yaw, pitch] = v[..] else {
+        anyhow::bail!("--camera takes five numbers: x,y,z,yaw,pitch");
+    };
+    let named =
+        |what: &str, r: Result<f32, String>| r.map_err(|e| anyhow::anyhow!("--camera {what}: {e}"));
+    Ok(crate::path::Keyframe {
+        position: (
+            named("x", check_coord(x))?,
+            named("y", check_coord(y))?,
+            named("z", check_coord(z))?,
+        ),
+        yaw: named("yaw", check_coord(yaw))?,
+        pitch: named("pitch", check_pitch(pitch))?,
+    })
 }

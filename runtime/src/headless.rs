@@ -29,6 +29,8 @@ pub struct RenderOptions {
     pub out: PathBuf,
     /// Write a PNG for every frame (else only the last).
     pub all_frames: bool,
+    /// Frames to render from the player start when no path is given (None: 1).
+    pub frames: Option<u32>,
 }
 
 /// One frame of `stats.json`.
@@ -85,6 +87,9 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
     std::fs::create_dir_all(&opts.out)
         .with_context(|| format!("creating {}", opts.out.display()))?;
     let ctx = GpuContext::headless()?;
+    // Before any target of this size exists: the device may allow less than the renderer.
+    texel_render::validate::device_output(&ctx.device.limits(), opts.size)
+        .map_err(|e| anyhow!("--size: {e}"))?;
     let mut session = Session::headless(&ctx, &loaded, opts.size, opts.fov_y)?;
     let default_path;
     let path = match path {
@@ -98,7 +103,7 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
                     yaw,
                     pitch,
                 },
-                1,
+                opts.frames.unwrap_or(1),
             );
             &default_path
         }

@@ -3,6 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use texel_scene::assets::{AssetError, MeshLibrary, load_meshes};
+use texel_scene::read::{FileKind, read_bounded_string};
 use texel_scene::{Level, LevelError, Scene};
 
 /// A level with its meshes, ready to play.
@@ -33,7 +34,7 @@ pub fn load_level(path: &Path) -> Result<LoadedLevel, LoadError> {
         Ok(m) => m,
         // Only then is the text read again, to point the error at the line naming the mesh.
         Err(_) => {
-            let text = std::fs::read_to_string(path).ok();
+            let text = read_bounded_string(path, FileKind::Level).ok();
             load_meshes(&level, path, text.as_deref())?
         }
     };

@@ -83,12 +83,18 @@ fn default_dt() -> f32 {
     1.0 / 30.0
 }
 
+/// Most frames a path (or `texel-run render --frames`) may ask for.
+pub const MAX_FRAMES: u32 = 100_000;
+
 /// A path that cannot be used.
 #[derive(Debug, thiserror::Error)]
 pub enum PathError {
     /// Unreadable file.
     #[error("{0}: {1}")]
     Io(String, std::io::Error),
+    /// Not a regular file, or larger than a camera path may be (`TEXEL_MAX_PATH_BYTES`).
+    #[error(transparent)]
+    Read(texel_scene::read::ReadError),
     /// Bad RON.
     #[error("{0}:{1}")]
     Parse(String, ron::error::SpannedError),
@@ -101,7 +107,11 @@ impl CameraPath {
     /// Reads and checks a path file.
     pub fn load(path: &Path) -> Result<Self, PathError> {
         let name = path.display().to_string();
-        let text = std::fs::read_to_string(path).map_err(|e| PathError::Io(name.clone(), e))?;
+        use texel_scene::read::{FileKind, ReadError, read_bounded_string};
+        let text = read_bounded_string(path, FileKind::CameraPath).map_err(|e| match e {
+            ReadError::Io { source, .. } => PathError::Io(name.clone(), source),
+            other => PathError::Read(other),
+        })?;
         let p: CameraPath = ron::from_str(&text).map_err(|e| PathError::Parse(name.clone(), e))?;
         p.check().map_err(|m| PathError::Invalid(name, m))?;
         Ok(p)
@@ -122,8 +132,11 @@ impl CameraPath {
         if self.keyframes.is_empty() {
             return Err("a path needs at least one keyframe".into());
         }
-        if self.frames == 0 || self.frames > 100_000 {
-            return Err(format!("frames must be 1..=100000, got {}", self.frames));
+        if self.frames == 0 || self.frames > MAX_FRAMES {
+            return Err(format!(
+                "frames must be 1..={MAX_FRAMES}, got {}",
+                self.frames
+            ));
         }
         if !(self.dt.is_finite() && self.dt > 0.0 && self.dt <= 1.0) {
             return Err(format!("dt must be in (0, 1] seconds, got {}", self.dt));

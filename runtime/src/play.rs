@@ -52,17 +52,23 @@ impl Default for PlayOptions {
     }
 }
 
-/// Parses a window size written `WIDTHxHEIGHT` (e.g. `1280x720`); both sides 1..=16384.
+/// Parses a size written `WIDTHxHEIGHT` (e.g. `1280x720`); both sides within
+/// 1..=[`texel_render::validate::MAX_OUTPUT_SIDE`] (the device may allow less: see
+/// `texel_render::validate::device_output`).
 pub fn parse_size(text: &str) -> Result<(u32, u32), String> {
+    use texel_render::validate::MAX_OUTPUT_SIDE;
     let bad = || format!("invalid size `{text}`: expected WIDTHxHEIGHT, e.g. 1280x720");
     let (w, h) = text.trim().split_once(['x', 'X']).ok_or_else(bad)?;
-    let side = |s: &str| {
-        s.trim()
-            .parse::<u32>()
-            .ok()
-            .filter(|v| (1..=16384).contains(v))
-    };
-    Ok((side(w).ok_or_else(bad)?, side(h).ok_or_else(bad)?))
+    let side = |s: &str| s.trim().parse::<u64>().map_err(|_| bad());
+    let (w, h) = (side(w)?, side(h)?);
+    let range = 1..=u64::from(MAX_OUTPUT_SIDE);
+    if !range.contains(&w) || !range.contains(&h) {
+        return Err(format!(
+            "size {w}x{h} is out of range: each side must be 1..={MAX_OUTPUT_SIDE} (the \
+             renderer's limit)"
+        ));
+    }
+    Ok((w as u32, h as u32))
 }
 
 /// Opens a window on `level_path` and plays it until the window closes (or, with

@@ -105,10 +105,7 @@ pub fn main() -> Result<()> {
             execute(&plans, &common, command_line)
         }
         Command::Chart { report, out } => {
-            let text = std::fs::read_to_string(&report)
-                .with_context(|| format!("reading {}", report.display()))?;
-            let r: Report = serde_json::from_str(&text)
-                .with_context(|| format!("parsing {}", report.display()))?;
+            let r = Report::load(&report)?;
             write_outputs(&r, &out, false)
         }
     }

@@ -129,7 +129,104 @@ pub struct Report {
     pub runs: Vec<RunRecord>,
 }
 
+/// Most runs a report may hold.
+pub const MAX_RUNS: usize = 10_000;
+/// Largest time (ms per frame or per pass) a report may hold: about 2.8 hours.
+pub const MAX_MS: f64 = 1.0e7;
+/// Largest mean counter a report may hold.
+pub const MAX_COUNTER: f64 = 1.0e12;
+
 impl Report {
+    /// Reads and checks a `report.json` written by `texel-eval run` or `suite`: a regular file
+    /// within `TEXEL_MAX_REPORT_BYTES` (see `texel_scene::read`), valid JSON of this schema,
+    /// and every number within [`Report::check`]'s ranges. Errors start with the file's path.
+    pub fn load(path: &std::path::Path) -> anyhow::Result<Report> {
+        use texel_scene::read::{FileKind, read_bounded_string};
+        let text = read_bounded_string(path, FileKind::Report)?;
+        let report: Report = serde_json::from_str(&text)
+            .map_err(|e| anyhow::anyhow!("{}: not a report: {e}", path.display()))?;
+        report
+            .check()
+            .map_err(|e| anyhow::anyhow!("{}: {e}", path.display()))?;
+        Ok(report)
+    }
+
+    /// Checks every number against what a run can produce: fractions (shimmer, coverage
+    /// error, hole rate, eye shares) finite within 0..=1, times within 0..=[`MAX_MS`],
+    /// counters within 0..=[`MAX_COUNTER`], sizes within the renderer's limit, frames within
+    /// a camera path's, at most [`MAX_RUNS`] runs. The error names the run and the field.
+    pub fn check(&self) -> Result<(), String> {
+        fn within(v: f64, max: f64, what: &str) -> Result<(), String> {
+            if v.is_finite() && (0.0..=max).contains(&v) {
+                Ok(())
+            } else {
+                Err(format!("{what} must be a number in 0..={max}, got {v}"))
+            }
+        }
+        within(self.duration_s, 1.0e9, "duration_s")?;
+        if self.runs.len() > MAX_RUNS {
+            return Err(format!(
+                "{} runs, at most {MAX_RUNS} are charted",
+                self.runs.len()
+            ));
+        }
+        let max_side = texel_render::validate::MAX_OUTPUT_SIDE;
+        let max_frames = texel_runtime::path::MAX_FRAMES;
+        for (i, r) in self.runs.iter().enumerate() {
+            let at = |field: &str| format!("run {i} ({} {}): {field}", r.method, r.path);
+            if r.size.iter().any(|&s| s == 0 || s > max_side) {
+                return Err(format!("{}: each side must be 1..={max_side}", at("size")));
+            }
+            if r.frames > max_frames {
+                return Err(format!("{} must be at most {max_frames}", at("frames")));
+            }
+            if r.face_res > *texel_scene::limits::FACE_RESOLUTIONS.end() {
+                return Err(format!("{} is too large", at("face_res")));
+            }
+            if r.shimmer_per_frame.len() > max_frames as usize {
+                return Err(format!("{} has too many frames", at("shimmer_per_frame")));
+            }
+            let fractions = [
+                ("shimmer.mean", r.shimmer.mean),
+                ("shimmer.p95", r.shimmer.p95),
+                ("shimmer.max", r.shimmer.max),
+                ("coverage_error", r.coverage_error),
+                ("hole_rate", r.hole_rate),
+                ("eye_fraction", r.eye_fraction.unwrap_or(0.0)),
+                ("eye_flicker_share", r.eye_flicker_share.unwrap_or(0.0)),
+            ]
+            .into_iter()
+            .chain(
+                r.shimmer_per_frame
+                    .iter()
+                    .map(|&v| ("shimmer_per_frame", v)),
+            );
+            for (field, v) in fractions {
+                within(v, 1.0, &at(field))?;
+            }
+            let times = [
+                ("frame_ms.median", r.frame_ms.median),
+                ("frame_ms.p90", r.frame_ms.p90),
+            ];
+            for (field, v) in times {
+                within(v, MAX_MS, &at(field))?;
+            }
+            for (pass, &v) in &r.pass_ms {
+                within(v, MAX_MS, &at(&format!("pass_ms.{pass}")))?;
+            }
+            let c = &r.counters;
+            for (field, v) in [
+                ("counters.faces_captured", c.faces_captured),
+                ("counters.texels_shaded", c.texels_shaded),
+                ("counters.quads_splatted", c.quads_splatted),
+                ("counters.screen_visible_texels", c.screen_visible_texels),
+            ] {
+                within(v, MAX_COUNTER, &at(field))?;
+            }
+        }
+        Ok(())
+    }
+
     /// A compact Markdown table: one row per path, one column per method, holding the mean
     /// shimmer at the highest face resolution (raster at its only one), then rows of the
     /// mean over paths of the coverage error and of the median frame time.

@@ -216,6 +216,9 @@ impl Renderer {
         input: &FrameInput,
     ) -> Result<(FrameStats, Vec<u8>), RenderError> {
         let size = (input.size.x, input.size.y);
+        // Before the target and its read-back buffer are created.
+        crate::validate::frame(input)?;
+        crate::validate::device_output(&ctx.device.limits(), input.size)?;
         if self.offscreen.as_ref().is_none_or(|t| t.size != size) {
             let format = self.colour;
             self.offscreen = Some(OffscreenTarget::with_format(ctx, size.0, size.1, format));
@@ -236,6 +239,7 @@ impl Renderer {
     ) -> Result<FrameStats, RenderError> {
         let started = Instant::now();
         crate::validate::frame(input)?;
+        crate::validate::device_texture(&ctx.device.limits(), input.size)?;
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         for p in [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
             .into_iter()

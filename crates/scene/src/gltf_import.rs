@@ -25,6 +25,13 @@
 //! implemented), point and line primitive modes, sparse accessors, accessors out of their buffer's
 //! bounds or of the wrong type, indices past the last vertex, NaN or infinite positions or colours,
 //! node hierarchies that are not trees (cycles), and files that yield no triangle at all.
+//!
+//! Untrusted files are bounded ([`GltfLimits`]): the file and each external buffer are read
+//! through [`crate::read`] (regular files only, size caps); a document with more nodes, mesh
+//! instances (primitives placed by the node graph) or triangles than the limits is refused
+//! before its triangles are built ([`GltfError::Budget`]); buffer URIs must be relative paths
+//! inside the glTF file's own folder (no absolute paths, no `..` or symlink leading out of
+//! it) unless [`GltfLimits::allow_any_uri`] is set. Image URIs are never read.
 
 mod accessors;
 mod buffers;
@@ -35,6 +42,7 @@ mod geometry;
 use std::path::{Path, PathBuf};
 
 use crate::mesh::TriMesh;
+use crate::read::{FileKind, ReadError, env_u64, read_bounded};
 
 use buffers::load_buffers;
 use container::{parse_document, split_container};
@@ -52,6 +60,17 @@ pub enum GltfError {
         path: PathBuf,
         /// Why reading failed.
         source: std::io::Error,
+    },
+    /// The file is not a regular file, or is larger than the cap for glTF files.
+    #[error(transparent)]
+    Read(ReadError),
+    /// The document exceeds a [`GltfLimits`] budget (nodes, mesh instances, triangles).
+    #[error("{}: too large to import: {detail}", path.display())]
+    Budget {
+        /// The file.
+        path: PathBuf,
+        /// Which budget, the amount asked for and the limit (and how to raise it).
+        detail: String,
     },
     /// The bytes are not a usable glTF container: empty, neither binary glTF nor JSON, or a
     /// truncated or malformed `.glb`.
@@ -124,7 +143,9 @@ impl GltfError {
     /// The file the error is about.
     pub fn path(&self) -> &Path {
         match self {
+            Self::Read(e) => e.path(),
             Self::Io { path, .. }
+            | Self::Budget { path, .. }
             | Self::Container { path, .. }
             | Self::Json { path, .. }
             | Self::Invalid { path, .. }
@@ -136,16 +157,66 @@ impl GltfError {
     }
 }
 
+/// Bounds on what one glTF file may make the importer do. [`GltfLimits::default`] holds the
+/// built-in values; [`GltfLimits::from_env`] (what [`load_gltf`] uses) lets environment
+/// variables override each.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct GltfLimits {
+    /// Most nodes in the document (`TEXEL_GLTF_MAX_NODES`, default 100,000).
+    pub max_nodes: usize,
+    /// Most primitive instances the node graph places (`TEXEL_GLTF_MAX_INSTANCES`, default
+    /// 100,000): a mesh of 3 primitives under 10 nodes is 30.
+    pub max_instances: usize,
+    /// Most triangles in the imported mesh, over every instance (`TEXEL_GLTF_MAX_TRIANGLES`,
+    /// default 4,000,000, about 500 MB of mesh at worst).
+    pub max_triangles: usize,
+    /// Read buffer URIs anywhere (absolute paths, `..`) rather than only inside the glTF
+    /// file's folder (`TEXEL_GLTF_ANY_URI=1`, default off).
+    pub allow_any_uri: bool,
+}
+
+impl Default for GltfLimits {
+    fn default() -> Self {
+        GltfLimits {
+            max_nodes: 100_000,
+            max_instances: 100_000,
+            max_triangles: 4_000_000,
+            allow_any_uri: false,
+        }
+    }
+}
+
+impl GltfLimits {
+    /// The defaults, each overridden by its environment variable when that holds a positive
+    /// number (or `1` for `TEXEL_GLTF_ANY_URI`).
+    pub fn from_env() -> Self {
+        let d = Self::default();
+        let get = |name, default: usize| env_u64(name).map_or(default, |v| v as usize);
+        GltfLimits {
+            max_nodes: get("TEXEL_GLTF_MAX_NODES", d.max_nodes),
+            max_instances: get("TEXEL_GLTF_MAX_INSTANCES", d.max_instances),
+            max_triangles: get("TEXEL_GLTF_MAX_TRIANGLES", d.max_triangles),
+            allow_any_uri: std::env::var("TEXEL_GLTF_ANY_URI").is_ok_and(|v| v.trim() == "1"),
+        }
+    }
+}
+
 /// Loads every mesh primitive of the default scene (or all scenes' root nodes if there is no
 /// default; or all meshes if there are no scenes) with node transforms applied through the full
 /// hierarchy, into one [`TriMesh`] in the file's space. Relative buffer URIs resolve against the
 /// file's directory. See the [module docs](self) for what is imported and what is rejected.
+/// Bounded by [`GltfLimits::from_env`].
 pub fn load_gltf(path: &Path) -> Result<TriMesh, GltfError> {
-    let bytes = std::fs::read(path).map_err(|source| GltfError::Io {
-        path: path.to_path_buf(),
-        source,
+    load_gltf_with(path, &GltfLimits::from_env())
+}
+
+/// [`load_gltf`] with explicit limits.
+pub fn load_gltf_with(path: &Path, limits: &GltfLimits) -> Result<TriMesh, GltfError> {
+    let bytes = read_bounded(path, FileKind::Mesh).map_err(|e| match e {
+        ReadError::Io { path, source, .. } => GltfError::Io { path, source },
+        other => GltfError::Read(other),
     })?;
-    load_gltf_slice(&bytes, path.parent(), path)
+    load_gltf_slice_with(&bytes, path.parent(), path, limits)
 }
 
 /// Same as [`load_gltf`], from the bytes of a `.gltf` or `.glb` already in memory. `base_dir`
@@ -156,13 +227,33 @@ pub fn load_gltf_slice(
     base_dir: Option<&Path>,
     name: &Path,
 ) -> Result<TriMesh, GltfError> {
+    load_gltf_slice_with(bytes, base_dir, name, &GltfLimits::from_env())
+}
+
+/// [`load_gltf_slice`] with explicit limits.
+pub fn load_gltf_slice_with(
+    bytes: &[u8],
+    base_dir: Option<&Path>,
+    name: &Path,
+    limits: &GltfLimits,
+) -> Result<TriMesh, GltfError> {
     let (json, blob) = split_container(bytes).map_err(|detail| GltfError::Container {
         path: name.to_path_buf(),
         detail,
     })?;
     let document = parse_document(json, name)?;
-    let buffers = load_buffers(&document, blob, base_dir, name)?;
-    let mesh = Importer { name, buffers }.scene_mesh(&document)?;
+    let nodes = document.nodes().len();
+    if nodes > limits.max_nodes {
+        return Err(GltfError::Budget {
+            path: name.to_path_buf(),
+            detail: format!(
+                "{nodes} nodes, the limit is {} (set TEXEL_GLTF_MAX_NODES to raise it)",
+                limits.max_nodes
+            ),
+        });
+    }
+    let buffers = load_buffers(&document, blob, base_dir, name, limits.allow_any_uri)?;
+    let mesh = Importer::new(name, buffers, limits).scene_mesh(&document)?;
     if mesh.indices.is_empty() {
         return Err(GltfError::NoGeometry {
             path: name.to_path_buf(),

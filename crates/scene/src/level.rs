@@ -13,6 +13,7 @@
 
 use std::path::{Path, PathBuf};
 
+use crate::read::{FileKind, ReadError, read_bounded};
 use ron::extensions::Extensions;
 use ron::ser::PrettyConfig;
 use serde::{Deserialize, Serialize};
@@ -124,6 +125,10 @@ pub enum LevelError {
         /// The OS error.
         source: std::io::Error,
     },
+    /// The path is not a regular file, or the file is larger than a level may be
+    /// (see [`crate::read`]).
+    #[error(transparent)]
+    Read(crate::read::ReadError),
     /// The text is wrong at a known place.
     #[error("{}:{line}:{column}: {message}", path.display())]
     Parse {
@@ -162,7 +167,7 @@ impl LevelError {
         match self {
             LevelError::Parse { kind, .. } => Some(*kind),
             LevelError::Invalid { .. } => Some(ErrorKind::InvalidValue),
-            LevelError::Io { .. } => None,
+            LevelError::Io { .. } | LevelError::Read(_) => None,
         }
     }
 }
@@ -224,11 +229,12 @@ impl Level {
         Ok(level)
     }
 
-    /// Reads a level file.
+    /// Reads a level file: a regular file of at most [`FileKind::Level`]'s cap
+    /// (see [`crate::read`]).
     pub fn load(path: &Path) -> Result<Level, LevelError> {
-        let bytes = std::fs::read(path).map_err(|source| LevelError::Io {
-            path: path.to_owned(),
-            source,
+        let bytes = read_bounded(path, FileKind::Level).map_err(|e| match e {
+            ReadError::Io { path, source, .. } => LevelError::Io { path, source },
+            other => LevelError::Read(other),
         })?;
         let text = std::str::from_utf8(&bytes).map_err(|e| {
             let (line, column) = line_col(&bytes[..e.valid_up_to()]);

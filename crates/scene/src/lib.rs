@@ -11,6 +11,7 @@ pub mod level;
 pub mod migrate;
 pub mod num;
 pub mod primitives;
+pub mod read;
 pub mod save;
 pub mod scene;
 

@@ -1,12 +1,13 @@
 //! Buffers: the GLB binary chunk, `data:` URIs, or files next to the glTF.
 
 use std::borrow::Cow;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
 use gltf::Document;
 use gltf::buffer::Source;
 
 use super::GltfError;
+use crate::read::{FileKind, ReadError, read_bounded};
 
 /// Loads every buffer: the GLB binary chunk (borrowed), `data:` URIs, or files next to the glTF.
 pub(super) fn load_buffers<'a>(
@@ -14,6 +15,7 @@ pub(super) fn load_buffers<'a>(
     blob: Option<&'a [u8]>,
     base_dir: Option<&Path>,
     name: &Path,
+    allow_any_uri: bool,
 ) -> Result<Vec<Cow<'a, [u8]>>, GltfError> {
     doc.buffers()
         .map(|buffer| {
@@ -26,7 +28,7 @@ pub(super) fn load_buffers<'a>(
                 Source::Bin => blob.map(Cow::Borrowed).ok_or_else(|| {
                     "refers to the binary chunk of a .glb, but the file has none".to_string()
                 }),
-                Source::Uri(uri) => read_uri(uri, base_dir).map(Cow::Owned),
+                Source::Uri(uri) => read_uri(uri, base_dir, allow_any_uri).map(Cow::Owned),
             }
             .map_err(fail)?;
             if data.len() < buffer.length() {
@@ -42,8 +44,13 @@ pub(super) fn load_buffers<'a>(
         .collect()
 }
 
-/// Reads a buffer URI: a `data:` URI, or a percent-encoded path relative to `base_dir`.
-pub(super) fn read_uri(uri: &str, base_dir: Option<&Path>) -> Result<Vec<u8>, String> {
+/// Reads a buffer URI: a `data:` URI, or a percent-encoded path relative to `base_dir` that
+/// stays inside it (unless `allow_any`), read through [`read_bounded`].
+pub(super) fn read_uri(
+    uri: &str,
+    base_dir: Option<&Path>,
+    allow_any: bool,
+) -> Result<Vec<u8>, String> {
     if uri.starts_with("data:") {
         return gltf::buffer::Data::from_source(Source::Uri(uri), None)
             .map(|data| data.0)
@@ -60,8 +67,51 @@ pub(super) fn read_uri(uri: &str, base_dir: Option<&Path>) -> Result<Vec<u8>, St
     let base = base_dir.ok_or_else(|| {
         format!("refers to external file `{relative}`, but no base directory was given")
     })?;
+    if !allow_any {
+        confined(base, &relative)?;
+    }
     let file = base.join(&relative);
-    std::fs::read(&file).map_err(|e| format!("cannot read `{}`: {e}", file.display()))
+    read_bounded(&file, FileKind::MeshBuffer).map_err(|e| match e {
+        ReadError::Io { path, source, .. } => format!("cannot read `{}`: {source}", path.display()),
+        other => other.to_string(),
+    })
+}
+
+/// Checks that `relative` names a file inside `base`: not absolute, no `..` leading out, and
+/// (when both exist) not out of it through a symbolic link.
+fn confined(base: &Path, relative: &str) -> Result<(), String> {
+    let refuse = |why: &str| {
+        Err(format!(
+            "buffer URI `{}` {why}: only files inside the glTF file's folder are read (set \
+             TEXEL_GLTF_ANY_URI=1 to allow any path)",
+            short(relative)
+        ))
+    };
+    let base = if base.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        base
+    };
+    let rel = Path::new(relative);
+    if rel.is_absolute() || relative.starts_with('/') || relative.starts_with('\\') {
+        return refuse("is an absolute path");
+    }
+    let mut depth = 0usize;
+    for c in rel.components() {
+        match c {
+            Component::Normal(_) => depth += 1,
+            Component::CurDir => {}
+            Component::ParentDir if depth > 0 => depth -= 1,
+            Component::ParentDir => return refuse("leads out of the folder with `..`"),
+            Component::RootDir | Component::Prefix(_) => return refuse("is an absolute path"),
+        }
+    }
+    if let (Ok(b), Ok(f)) = (base.canonicalize(), base.join(rel).canonicalize())
+        && !f.starts_with(&b)
+    {
+        return refuse("leads out of the folder through a symbolic link");
+    }
+    Ok(())
 }
 
 /// Where a buffer's bytes came from, for messages.

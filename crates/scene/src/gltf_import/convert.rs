@@ -3,6 +3,7 @@
 //! [`accessors`](super::accessors)), its triangles, flat shading where normals are missing.
 
 use std::borrow::Cow;
+use std::cell::Cell;
 use std::collections::HashSet;
 use std::fmt;
 use std::path::Path;
@@ -13,8 +14,8 @@ use gltf::{Accessor, Document, Node, Primitive, Semantic};
 
 use crate::mesh::TriMesh;
 
-use super::GltfError;
 use super::geometry::{flat_shaded, triangle_list};
+use super::{GltfError, GltfLimits};
 
 /// A primitive's place in the document, for messages.
 #[derive(Clone, Copy)]
@@ -35,9 +36,62 @@ pub(super) struct Importer<'a> {
     pub(super) name: &'a Path,
     /// Every buffer's bytes, by index.
     pub(super) buffers: Vec<Cow<'a, [u8]>>,
+    /// The budgets.
+    limits: GltfLimits,
+    /// Primitive instances placed so far.
+    instances: Cell<usize>,
+    /// Triangles (at most) imported so far.
+    triangles: Cell<usize>,
 }
 
-impl Importer<'_> {
+impl<'a> Importer<'a> {
+    pub(super) fn new(name: &'a Path, buffers: Vec<Cow<'a, [u8]>>, limits: &GltfLimits) -> Self {
+        Importer {
+            name,
+            buffers,
+            limits: *limits,
+            instances: Cell::new(0),
+            triangles: Cell::new(0),
+        }
+    }
+
+    /// Counts one more instance of `prim` against the budgets, before any of its data is
+    /// read: its triangle count comes from its accessors' declared counts (an upper bound
+    /// of what it yields).
+    fn charge(&self, prim: &Primitive<'_>, site: Site) -> Result<(), GltfError> {
+        let budget = |detail: String| GltfError::Budget {
+            path: self.name.to_path_buf(),
+            detail,
+        };
+        let instances = self.instances.get() + 1;
+        if instances > self.limits.max_instances {
+            return Err(budget(format!(
+                "the node graph places more than {} mesh primitive instances (at {site}; set \
+                 TEXEL_GLTF_MAX_INSTANCES to raise the limit)",
+                self.limits.max_instances
+            )));
+        }
+        self.instances.set(instances);
+        let corners = match prim.indices() {
+            Some(a) => a.count(),
+            None => prim.get(&Semantic::Positions).map_or(0, |a| a.count()),
+        };
+        let triangles = match prim.mode() {
+            Mode::Triangles => corners / 3,
+            _ => corners.saturating_sub(2),
+        };
+        let total = self.triangles.get().saturating_add(triangles);
+        if total > self.limits.max_triangles {
+            return Err(budget(format!(
+                "more than {} triangles ({total} by {site}, instance {instances}; set \
+                 TEXEL_GLTF_MAX_TRIANGLES to raise the limit)",
+                self.limits.max_triangles
+            )));
+        }
+        self.triangles.set(total);
+        Ok(())
+    }
+
     pub(super) fn invalid(&self, detail: String) -> GltfError {
         GltfError::Invalid {
             path: self.name.to_path_buf(),
@@ -121,6 +175,7 @@ impl Importer<'_> {
                 mesh: mesh.index(),
                 primitive: primitive.index(),
             };
+            self.charge(&primitive, site)?;
             let local = self.primitive_mesh(&primitive, site)?;
             if !invertible {
                 continue;
