@@ -248,9 +248,8 @@ impl Canvas {
         let i = ((y as u32 * self.width + x as u32) * 3) as usize;
         // Quantise coverage to eighths: fewer colours for the GIF palette, same look.
         let a = (a.clamp(0.0, 1.0) * 8.0).round() / 8.0;
-        for k in 0..3 {
-            let v = f32::from(self.rgb[i + k]) * (1.0 - a) + f32::from(c[k]) * a;
-            self.rgb[i + k] = v.round() as u8;
+        for (d, s) in self.rgb[i..i + 3].iter_mut().zip(c) {
+            *d = (f32::from(*d) * (1.0 - a) + f32::from(s) * a).round() as u8;
         }
     }
 }
@@ -711,7 +710,7 @@ mod tests {
         };
         for x0 in [a, b, c] {
             assert!(
-                strip(&frames[1], x0).iter().any(|p| *p == TEXT),
+                strip(&frames[1], x0).contains(&TEXT),
                 "no label text in the strip at {x0}"
             );
         }
