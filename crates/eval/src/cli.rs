@@ -206,14 +206,20 @@ struct CompareArgs {
     quiet: bool,
 }
 
-fn compare(args: &CompareArgs) -> Result<()> {
-    use texel_eval::compare::{ComparePlan, compare_frames, run_compare, write_compare};
+/// Checks the arguments of `compare` (before any GPU work) and makes its plan.
+fn compare_plan(args: &CompareArgs) -> Result<texel_eval::compare::ComparePlan> {
     let reference = match args.reference.as_str() {
         "gpu" => ReferenceKind::Gpu,
         "cpu" => ReferenceKind::Cpu,
         other => bail!("--reference must be gpu or cpu, got `{other}`"),
     };
     let face_res = parse_list(&args.face_res.to_string(), "--face-res")?[0];
+    if args.name.is_empty() || args.name.contains(['/', '\\']) {
+        bail!(
+            "--name must be a file stem (no directory), got `{}`",
+            args.name
+        );
+    }
     if !(1..=16).contains(&args.scale) {
         bail!("--scale must be 1..=16, got {}", args.scale);
     }
@@ -222,14 +228,19 @@ fn compare(args: &CompareArgs) -> Result<()> {
     {
         bail!("--fps must be 1..=100, got {fps}");
     }
-    let plan = ComparePlan {
+    Ok(texel_eval::compare::ComparePlan {
         level: args.level.clone(),
         path: args.path.clone(),
         methods: parse_methods(&args.methods)?,
         face_res,
         size: parse_size(&args.size)?,
         reference,
-    };
+    })
+}
+
+fn compare(args: &CompareArgs) -> Result<()> {
+    use texel_eval::compare::{compare_frames, run_compare, write_compare};
+    let plan = compare_plan(args)?;
     let bar = if args.quiet {
         ProgressBar::hidden()
     } else {
@@ -373,5 +384,35 @@ mod tests {
             ("320x180", None, "compare")
         );
         assert!(Cli::try_parse_from(["texel-eval", "compare", "--out", "d"]).is_err());
+        let plan = compare_plan(&a).expect("defaults are valid");
+        assert_eq!((plan.methods.len(), plan.face_res), (3, 128));
+        let bad = [
+            ("--scale", "0"),
+            ("--fps", "0"),
+            ("--face-res", "100000"),
+            ("--name", "a/b"),
+            ("--methods", "splat,bogus"),
+            ("--size", "9"),
+            ("--reference", "x"),
+        ];
+        for (flag, value) in bad {
+            let cli = Cli::try_parse_from([
+                "texel-eval",
+                "compare",
+                "--level",
+                "l.ron",
+                "--path",
+                "p.ron",
+                "--out",
+                "d",
+                flag,
+                value,
+            ])
+            .expect("parses");
+            let Command::Compare(a) = cli.command else {
+                panic!("not compare");
+            };
+            assert!(compare_plan(&a).is_err(), "{flag} {value} accepted");
+        }
     }
 }
