@@ -1,6 +1,7 @@
 //! `texel-eval compare` end to end at a tiny size on a short path: the GIF decodes with one
 //! frame per path frame and three panels, and the per-frame shimmer in the JSON beside it is
-//! what `run` measures for the same method, level, path and face resolution.
+//! what `run` measures for the same method, level, path and face resolution (splatting up to
+//! its run-to-run noise).
 
 use std::path::Path;
 use std::process::Command;
@@ -93,13 +94,13 @@ fn compare_writes_a_gif_of_every_frame_with_runs_numbers() {
     for (m, r) in numbers.methods.iter().zip(&records) {
         assert_eq!(m.method, r.method);
         assert_eq!(m.shimmer_per_frame.len(), 4);
-        // Equal up to the last bit JSON's decimal text may round.
+        // The baselines are deterministic: equal up to the last bit JSON's decimal text may
+        // round. Splatting on lavapipe is not bit-exact from run to run (a few pixels of a
+        // frame differ: per-frame shimmer moved by up to 7e-5 along walk_cells at 320x180),
+        // so it gets a few pixels' worth of slack at 64x36.
+        let slack = if m.method == "splat" { 0.005 } else { 1e-12 };
         for (a, b) in m.shimmer_per_frame.iter().zip(&r.shimmer_per_frame) {
-            assert!(
-                (a - b).abs() <= 1e-12 * b.abs().max(1e-9),
-                "{}: {a} vs {b}",
-                m.method
-            );
+            assert!((a - b).abs() <= slack, "{}: {a} vs {b}", m.method);
         }
     }
 }
