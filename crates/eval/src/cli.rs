@@ -1,4 +1,5 @@
-//! The command line: `texel-eval run`, `texel-eval suite` and `texel-eval chart`.
+//! The command line: `texel-eval run`, `texel-eval suite`, `texel-eval compare` and
+//! `texel-eval chart`.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -43,6 +44,10 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Writes the methods side by side along one path as an animated GIF (DIR/NAME.gif),
+    /// each frame's shimmer under each method (the values `run` reports), and the per-frame
+    /// numbers as DIR/NAME.json.
+    Compare(CompareArgs),
     /// Redraws the charts (and table.md) of an existing report.
     Chart {
         /// The report.json to read.
@@ -104,6 +109,7 @@ pub fn main() -> Result<()> {
             );
             execute(&plans, &common, command_line)
         }
+        Command::Compare(args) => compare(&args),
         Command::Chart { report, out } => {
             let r = Report::load(&report)?;
             write_outputs(&r, &out, false)
@@ -155,6 +161,118 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<()> {
         report.runs.len(),
         report.duration_s,
         common.out.join("report.json").display()
+    );
+    Ok(())
+}
+
+#[derive(Args, Debug)]
+struct CompareArgs {
+    /// Level file (RON).
+    #[arg(long)]
+    level: PathBuf,
+    /// Camera-path file (RON).
+    #[arg(long)]
+    path: PathBuf,
+    /// Comma-separated methods, left to right: raster, naive, snap, cubemap, splat-paper,
+    /// splat.
+    #[arg(long, default_value = "naive,snap,splat")]
+    methods: String,
+    /// Cube-face resolution of every method (texels per face edge).
+    #[arg(long, default_value_t = 128)]
+    face_res: u32,
+    /// Size of each method's frames, WIDTHxHEIGHT.
+    #[arg(long, default_value = "320x180")]
+    size: String,
+    /// Nearest-neighbour upscale of each panel in the GIF.
+    #[arg(long, default_value_t = 2)]
+    scale: u32,
+    /// Frames per second of the GIF (default: the path's, 1/dt).
+    #[arg(long)]
+    fps: Option<f32>,
+    /// Reference G-buffer: gpu (plain raster) or cpu (ray cast).
+    #[arg(long, default_value = "gpu")]
+    reference: String,
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+    /// File stem of the GIF and JSON.
+    #[arg(long, default_value = "compare")]
+    name: String,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// Checks the arguments of `compare` (before any GPU work) and makes its plan.
+fn compare_plan(args: &CompareArgs) -> Result<texel_eval::compare::ComparePlan> {
+    let reference = match args.reference.as_str() {
+        "gpu" => ReferenceKind::Gpu,
+        "cpu" => ReferenceKind::Cpu,
+        other => bail!("--reference must be gpu or cpu, got `{other}`"),
+    };
+    let face_res = parse_list(&args.face_res.to_string(), "--face-res")?[0];
+    if args.name.is_empty() || args.name.contains(['/', '\\']) {
+        bail!(
+            "--name must be a file stem (no directory), got `{}`",
+            args.name
+        );
+    }
+    if !(1..=16).contains(&args.scale) {
+        bail!("--scale must be 1..=16, got {}", args.scale);
+    }
+    if let Some(fps) = args.fps
+        && !(fps.is_finite() && (1.0..=100.0).contains(&fps))
+    {
+        bail!("--fps must be 1..=100, got {fps}");
+    }
+    Ok(texel_eval::compare::ComparePlan {
+        level: args.level.clone(),
+        path: args.path.clone(),
+        methods: parse_methods(&args.methods)?,
+        face_res,
+        size: parse_size(&args.size)?,
+        reference,
+    })
+}
+
+fn compare(args: &CompareArgs) -> Result<()> {
+    use texel_eval::compare::{compare_frames, run_compare, write_compare};
+    let plan = compare_plan(args)?;
+    let bar = if args.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(compare_frames(&plan)?)
+    };
+    bar.set_style(
+        ProgressStyle::with_template(
+            "{elapsed_precise} [{bar:30}] {pos}/{len} frames (eta {eta}) {msg}",
+        )
+        .context("progress style")?
+        .progress_chars("=> "),
+    );
+    let ctx = GpuContext::headless()?;
+    let run = run_compare(&ctx, &plan, &mut |label: &str| {
+        bar.set_message(label.to_owned());
+        bar.inc(1);
+    })
+    .with_context(|| format!("{} along {}", plan.level.display(), plan.path.display()))?;
+    bar.set_message("writing the GIF");
+    let files = write_compare(&run, &args.out, &args.name, args.scale, args.fps)?;
+    bar.finish_and_clear();
+    for m in &run.methods {
+        eprintln!(
+            "{:>12}: mean shimmer {:.4}",
+            m.method.name(),
+            m.shimmer.mean
+        );
+    }
+    eprintln!(
+        "{} frames of {}×{} → {} ({})",
+        files.frames,
+        files.size.x,
+        files.size.y,
+        files.gif.display(),
+        files.json.display()
     );
     Ok(())
 }
@@ -236,5 +354,62 @@ mod tests {
         assert!(parse_methods("splat,bogus").is_err());
         Cli::try_parse_from(["texel-eval", "suite", "--out", "x"]).expect("suite parses");
         assert!(Cli::try_parse_from(["texel-eval", "run", "--out", "x"]).is_err());
+    }
+
+    #[test]
+    fn compare_arguments_parse_with_their_defaults() {
+        let cli = Cli::try_parse_from([
+            "texel-eval",
+            "compare",
+            "--level",
+            "l.ron",
+            "--path",
+            "p.ron",
+            "--out",
+            "d",
+        ])
+        .expect("compare parses");
+        let Command::Compare(a) = cli.command else {
+            panic!("not compare: {:?}", cli.command);
+        };
+        assert_eq!(
+            (a.methods.as_str(), a.face_res, a.scale),
+            ("naive,snap,splat", 128, 2)
+        );
+        assert_eq!(
+            (a.size.as_str(), a.fps, a.name.as_str()),
+            ("320x180", None, "compare")
+        );
+        assert!(Cli::try_parse_from(["texel-eval", "compare", "--out", "d"]).is_err());
+        let plan = compare_plan(&a).expect("defaults are valid");
+        assert_eq!((plan.methods.len(), plan.face_res), (3, 128));
+        let bad = [
+            ("--scale", "0"),
+            ("--fps", "0"),
+            ("--face-res", "100000"),
+            ("--name", "a/b"),
+            ("--methods", "splat,bogus"),
+            ("--size", "9"),
+            ("--reference", "x"),
+        ];
+        for (flag, value) in bad {
+            let cli = Cli::try_parse_from([
+                "texel-eval",
+                "compare",
+                "--level",
+                "l.ron",
+                "--path",
+                "p.ron",
+                "--out",
+                "d",
+                flag,
+                value,
+            ])
+            .expect("parses");
+            let Command::Compare(a) = cli.command else {
+                panic!("not compare");
+            };
+            assert!(compare_plan(&a).is_err(), "{flag} {value} accepted");
+        }
     }
 }

@@ -7,9 +7,10 @@
 //! [`reference`](mod@reference) (a CPU reference G-buffer), [`meter`] (per-run accumulation), [`runner`]
 //! (one method along one path, GPU-independent), [`gpu`] (the real sources), [`suite`]
 //! (levels × paths × methods × resolutions), [`report`] (`report.json` and its table),
-//! [`chart`] (the charts).
+//! [`chart`] (the charts), [`compare`] (the methods side by side as an animated GIF).
 
 pub mod chart;
+pub mod compare;
 pub mod gpu;
 pub mod meter;
 pub mod metrics;

@@ -151,11 +151,25 @@ pub fn run_path(
     params: MetricParams,
     tick: &mut dyn FnMut(),
 ) -> Result<RunOutcome, EvalError> {
+    run_path_observed(path, fov_y, method, references, params, &mut |_, _| tick())
+}
+
+/// [`run_path`] that shows every rendered frame to `observe(index, frame)` before measuring
+/// it (`texel-eval compare` keeps the pixels this way, so its numbers are `run`'s).
+pub fn run_path_observed(
+    path: &CameraPath,
+    fov_y: f32,
+    method: &mut dyn FrameSource,
+    references: &CachedReferences,
+    params: MetricParams,
+    observe: &mut dyn FnMut(u32, &RenderedFrame),
+) -> Result<RunOutcome, EvalError> {
     let mut meter = PathMeter::new(params);
     let mut stats = Vec::with_capacity(path.frames as usize);
     for (i, reference) in (0..path.frames).zip(&references.frames) {
         let camera = path.camera(i, fov_y);
         let frame = method.render(i, &camera, path.dt)?;
+        observe(i, &frame);
         stats.push(frame.stats);
         meter.push(OwnedFrame {
             camera,
@@ -164,7 +178,6 @@ pub fn run_path(
             ids: frame.ids,
             from_eye: frame.from_eye,
         })?;
-        tick();
     }
     Ok(RunOutcome {
         scores: meter.scores(),

@@ -6,9 +6,9 @@ use std::path::{Path, PathBuf};
 
 use glam::UVec2;
 use texel_render::context::GpuContext;
-use texel_render::input::Schedule;
+use texel_render::input::{Camera, Look, SceneInput, Schedule};
 use texel_runtime::driver::scene_input;
-use texel_runtime::load::load_level;
+use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::{CameraPath, Projection};
 
 use crate::gpu::{
@@ -109,7 +109,8 @@ pub fn total_frames(plans: &[RunPlan]) -> Result<u64, EvalError> {
     Ok(total)
 }
 
-fn load_path(file: &Path) -> Result<CameraPath, EvalError> {
+/// Loads a camera path, naming the file in the error.
+pub fn load_path(file: &Path) -> Result<CameraPath, EvalError> {
     CameraPath::load(file).map_err(|e| EvalError::Input(e.to_string()))
 }
 
@@ -134,16 +135,9 @@ pub fn run_plan(
             .map_or(String::new(), |s| s.to_string_lossy().into())
     };
     let name = format!("{} / {}", stem(&plan.level), stem(&plan.path));
-    let refs = {
-        let mut counted = CountingReference {
-            inner: match reference {
-                ReferenceKind::Gpu => Box::new(GpuReference::new(ctx, &scene)?),
-                ReferenceKind::Cpu => Box::new(CpuScene::new(&scene)),
-            },
-            tick: &mut |()| tick(&format!("{name}: reference")),
-        };
-        CachedReferences::compute(&mut counted, &path, fov_y, plan.size)?
-    };
+    let refs = path_references(ctx, &scene, &path, fov_y, plan.size, reference, &mut || {
+        tick(&format!("{name}: reference"))
+    })?;
     let warm_up = path.camera(0, fov_y);
     let look = level_look(&level);
     let mut records = Vec::new();
@@ -154,20 +148,14 @@ pub fn run_plan(
                 // Raster does not depend on the face resolution: run it once.
                 continue;
             }
-            let mut source: Box<dyn FrameSource> = match baseline_of(method) {
-                Some(b) => Box::new(BaselineSource::new(
-                    ctx, &scene, b, plan.size, n, look, &warm_up,
-                )?),
-                None => {
-                    let schedule = match method {
-                        Method::SplatPaper => Schedule::Paper,
-                        _ => Schedule::Ours,
-                    };
-                    Box::new(SplatSource::new(
-                        ctx, &level, plan.size, fov_y, schedule, &warm_up,
-                    )?)
-                }
+            let view = SourceView {
+                size: plan.size,
+                face_res: n,
+                fov_y,
+                look,
+                warm_up,
             };
+            let mut source = method_source(ctx, &level, &scene, method, &view)?;
             let label = format!("{name}: {} @{n}", method.name());
             let params = MetricParams::default();
             let outcome = run_path(&path, fov_y, source.as_mut(), &refs, params, &mut || {
@@ -194,6 +182,76 @@ pub fn run_plan(
         }
     }
     Ok(records)
+}
+
+/// The reference G-buffer of every frame of `path`; `tick` is called after each.
+pub fn path_references(
+    ctx: &GpuContext,
+    scene: &SceneInput,
+    path: &CameraPath,
+    fov_y: f32,
+    size: UVec2,
+    reference: ReferenceKind,
+    tick: &mut dyn FnMut(),
+) -> Result<CachedReferences, EvalError> {
+    let mut counted = CountingReference {
+        inner: match reference {
+            ReferenceKind::Gpu => Box::new(GpuReference::new(ctx, scene)?),
+            ReferenceKind::Cpu => Box::new(CpuScene::new(scene)),
+        },
+        tick: &mut |()| tick(),
+    };
+    CachedReferences::compute(&mut counted, path, fov_y, size)
+}
+
+/// What a method's frame source renders: the output, the grid, the camera's lens.
+#[derive(Debug, Clone, Copy)]
+pub struct SourceView {
+    /// Output size.
+    pub size: UVec2,
+    /// Face resolution (texels per cube-face edge; the art-pixel size of naive and snap).
+    pub face_res: u32,
+    /// Vertical field of view, radians.
+    pub fov_y: f32,
+    /// The level's look.
+    pub look: Look,
+    /// The camera the source warms up at (the path's first).
+    pub warm_up: Camera,
+}
+
+/// The frame source of `method` on `level` (already at `view.face_res`), as `run` uses it.
+pub fn method_source<'a>(
+    ctx: &'a GpuContext,
+    level: &LoadedLevel,
+    scene: &SceneInput,
+    method: Method,
+    view: &SourceView,
+) -> Result<Box<dyn FrameSource + 'a>, EvalError> {
+    Ok(match baseline_of(method) {
+        Some(b) => Box::new(BaselineSource::new(
+            ctx,
+            scene,
+            b,
+            view.size,
+            view.face_res,
+            view.look,
+            &view.warm_up,
+        )?),
+        None => {
+            let schedule = match method {
+                Method::SplatPaper => Schedule::Paper,
+                _ => Schedule::Ours,
+            };
+            Box::new(SplatSource::new(
+                ctx,
+                level,
+                view.size,
+                view.fov_y,
+                schedule,
+                &view.warm_up,
+            )?)
+        }
+    })
 }
 
 /// Whether `method` is meaningful along `path`: the camera-centred cubemap has no
