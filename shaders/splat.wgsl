@@ -131,8 +131,9 @@ fn pixel_key(in: VsOut) -> u32 {
     return in.key + step * u32(clamp(floor(in.along), 0.0, last));
 }
 
-// During a crossfade the vertex stage also passes the quad's world point, so a pixel of
-// the previous probe can tell whether the grid probe has the face that would show it.
+// During a crossfade toward a grid probe that misses faces, the vertex stage also passes the
+// quad's world point, so a pixel of the previous probe can tell whether the grid probe has
+// the face that would show it.
 struct FadeOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) colour: vec3<f32>,
@@ -172,21 +173,25 @@ fn grid_draws(p: vec3<f32>) -> bool {
     return false;
 }
 
-// Whether a crossfade hands this pixel (at `pixel`, showing world point `p`) of a quad of
-// `run` to the other stable probe: grid and previous split the pixels with complementary
-// Bayer patterns, except where the grid probe has not captured the face that would show
-// `p` yet: there the previous probe keeps the pixel, so the fade need not wait for a whole
-// grid probe (`texel_probes::probe_set::PARTIAL_FADE_LIMIT`).
-fn faded_out(run: u32, pixel: vec2<f32>, p: vec3<f32>) -> bool {
+// Whether a crossfade hands this pixel (at `pixel`) of a quad of `run` to the other stable
+// probe: grid and previous split the pixels with complementary Bayer patterns.
+fn faded_out(run: u32, pixel: vec2<f32>) -> bool {
     let role = run >> 9u;
     if role == ROLE_EYE {
         return false;
     }
     let grid_wins = bayer_threshold(vec2<u32>(pixel)) < view.fade_t;
-    if role == ROLE_PREVIOUS {
-        return grid_wins && grid_draws(p);
+    return (role == ROLE_GRID) != grid_wins;
+}
+
+// `faded_out` while the grid probe has not captured every face yet: where it lacks the face
+// that would show world point `p`, the previous probe keeps the pixel, so the fade need not
+// wait for a whole grid probe (`texel_probes::probe_set::PARTIAL_FADE_LIMIT`).
+fn faded_out_partial(run: u32, pixel: vec2<f32>, p: vec3<f32>) -> bool {
+    if (run >> 9u) == ROLE_PREVIOUS && !grid_draws(p) {
+        return false;
     }
-    return !grid_wins;
+    return faded_out(run, pixel);
 }
 
 // Without a crossfade: no discard, so the depth test can run before the shader.
@@ -197,8 +202,17 @@ fn fs(in: VsOut) -> FsOut {
 
 // During a crossfade.
 @fragment
-fn fs_dither(in: FadeOut) -> FsOut {
-    if faded_out(in.run, in.clip.xy, in.world) {
+fn fs_dither(in: VsOut) -> FsOut {
+    if faded_out(in.run, in.clip.xy) {
+        discard;
+    }
+    return FsOut(vec4(in.colour, 1.0), pixel_key(in));
+}
+
+// During a crossfade toward a grid probe that misses faces.
+@fragment
+fn fs_dither_partial(in: FadeOut) -> FsOut {
+    if faded_out_partial(in.run, in.clip.xy, in.world) {
         discard;
     }
     let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
@@ -213,8 +227,17 @@ fn fs_texel(in: TexelIn) -> FsOut {
 
 // One texel per quad, during a crossfade.
 @fragment
-fn fs_texel_dither(in: FadeOut) -> FsOut {
-    if faded_out(in.run, in.clip.xy, in.world) {
+fn fs_texel_dither(in: TexelIn) -> FsOut {
+    if faded_out(in.run, in.clip.xy) {
+        discard;
+    }
+    return FsOut(vec4(in.colour, 1.0), in.key);
+}
+
+// One texel per quad, during a crossfade toward a grid probe that misses faces.
+@fragment
+fn fs_texel_dither_partial(in: FadeOut) -> FsOut {
+    if faded_out_partial(in.run, in.clip.xy, in.world) {
         discard;
     }
     return FsOut(vec4(in.colour, 1.0), in.key);

@@ -290,6 +290,7 @@ impl FrameDriver {
             }),
             captures,
             schedule,
+            grid_complete: plan.readiness().grid,
         };
         if let Some(p) = &mut self.probes {
             p.advance_fade(plan.readiness());

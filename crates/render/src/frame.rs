@@ -16,7 +16,7 @@ use crate::passes::lines::LinesPass;
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
-use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
+use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
@@ -290,12 +290,17 @@ impl Renderer {
         });
         let splat_bind = self.splat.bind_group(ctx, &self.view, list);
         let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
-        let dither = input.previous.is_some() && input.fade_t < 1.0;
+        let fade = match input.previous {
+            Some(_) if input.fade_t >= 1.0 => Fade::None,
+            Some(_) if !input.grid_complete => Fade::DitherPartial,
+            Some(_) => Fade::Dither,
+            None => Fade::None,
+        };
         let runs =
             (drawn.iter()).any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
         stages.run("splat", |enc| {
             let mut pass = begin_draw(enc, draw_target, screen, true);
-            self.splat.draw(&mut pass, &splat_bind, list, runs, dither);
+            self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
         });
         stages.run("background", |enc| {
             let mut pass = begin_draw(enc, draw_target, screen, false);

@@ -220,6 +220,9 @@ pub struct FrameInput {
     pub captures: Vec<CaptureInput>,
     /// Scheduling and culling method.
     pub schedule: Schedule,
+    /// Whether the grid probe has every face it needs; while it does not, the previous
+    /// probe keeps the pixels whose grid face is missing during a crossfade.
+    pub grid_complete: bool,
 }
 
 /// Internal pixels per texel at the view centre that the splat pass draws at (the reference's

@@ -12,10 +12,22 @@ pub const KEY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Format of the splat depth buffer.
 pub const SPLAT_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
+/// How grid and previous share the pixels this frame.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Fade {
+    /// No crossfade: no discard, so the depth test runs before the fragment shader.
+    None = 0,
+    /// Complementary Bayer patterns.
+    Dither = 1,
+    /// Bayer patterns, and the previous probe keeps the pixels whose grid face is not
+    /// captured yet (the fragment stage then needs the world point).
+    DitherPartial = 2,
+}
+
 /// The splat pass.
 pub struct SplatPass {
-    /// By (runs, dither): quads that may span runs write each pixel's own texel key.
-    pipelines: [[wgpu::RenderPipeline; 2]; 2],
+    /// By (runs, [`Fade`]): quads that may span runs write each pixel's own texel key.
+    pipelines: [[wgpu::RenderPipeline; 3]; 2],
     layout: wgpu::BindGroupLayout,
     indices: wgpu::Buffer,
 }
@@ -50,11 +62,13 @@ impl SplatPass {
         let pipelines = [
             [
                 pipeline_for("vs_texel", "fs_texel"),
-                pipeline_for("vs_texel_fade", "fs_texel_dither"),
+                pipeline_for("vs_texel", "fs_texel_dither"),
+                pipeline_for("vs_texel_fade", "fs_texel_dither_partial"),
             ],
             [
                 pipeline_for("vs", "fs"),
-                pipeline_for("vs_fade", "fs_dither"),
+                pipeline_for("vs", "fs_dither"),
+                pipeline_for("vs_fade", "fs_dither_partial"),
             ],
         ];
         let indices = device.create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -85,17 +99,17 @@ impl SplatPass {
     }
 
     /// Draws the cull pass's `list` (`bind` from [`SplatPass::bind_group`] over it); `runs`
-    /// when some quads may span several texels; `dither` while a crossfade runs (grid and
-    /// previous split the pixels with Bayer patterns).
+    /// when some quads may span several texels; `fade` how grid and previous share the
+    /// pixels.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
         bind: &wgpu::BindGroup,
         list: SplatList<'_>,
         runs: bool,
-        dither: bool,
+        fade: Fade,
     ) {
-        pass.set_pipeline(&self.pipelines[usize::from(runs)][usize::from(dither)]);
+        pass.set_pipeline(&self.pipelines[usize::from(runs)][fade as usize]);
         pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed_indirect(list.args, 0);

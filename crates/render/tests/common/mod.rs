@@ -101,6 +101,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         prefetch: None,
         captures,
         schedule,
+        grid_complete: true,
     }
 }
 
