@@ -70,17 +70,15 @@ pub enum DriverError {
 /// What the frame driver and the renderer need of a level, extracted from it once: the scene
 /// to upload, the look, the probe-grid settings that do not depend on the viewport, and the
 /// player start.
-#[derive(Debug, Clone)]
+#[derive(Debug)]
 pub struct PreparedLevel {
-    /// The renderer's view of the scene.
-    pub scene: SceneInput,
     /// Sky, ambient light, bands and haze.
     pub look: Look,
     pixel_scale: PixelScale,
     cell_size: f32,
     overrides: Vec<GridOverride>,
     start: Camera,
-    /// Ray queries for probe placement.
+    /// The renderer's view of the scene, and ray queries against it for probe placement.
     rays: SceneRays,
 }
 
@@ -88,16 +86,19 @@ impl PreparedLevel {
     /// Extracts what frames of `level` need.
     pub fn new(level: &LoadedLevel) -> Self {
         let s = &level.scene.settings;
-        let scene = scene_input(level);
         PreparedLevel {
-            rays: SceneRays::new(&scene),
-            scene,
+            rays: SceneRays::new(scene_input(level)),
             look: level_look(&level.scene),
             pixel_scale: s.pixel_scale,
             cell_size: s.cell_size,
             overrides: grid_overrides(&level.scene),
             start: start_camera(&level.scene),
         }
+    }
+
+    /// The renderer's view of the scene.
+    pub fn scene(&self) -> &SceneInput {
+        self.rays.scene()
     }
 
     /// The grid defaults on a viewport (the face resolution may follow its height).
@@ -182,7 +183,7 @@ impl FrameDriver {
 
     /// The scene to upload to the renderer.
     pub fn scene_input(&self) -> &SceneInput {
-        &self.level.scene
+        self.level.scene()
     }
 
     /// The vertical field of view it plans for, radians.

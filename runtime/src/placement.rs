@@ -1,19 +1,43 @@
 //! The scene as probe placement sees it (`texel_probes::placement`): every triangle of every
 //! object, world-space, wound as its mesh is (front faces counter-clockwise), in a CPU BVH.
 
+use std::sync::OnceLock;
+
 use texel_probes::placement::{RayHit, RayQuery};
 use texel_render::bvh::{GpuBvh, build_bvh, first_hit_cpu};
 use texel_render::input::SceneInput;
 
-/// Closest-hit ray queries against a scene.
-#[derive(Debug, Clone)]
+/// Closest-hit ray queries against a scene. The BVH is built on the first query, so a level
+/// whose grid probes never need placing (or an editor edit before the next frame) pays
+/// nothing for it.
+#[derive(Debug)]
 pub struct SceneRays {
-    bvh: GpuBvh,
+    scene: SceneInput,
+    bvh: OnceLock<GpuBvh>,
 }
 
 impl SceneRays {
-    /// Builds the BVH over every object of `scene` (shadow casters or not).
-    pub fn new(scene: &SceneInput) -> Self {
+    /// Queries against `scene` (every object, shadow casters or not).
+    pub fn new(scene: SceneInput) -> Self {
+        SceneRays {
+            scene,
+            bvh: OnceLock::new(),
+        }
+    }
+
+    /// The scene the rays are cast against.
+    pub fn scene(&self) -> &SceneInput {
+        &self.scene
+    }
+
+    fn bvh(&self) -> &GpuBvh {
+        self.bvh.get_or_init(|| build(&self.scene))
+    }
+}
+
+/// The BVH over every triangle of `scene`, world-space, wound as its meshes are.
+fn build(scene: &SceneInput) -> GpuBvh {
+    {
         let mut triangles = Vec::new();
         for object in &scene.objects {
             let m = object.transform;
@@ -29,15 +53,13 @@ impl SceneRays {
                 triangles.push(if flip { [a, c, b] } else { [a, b, c] });
             }
         }
-        SceneRays {
-            bvh: build_bvh(&triangles),
-        }
+        build_bvh(&triangles)
     }
 }
 
 impl RayQuery for SceneRays {
     fn first_hit(&self, origin: glam::Vec3, dir: glam::Vec3, max: f32) -> Option<RayHit> {
-        first_hit_cpu(&self.bvh, origin, dir, max).map(|(t, tri)| RayHit {
+        first_hit_cpu(self.bvh(), origin, dir, max).map(|(t, tri)| RayHit {
             t,
             back_face: tri.normal().dot(dir) > 0.0,
         })

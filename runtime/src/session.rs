@@ -86,7 +86,7 @@ impl Session {
         fov_y: f32,
     ) -> Result<Self, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
-        renderer.set_scene(ctx, &level.scene);
+        renderer.set_scene(ctx, level.scene());
         let driver = FrameDriver::prepared(level.clone(), size, fov_y)?;
         Ok(Session {
             level,
@@ -98,7 +98,7 @@ impl Session {
     /// Replaces the level (after an edit): uploads its scene and plans afresh.
     pub fn set_level(&mut self, ctx: &GpuContext, level: &LoadedLevel) -> Result<(), SessionError> {
         self.level = Arc::new(PreparedLevel::new(level));
-        self.renderer.set_scene(ctx, &self.level.scene);
+        self.renderer.set_scene(ctx, self.level.scene());
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
         self.driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
         Ok(())
@@ -159,7 +159,7 @@ impl Session {
 
     /// The scene the renderer holds.
     pub fn scene(&self) -> &texel_render::input::SceneInput {
-        &self.level.scene
+        self.level.scene()
     }
 
     /// The renderer (picking, read-backs, debug data of the last frame).

@@ -224,7 +224,7 @@ impl Renderer {
             self.offscreen = Some(OffscreenTarget::with_format(ctx, size.0, size.1, format));
         }
         let target = self.offscreen.take().ok_or(RenderError::NoScene)?;
-        let result = self.render(ctx, input, &target.view);
+        let result = self.draw(ctx, input, &target.view);
         let pixels = target.read_rgba(ctx);
         self.offscreen = Some(target);
         Ok((result?, pixels?))
@@ -237,9 +237,19 @@ impl Renderer {
         input: &FrameInput,
         target: &wgpu::TextureView,
     ) -> Result<FrameStats, RenderError> {
-        let started = Instant::now();
         crate::validate::frame(input)?;
         crate::validate::device_texture(&ctx.device.limits(), input.size)?;
+        self.draw(ctx, input, target)
+    }
+
+    /// [`Renderer::render`] of a validated `input`.
+    fn draw(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+        target: &wgpu::TextureView,
+    ) -> Result<FrameStats, RenderError> {
+        let started = Instant::now();
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         for p in [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
             .into_iter()

@@ -253,7 +253,7 @@ impl BaselineRenderer {
         view: &BaselineView,
     ) -> Result<BaselineFrame, RenderError> {
         let started = Instant::now();
-        validate(view)?;
+        validate(ctx, view)?;
         if self.scene.is_none() {
             return Err(RenderError::NoScene);
         }
@@ -406,6 +406,7 @@ impl BaselineRenderer {
         size: UVec2,
     ) -> Result<GBuffer, RenderError> {
         crate::validate::view(camera, size)?;
+        crate::validate::device_texture(&ctx.device.limits(), size)?;
         let screen = self.take_screen(ctx, size);
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         let vp = camera.projection(size.x as f32 / size.y as f32) * camera.view();
@@ -451,7 +452,10 @@ impl BaselineRenderer {
     }
 }
 
-fn validate(view: &BaselineView) -> Result<(), RenderError> {
+/// A baseline frame's view, face resolution, and output (read back) within the device's
+/// limits, before any target of its size is created.
+fn validate(ctx: &GpuContext, view: &BaselineView) -> Result<(), RenderError> {
     crate::validate::view(&view.camera, view.size)?;
+    crate::validate::device_output(&ctx.device.limits(), view.size)?;
     crate::validate::face_resolution(view.face_res)
 }
