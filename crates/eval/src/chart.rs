@@ -16,14 +16,23 @@ use crate::report::Report;
 #[error("chart {0}: {1}")]
 pub struct ChartError(String, String);
 
-const METHODS: [&str; 6] = ["raster", "naive", "snap", "cubemap", "splat-paper", "splat"];
-const COLOURS: [RGBColor; 6] = [
+const METHODS: [&str; 7] = [
+    "raster",
+    "naive",
+    "snap",
+    "cubemap",
+    "splat-paper",
+    "splat",
+    "march",
+];
+const COLOURS: [RGBColor; 7] = [
     RGBColor(120, 120, 120),
     RGBColor(214, 96, 77),
     RGBColor(244, 165, 60),
     RGBColor(102, 166, 30),
     RGBColor(117, 112, 179),
     RGBColor(31, 120, 180),
+    RGBColor(231, 41, 138),
 ];
 const FONT: &str = "sans-serif";
 const SHIMMER_FLOOR: f64 = 1e-4;

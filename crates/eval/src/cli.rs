@@ -61,8 +61,11 @@ enum Command {
 
 #[derive(Args, Debug)]
 struct Common {
-    /// Comma-separated methods: raster, naive, snap, cubemap, splat-paper, splat.
-    #[arg(long, default_value = "raster,naive,snap,cubemap,splat-paper,splat")]
+    /// Comma-separated methods: raster, naive, snap, cubemap, splat-paper, splat, march.
+    #[arg(
+        long,
+        default_value = "raster,naive,snap,cubemap,splat-paper,splat,march"
+    )]
     methods: String,
     /// Comma-separated cube-face resolutions (texels per face edge).
     #[arg(long, default_value = "64,128")]
@@ -174,7 +177,7 @@ struct CompareArgs {
     #[arg(long)]
     path: PathBuf,
     /// Comma-separated methods, left to right: raster, naive, snap, cubemap, splat-paper,
-    /// splat.
+    /// splat, march.
     #[arg(long, default_value = "naive,snap,splat")]
     methods: String,
     /// Cube-face resolution of every method (texels per face edge).

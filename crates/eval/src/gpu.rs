@@ -5,7 +5,7 @@
 use glam::UVec2;
 use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
 use texel_render::context::GpuContext;
-use texel_render::input::{Camera, Look, SceneInput, Schedule};
+use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, set_face_resolution};
 
@@ -27,7 +27,8 @@ pub fn level_look(level: &LoadedLevel) -> Look {
     texel_runtime::driver::level_look(&level.scene)
 }
 
-/// Texel splatting with our schedule or the paper's.
+/// Texel splatting with our schedule or the paper's, or texel marching over our schedule's
+/// probes.
 pub struct SplatSource<'a> {
     ctx: &'a GpuContext,
     session: Session,
@@ -42,10 +43,11 @@ impl<'a> SplatSource<'a> {
         level: &LoadedLevel,
         size: UVec2,
         fov_y: f32,
-        schedule: Schedule,
+        (schedule, display): (Schedule, Display),
         warm_up: &Camera,
     ) -> Result<Self, EvalError> {
         let mut session = Session::headless(ctx, level, size, fov_y).map_err(render_err)?;
+        session.renderer_mut().set_display(display);
         let request = FrameRequest {
             camera: *warm_up,
             dt: 1.0 / 30.0,
@@ -148,7 +150,7 @@ pub fn baseline_of(method: Method) -> Option<Baseline> {
         Method::Naive => Some(Baseline::Naive),
         Method::Snap => Some(Baseline::Snap),
         Method::Cubemap => Some(Baseline::Cubemap),
-        Method::SplatPaper | Method::Splat => None,
+        Method::SplatPaper | Method::Splat | Method::March => None,
     }
 }
 

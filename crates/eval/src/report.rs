@@ -10,7 +10,7 @@
 //!   "runs": [ {                    // one record per level × path × method × face_res
 //!     "level":      string,        // level file
 //!     "path":       string,        // camera-path file
-//!     "method":     string,        // raster | naive | snap | cubemap | splat-paper | splat
+//!     "method":     string,        // raster | naive | snap | cubemap | splat-paper | splat | march
 //!     "face_res":   integer,       // texels per cube-face edge (splat, cubemap); for raster,
 //!                                  // naive and snap the art-pixel size of the same texel size
 //!     "size":       [w, h],        // output pixels
@@ -25,7 +25,9 @@
 //!     "coverage_error": number,    // mean fraction of pixels whose id differs from reference
 //!     "hole_rate":  number,        // mean fraction of pixels with geometry shown as sky
 //!     "eye_fraction": number|null, // mean fraction of pixels from the eye probe (splat only)
-//!     "eye_flicker_share": number|null  // share of flickering pixels from the eye probe
+//!     "eye_flicker_share": number|null, // share of flickering pixels from the eye probe
+//!     "steps_per_pixel": number|null,   // march steps per pixel (march only)
+//!     "fallback_fraction": number|null  // marched pixels their first probe could not resolve
 //!   } ]
 //! }
 //! ```
@@ -94,6 +96,13 @@ pub struct RunRecord {
     pub eye_fraction: Option<f64>,
     /// Share of flicker from the eye probe (splat methods).
     pub eye_flicker_share: Option<f64>,
+    /// Steps per marched pixel, over every probe it asked (march only).
+    #[serde(default)]
+    pub steps_per_pixel: Option<f64>,
+    /// Fraction of marched pixels whose first probe could not say what the ray hits, so
+    /// another probe, the eye probe or the sky answered (march only).
+    #[serde(default)]
+    pub fallback_fraction: Option<f64>,
 }
 
 impl RunRecord {
@@ -194,6 +203,7 @@ impl Report {
                 ("hole_rate", r.hole_rate),
                 ("eye_fraction", r.eye_fraction.unwrap_or(0.0)),
                 ("eye_flicker_share", r.eye_flicker_share.unwrap_or(0.0)),
+                ("fallback_fraction", r.fallback_fraction.unwrap_or(0.0)),
             ]
             .into_iter()
             .chain(
@@ -220,6 +230,7 @@ impl Report {
                 ("counters.texels_shaded", c.texels_shaded),
                 ("counters.quads_splatted", c.quads_splatted),
                 ("counters.screen_visible_texels", c.screen_visible_texels),
+                ("steps_per_pixel", r.steps_per_pixel.unwrap_or(0.0)),
             ] {
                 within(v, MAX_COUNTER, &at(field))?;
             }

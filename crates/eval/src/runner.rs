@@ -29,17 +29,20 @@ pub enum Method {
     SplatPaper,
     /// Texel splatting with our schedule.
     Splat,
+    /// Texel marching: our schedule's probes, each pixel's view ray marched through them.
+    March,
 }
 
 impl Method {
     /// Every method, cheapest idea first.
-    pub const ALL: [Method; 6] = [
+    pub const ALL: [Method; 7] = [
         Method::Raster,
         Method::Naive,
         Method::Snap,
         Method::Cubemap,
         Method::SplatPaper,
         Method::Splat,
+        Method::March,
     ];
 
     /// The name used on the command line and in reports.
@@ -51,6 +54,7 @@ impl Method {
             Method::Cubemap => "cubemap",
             Method::SplatPaper => "splat-paper",
             Method::Splat => "splat",
+            Method::March => "march",
         }
     }
 
@@ -64,7 +68,7 @@ impl Method {
 
     /// Whether the method draws probe texels (and so reports eye provenance).
     pub fn is_splat(self) -> bool {
-        matches!(self, Method::Splat | Method::SplatPaper)
+        matches!(self, Method::Splat | Method::SplatPaper | Method::March)
     }
 }
 
@@ -72,7 +76,9 @@ impl Method {
 #[derive(Debug, thiserror::Error)]
 pub enum EvalError {
     /// A method name nobody knows.
-    #[error("unknown method `{0}` (expected raster, naive, snap, cubemap, splat-paper or splat)")]
+    #[error(
+        "unknown method `{0}` (expected raster, naive, snap, cubemap, splat-paper, splat or march)"
+    )]
     UnknownMethod(String),
     /// The metrics could not compare the frames.
     #[error(transparent)]
@@ -221,6 +227,20 @@ pub fn counter_means(stats: &[FrameStats]) -> CounterMeans {
         quads_splatted: sum(|s| s.counters.quads_splatted as f64),
         screen_visible_texels: sum(|s| s.counters.screen_visible_texels as f64),
     }
+}
+
+/// Mean steps per marched pixel and the fraction of marched pixels that fell back, over the
+/// frames; `None` when no pixel was marched (every method but `march`).
+pub fn march_means(stats: &[FrameStats]) -> (Option<f64>, Option<f64>) {
+    let total = |f: fn(&FrameStats) -> u64| stats.iter().map(f).sum::<u64>() as f64;
+    let pixels = total(|s| s.counters.pixels_marched);
+    if pixels == 0.0 {
+        return (None, None);
+    }
+    (
+        Some(total(|s| s.counters.march_steps) / pixels),
+        Some(total(|s| s.counters.march_fallbacks) / pixels),
+    )
 }
 
 #[cfg(test)]

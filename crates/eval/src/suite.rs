@@ -6,7 +6,7 @@ use std::path::{Path, PathBuf};
 
 use glam::UVec2;
 use texel_render::context::GpuContext;
-use texel_render::input::{Camera, Look, SceneInput, Schedule};
+use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
 use texel_runtime::driver::scene_input;
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::{CameraPath, Projection};
@@ -19,7 +19,7 @@ use crate::reference::CpuScene;
 use crate::report::RunRecord;
 use crate::runner::{
     CachedReferences, EvalError, FrameSource, Method, ReferenceSource, counter_means, frame_timing,
-    pass_medians, run_path,
+    march_means, pass_medians, run_path,
 };
 
 /// Vertical field of view of paths that do not set one: 60°.
@@ -161,6 +161,7 @@ pub fn run_plan(
             let outcome = run_path(&path, fov_y, source.as_mut(), &refs, params, &mut || {
                 tick(&label)
             })?;
+            let (steps_per_pixel, fallback_fraction) = march_means(&outcome.stats);
             records.push(RunRecord {
                 level: plan.level.display().to_string(),
                 path: plan.path.display().to_string(),
@@ -178,6 +179,8 @@ pub fn run_plan(
                 hole_rate: outcome.scores.hole_rate,
                 eye_fraction: outcome.scores.eye_fraction,
                 eye_flicker_share: outcome.scores.eye_flicker_share,
+                steps_per_pixel,
+                fallback_fraction,
             });
         }
     }
@@ -242,12 +245,16 @@ pub fn method_source<'a>(
                 Method::SplatPaper => Schedule::Paper,
                 _ => Schedule::Ours,
             };
+            let display = match method {
+                Method::March => Display::March,
+                _ => Display::Splat,
+            };
             Box::new(SplatSource::new(
                 ctx,
                 level,
                 view.size,
                 view.fov_y,
-                schedule,
+                (schedule, display),
                 &view.warm_up,
             )?)
         }

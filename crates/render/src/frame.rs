@@ -8,11 +8,12 @@ use texel_probes::probe_set::Slot;
 
 use crate::context::{GpuContext, GpuError};
 use crate::gpu_scene::GpuScene;
-use crate::input::{FrameInput, ProbeView, SceneInput, Schedule};
+use crate::input::{Display, FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::lines::LinesPass;
+use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
@@ -123,6 +124,7 @@ pub struct Renderer {
     pub(crate) cull: CullPass,
     splat: SplatPass,
     background: BackgroundPass,
+    march: MarchPass,
     pub(crate) lines: LinesPass,
     visible: VisiblePass,
     present: PresentPass,
@@ -134,6 +136,7 @@ pub struct Renderer {
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
     runs_on: bool,
+    display: Display,
 }
 
 impl Renderer {
@@ -162,6 +165,7 @@ impl Renderer {
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
+            march: MarchPass::new(d, colour.remove_srgb_suffix())?,
             lines: LinesPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
             present: PresentPass::new(d, colour)?,
@@ -180,6 +184,7 @@ impl Renderer {
             offscreen: None,
             queries,
             runs_on: true,
+            display: Display::Splat,
         })
     }
 
@@ -197,6 +202,11 @@ impl Renderer {
     /// (on by default; off draws one quad per texel, for comparison).
     pub fn set_runs(&mut self, on: bool) {
         self.runs_on = on;
+    }
+
+    /// How texels reach the pixels: splatted (the default) or marched.
+    pub fn set_display(&mut self, display: Display) {
+        self.display = display;
     }
 
     /// The probe textures (for tests and debug views).
@@ -293,30 +303,52 @@ impl Renderer {
         };
         let shaded = stages.run("shade", |enc| self.shade.record(ctx, enc, &jobs, &inputs));
         let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded.stable);
-        stages.run("runs", |enc| self.runs.record(ctx, enc, store, runs_faces));
-        let drawn = drawn_faces(input, self.runs_on);
-        let list = stages.run("cull", |enc| {
-            (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
-        });
-        let splat_bind = self.splat.bind_group(ctx, &self.view, list);
-        let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
-        let fade = match input.previous {
-            Some(_) if input.fade_t >= 1.0 => Fade::None,
-            Some(_) if !input.grid_complete => Fade::DitherPartial,
-            Some(_) => Fade::Dither,
-            None => Fade::None,
+        let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::with_capacity(4);
+        let pixels_marched = match self.display {
+            Display::Splat => {
+                stages.run("runs", |enc| self.runs.record(ctx, enc, store, runs_faces));
+                let drawn = drawn_faces(input, self.runs_on);
+                let list = stages.run("cull", |enc| {
+                    (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
+                });
+                let splat_bind = self.splat.bind_group(ctx, &self.view, list);
+                let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
+                let fade = match input.previous {
+                    Some(_) if input.fade_t >= 1.0 => Fade::None,
+                    Some(_) if !input.grid_complete => Fade::DitherPartial,
+                    Some(_) => Fade::Dither,
+                    None => Fade::None,
+                };
+                let runs = (drawn.iter())
+                    .any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
+                stages.run("splat", |enc| {
+                    let mut pass = begin_draw(enc, draw_target, screen, true);
+                    self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
+                });
+                stages.run("background", |enc| {
+                    let mut pass = begin_draw(enc, draw_target, screen, false);
+                    self.background.draw(&mut pass, &bg_bind);
+                    self.lines.draw(ctx, &mut pass, &self.view);
+                });
+                copies.push((list.args, size_of::<DrawArgs>() as u64));
+                0
+            }
+            Display::March => {
+                // The runs are not drawn, but stay owed to the faces just lit.
+                for (stale, lit) in self.runs_stale.iter_mut().zip(runs_faces) {
+                    *stale = stale.union(lit);
+                }
+                let bind = self.march.bind_group(ctx, &self.view, store);
+                stages.run("march", |enc| {
+                    self.march.clear(enc);
+                    let mut pass = begin_draw(enc, draw_target, screen, true);
+                    self.march.draw(&mut pass, &bind);
+                    self.lines.draw(ctx, &mut pass, &self.view);
+                });
+                copies.push((&self.march.counters, COUNTERS_BYTES));
+                u64::from(size.0) * u64::from(size.1)
+            }
         };
-        let runs =
-            (drawn.iter()).any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
-        stages.run("splat", |enc| {
-            let mut pass = begin_draw(enc, draw_target, screen, true);
-            self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
-        });
-        stages.run("background", |enc| {
-            let mut pass = begin_draw(enc, draw_target, screen, false);
-            self.background.draw(&mut pass, &bg_bind);
-            self.lines.draw(ctx, &mut pass, &self.view);
-        });
         stages.run("visible", |enc| {
             self.visible.record(ctx, enc, &screen.keys_view, size);
         });
@@ -325,13 +357,17 @@ impl Renderer {
                 self.present.record(ctx, enc, frame, target, size, output);
             }
         });
-        let timed = stages.finish(&[
-            (list.args, size_of::<DrawArgs>() as u64),
-            (shaded.texels, 4),
-            (&self.visible.bits, self.visible.bytes()),
-        ])?;
-        let (args_bytes, rest) = timed.readback.split_at(size_of::<DrawArgs>());
-        let args: DrawArgs = bytemuck::pod_read_unaligned(args_bytes);
+        copies.push((shaded.texels, 4));
+        copies.push((&self.visible.bits, self.visible.bytes()));
+        let timed = stages.finish(&copies)?;
+        let (head, rest) = timed.readback.split_at(copies[0].1 as usize);
+        let (quads_splatted, march) = match self.display {
+            Display::Splat => {
+                let args: DrawArgs = bytemuck::pod_read_unaligned(head);
+                (u64::from(args.instance_count), MarchCounts::default())
+            }
+            Display::March => (0, MarchCounts::from_bytes(head)),
+        };
         let (shaded, bits) = rest.split_at(4);
         let texels_shaded = u64::from(u32::from_le_bytes([
             shaded[0], shaded[1], shaded[2], shaded[3],
@@ -346,8 +382,11 @@ impl Renderer {
             counters: Counters {
                 faces_captured: input.captures.len() as u32,
                 texels_shaded,
-                quads_splatted: u64::from(args.instance_count),
+                quads_splatted,
                 screen_visible_texels,
+                pixels_marched,
+                march_steps: march.steps,
+                march_fallbacks: march.fallbacks,
             },
         })
     }

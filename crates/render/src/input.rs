@@ -148,6 +148,16 @@ pub enum Schedule {
     Paper,
 }
 
+/// How probe texels reach the pixels.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Display {
+    /// Texel splatting: every visible texel drawn as a world-space quad.
+    #[default]
+    Splat,
+    /// Texel marching: per pixel, the view ray marched through the stable probes' faces.
+    March,
+}
+
 /// A probe as drawn this frame.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct ProbeView {

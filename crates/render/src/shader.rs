@@ -43,6 +43,7 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("shade.wgsl", include_str!("../../../shaders/shade.wgsl")),
     ("cull.wgsl", include_str!("../../../shaders/cull.wgsl")),
     ("splat.wgsl", include_str!("../../../shaders/splat.wgsl")),
+    ("march.wgsl", include_str!("../../../shaders/march.wgsl")),
     (
         "visible.wgsl",
         include_str!("../../../shaders/visible.wgsl"),

@@ -13,6 +13,13 @@ pub struct Counters {
     pub quads_splatted: u64,
     /// Distinct probe texels that colour at least one pixel of the final frame.
     pub screen_visible_texels: u64,
+    /// Pixels whose view ray was marched (texel marching; 0 when splatting).
+    pub pixels_marched: u64,
+    /// Steps taken by those marches, over every pixel and probe.
+    pub march_steps: u64,
+    /// Marched pixels the first probe they asked could not resolve (they fell back to the
+    /// other stable probe, the eye probe or the sky).
+    pub march_fallbacks: u64,
 }
 
 /// Time of one pass, in milliseconds.

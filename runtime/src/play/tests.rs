@@ -74,6 +74,7 @@ fn overlay_lists_passes_counters_and_modes() {
             texels_shaded: 1234,
             quads_splatted: 999,
             screen_visible_texels: 77,
+            ..Default::default()
         },
     };
     let mut camera = WalkCamera::from_start(glam::Vec3::ZERO, &Default::default());

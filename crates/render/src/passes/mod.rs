@@ -5,6 +5,7 @@ pub mod background;
 pub mod capture;
 pub mod cull;
 pub mod lines;
+pub mod march;
 pub mod present;
 pub mod raster;
 pub mod runs;

@@ -1,0 +1,150 @@
+//! March (`shaders/march.wgsl`): texel marching, the paper's alternative display. A
+//! fullscreen pass that, per pixel, marches the view ray through the stable probes' cube
+//! faces and shows the first texel the ray reaches, falling back to the other stable probe,
+//! the eye probe and the sky. It replaces cull + splat + background and reuses everything
+//! before them (capture, shade), so the two displays differ only in how texels reach pixels.
+
+use super::{
+    ARRAY, FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, storage, texture, uniform,
+};
+use crate::context::GpuContext;
+use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
+use crate::probe_store::ProbeStore;
+use crate::shader;
+use texel_probes::probe_set::Slot;
+
+/// Bytes of the counters the shader adds to: steps taken, pixels that fell back.
+pub const COUNTERS_BYTES: u64 = 8;
+
+/// What the march counted over one frame.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct MarchCounts {
+    /// Steps taken over every pixel and every probe marched.
+    pub steps: u64,
+    /// Pixels the first probe they asked could not resolve.
+    pub fallbacks: u64,
+}
+
+impl MarchCounts {
+    /// The counts in the bytes read back from the counters buffer.
+    pub fn from_bytes(bytes: &[u8]) -> Self {
+        let word = |i: usize| {
+            bytes.get(4 * i..4 * i + 4).map_or(0, |b| {
+                u64::from(u32::from_le_bytes([b[0], b[1], b[2], b[3]]))
+            })
+        };
+        MarchCounts {
+            steps: word(0),
+            fallbacks: word(1),
+        }
+    }
+}
+
+/// The march pass.
+pub struct MarchPass {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    /// Steps and fallbacks of the last frame, cleared before each.
+    pub counters: wgpu::Buffer,
+}
+
+impl MarchPass {
+    /// Builds the pipeline for a `colour` target.
+    pub fn new(
+        device: &wgpu::Device,
+        colour: wgpu::TextureFormat,
+    ) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "march.wgsl")?;
+        let f = wgpu::ShaderStages::FRAGMENT;
+        let mut entries = vec![entry(
+            0,
+            wgpu::ShaderStages::VERTEX_FRAGMENT,
+            uniform(false),
+        )];
+        for s in 0..3 {
+            entries.push(entry(1 + 3 * s, f, texture(UINT, ARRAY)));
+            entries.push(entry(2 + 3 * s, f, texture(FLOAT, ARRAY)));
+            entries.push(entry(3 + 3 * s, f, texture(FLOAT, ARRAY)));
+        }
+        entries.push(entry(10, f, storage(false)));
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("march::layout"),
+            entries: &entries,
+        });
+        let pipeline = render_pipeline(
+            device,
+            RenderSpec {
+                owner: "march",
+                module: &module,
+                vertex: "vs",
+                layouts: &[&layout],
+                vertex_buffers: &[],
+                fragment: "fs",
+                targets: &[colour, KEY_FORMAT],
+                // Every pixel writes the depth of what it shows, so lines test against it.
+                depth: Some((SPLAT_DEPTH_FORMAT, true, wgpu::CompareFunction::Always)),
+            },
+        );
+        let counters = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("march::counters"),
+            size: COUNTERS_BYTES,
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
+            mapped_at_creation: false,
+        });
+        Ok(MarchPass {
+            pipeline,
+            layout,
+            counters,
+        })
+    }
+
+    /// The bind group over the view globals and every slot's ids, lit colour and geometry.
+    pub fn bind_group(
+        &self,
+        ctx: &GpuContext,
+        view: &wgpu::Buffer,
+        store: &ProbeStore,
+    ) -> wgpu::BindGroup {
+        let mut resources = vec![view.as_entire_binding()];
+        for slot in Slot::ALL {
+            let t = store.slot(slot);
+            resources.push(wgpu::BindingResource::TextureView(&t.ids.array_view));
+            resources.push(wgpu::BindingResource::TextureView(&t.lit.array_view));
+            resources.push(wgpu::BindingResource::TextureView(&t.geo.array_view));
+        }
+        resources.push(self.counters.as_entire_binding());
+        bind_group(&ctx.device, "march::bind", &self.layout, &resources)
+    }
+
+    /// Clears the counters (before the render pass that draws).
+    pub fn clear(&self, encoder: &mut wgpu::CommandEncoder) {
+        encoder.clear_buffer(&self.counters, 0, None);
+    }
+
+    /// Draws the fullscreen triangle.
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind: &wgpu::BindGroup) {
+        pass.set_pipeline(&self.pipeline);
+        pass.set_bind_group(0, bind, &[]);
+        pass.draw(0..3, 0..1);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn counts_read_from_little_endian_words() {
+        let bytes = [7, 1, 0, 0, 3, 0, 0, 0];
+        assert_eq!(
+            MarchCounts::from_bytes(&bytes),
+            MarchCounts {
+                steps: 263,
+                fallbacks: 3
+            }
+        );
+        assert_eq!(MarchCounts::from_bytes(&[]), MarchCounts::default());
+    }
+}

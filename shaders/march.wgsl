@@ -1,0 +1,249 @@
+// March: texel marching, the paper's alternative display. Per pixel, the view ray is walked
+// through a stable probe's cube faces texel by texel, across seams (on a face the ray's
+// projection is a straight line, so the next texel is the nearer of two boundary crossings);
+// the first texel whose surface the ray reaches gives the pixel its lit colour and texel key.
+// Where the probe cannot say what the ray hits (the ray passes behind a surface the probe
+// sees), the pixel falls back to the other stable probe, then the eye probe, then the sky.
+// crates/render/src/passes/march.rs.
+//
+// A texel's surface is what its splat quad would be: the plane at the texel's Chebyshev depth
+// across the texel's frustum, so marching and splatting show the same geometry.
+
+#include "lib/common.wgsl"
+#include "lib/view.wgsl"
+
+@group(0) @binding(0) var<uniform> view: ViewGlobals;
+@group(0) @binding(1) var ids0: texture_2d_array<u32>;
+@group(0) @binding(2) var lit0: texture_2d_array<f32>;
+@group(0) @binding(3) var geo0: texture_2d_array<f32>;
+@group(0) @binding(4) var ids1: texture_2d_array<u32>;
+@group(0) @binding(5) var lit1: texture_2d_array<f32>;
+@group(0) @binding(6) var geo1: texture_2d_array<f32>;
+@group(0) @binding(7) var ids2: texture_2d_array<u32>;
+@group(0) @binding(8) var lit2: texture_2d_array<f32>;
+@group(0) @binding(9) var geo2: texture_2d_array<f32>;
+// [0] texels crossed, [1] pixels that fell back past their first probe.
+@group(0) @binding(10) var<storage, read_write> counters: array<atomic<u32>, 2>;
+
+// Texels one probe's march may cross before it gives up (the pixel falls back).
+const MAX_STEPS: u32 = 512u;
+// How far, in texels at its depth, a ray may pass behind a texel's surface and still hit it:
+// the reach of a splat quad toward a dissimilar neighbour, so marching closes the same gaps.
+const REACH_TEXELS: f32 = 1.5;
+
+const STATUS_HIT: u32 = 0u;
+const STATUS_ESCAPED: u32 = 1u;
+const STATUS_UNKNOWN: u32 = 2u;
+
+struct March {
+    status: u32,
+    steps: u32,
+    face: u32,
+    texel: vec2<u32>,
+    t: f32,
+}
+
+fn slot_id(s: u32, t: vec2<u32>, face: u32) -> u32 {
+    switch s {
+        case 0u: { return textureLoad(ids0, t, face, 0).r; }
+        case 1u: { return textureLoad(ids1, t, face, 0).r; }
+        default: { return textureLoad(ids2, t, face, 0).r; }
+    }
+}
+
+fn slot_depth(s: u32, t: vec2<u32>, face: u32) -> f32 {
+    switch s {
+        case 0u: { return textureLoad(geo0, t, face, 0).w; }
+        case 1u: { return textureLoad(geo1, t, face, 0).w; }
+        default: { return textureLoad(geo2, t, face, 0).w; }
+    }
+}
+
+fn slot_lit(s: u32, t: vec2<u32>, face: u32) -> vec3<f32> {
+    switch s {
+        case 0u: { return textureLoad(lit0, t, face, 0).rgb; }
+        case 1u: { return textureLoad(lit1, t, face, 0).rgb; }
+        default: { return textureLoad(lit2, t, face, 0).rgb; }
+    }
+}
+
+// The ray parameter where the face coordinate along `axis_uv` (a face's u or v vector)
+// reaches `b`, for the ray `q0 + t rd` from the probe origin seen on the face of `axis`; the
+// projection of a line is a line, so each texel boundary is crossed at most once.
+fn crossing(q0: vec3<f32>, rd: vec3<f32>, axis: vec3<f32>, axis_uv: vec3<f32>, b: f32) -> f32 {
+    let den = dot(rd, axis_uv) - b * dot(rd, axis);
+    if abs(den) < 1e-12 {
+        return 3.0e38;
+    }
+    return (b * dot(q0, axis) - dot(q0, axis_uv)) / den;
+}
+
+// Marches the ray `ro + t rd` (|rd| = 1), t in [t0, t1], through stable slot `s`, one texel
+// at a time (across face seams): in each texel the ray meets the texel's plane, or not.
+fn march(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
+    let v = view.slots[s];
+    let q0 = ro - v.origin;
+    let step = 2.0 / f32(v.n);
+    var out = March(STATUS_ESCAPED, 0u, 0u, vec2(0u), t1);
+    var t = t0;
+    // Depth of the texel the ray crossed last (-1: sky or a face the probe lacks).
+    var prev_d = -1.0;
+    for (var i = 0u; i < MAX_STEPS; i++) {
+        out.steps = i + 1u;
+        let q = q0 + rd * t;
+        let fu = cube_face_uv(q);
+        let axis = cube_dir(fu.face, 0.0, 0.0);
+        let au = cube_dir(fu.face, 1.0, 0.0) - axis;
+        let av = cube_dir(fu.face, 0.0, 1.0) - axis;
+        let tx = texel_of_uv(fu.uv, v.n);
+        // Where the ray leaves this texel: the first boundary it crosses in u or in v.
+        let lo = vec2<f32>(tx) * step - 1.0;
+        let qa = dot(q, axis);
+        let du = dot(rd, au) * qa - dot(q, au) * dot(rd, axis);
+        let dv = dot(rd, av) * qa - dot(q, av) * dot(rd, axis);
+        var t_out = t1;
+        if du != 0.0 {
+            let tu = crossing(q0, rd, axis, au, select(lo.x, lo.x + step, du > 0.0));
+            if tu > t { t_out = min(t_out, tu); }
+        }
+        if dv != 0.0 {
+            let tv = crossing(q0, rd, axis, av, select(lo.y, lo.y + step, dv > 0.0));
+            if tv > t { t_out = min(t_out, tv); }
+        }
+        var d = -1.0;
+        if (v.draw_mask & (1u << fu.face)) != 0u && slot_id(s, tx, fu.face) != 0u {
+            d = slot_depth(s, tx, fu.face);
+            if qa >= d {
+                // In behind the surface through the texel's side: from a texel of the same
+                // surface (a floor seen at a grazing angle steps in depth from row to row)
+                // the ray crossed that surface; else within a quad's reach the texel still
+                // covers it; beyond, the probe cannot see what the ray hits.
+                let reach = REACH_TEXELS * texel_world_size(d, v.n, q / qa);
+                if (prev_d > 0.0 && same_surface(prev_d, d, v.n)) || qa - d <= reach {
+                    out.status = STATUS_HIT;
+                } else {
+                    out.status = STATUS_UNKNOWN;
+                }
+                out.face = fu.face;
+                out.texel = tx;
+                out.t = t;
+                return out;
+            }
+            let along = dot(rd, axis);
+            let tc = (d - dot(q0, axis)) / along;
+            if along > 0.0 && tc <= t_out {
+                out.status = STATUS_HIT;
+                out.face = fu.face;
+                out.texel = tx;
+                out.t = tc;
+                return out;
+            }
+        }
+        if t_out >= t1 {
+            return out;
+        }
+        prev_d = d;
+        // Just past the boundary, into the next texel.
+        t = t_out + max(1e-5 * t_out, 1e-6);
+    }
+    out.status = STATUS_UNKNOWN;
+    return out;
+}
+
+struct VsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) ndc: vec2<f32>,
+}
+
+@vertex
+fn vs(@builtin(vertex_index) vi: u32) -> VsOut {
+    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
+    return VsOut(vec4(xy, 0.0, 1.0), xy);
+}
+
+struct FsOut {
+    @location(0) colour: vec4<f32>,
+    @location(1) key: u32,
+    @builtin(frag_depth) depth: f32,
+}
+
+// The pixel's colour, key and depth from texel `tx` of `face` of slot `s`, hit at `p`.
+fn shown(s: u32, face: u32, tx: vec2<u32>, p: vec3<f32>) -> FsOut {
+    let colour = hazed(slot_lit(s, tx, face), length(p - view.camera.xyz));
+    let clip = view.view_proj * vec4(p, 1.0);
+    let key = texel_key(s, face, tx, view.max_n) + 1u;
+    return FsOut(vec4(linear_to_srgb(colour), 1.0), key, clamp(clip.z / clip.w, 0.0, 1.0));
+}
+
+@fragment
+fn fs(in: VsOut) -> FsOut {
+    let near = view.inv_view_proj * vec4(in.ndc, 0.0, 1.0);
+    let far = view.inv_view_proj * vec4(in.ndc, 1.0, 1.0);
+    let ro = near.xyz / near.w;
+    let span = far.xyz / far.w - ro;
+    let t1 = length(span);
+    let rd = span / t1;
+
+    // The stable probes in the order this pixel asks them: during a crossfade the Bayer
+    // pattern hands the pixel to the grid or the previous probe (as the splats' dither does).
+    var order = array<u32, 2>(4u, 4u);
+    var count = 0u;
+    var grid = 4u;
+    var previous = 4u;
+    for (var s = 0u; s < 3u; s++) {
+        let role = view.slots[s].role;
+        if role == ROLE_GRID { grid = s; }
+        if role == ROLE_PREVIOUS { previous = s; }
+    }
+    let grid_first = previous == 4u
+        || bayer_threshold(vec2<u32>(in.clip.xy)) < view.fade_t;
+    if grid_first {
+        order[0] = grid;
+        order[1] = previous;
+    } else {
+        order[0] = previous;
+        order[1] = grid;
+    }
+
+    var steps = 0u;
+    var fell_back = false;
+    var result = FsOut(vec4(0.0), 0u, 1.0);
+    var found = false;
+    for (var k = 0u; k < 2u && !found; k++) {
+        let s = order[k];
+        if s > 2u || view.slots[s].draw_mask == 0u {
+            continue;
+        }
+        let m = march(s, ro, rd, 0.0, t1);
+        steps += m.steps;
+        if m.status == STATUS_HIT {
+            result = shown(s, m.face, m.texel, ro + rd * m.t);
+            found = true;
+        } else if m.status == STATUS_ESCAPED {
+            // Nothing along the ray as far as the probe sees: the sky (or the eye's view).
+            break;
+        } else {
+            fell_back = true;
+        }
+    }
+    atomicAdd(&counters[0], steps);
+    if fell_back {
+        atomicAdd(&counters[1], 1u);
+    }
+    if found {
+        return result;
+    }
+    // The eye probe sits at the camera: its texel in the view direction is exact.
+    let dir = far.xyz / far.w - view.camera.xyz;
+    let eye = view.slots[view.eye_slot];
+    let fu = cube_face_uv(dir);
+    if (eye.draw_mask & (1u << fu.face)) == 0u {
+        return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, 1.0);
+    }
+    let tx = texel_of_uv(fu.uv, eye.n);
+    if slot_id(view.eye_slot, tx, fu.face) == 0u {
+        return FsOut(vec4(linear_to_srgb(slot_lit(view.eye_slot, tx, fu.face)), 1.0), 0u, 1.0);
+    }
+    let d = slot_depth(view.eye_slot, tx, fu.face);
+    return shown(view.eye_slot, fu.face, tx, probe_point(view.camera.xyz, dir, d));
+}
