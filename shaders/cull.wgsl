@@ -41,6 +41,18 @@ struct CullWork {
     faces: array<vec4<u32>, 18>,
 }
 @group(0) @binding(3) var<uniform> work: CullWork;
+// `listed`'s workgroup counts, written by `listed_args`.
+struct DispatchArgs {
+    x: u32,
+    y: u32,
+    z: u32,
+}
+// Where each listed face's entries start in `listed`'s index space (then the total).
+@group(2) @binding(0) var<storage, read_write> starts: array<u32, 19>;
+// Its own group: bound only while `listed_args` writes it, not while `listed` reads it.
+@group(3) @binding(0) var<storage, read_write> dispatch: DispatchArgs;
+// Most workgroups in one dimension of a dispatch (wgpu's default limit).
+const MAX_GROUPS: u32 = 65535u;
 @group(1) @binding(0) var geo0: texture_2d_array<f32>;
 @group(1) @binding(1) var geo1: texture_2d_array<f32>;
 @group(1) @binding(2) var geo2: texture_2d_array<f32>;
@@ -137,26 +149,49 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
 }
 
 // The draw lists of the listed faces (our schedule): stable faces' run heads, the eye
-// texels the shade pass lit this frame. One fixed-size dispatch strides over all of them:
-// the lists are short, and a dispatch per face costs more than its work on a CPU driver.
+// texels the shade pass lit this frame. One indirect dispatch, sized by `listed_args`, has
+// an invocation per entry of all the lists together (x, and z past 65535 groups); each finds
+// its face among the lists' starts. No invocation loops over entries: SwiftShader's shader
+// compiler took gigabytes and never finished on `emit` inside a loop.
 @compute @workgroup_size(64)
 fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
-    let stride = groups.x * 64u;
-    for (var k = work.count; k < work.count + work.listed; k++) {
-        let slot = work.faces[k].x;
-        let face = work.faces[k].y;
-        let n = view.slots[slot].n;
-        let length = load_list(slot, face);
-        for (var i = gid.x; i < length; i += stride) {
-            let packed = load_list(slot, LIST_HEADER + face * n * n + i);
-            let t = vec2(packed & 0xffffu, packed >> 16u);
-            var run = 1u;
-            if view.slots[slot].role != ROLE_EYE {
-                run = load_run(slot, t, face);
-            }
-            emit(slot, face, t, run);
-        }
+    let i = gid.x + gid.z * groups.x * 64u;
+    if i >= starts[work.listed] {
+        return;
     }
+    var k = 0u;
+    while k + 1u < work.listed && starts[k + 1u] <= i {
+        k++;
+    }
+    let f = work.faces[work.count + k];
+    let slot = f.x;
+    let face = f.y;
+    let n = view.slots[slot].n;
+    let packed = load_list(slot, LIST_HEADER + face * n * n + i - starts[k]);
+    let t = vec2(packed & 0xffffu, packed >> 16u);
+    var run = 1u;
+    if view.slots[slot].role != ROLE_EYE {
+        run = load_run(slot, t, face);
+    }
+    emit(slot, face, t, run);
+}
+
+// Where each listed face's entries start in `listed`'s index space, and its dispatch size:
+// workgroups of 64 over all the entries.
+@compute @workgroup_size(1)
+fn listed_args() {
+    var total = 0u;
+    for (var k = 0u; k < work.listed; k++) {
+        starts[k] = total;
+        let f = work.faces[work.count + k];
+        total += load_list(f.x, f.y);
+    }
+    starts[work.listed] = total;
+    let groups = (total + 63u) / 64u;
+    let x = clamp(groups, 1u, MAX_GROUPS);
+    dispatch.x = x;
+    dispatch.y = 1u;
+    dispatch.z = (groups + x - 1u) / x;
 }
 
 // Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,

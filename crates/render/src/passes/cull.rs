@@ -17,9 +17,8 @@ use texel_probes::probe_set::Slot;
 pub const SPLAT_BYTES: u64 = 64;
 /// Most splats one frame may hold (128 MiB of records, the binding limit lavapipe has).
 pub const MAX_SPLATS: u64 = (128 << 20) / SPLAT_BYTES;
-/// Workgroups (of 64) of the one dispatch that walks every draw list; each invocation
-/// strides over the lists' entries.
-const LISTED_GROUPS: u32 = 8;
+/// Bytes of `listed`'s indirect dispatch arguments (three u32 workgroup counts).
+const DISPATCH_BYTES: u64 = 12;
 
 /// `wgpu`'s indexed indirect arguments.
 #[repr(C)]
@@ -50,6 +49,12 @@ pub struct SplatList<'a> {
 pub struct CullPass {
     pipeline: wgpu::ComputePipeline,
     listed_pipeline: wgpu::ComputePipeline,
+    listed_args_pipeline: wgpu::ComputePipeline,
+    /// `listed`'s workgroup counts, sized on the GPU from the draw lists.
+    dispatch: wgpu::Buffer,
+    dispatch_bind: wgpu::BindGroup,
+    /// Where each listed face's entries start in `listed`'s index space.
+    starts_bind: wgpu::BindGroup,
     layout: wgpu::BindGroupLayout,
     textures_layout: wgpu::BindGroupLayout,
     splats: wgpu::Buffer,
@@ -95,6 +100,14 @@ impl CullPass {
                 entry(3, c, uniform(false)),
             ],
         });
+        let one_buffer = |label| {
+            device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+                label: Some(label),
+                entries: &[entry(0, c, storage(false))],
+            })
+        };
+        let starts_layout = one_buffer("cull::starts_layout");
+        let dispatch_layout = one_buffer("cull::dispatch_layout");
         let textures_layout = probe_textures_layout(device, c);
         let pipeline = compute_pipeline(
             device,
@@ -108,7 +121,38 @@ impl CullPass {
             "cull::listed",
             &module,
             "listed",
-            &[&layout, &textures_layout],
+            &[&layout, &textures_layout, &starts_layout],
+        );
+        let listed_args_pipeline = compute_pipeline(
+            device,
+            "cull::listed_args",
+            &module,
+            "listed_args",
+            &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
+        );
+        let dispatch = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull::dispatch"),
+            size: DISPATCH_BYTES,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            mapped_at_creation: false,
+        });
+        let dispatch_bind = bind_group(
+            device,
+            "cull::dispatch_bind",
+            &dispatch_layout,
+            &[dispatch.as_entire_binding()],
+        );
+        let starts = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("cull::starts"),
+            size: 4 * 19,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let starts_bind = bind_group(
+            device,
+            "cull::starts_bind",
+            &starts_layout,
+            &[starts.as_entire_binding()],
         );
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
@@ -124,6 +168,10 @@ impl CullPass {
             work,
             pipeline,
             listed_pipeline,
+            listed_args_pipeline,
+            dispatch,
+            dispatch_bind,
+            starts_bind,
             layout,
             textures_layout,
             splats: splat_buffer(device, 1024),
@@ -204,8 +252,12 @@ impl CullPass {
             pass.dispatch_workgroups(groups, groups, work.count);
         }
         if work.listed > 0 {
+            pass.set_pipeline(&self.listed_args_pipeline);
+            pass.set_bind_group(2, &self.starts_bind, &[]);
+            pass.set_bind_group(3, &self.dispatch_bind, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
             pass.set_pipeline(&self.listed_pipeline);
-            pass.dispatch_workgroups(LISTED_GROUPS, 1, 1);
+            pass.dispatch_workgroups_indirect(&self.dispatch, 0);
         }
         drop(pass);
         self.list()
