@@ -1,6 +1,7 @@
 //! The GPU context: instance, adapter, device and queue, headless or for a window.
 
 use std::fmt;
+use std::sync::{Arc, Mutex, PoisonError};
 
 /// Why the GPU could not be opened.
 #[derive(Debug, thiserror::Error)]
@@ -25,6 +26,84 @@ pub enum GpuError {
     /// Reading back from the GPU failed.
     #[error("GPU readback failed: {0}")]
     Readback(String),
+    /// The device reported an error no error scope caught (a validation error or running
+    /// out of memory): the work it concerned did not happen.
+    #[error("the GPU reported an error: {0}")]
+    Uncaptured(String),
+    /// The device is gone (driver reset, GPU removed, out of memory): nothing more can be
+    /// drawn with it.
+    #[error("the GPU device was lost: {0}")]
+    Lost(String),
+}
+
+/// What the device reported outside any error scope, kept until [`GpuContext::check`] reads
+/// it. Installed on every device the project draws with (its own and eframe's), so a GPU
+/// error becomes a message instead of wgpu's default handler, which panics.
+#[derive(Debug, Default)]
+struct Reported {
+    /// Uncaptured errors since the last check (the first few, then a count).
+    errors: Vec<String>,
+    /// Errors past the first few.
+    more: usize,
+    /// Why the device was lost, once it is.
+    lost: Option<String>,
+}
+
+/// Uncaptured errors kept in full; later ones are only counted.
+const KEPT_ERRORS: usize = 4;
+
+/// The shared record the device's handlers write.
+#[derive(Debug, Clone, Default)]
+pub struct GpuErrors(Arc<Mutex<Reported>>);
+
+impl GpuErrors {
+    /// Installs an uncaptured-error handler and a device-lost callback on `device` that
+    /// record what they are told (and print it once to stderr).
+    pub fn install(device: &wgpu::Device) -> Self {
+        let errors = GpuErrors::default();
+        let sink = errors.clone();
+        device.on_uncaptured_error(Arc::new(move |e: wgpu::Error| {
+            let mut r = sink.lock();
+            if r.errors.len() < KEPT_ERRORS {
+                eprintln!("GPU error: {e}");
+                r.errors.push(e.to_string());
+            } else {
+                r.more += 1;
+            }
+        }));
+        let sink = errors.clone();
+        device.set_device_lost_callback(move |reason, message| {
+            // Dropping the device on purpose is not a loss worth reporting.
+            if reason != wgpu::DeviceLostReason::Destroyed {
+                eprintln!("GPU device lost ({reason:?}): {message}");
+            }
+            sink.lock().lost = Some(format!("{reason:?}: {message}"));
+        });
+        errors
+    }
+
+    fn lock(&self) -> std::sync::MutexGuard<'_, Reported> {
+        self.0.lock().unwrap_or_else(PoisonError::into_inner)
+    }
+
+    /// `Err` with what was reported since the last call (and clears the errors; a lost
+    /// device stays lost).
+    pub fn check(&self) -> Result<(), GpuError> {
+        let mut r = self.lock();
+        if let Some(lost) = &r.lost {
+            return Err(GpuError::Lost(lost.clone()));
+        }
+        if r.errors.is_empty() {
+            return Ok(());
+        }
+        let mut message = r.errors.join("; ");
+        if r.more > 0 {
+            message.push_str(&format!(" (and {} more)", r.more));
+        }
+        r.errors.clear();
+        r.more = 0;
+        Err(GpuError::Uncaptured(message))
+    }
 }
 
 /// An open GPU: everything the passes need to create resources and submit work.
@@ -39,6 +118,8 @@ pub struct GpuContext {
     pub queue: wgpu::Queue,
     /// Whether GPU timestamps can be written (per-pass GPU times); CPU times otherwise.
     pub timestamps: bool,
+    /// What the device reported outside error scopes.
+    pub errors: GpuErrors,
 }
 
 impl fmt::Debug for GpuContext {
@@ -77,9 +158,7 @@ impl GpuContext {
                 .await
                 .map_err(|e| GpuError::NoAdapter(e.to_string()))?,
         };
-        let wanted =
-            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
-        let features = adapter.features() & wanted;
+        let features = adapter.features() & TIMESTAMPS;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("texel::device"),
@@ -92,13 +171,34 @@ impl GpuContext {
                 adapter: adapter.get_info().name,
                 source,
             })?;
-        Ok(GpuContext {
+        Ok(GpuContext::from_parts(instance, adapter, device, queue))
+    }
+
+    /// A context over a device opened elsewhere (eframe's), with the project's error
+    /// handlers installed on it; timestamps are used when the device was created with them.
+    pub fn from_parts(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+        device: wgpu::Device,
+        queue: wgpu::Queue,
+    ) -> Self {
+        let wanted = TIMESTAMPS;
+        let timestamps = device.features().contains(wanted);
+        let errors = GpuErrors::install(&device);
+        GpuContext {
             instance,
             adapter,
             device,
             queue,
-            timestamps: features.contains(wanted),
-        })
+            timestamps,
+            errors,
+        }
+    }
+
+    /// `Err` with what the device reported outside error scopes since the last check (a
+    /// validation error, running out of memory, a lost device).
+    pub fn check(&self) -> Result<(), GpuError> {
+        self.errors.check()
     }
 
     /// Adapter name and backend, for reports.
@@ -115,6 +215,10 @@ impl GpuContext {
             .map_err(|e| GpuError::Readback(e.to_string()))
     }
 }
+
+/// The features per-pass GPU timestamps need.
+const TIMESTAMPS: wgpu::Features =
+    wgpu::Features::TIMESTAMP_QUERY.union(wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS);
 
 /// A wgpu instance with backends from `WGPU_BACKEND` (all primary backends by default).
 pub fn new_instance() -> wgpu::Instance {

@@ -375,6 +375,9 @@ impl Renderer {
         let screen_visible_texels = (bits.chunks_exact(4))
             .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]]).count_ones()))
             .sum();
+        // A validation error or a lost device anywhere in this frame's work (or in an upload
+        // since the last frame) fails the frame with the device's message.
+        ctx.check()?;
         Ok(FrameStats {
             passes: timed.passes,
             gpu_timestamps: timed.gpu_timestamps,

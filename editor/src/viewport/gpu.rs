@@ -71,16 +71,13 @@ pub struct LastProbes {
 impl GpuView {
     /// Builds the renderer on eframe's device.
     pub fn new(rs: &egui_wgpu::RenderState) -> Result<Self, String> {
-        let wanted =
-            wgpu::Features::TIMESTAMP_QUERY | wgpu::Features::TIMESTAMP_QUERY_INSIDE_ENCODERS;
-        let ctx = GpuContext {
-            instance: rs.instance.clone(),
-            adapter: rs.adapter.clone(),
-            device: rs.device.clone(),
-            queue: rs.queue.clone(),
-            // Only when eframe's device was created with them.
-            timestamps: rs.device.features().contains(wanted),
-        };
+        // A GPU error on eframe's device becomes the viewport's message, not a panic.
+        let ctx = GpuContext::from_parts(
+            rs.instance.clone(),
+            rs.adapter.clone(),
+            rs.device.clone(),
+            rs.queue.clone(),
+        );
         Ok(GpuView {
             ctx,
             session: None,

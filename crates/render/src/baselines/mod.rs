@@ -268,6 +268,7 @@ impl BaselineRenderer {
         let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
         let pixels = out.colour.read_rgba(ctx)?;
         let ids = read_texture_layer(ctx, &out.ids.texture, 0, 4)?;
+        ctx.check()?;
         Ok(BaselineFrame {
             stats: FrameStats {
                 passes,
@@ -422,6 +423,7 @@ impl BaselineRenderer {
         let ids = read_texture_layer(ctx, &screen.ids.texture, 0, 8);
         self.keep_screen(screen);
         let (world, ids) = (world?, ids?);
+        ctx.check()?;
         let world: &[[f32; 4]] = bytemuck::cast_slice(&world);
         let object_ids = &self.scene.as_ref().ok_or(RenderError::NoScene)?.object_ids;
         let id: Vec<u32> = bytemuck::cast_slice::<u8, [u32; 2]>(&ids)
