@@ -31,7 +31,7 @@ fn fs(in: VsOut) -> FsOut {
     let obj = objects[in.object];
     var out: FsOut;
     out.world = vec4(in.world, dot(in.world, camera.axis.xyz) - camera.axis.w);
-    out.normal = vec4(normalize(in.normal), 0.0);
+    out.normal = vec4(surface_normal(in.normal), 0.0);
     let albedo = surface_albedo(obj, in.colour);
     out.ids = vec2(in.object + 1u, pack4x8unorm(albedo));
     return out;

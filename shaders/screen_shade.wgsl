@@ -65,7 +65,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (flags & FLAG_EMISSIVE) != 0u {
         colour = objects[id - 1u].emissive;
     } else {
-        colour = alb.rgb * lighting(world.xyz, normal);
+        colour = alb.rgb * lighting(world.xyz, normal, SHADOW_OFFSET);
     }
     var shift = 0.0;
     if globals.outlines != 0u && (flags & FLAG_OUTLINED) != 0u {

@@ -266,7 +266,12 @@ fn light_texel(t: vec2<u32>) {
     if (flags & FLAG_EMISSIVE) != 0u {
         colour = objects[me.id - 1u].emissive;
     } else {
-        colour = alb.rgb * lighting(p, normal);
+        // A texel's point is interpolated across its triangle by the rasterizer, a few
+        // hundredths of a texel off the surface far from the probe (more on some drivers:
+        // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow
+        // rays start a tenth of a texel off, and never nearer than the screen's offset.
+        let offset = max(SHADOW_OFFSET, 0.1 * texel_world_size(d, n, ray));
+        colour = alb.rgb * lighting(p, normal, offset);
     }
 
     // Outlines and similar-neighbour bits from the four neighbours.

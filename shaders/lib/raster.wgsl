@@ -41,3 +41,12 @@ fn surface_albedo(obj: Object, colour: vec4<f32>) -> vec4<f32> {
     let c = round(colour.rgb * 255.0) / 255.0;
     return vec4(obj.albedo * c, f32(obj.flags) / 255.0);
 }
+
+// The unit normal of a surface point, snapped to 1/65536 per component. The rasterizer
+// interpolates a flat triangle's three equal normals with weights that sum to one only up to
+// rounding, differently per pixel and per driver (SwiftShader's differs from lavapipe's), so
+// a floor's texels got normals an ulp apart, and a lit colour on a posterization band's edge
+// flipped between them. Snapped, a flat surface stores one normal wherever it is seen from.
+fn surface_normal(n: vec3<f32>) -> vec3<f32> {
+    return round(normalize(n) * 65536.0) / 65536.0;
+}

@@ -25,6 +25,9 @@ pub const MAX_CAPTURES: usize = 18;
 struct FaceParams {
     view_proj: [[f32; 4]; 4],
     origin: [f32; 4],
+    face: u32,
+    n: u32,
+    _pad: [u32; 2],
 }
 
 /// Size of `FaceParams` (WGSL `FaceParams`).
@@ -79,6 +82,9 @@ impl CapturePass {
                 view_proj: face_view_projection(c.origin, c.face, CAPTURE_NEAR, CAPTURE_FAR)
                     .to_cols_array_2d(),
                 origin: c.origin.extend(1.0).to_array(),
+                face: c.face.index() as u32,
+                n: store.slot(c.slot).n,
+                _pad: [0; 2],
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
