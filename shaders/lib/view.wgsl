@@ -1,6 +1,12 @@
 // Per-frame view data shared by cull, splat and background (crates/render/src/frame.rs
 // `ViewGlobals`).
 
+// The frame's depth is reversed (crates/render/src/input.rs `projection_reverse_z`): NDC
+// depth 1 at the near plane, 0 at the far one, so a float depth buffer keeps its precision far
+// away. Nearer is greater.
+const NDC_NEAR: f32 = 1.0;
+const NDC_FAR: f32 = 0.0;
+
 struct SlotView {
     origin: vec3<f32>,
     n: u32,

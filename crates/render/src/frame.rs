@@ -445,8 +445,9 @@ fn begin_draw<'e>(
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: &screen.depth,
             depth_ops: Some(wgpu::Operations {
+                // Reversed depth: 0 is the far plane.
                 load: if first {
-                    wgpu::LoadOp::Clear(1.0)
+                    wgpu::LoadOp::Clear(0.0)
                 } else {
                     wgpu::LoadOp::Load
                 },

@@ -114,16 +114,29 @@ impl Camera {
         glam::camera::rh::view::look_to_mat4(self.position, self.forward, self.up())
     }
 
-    /// View → clip matrix (depth 0..1).
+    /// View → clip matrix (depth 0 at the near plane, 1 at the far one).
     pub fn projection(&self, aspect: f32) -> Mat4 {
+        self.projection_between(aspect, self.near, self.far)
+    }
+
+    /// View → clip matrix with reversed depth: 1 at the near plane, 0 at the far one. A float
+    /// depth buffer then keeps about the same relative precision at every distance (the
+    /// forward mapping spends it all near the camera), which the splat's per-texel tie-break
+    /// between overlapping coplanar quads needs far away.
+    pub fn projection_reverse_z(&self, aspect: f32) -> Mat4 {
+        self.projection_between(aspect, self.far, self.near)
+    }
+
+    /// The projection mapping view depth `z0` to NDC depth 0 and `z1` to 1.
+    fn projection_between(&self, aspect: f32, z0: f32, z1: f32) -> Mat4 {
         // wgpu's NDC: depth 0..1, Y up (the DirectX convention).
         use glam::camera::rh::proj::directx;
         match self.ortho_height {
             Some(h) => {
                 let (hw, hh) = (h * 0.5 * aspect, h * 0.5);
-                directx::orthographic(-hw, hw, -hh, hh, self.near, self.far)
+                directx::orthographic(-hw, hw, -hh, hh, z0, z1)
             }
-            None => directx::perspective(self.fov_y, aspect, self.near, self.far),
+            None => directx::perspective(self.fov_y, aspect, z0, z1),
         }
     }
 }

@@ -82,7 +82,8 @@ impl ViewGlobals {
     pub fn new(input: &FrameInput, slot_n: [u32; 3]) -> Self {
         let size = input.size;
         let aspect = size.x as f32 / size.y.max(1) as f32;
-        let vp = input.camera.projection(aspect) * input.camera.view();
+        // The frame's depth buffer is reversed (1 near, 0 far): see `Camera::projection_reverse_z`.
+        let vp = input.camera.projection_reverse_z(aspect) * input.camera.view();
         let mut slots = [SlotView {
             origin: [0.0; 3],
             n: 1,

@@ -40,7 +40,11 @@ impl BackgroundPass {
                 fragment: "fs",
                 targets: &[colour, KEY_FORMAT],
                 // At the far plane: only where no splat wrote depth.
-                depth: Some((SPLAT_DEPTH_FORMAT, false, wgpu::CompareFunction::LessEqual)),
+                depth: Some((
+                    SPLAT_DEPTH_FORMAT,
+                    false,
+                    wgpu::CompareFunction::GreaterEqual,
+                )),
             },
         );
         Ok(BackgroundPass { pipeline, layout })

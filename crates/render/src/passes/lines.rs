@@ -56,7 +56,7 @@ impl LinesPass {
                 fragment: "fs",
                 targets: &[colour, KEY_FORMAT],
                 // Hidden behind splats, drawn over the background; depth is left as it was.
-                depth: Some((SPLAT_DEPTH_FORMAT, false, wgpu::CompareFunction::Less)),
+                depth: Some((SPLAT_DEPTH_FORMAT, false, wgpu::CompareFunction::Greater)),
             },
             &[
                 (

@@ -9,7 +9,8 @@ use crate::shader;
 
 /// Format of the per-pixel texel-key target (0 = no texel).
 pub const KEY_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-/// Format of the splat depth buffer.
+/// Format of the splat depth buffer. Its depth is reversed (1 at the near plane, 0 at the far
+/// one: `ViewGlobals`' projection), so nearer fragments pass `Greater`.
 pub const SPLAT_DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 
 /// How grid and previous share the pixels this frame.
@@ -55,7 +56,7 @@ impl SplatPass {
                     vertex_buffers: &[],
                     fragment,
                     targets: &[colour, KEY_FORMAT],
-                    depth: Some((SPLAT_DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
+                    depth: Some((SPLAT_DEPTH_FORMAT, true, wgpu::CompareFunction::Greater)),
                 },
             )
         };
