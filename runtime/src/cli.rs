@@ -174,9 +174,10 @@ fn render(args: &RenderArgs) -> ExitCode {
         Ok(record) => {
             let median = record.median_frame_ms;
             println!(
-                "{}: {} frames, median {median:.1} ms, stats in {}",
+                "{}: {} frames on {}, median {median:.1} ms, stats in {}",
                 args.level.display(),
                 record.frames.len(),
+                record.adapter,
                 args.out.join("stats.json").display()
             );
             ExitCode::SUCCESS

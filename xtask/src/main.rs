@@ -47,7 +47,21 @@ const MAIN_JOB: MainJob = MainJob {
 };
 
 /// The Debian/Ubuntu packages that provide everything in [`Requirement::ALL`].
-const APT_PACKAGES: &[&str] = &["mesa-vulkan-drivers", "libvulkan1", "xvfb", "xauth"];
+const APT_PACKAGES: &[&str] = &[
+    "mesa-vulkan-drivers",
+    "libvulkan1",
+    "xvfb",
+    "xauth",
+    "chromium-common",
+];
+
+/// SwiftShader's Vulkan ICD manifest as Debian's `chromium-common` installs it: the second,
+/// independent Vulkan driver the GPU tests also run on.
+const SWIFTSHADER_ICD: &str = "/usr/lib/chromium/vk_swiftshader_icd.json";
+
+/// What the SwiftShader run's adapter name must contain (`texel_render::context::test_context`
+/// checks it), so the second run cannot silently fall back to lavapipe.
+const SWIFTSHADER_ADAPTER: &str = "SwiftShader";
 
 /// Directories where Vulkan ICD manifests (driver descriptions) live.
 const ICD_DIRS: &[&str] = &["/usr/share/vulkan/icd.d", "/etc/vulkan/icd.d"];
@@ -125,8 +139,36 @@ fn test_steps() -> Vec<Step> {
         },
         Step {
             args: strings(&["test", "--workspace", "--doc"]),
-            env: test_env,
+            env: test_env.clone(),
             needs_display: false,
+        },
+        // Every test again on SwiftShader, a second conformant Vulkan (4-bit sub-pixel
+        // precision, its own shader compiler and depth rounding), except the golden images,
+        // which are lavapipe's pixels, and the one test that presents to a window: the
+        // SwiftShader Chromium ships has no window-system surfaces (play says so, no panic).
+        Step {
+            args: strings(&[
+                "test",
+                "--workspace",
+                "--tests",
+                "--",
+                "--skip",
+                "golden_images",
+                "--skip",
+                "plays_five_frames_of_the_stone_circle_and_exits",
+            ]),
+            env: [
+                test_env,
+                vec![
+                    ("VK_ICD_FILENAMES".to_owned(), SWIFTSHADER_ICD.to_owned()),
+                    (
+                        "TEXEL_EXPECT_ADAPTER".to_owned(),
+                        SWIFTSHADER_ADAPTER.to_owned(),
+                    ),
+                ],
+            ]
+            .concat(),
+            needs_display: true,
         },
     ]
 }
@@ -325,8 +367,9 @@ fn usage(topic: Option<Sub>) -> String {
              Usage: cargo xtask <COMMAND>\n\
              \n\
              Commands:\n\
-             \x20 setup            Check the system packages (Vulkan loader, lavapipe, Xvfb,\n\
-             \x20                  xauth) and install the missing ones with apt-get\n\
+             \x20 setup            Check the system packages (Vulkan loader, lavapipe,\n\
+             \x20                  SwiftShader, Xvfb, xauth) and install the missing ones\n\
+             \x20                  with apt-get\n\
              \x20 run [-- ARGS]    Set up, then run the main job:\n\
              \x20                    {default_run}\n\
              \x20 test             Set up, then fmt check, clippy, tests (and benches in test\n\
@@ -342,7 +385,8 @@ fn usage(topic: Option<Sub>) -> String {
              Usage: cargo xtask setup\n\
              \n\
              Checks for the Vulkan loader (libvulkan.so.1), Mesa's lavapipe Vulkan driver\n\
-             (lvp_icd*.json), Xvfb and xauth. If any is missing and this runs as root or\n\
+             (lvp_icd*.json), SwiftShader ({SWIFTSHADER_ICD}), Xvfb and xauth.\n\
+             If any is missing and this runs as root or\n\
              with passwordless sudo, runs `apt-get update` and\n\
              \x20 apt-get install -y --no-install-recommends {}\n\
              otherwise prints what to install and exits with an error.",

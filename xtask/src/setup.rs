@@ -1,5 +1,6 @@
-//! System packages: what Texel needs on the machine (the Vulkan loader, Mesa lavapipe, Xvfb,
-//! xauth), how to tell whether it is there, and how to install it or say how.
+//! System packages: what Texel needs on the machine (the Vulkan loader, Mesa lavapipe,
+//! Chromium's SwiftShader, Xvfb, xauth), how to tell whether it is there, and how to install
+//! it or say how.
 
 #[allow(unused_imports)]
 use super::*;
@@ -15,15 +16,18 @@ pub(crate) enum Requirement {
     Xvfb,
     /// `xauth`, used to authorise clients of the virtual X server.
     Xauth,
+    /// SwiftShader (from Chromium), a second Vulkan driver running on the CPU.
+    SwiftShader,
 }
 
 impl Requirement {
     /// Every requirement, in the order they are reported.
-    pub(crate) const ALL: [Requirement; 4] = [
+    pub(crate) const ALL: [Requirement; 5] = [
         Requirement::VulkanLoader,
         Requirement::Lavapipe,
         Requirement::Xvfb,
         Requirement::Xauth,
+        Requirement::SwiftShader,
     ];
 
     /// A short human description.
@@ -33,6 +37,7 @@ impl Requirement {
             Requirement::Lavapipe => "Mesa lavapipe Vulkan driver (lvp_icd*.json)",
             Requirement::Xvfb => "Xvfb (virtual X server)",
             Requirement::Xauth => "xauth",
+            Requirement::SwiftShader => "SwiftShader Vulkan driver (vk_swiftshader_icd.json)",
         }
     }
 
@@ -43,6 +48,7 @@ impl Requirement {
             Requirement::Lavapipe => has_lavapipe_icd(),
             Requirement::Xvfb => find_in_path("Xvfb").is_some(),
             Requirement::Xauth => find_in_path("xauth").is_some(),
+            Requirement::SwiftShader => Path::new(SWIFTSHADER_ICD).is_file(),
         }
     }
 }
@@ -149,7 +155,8 @@ pub(crate) fn manual_instructions(missing: &[Requirement], reason: ManualReason)
          \x20 Other distros: install the Vulkan loader, Mesa's lavapipe (llvmpipe) Vulkan\n\
          \x20   driver and Xvfb (with xauth); e.g. Fedora: vulkan-loader mesa-vulkan-drivers\n\
          \x20   xorg-x11-server-Xvfb xorg-x11-xauth; Arch: vulkan-icd-loader vulkan-swrast\n\
-         \x20   xorg-server-xvfb xorg-xauth",
+         \x20   xorg-server-xvfb xorg-xauth; and Chromium's SwiftShader Vulkan driver with its\n\
+         \x20   manifest at {SWIFTSHADER_ICD} (the tests' second Vulkan)",
         list.join("\n"),
         APT_PACKAGES.join(" ")
     )
@@ -161,7 +168,9 @@ pub(crate) fn ensure_system() -> Result<(), Failure> {
     check_toolchain()?;
     let missing = missing_requirements();
     if missing.is_empty() {
-        println!("==> system packages: all present (Vulkan loader, lavapipe, Xvfb, xauth)");
+        println!(
+            "==> system packages: all present (Vulkan loader, lavapipe, SwiftShader, Xvfb, xauth)"
+        );
         return Ok(());
     }
     let names: Vec<&str> = missing.iter().map(|r| r.describe()).collect();

@@ -181,6 +181,7 @@ fn install_commands_update_then_install() {
             "libvulkan1",
             "xvfb",
             "xauth",
+            "chromium-common",
         ])
     );
     let sudo = install_commands(true);
@@ -221,10 +222,14 @@ fn test_steps_are_in_order_with_their_environment() {
             "cargo clippy --workspace --all-targets -- -D warnings",
             "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 cargo test --workspace --all-targets",
             "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 cargo test --workspace --doc",
+            "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 \
+             VK_ICD_FILENAMES=/usr/lib/chromium/vk_swiftshader_icd.json \
+             TEXEL_EXPECT_ADAPTER=SwiftShader cargo test --workspace --tests -- --skip golden_images \
+             --skip plays_five_frames_of_the_stone_circle_and_exits",
         ]
     );
     let display: Vec<bool> = steps.iter().map(|step| step.needs_display).collect();
-    assert_eq!(display, [false, false, true, false]);
+    assert_eq!(display, [false, false, true, false, true]);
 }
 
 #[test]

@@ -160,9 +160,10 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<()> {
     report.duration_s = started.elapsed().as_secs_f64();
     write_outputs(&report, &common.out, true)?;
     eprintln!(
-        "{} runs in {:.0} s → {}",
+        "{} runs in {:.0} s on {} → {}",
         report.runs.len(),
         report.duration_s,
+        report.adapter,
         common.out.join("report.json").display()
     );
     Ok(())
@@ -270,10 +271,11 @@ fn compare(args: &CompareArgs) -> Result<()> {
         );
     }
     eprintln!(
-        "{} frames of {}×{} → {} ({})",
+        "{} frames of {}×{} on {} → {} ({})",
         files.frames,
         files.size.x,
         files.size.y,
+        ctx.describe(),
         files.gif.display(),
         files.json.display()
     );

@@ -233,7 +233,17 @@ pub fn new_instance() -> wgpu::Instance {
 /// exists — unless `TEXEL_REQUIRE_GPU` is set, as in CI, where that is a failure.
 pub fn test_context() -> Option<GpuContext> {
     match GpuContext::headless() {
-        Ok(ctx) => Some(ctx),
+        Ok(ctx) => {
+            // A run meant for one driver (SwiftShader, say) must not pass on another.
+            if let Ok(want) = std::env::var("TEXEL_EXPECT_ADAPTER") {
+                let name = ctx.adapter.get_info().name;
+                assert!(
+                    name.contains(&want),
+                    "TEXEL_EXPECT_ADAPTER={want} but the adapter is `{name}`"
+                );
+            }
+            Some(ctx)
+        }
         Err(e) if std::env::var_os("TEXEL_REQUIRE_GPU").is_some() => {
             panic!("TEXEL_REQUIRE_GPU is set but the GPU cannot be opened: {e}")
         }

@@ -141,10 +141,10 @@ fn reference_gbuffer_agrees_with_raster_and_reprojects() {
             (1.0 - ndc.y) * 0.5 * size.y as f32,
         );
         // The rasterizer snaps vertices to its sub-pixel grid (Vulkan asks for at least 4
-        // bits: SwiftShader has 4, lavapipe 8), so a pixel's interpolated point may sit up to
-        // about 1/16 pixel off its centre.
+        // bits: SwiftShader has 4, lavapipe 8), so a pixel's interpolated point may sit about
+        // 1/16 pixel off its centre, plus rounding (SwiftShader: up to 0.07).
         assert!(
-            (px.0 - x - 0.5).abs() < 0.07 && (px.1 - y - 0.5).abs() < 0.07,
+            (px.0 - x - 0.5).abs() < 0.1 && (px.1 - y - 0.5).abs() < 0.1,
             "pixel ({x}, {y}) world {p} reprojects to {px:?}"
         );
         let depth = (p - cam.position).dot(cam.forward);
