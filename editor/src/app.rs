@@ -60,8 +60,10 @@ impl EditorApp {
             ctx: None,
             mesh_checked: 0,
         };
-        if let Some(p) = path {
-            app.load(p);
+        match path {
+            Some(p) => app.load(p),
+            // An untitled document autosaved before a crash is offered back.
+            None => app.dialogs.recover = app.recent.untitled_autosave().filter(|p| p.is_file()),
         }
         app
     }
@@ -367,11 +369,11 @@ impl EditorApp {
 
     /// Saves to `path` (atomically) and forgets the autosave.
     pub fn save_to(&mut self, path: &Path) {
-        let old = self.state.document.path.clone();
+        let old = self.autosave_file();
         match self.state.save_as(path) {
             Ok(()) => {
                 if let Some(o) = old {
-                    files::remove_autosave(&o);
+                    let _ = std::fs::remove_file(o);
                 }
                 files::remove_autosave(path);
                 self.recent.touch(path);
@@ -381,13 +383,14 @@ impl EditorApp {
     }
 
     fn recover(&mut self, auto: &Path) {
-        let Some(level_path) = self.state.document.path.clone() else {
-            return;
-        };
+        let level_path = self.state.document.path.clone();
         match Document::open(auto) {
             Ok(mut doc) => {
-                doc.path = Some(level_path.clone());
-                doc.level.path = level_path;
+                // The recovered document is the level it autosaved (or stays untitled).
+                doc.level.path = level_path
+                    .clone()
+                    .unwrap_or_else(|| Document::new_empty().level.path);
+                doc.path = level_path;
                 self.state = EditorState::new(doc);
                 self.state.mark_dirty();
             }
@@ -502,30 +505,39 @@ impl EditorApp {
     }
 
     fn autosave(&mut self) {
-        let Some(path) = self.state.document.path.clone() else {
-            return;
-        };
         let id = self.state.history.state_id();
         if self.state.is_dirty()
             && id != self.autosaved_id
             && self.last_autosave.elapsed() >= files::AUTOSAVE_EVERY
         {
-            self.autosave_now(&path);
+            self.autosave_now();
         }
     }
 
-    /// Writes the autosave beside the level now.
-    pub fn autosave_now(&mut self, path: &Path) {
+    /// Where the document is autosaved: beside its level, or for an untitled document beside
+    /// the recent-files list (none when there is no such place).
+    pub fn autosave_file(&self) -> Option<PathBuf> {
+        match &self.state.document.path {
+            Some(level) => Some(files::autosave_path(level)),
+            None => self.recent.untitled_autosave(),
+        }
+    }
+
+    /// Writes the autosave now.
+    pub fn autosave_now(&mut self) {
         self.last_autosave = Instant::now();
         self.autosaved_id = self.state.history.state_id();
-        if let Err(e) = files::autosave(self.state.scene(), path) {
+        let Some(file) = self.autosave_file() else {
+            return;
+        };
+        if let Err(e) = files::write_autosave(self.state.scene(), &file) {
             self.dialogs.error = Some(format!("autosave failed: {e}"));
         }
     }
 
     fn discard_autosave(&mut self) {
-        if let Some(p) = &self.state.document.path {
-            files::remove_autosave(p);
+        if let Some(file) = self.autosave_file() {
+            let _ = std::fs::remove_file(file);
         }
     }
 }

@@ -1,5 +1,6 @@
 //! File chores around the document: native dialogs (with a typed-path fallback where no
-//! dialog service exists), the recent-files list, and autosaves beside the level.
+//! dialog service exists), the recent-files list, and autosaves beside the level (an untitled
+//! document's beside the recent-files list).
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
@@ -87,8 +88,16 @@ pub fn recoverable(level: &Path) -> Option<PathBuf> {
 /// Writes an autosave of `scene` beside `level` (atomically).
 pub fn autosave(scene: &Scene, level: &Path) -> Result<PathBuf, String> {
     let path = autosave_path(level);
-    scene.save(&path).map_err(|e| e.to_string())?;
+    write_autosave(scene, &path)?;
     Ok(path)
+}
+
+/// Writes `scene` to the autosave file `path` (atomically), creating its folder.
+pub fn write_autosave(scene: &Scene, path: &Path) -> Result<(), String> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+    }
+    scene.save(path).map_err(|e| e.to_string())
 }
 
 /// Removes the autosave beside `level` (after a save or a discard).
@@ -126,6 +135,12 @@ impl Recent {
             .map(PathBuf::from)
             .or_else(|| std::env::var_os("HOME").map(|h| PathBuf::from(h).join(".config")))?;
         Some(base.join("texel").join("recent.txt"))
+    }
+
+    /// Where an untitled document is autosaved: beside the list, `untitled.autosave.ron`
+    /// (none without a store).
+    pub fn untitled_autosave(&self) -> Option<PathBuf> {
+        Some(self.store.as_ref()?.parent()?.join("untitled.autosave.ron"))
     }
 
     /// Puts `path` first and writes the list back (best effort: a read-only home is fine).

@@ -225,7 +225,7 @@ fn typed_path_saves_and_autosave_is_recovered() {
 
     // A crash after an autosave: the next open offers to recover it.
     add_from_menu(&mut h, "Point light");
-    h.state_mut().autosave_now(&path);
+    h.state_mut().autosave_now();
     let auto = files::autosave_path(&path);
     assert!(auto.exists());
     // File times are set explicitly rather than waited for (file systems round them): an
@@ -250,6 +250,37 @@ fn typed_path_saves_and_autosave_is_recovered() {
     h.run();
     assert_eq!(Scene::load(&path).expect("saved").len(), 2);
     assert!(!files::autosave_path(&path).exists());
+}
+
+#[test]
+fn an_untitled_document_is_autosaved_and_recovered() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let recent = || Recent::load(Some(dir.path().join("recent.txt")));
+    let mut h = harness(EditorApp::with_recent(None, recent()));
+    h.run();
+    add_from_menu(&mut h, "Player start");
+    add_from_menu(&mut h, "Point light");
+    h.state_mut().autosave_now();
+    let auto = dir.path().join("untitled.autosave.ron");
+    assert_eq!(h.state().autosave_file(), Some(auto.clone()));
+    assert_eq!(Scene::load(&auto).expect("autosaved").len(), 2);
+
+    // A crash: the next untitled start offers the autosave back, untitled and modified.
+    drop(h);
+    let mut h = harness(EditorApp::with_recent(None, recent()));
+    h.run();
+    assert_eq!(h.state().state.scene().len(), 0);
+    h.get_by_label("Recover").click();
+    h.run();
+    assert_eq!(h.state().state.scene().len(), 2);
+    assert!(h.state().state.is_dirty());
+    assert_eq!(h.state().state.document.path, None);
+
+    // Saving it somewhere forgets the untitled autosave.
+    let path = dir.path().join("named.ron");
+    h.state_mut().save_to(&path);
+    assert_eq!(Scene::load(&path).expect("saved").len(), 2);
+    assert!(!auto.exists());
 }
 
 #[test]
