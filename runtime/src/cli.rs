@@ -37,6 +37,9 @@ pub enum Command {
     },
     /// Render a level offscreen to PNGs plus stats.json (pass times and counters per frame).
     Render(RenderArgs),
+    /// Render many frames headless along a looping camera path and watch resident memory;
+    /// exits 1 when it grew by more than --max-growth-mib after the first frames.
+    Soak(SoakArgs),
     /// Open a window and walk through a level (exit status 1 without a display or GPU).
     Play {
         /// The level file (.ron).
@@ -81,6 +84,31 @@ pub struct RenderArgs {
     pub out: PathBuf,
 }
 
+/// Options of `texel-run soak`.
+#[derive(Debug, clap::Args)]
+pub struct SoakArgs {
+    /// The level file (.ron).
+    pub level: PathBuf,
+    /// The camera path file (.ron) to fly along, looped.
+    #[arg(long)]
+    pub path: PathBuf,
+    /// Frames to render in all.
+    #[arg(long, default_value_t = 10_000)]
+    pub frames: u32,
+    /// Output size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "160x90")]
+    pub size: String,
+    /// Cube-face resolution (default: the level's).
+    #[arg(long)]
+    pub face_res: Option<u32>,
+    /// Frames between two memory samples.
+    #[arg(long, default_value_t = 1000)]
+    pub sample_every: u32,
+    /// Largest growth of resident memory allowed from the settled baseline to the end, MiB.
+    #[arg(long, default_value_t = 16.0)]
+    pub max_growth_mib: f64,
+}
+
 /// Exit status for a bad level or asset.
 pub const EXIT_BAD_INPUT: u8 = 2;
 
@@ -91,7 +119,72 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Fmt { levels, check } => fmt(&levels, check),
         Command::Play { level, size } => play(&level, &size),
         Command::Render(args) => render(&args),
+        Command::Soak(args) => soak(&args),
     }
+}
+
+fn soak(args: &SoakArgs) -> ExitCode {
+    match soak_inner(args) {
+        Ok(report) => {
+            let growth = report.growth_mib();
+            println!(
+                "{}: {} frames on {}: resident {:.1} MiB at the start, {:.1} after {} frames, \
+                 {:.1} at the end (peak {:.1}): {growth:+.1} MiB",
+                args.level.display(),
+                report.frames,
+                report.adapter,
+                report.start.rss_mib,
+                report.settled.rss_mib,
+                report.settled.frame,
+                report.samples.last().map_or(0.0, |s| s.rss_mib),
+                report.peak_mib
+            );
+            if growth > args.max_growth_mib {
+                eprintln!(
+                    "texel-run soak: resident memory grew {growth:.1} MiB (allowed {:.1})",
+                    args.max_growth_mib
+                );
+                return ExitCode::FAILURE;
+            }
+            ExitCode::SUCCESS
+        }
+        Err(e) if e.is::<crate::load::LoadError>() => {
+            eprintln!("{e}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+        Err(e) => {
+            eprintln!("texel-run soak: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}
+
+fn soak_inner(args: &SoakArgs) -> anyhow::Result<crate::soak::SoakReport> {
+    let (w, h) = crate::play::parse_size(&args.size).map_err(|e| anyhow::anyhow!("--size: {e}"))?;
+    // Up to a million frames: a soak is meant to run long, but not for ever.
+    if !(1..=1_000_000).contains(&args.frames) {
+        anyhow::bail!("--frames must be 1..=1000000, got {}", args.frames);
+    }
+    if args.sample_every == 0 {
+        anyhow::bail!("--sample-every must be at least 1");
+    }
+    if !(args.max_growth_mib.is_finite() && args.max_growth_mib >= 0.0) {
+        anyhow::bail!("--max-growth-mib must be a finite number of MiB, at least 0");
+    }
+    if let Some(n) = args.face_res {
+        check_face_res(n)?;
+    }
+    let path = crate::path::CameraPath::load(&args.path)?;
+    let opts = crate::soak::SoakOptions {
+        size: glam::UVec2::new(w, h),
+        fov_y: path.fov_y(60f32.to_radians()),
+        face_res: args.face_res,
+        frames: args.frames,
+        sample_every: args.sample_every,
+    };
+    crate::soak::soak(&args.level, &path, &opts, &mut |s| {
+        eprintln!("frame {:>7}: resident {:.1} MiB", s.frame, s.rss_mib);
+    })
 }
 
 fn play(path: &std::path::Path, size: &str) -> ExitCode {

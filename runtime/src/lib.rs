@@ -13,3 +13,4 @@ pub mod path;
 pub mod placement;
 pub mod play;
 pub mod session;
+pub mod soak;
