@@ -96,12 +96,18 @@ fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
     // depth and be resolved by draw order, which the cull pass's atomics leave unspecified,
     // and by the rasterizer's depth rounding, which differs between drivers; a per-texel
-    // push-back by a relative 2^-22 to 2^-14 of the (reversed, so everywhere relatively
-    // precise) depth makes the winner a function of the texel alone. On SwiftShader an
-    // absolute 1e-9 step, below the depth's rounding far away, left splats under pure yaw
-    // flickering 9× more than with this.
+    // push-back makes the winner a function of the texel alone. It follows the depth's
+    // precision: under perspective the reversed depth is about near / distance, so a
+    // relative 2^-18 to 2^-10 of it is that fraction of the distance; an orthographic depth
+    // is linear, so an absolute 2^-22 to 2^-14 of the depth range. On SwiftShader an absolute
+    // 1e-9 under perspective, below the depth's rounding far away, left splats under pure
+    // yaw flickering 9× more than this.
     let key = bitcast<u32>(s.c0.w);
-    var z = clip.z * (1.0 - f32(1u + ((key * 2654435761u) >> 24u)) * exp2(-18.0));
+    let step = f32(1u + ((key * 2654435761u) >> 24u));
+    var z = clip.z * (1.0 - step * exp2(-18.0));
+    if view.ortho != 0u {
+        z = clip.z - step * exp2(-22.0) * clip.w;
+    }
     if role == ROLE_EYE {
         // Eye quads go further back, toward the far plane (0), so grid and previous quads
         // win wherever both exist.

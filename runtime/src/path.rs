@@ -112,8 +112,15 @@ impl CameraPath {
             ReadError::Io { source, .. } => PathError::Io(name.clone(), source),
             other => PathError::Read(other),
         })?;
-        let p: CameraPath = ron::from_str(&text).map_err(|e| PathError::Parse(name.clone(), e))?;
-        p.check().map_err(|m| PathError::Invalid(name, m))?;
+        Self::from_ron_str(&text, &name)
+    }
+
+    /// Parses and checks the text of a path file; `name` is what errors call it.
+    pub fn from_ron_str(text: &str, name: &str) -> Result<Self, PathError> {
+        let p: CameraPath =
+            ron::from_str(text).map_err(|e| PathError::Parse(name.to_owned(), e))?;
+        p.check()
+            .map_err(|m| PathError::Invalid(name.to_owned(), m))?;
         Ok(p)
     }
 

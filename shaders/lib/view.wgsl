@@ -35,7 +35,8 @@ struct ViewGlobals {
     grid_slot: u32,
     // Haze density per world unit (0 = none).
     haze: f32,
-    _pad0: u32,
+    // 1 for an orthographic camera (its depth is linear), 0 for a perspective one.
+    ortho: u32,
     _pad1: u32,
     _pad2: u32,
 }

@@ -40,7 +40,8 @@ pub struct ViewGlobals {
     eye_slot: u32,
     grid_slot: u32,
     haze: f32,
-    _pad2: [u32; 3],
+    ortho: u32,
+    _pad2: [u32; 2],
 }
 
 /// Role numbers of `lib/view.wgsl`.
@@ -125,7 +126,8 @@ impl ViewGlobals {
             eye_slot: Slot::Eye.index() as u32,
             grid_slot: input.grid.slot.index() as u32,
             haze: input.look.haze.max(0.0),
-            _pad2: [0; 3],
+            ortho: u32::from(input.camera.ortho_height.is_some()),
+            _pad2: [0; 2],
         }
     }
 }
