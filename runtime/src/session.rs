@@ -86,7 +86,7 @@ impl Session {
         fov_y: f32,
     ) -> Result<Self, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
-        renderer.set_scene(ctx, level.scene());
+        renderer.set_scene(ctx, level.scene())?;
         let driver = FrameDriver::prepared(level.clone(), size, fov_y)?;
         Ok(Session {
             level,
@@ -97,8 +97,11 @@ impl Session {
 
     /// Replaces the level (after an edit): uploads its scene and plans afresh.
     pub fn set_level(&mut self, ctx: &GpuContext, level: &LoadedLevel) -> Result<(), SessionError> {
-        self.level = Arc::new(PreparedLevel::new(level));
-        self.renderer.set_scene(ctx, self.level.scene());
+        let level = Arc::new(PreparedLevel::new(level));
+        // Checked and uploaded first: a level the device cannot hold leaves the session as
+        // it was.
+        self.renderer.set_scene(ctx, level.scene())?;
+        self.level = level;
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
         self.driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
         Ok(())

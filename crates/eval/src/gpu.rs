@@ -108,7 +108,7 @@ impl<'a> BaselineSource<'a> {
         warm_up: &Camera,
     ) -> Result<Self, EvalError> {
         let mut renderer = BaselineRenderer::new(ctx).map_err(render_err)?;
-        renderer.set_scene(ctx, scene);
+        renderer.set_scene(ctx, scene).map_err(render_err)?;
         let mut me = BaselineSource {
             ctx,
             renderer,
@@ -164,7 +164,7 @@ impl<'a> GpuReference<'a> {
     /// A reference renderer for `scene`.
     pub fn new(ctx: &'a GpuContext, scene: &SceneInput) -> Result<Self, EvalError> {
         let mut renderer = BaselineRenderer::new(ctx).map_err(render_err)?;
-        renderer.set_scene(ctx, scene);
+        renderer.set_scene(ctx, scene).map_err(render_err)?;
         Ok(GpuReference { ctx, renderer })
     }
 }

@@ -46,6 +46,9 @@ pub enum RenderError {
     /// The frame asks for something the renderer cannot do.
     #[error("invalid frame: {0}")]
     InvalidFrame(String),
+    /// The scene needs more than the device allows.
+    #[error("{0}")]
+    SceneTooLarge(String),
 }
 
 /// Screen-sized targets besides the colour target.
@@ -193,9 +196,12 @@ impl Renderer {
         Self::new(ctx, FRAME_FORMAT)
     }
 
-    /// Uploads the scene (meshes, materials, lights, shadow BVH).
-    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) {
+    /// Uploads the scene (meshes, materials, lights, shadow BVH), after checking that the
+    /// device can hold it (else the scene in use stays).
+    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
+        crate::validate::scene(&ctx.device.limits(), scene)?;
         self.scene = Some(GpuScene::upload(ctx, scene));
+        Ok(())
     }
 
     /// Whether our schedule draws each run of alike texels of a stable probe with one quad

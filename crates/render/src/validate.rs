@@ -5,7 +5,7 @@ use glam::UVec2;
 use texel_geom::limits::{FACE_RESOLUTIONS, face_resolution_error};
 
 use crate::frame::RenderError;
-use crate::input::{Camera, FrameInput};
+use crate::input::{Camera, FrameInput, SceneInput};
 
 /// Largest output side, in pixels.
 pub const MAX_OUTPUT_SIDE: u32 = 8192;
@@ -95,8 +95,55 @@ pub fn frame(input: &FrameInput) -> Result<(), RenderError> {
         .try_for_each(face_resolution)
 }
 
+/// A scene this device can hold: its world-space vertices in one vertex buffer within
+/// `max_buffer_size`, its shadow casters' BVH within `max_storage_buffer_binding_size`, and its
+/// vertex count within a `u32`. The error says how much is needed against how much is
+/// allowed, and names the entity with the most triangles (the one to split or simplify).
+pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderError> {
+    let tris = |o: &crate::input::ObjectInput| (o.mesh.indices.len() / 3) as u64;
+    let total: u64 = scene.objects.iter().map(tris).sum();
+    let casters: u64 = (scene.objects.iter())
+        .filter(|o| o.material.casts_shadows)
+        .map(tris)
+        .sum();
+    let largest = scene.objects.iter().max_by_key(|o| tris(o));
+    let vertex_bytes = total * 3 * size_of::<crate::gpu_scene::Vertex>() as u64;
+    // A BVH over n triangles has at most 2n - 1 nodes.
+    let bvh_bytes = (casters * size_of::<crate::bvh::BvhTriangle>() as u64)
+        .max(2 * casters * size_of::<crate::bvh::BvhNode>() as u64);
+    let storage = limits.max_storage_buffer_binding_size;
+    let what = if vertex_bytes > limits.max_buffer_size || total * 3 > u64::from(u32::MAX) {
+        format!(
+            "its {total} triangles need {} MiB of vertices in one buffer; this GPU allows {} MiB",
+            vertex_bytes >> 20,
+            limits.max_buffer_size >> 20
+        )
+    } else if bvh_bytes > storage {
+        format!(
+            "its {casters} shadow-casting triangles need {} MiB of shadow BVH in one binding; \
+             this GPU allows {} MiB",
+            bvh_bytes >> 20,
+            storage >> 20
+        )
+    } else {
+        return Ok(());
+    };
+    let culprit = largest.map_or(String::new(), |o| {
+        format!(
+            " (entity {} has the most, {} triangles: simplify it, split it, or turn off its \
+             shadows)",
+            o.id,
+            tris(o)
+        )
+    });
+    Err(RenderError::SceneTooLarge(format!(
+        "the scene is too large for this GPU: {what}{culprit}"
+    )))
+}
+
 #[cfg(test)]
 mod tests {
+    use super::scene as scene_check;
     use super::*;
 
     #[test]
@@ -120,5 +167,57 @@ mod tests {
             ..wgpu::Limits::default()
         };
         assert!(device_output(&big, UVec2::new(16384, 16384)).is_err());
+    }
+
+    #[test]
+    fn a_scene_larger_than_the_device_allows_names_its_largest_entity() {
+        use crate::input::{MaterialInput, ObjectInput, SceneInput};
+        use std::sync::Arc;
+        let mesh = |tris: usize| {
+            Arc::new(texel_geom::TriMesh {
+                positions: vec![glam::Vec3::ZERO; 3],
+                normals: vec![glam::Vec3::Y; 3],
+                colors: vec![[1.0; 4]; 3],
+                indices: [0, 1, 2].repeat(tris),
+            })
+        };
+        let object = |id, tris, casts_shadows| ObjectInput {
+            mesh: mesh(tris),
+            transform: glam::Mat4::IDENTITY,
+            material: MaterialInput {
+                albedo: glam::Vec3::ONE,
+                emissive: glam::Vec3::ZERO,
+                casts_shadows,
+                outlined: false,
+            },
+            id,
+        };
+        let scene = SceneInput {
+            objects: vec![object(3, 1000, false), object(7, 5000, true)],
+            ..Default::default()
+        };
+        // 6,000 triangles are 576,000 bytes of vertices; 5,000 casters 320,000 bytes of BVH.
+        let roomy = wgpu::Limits::default();
+        assert!(scene_check(&roomy, &scene).is_ok());
+        let small_buffers = wgpu::Limits {
+            max_buffer_size: 500_000,
+            ..wgpu::Limits::default()
+        };
+        let e = scene_check(&small_buffers, &scene).unwrap_err().to_string();
+        assert!(
+            e.contains("6000 triangles") && e.contains("entity 7"),
+            "{e}"
+        );
+        let small_bindings = wgpu::Limits {
+            max_storage_buffer_binding_size: 300_000,
+            ..wgpu::Limits::default()
+        };
+        let e = scene_check(&small_bindings, &scene)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("5000 shadow-casting") && e.contains("entity 7"),
+            "{e}"
+        );
     }
 }

@@ -63,7 +63,7 @@ fn view(camera: Camera, size: UVec2, face_res: u32) -> BaselineView {
 
 fn renderer(ctx: &GpuContext, scene: &SceneInput) -> BaselineRenderer {
     let mut r = BaselineRenderer::new(ctx).expect("baseline pipelines build");
-    r.set_scene(ctx, scene);
+    r.set_scene(ctx, scene).expect("scene");
     r
 }
 
@@ -357,7 +357,7 @@ fn bad_views_are_errors() {
         r.render(&ctx, Baseline::Raster, &v),
         Err(RenderError::NoScene)
     ));
-    r.set_scene(&ctx, &common::boxes_scene());
+    r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     for bad in [
         BaselineView { face_res: 0, ..v },
         BaselineView {

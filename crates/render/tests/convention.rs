@@ -56,7 +56,7 @@ fn room() -> SceneInput {
 fn faces_are_oriented_as_documented() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene(&ctx, &room());
+    r.set_scene(&ctx, &room()).expect("scene");
     let n = 32;
     let cam = Camera::looking(Vec3::ZERO, -Vec3::Z);
     let input = common::frame(cam, Vec3::ZERO, n, UVec2::new(64, 64), Schedule::Ours);

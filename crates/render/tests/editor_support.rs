@@ -15,7 +15,7 @@ use texel_scene::primitives::box_mesh;
 fn lit_faces_read_back_as_srgb_images_in_face_order() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene(&ctx, &common::boxes_scene());
+    r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0));
     let n = 32;
     let input = common::frame(
@@ -99,7 +99,7 @@ fn magenta_pixels(px: &[u8]) -> usize {
 fn lines_are_hidden_behind_the_scene_and_drawn_in_front_of_it() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene(&ctx, &one_box());
+    r.set_scene(&ctx, &one_box()).expect("scene");
     let (plain, plain_ids) = render_with(&ctx, &mut r, &[]);
     assert_eq!(magenta_pixels(&plain), 0);
     assert!(plain_ids.contains(&1), "the box is in view");

@@ -11,7 +11,7 @@ use texel_render::input::{Camera, Schedule};
 fn boxes_render_with_sky_ground_and_boxes() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene(&ctx, &common::boxes_scene());
+    r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     let size = UVec2::new(320, 180);
     let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0));
     for schedule in [Schedule::Ours, Schedule::Paper] {
@@ -54,7 +54,7 @@ fn boxes_render_with_sky_ground_and_boxes() {
 fn haze_pulls_far_surfaces_toward_the_sky() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene(&ctx, &common::boxes_scene());
+    r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     let size = UVec2::new(160, 90);
     let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.1, -1.0));
     let mut clear = common::frame(cam, Vec3::new(0.0, 2.0, 3.0), 32, size, Schedule::Ours);

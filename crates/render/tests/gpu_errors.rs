@@ -13,7 +13,7 @@ use texel_render::input::{Camera, Schedule};
 fn an_uncaptured_validation_error_fails_the_next_frame_with_its_message() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).expect("renderer");
-    r.set_scene(&ctx, &common::boxes_scene());
+    r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     let size = UVec2::new(64, 36);
     let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0));
     let input = common::frame(cam, Vec3::new(0.0, 2.0, 3.0), 32, size, Schedule::Ours);
@@ -44,7 +44,7 @@ fn an_uncaptured_validation_error_fails_the_next_frame_with_its_message() {
 fn a_lost_device_is_an_error_not_a_panic() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).expect("renderer");
-    r.set_scene(&ctx, &common::boxes_scene());
+    r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     ctx.device.destroy();
     let _ = ctx.device.poll(wgpu::PollType::Poll);
     assert!(

@@ -225,9 +225,12 @@ impl BaselineRenderer {
         built
     }
 
-    /// Uploads the scene (meshes, materials, lights, shadow BVH).
-    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) {
+    /// Uploads the scene (meshes, materials, lights, shadow BVH), after checking that the
+    /// device can hold it (else the scene in use stays).
+    pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
+        crate::validate::scene(&ctx.device.limits(), scene)?;
         self.scene = Some(GpuScene::upload(ctx, scene));
+        Ok(())
     }
 
     /// Screen targets of `size`, taken out of the cache (give them back with `keep`).
