@@ -236,7 +236,13 @@ impl Level {
             ReadError::Io { path, source, .. } => LevelError::Io { path, source },
             other => LevelError::Read(other),
         })?;
-        let text = std::str::from_utf8(&bytes).map_err(|e| {
+        Level::from_ron_bytes(&bytes, path)
+    }
+
+    /// Parses a level from the bytes of a file: invalid UTF-8 is a syntax error at the line
+    /// and column where the text stops being UTF-8; the rest as [`Level::from_ron_str`].
+    pub fn from_ron_bytes(bytes: &[u8], path: &Path) -> Result<Level, LevelError> {
+        let text = std::str::from_utf8(bytes).map_err(|e| {
             let (line, column) = line_col(&bytes[..e.valid_up_to()]);
             parse_error(
                 path,
