@@ -148,10 +148,16 @@ impl EditorApp {
             })
             .inner;
         self.report("edit", edited);
+        let had_error = self.viewport.error.is_some();
         let edited = egui::CentralPanel::no_frame()
             .show(ui, |ui| self.viewport.show(ui, &mut self.state))
             .inner;
         self.report("edit", edited);
+        // The renderer just failed (a GPU error, a lost device): the viewport says why, and a
+        // modified document is autosaved at once rather than at the next minute.
+        if !had_error && self.viewport.error.is_some() && self.state.is_dirty() {
+            self.autosave_now();
+        }
         if let Some(answer) = self.dialogs.show(&ctx) {
             self.answer(answer);
         }
