@@ -5,24 +5,16 @@
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
+#include "lib/fullscreen.wgsl"
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var eye_ids: texture_2d_array<u32>;
 @group(0) @binding(2) var eye_lit: texture_2d_array<f32>;
 @group(0) @binding(3) var eye_geo: texture_2d_array<f32>;
 
-struct VsOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) ndc: vec2<f32>,
-}
-
 @vertex
-fn vs(@builtin(vertex_index) vi: u32) -> VsOut {
-    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
-    var out: VsOut;
-    out.clip = vec4(xy, NDC_FAR, 1.0);
-    out.ndc = xy;
-    return out;
+fn vs(@builtin(vertex_index) vi: u32) -> FullscreenOut {
+    return fullscreen(vi, NDC_FAR);
 }
 
 struct FsOut {
@@ -31,7 +23,7 @@ struct FsOut {
 }
 
 @fragment
-fn fs(in: VsOut) -> FsOut {
+fn fs(in: FullscreenOut) -> FsOut {
     let far = view.inv_view_proj * vec4(in.ndc, NDC_FAR, 1.0);
     let dir = far.xyz / far.w - view.camera.xyz;
     let eye = view.slots[view.eye_slot];

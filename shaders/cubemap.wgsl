@@ -3,6 +3,7 @@
 // entity id. crates/render/src/baselines/cubemap.rs.
 
 #include "lib/common.wgsl"
+#include "lib/fullscreen.wgsl"
 
 struct CubeView {
     inv_view_proj: mat4x4<f32>,
@@ -21,15 +22,9 @@ struct CubeView {
 @group(0) @binding(3) var<storage, read> objects: array<Object>;
 @group(0) @binding(4) var geo: texture_2d_array<f32>;
 
-struct VsOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) ndc: vec2<f32>,
-}
-
 @vertex
-fn vs(@builtin(vertex_index) vi: u32) -> VsOut {
-    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
-    return VsOut(vec4(xy, 0.0, 1.0), xy);
+fn vs(@builtin(vertex_index) vi: u32) -> FullscreenOut {
+    return fullscreen(vi, 0.0);
 }
 
 struct FsOut {
@@ -38,7 +33,7 @@ struct FsOut {
 }
 
 @fragment
-fn fs(in: VsOut) -> FsOut {
+fn fs(in: FullscreenOut) -> FsOut {
     let far = cv.inv_view_proj * vec4(in.ndc, 1.0, 1.0);
     let dir = far.xyz / far.w - cv.eye.xyz;
     let fu = cube_face_uv(dir);

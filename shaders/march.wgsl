@@ -11,6 +11,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
+#include "lib/fullscreen.wgsl"
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var ids0: texture_2d_array<u32>;
@@ -150,15 +151,9 @@ fn march(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
     return out;
 }
 
-struct VsOut {
-    @builtin(position) clip: vec4<f32>,
-    @location(0) ndc: vec2<f32>,
-}
-
 @vertex
-fn vs(@builtin(vertex_index) vi: u32) -> VsOut {
-    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
-    return VsOut(vec4(xy, 0.0, 1.0), xy);
+fn vs(@builtin(vertex_index) vi: u32) -> FullscreenOut {
+    return fullscreen(vi, NDC_FAR);
 }
 
 struct FsOut {
@@ -176,7 +171,7 @@ fn shown(s: u32, face: u32, tx: vec2<u32>, p: vec3<f32>) -> FsOut {
 }
 
 @fragment
-fn fs(in: VsOut) -> FsOut {
+fn fs(in: FullscreenOut) -> FsOut {
     let near = view.inv_view_proj * vec4(in.ndc, NDC_NEAR, 1.0);
     let far = view.inv_view_proj * vec4(in.ndc, NDC_FAR, 1.0);
     let ro = near.xyz / near.w;

@@ -3,6 +3,7 @@
 // pixel under its centre. The internal frame holds sRGB-encoded bytes in a plain unorm
 // texture: `fs` copies them to a plain target, `fs_decode` decodes them for an sRGB one.
 
+#include "lib/fullscreen.wgsl"
 #include "lib/common.wgsl"
 
 struct Sizes {
@@ -18,8 +19,7 @@ struct Sizes {
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
-    return vec4(xy, 0.0, 1.0);
+    return vec4(fullscreen_xy(vi), 0.0, 1.0);
 }
 
 // The internal pixel under output pixel `pos`'s centre (one multiply: no per-pixel integer

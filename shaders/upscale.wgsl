@@ -3,6 +3,7 @@
 // motion). Writes the colour and the entity id of the texel each pixel shows.
 // crates/render/src/baselines/upscale.rs.
 
+#include "lib/fullscreen.wgsl"
 #include "lib/common.wgsl"
 
 struct Upscale {
@@ -20,8 +21,7 @@ struct Upscale {
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
-    let xy = vec2(f32((vi << 1u) & 2u), f32(vi & 2u)) * 2.0 - 1.0;
-    return vec4(xy, 0.0, 1.0);
+    return vec4(fullscreen_xy(vi), 0.0, 1.0);
 }
 
 struct FsOut {

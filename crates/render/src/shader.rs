@@ -30,6 +30,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         "lib/bvh.wgsl",
         include_str!("../../../shaders/lib/bvh.wgsl"),
     ),
+    (
+        "lib/fullscreen.wgsl",
+        include_str!("../../../shaders/lib/fullscreen.wgsl"),
+    ),
     ("runs.wgsl", include_str!("../../../shaders/runs.wgsl")),
     ("lines.wgsl", include_str!("../../../shaders/lines.wgsl")),
     (
