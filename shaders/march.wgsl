@@ -12,19 +12,11 @@
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
 #include "lib/fullscreen.wgsl"
+#include "lib/slots.wgsl"
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
-@group(0) @binding(1) var ids0: texture_2d_array<u32>;
-@group(0) @binding(2) var lit0: texture_2d_array<f32>;
-@group(0) @binding(3) var geo0: texture_2d_array<f32>;
-@group(0) @binding(4) var ids1: texture_2d_array<u32>;
-@group(0) @binding(5) var lit1: texture_2d_array<f32>;
-@group(0) @binding(6) var geo1: texture_2d_array<f32>;
-@group(0) @binding(7) var ids2: texture_2d_array<u32>;
-@group(0) @binding(8) var lit2: texture_2d_array<f32>;
-@group(0) @binding(9) var geo2: texture_2d_array<f32>;
 // [0] texels crossed, [1] pixels that fell back past their first probe.
-@group(0) @binding(10) var<storage, read_write> counters: array<atomic<u32>, 2>;
+@group(0) @binding(1) var<storage, read_write> counters: array<atomic<u32>, 2>;
 
 // Texels one probe's march may cross before it gives up (the pixel falls back).
 const MAX_STEPS: u32 = 512u;
@@ -42,30 +34,6 @@ struct March {
     face: u32,
     texel: vec2<u32>,
     t: f32,
-}
-
-fn slot_id(s: u32, t: vec2<u32>, face: u32) -> u32 {
-    switch s {
-        case 0u: { return textureLoad(ids0, t, face, 0).r; }
-        case 1u: { return textureLoad(ids1, t, face, 0).r; }
-        default: { return textureLoad(ids2, t, face, 0).r; }
-    }
-}
-
-fn slot_depth(s: u32, t: vec2<u32>, face: u32) -> f32 {
-    switch s {
-        case 0u: { return textureLoad(geo0, t, face, 0).w; }
-        case 1u: { return textureLoad(geo1, t, face, 0).w; }
-        default: { return textureLoad(geo2, t, face, 0).w; }
-    }
-}
-
-fn slot_lit(s: u32, t: vec2<u32>, face: u32) -> vec3<f32> {
-    switch s {
-        case 0u: { return textureLoad(lit0, t, face, 0).rgb; }
-        case 1u: { return textureLoad(lit1, t, face, 0).rgb; }
-        default: { return textureLoad(lit2, t, face, 0).rgb; }
-    }
 }
 
 // The ray parameter where the face coordinate along `axis_uv` (a face's u or v vector)
@@ -112,8 +80,8 @@ fn march(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
             if tv > t { t_out = min(t_out, tv); }
         }
         var d = -1.0;
-        if (v.draw_mask & (1u << fu.face)) != 0u && slot_id(s, tx, fu.face) != 0u {
-            d = slot_depth(s, tx, fu.face);
+        if (v.draw_mask & (1u << fu.face)) != 0u && load_id(s, tx, fu.face) != 0u {
+            d = load_geo(s, tx, fu.face).w;
             if qa >= d {
                 // In behind the surface through the texel's side: from a texel of the same
                 // surface (a floor seen at a grazing angle steps in depth from row to row)
@@ -164,7 +132,7 @@ struct FsOut {
 
 // The pixel's colour, key and depth from texel `tx` of `face` of slot `s`, hit at `p`.
 fn shown(s: u32, face: u32, tx: vec2<u32>, p: vec3<f32>) -> FsOut {
-    let colour = hazed(slot_lit(s, tx, face), length(p - view.camera.xyz));
+    let colour = hazed(load_lit(s, tx, face).rgb, length(p - view.camera.xyz));
     let clip = view.view_proj * vec4(p, 1.0);
     let key = texel_key(s, face, tx, view.max_n) + 1u;
     return FsOut(vec4(linear_to_srgb(colour), 1.0), key, clamp(clip.z / clip.w, 0.0, 1.0));
@@ -236,9 +204,9 @@ fn fs(in: FullscreenOut) -> FsOut {
         return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
     }
     let tx = texel_of_uv(fu.uv, eye.n);
-    if slot_id(view.eye_slot, tx, fu.face) == 0u {
-        return FsOut(vec4(linear_to_srgb(slot_lit(view.eye_slot, tx, fu.face)), 1.0), 0u, NDC_FAR);
+    if load_id(view.eye_slot, tx, fu.face) == 0u {
+        return FsOut(vec4(linear_to_srgb(load_lit(view.eye_slot, tx, fu.face).rgb), 1.0), 0u, NDC_FAR);
     }
-    let d = slot_depth(view.eye_slot, tx, fu.face);
+    let d = load_geo(view.eye_slot, tx, fu.face).w;
     return shown(view.eye_slot, fu.face, tx, probe_point(view.camera.xyz, dir, d));
 }

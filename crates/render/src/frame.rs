@@ -127,7 +127,8 @@ pub struct Renderer {
     pub(crate) cull: CullPass,
     splat: SplatPass,
     background: BackgroundPass,
-    march: MarchPass,
+    /// Built on the first marched frame: splatting never pays for its pipeline.
+    march: Option<MarchPass>,
     pub(crate) lines: LinesPass,
     visible: VisiblePass,
     present: PresentPass,
@@ -168,7 +169,7 @@ impl Renderer {
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
-            march: MarchPass::new(d, colour.remove_srgb_suffix())?,
+            march: None,
             lines: LinesPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
             present: PresentPass::new(d, colour)?,
@@ -291,6 +292,10 @@ impl Renderer {
         {
             self.screen = Some(Screen::new(ctx, size, output, self.colour));
         }
+        if self.display == Display::March && self.march.is_none() {
+            let colour = self.colour.remove_srgb_suffix();
+            self.march = Some(MarchPass::new(&ctx.device, colour)?);
+        }
         let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
         let draw_target = screen.colour.as_ref().unwrap_or(target);
 
@@ -344,14 +349,16 @@ impl Renderer {
                 for (stale, lit) in self.runs_stale.iter_mut().zip(runs_faces) {
                     *stale = stale.union(lit);
                 }
-                let bind = self.march.bind_group(ctx, &self.view, store);
+                let march = (self.march.as_ref())
+                    .ok_or_else(|| RenderError::Pipeline("the march pass was not built".into()))?;
+                let binds = march.bind_groups(ctx, &self.view, store);
                 stages.run("march", |enc| {
-                    self.march.clear(enc);
+                    march.clear(enc);
                     let mut pass = begin_draw(enc, draw_target, screen, true);
-                    self.march.draw(&mut pass, &bind);
+                    march.draw(&mut pass, &binds);
                     self.lines.draw(ctx, &mut pass, &self.view);
                 });
-                copies.push((&self.march.counters, COUNTERS_BYTES));
+                copies.push((&march.counters, COUNTERS_BYTES));
                 u64::from(size.0) * u64::from(size.1)
             }
         };

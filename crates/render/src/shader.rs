@@ -31,6 +31,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/bvh.wgsl"),
     ),
     (
+        "lib/slots.wgsl",
+        include_str!("../../../shaders/lib/slots.wgsl"),
+    ),
+    (
         "lib/fullscreen.wgsl",
         include_str!("../../../shaders/lib/fullscreen.wgsl"),
     ),

@@ -4,14 +4,12 @@
 //! the eye probe and the sky. It replaces cull + splat + background and reuses everything
 //! before them (capture, shade), so the two displays differ only in how texels reach pixels.
 
-use super::{
-    ARRAY, FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, storage, texture, uniform,
-};
+use super::cull::{probe_textures_bind_group, probe_textures_layout};
+use super::{RenderSpec, bind_group, entry, render_pipeline, storage, uniform};
 use crate::context::GpuContext;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::probe_store::ProbeStore;
 use crate::shader;
-use texel_probes::probe_set::Slot;
 
 /// Bytes of the counters the shader adds to: steps taken, pixels that fell back.
 pub const COUNTERS_BYTES: u64 = 8;
@@ -44,6 +42,7 @@ impl MarchCounts {
 pub struct MarchPass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
+    slots_layout: wgpu::BindGroupLayout,
     /// Steps and fallbacks of the last frame, cleared before each.
     pub counters: wgpu::Buffer,
 }
@@ -56,28 +55,22 @@ impl MarchPass {
     ) -> Result<Self, shader::ShaderError> {
         let module = shader::module(device, "march.wgsl")?;
         let f = wgpu::ShaderStages::FRAGMENT;
-        let mut entries = vec![entry(
-            0,
-            wgpu::ShaderStages::VERTEX_FRAGMENT,
-            uniform(false),
-        )];
-        for s in 0..3 {
-            entries.push(entry(1 + 3 * s, f, texture(UINT, ARRAY)));
-            entries.push(entry(2 + 3 * s, f, texture(FLOAT, ARRAY)));
-            entries.push(entry(3 + 3 * s, f, texture(FLOAT, ARRAY)));
-        }
-        entries.push(entry(10, f, storage(false)));
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("march::layout"),
-            entries: &entries,
+            entries: &[
+                entry(0, wgpu::ShaderStages::VERTEX_FRAGMENT, uniform(false)),
+                entry(1, f, storage(false)),
+            ],
         });
+        // The slots' textures as the cull pass binds them (`lib/slots.wgsl`).
+        let slots_layout = probe_textures_layout(device, f);
         let pipeline = render_pipeline(
             device,
             RenderSpec {
                 owner: "march",
                 module: &module,
                 vertex: "vs",
-                layouts: &[&layout],
+                layouts: &[&layout, &slots_layout],
                 vertex_buffers: &[],
                 fragment: "fs",
                 targets: &[colour, KEY_FORMAT],
@@ -96,26 +89,24 @@ impl MarchPass {
         Ok(MarchPass {
             pipeline,
             layout,
+            slots_layout,
             counters,
         })
     }
 
-    /// The bind group over the view globals and every slot's ids, lit colour and geometry.
-    pub fn bind_group(
+    /// The bind groups: the view globals and the counters (group 0), every slot's textures
+    /// (group 1).
+    pub fn bind_groups(
         &self,
         ctx: &GpuContext,
         view: &wgpu::Buffer,
         store: &ProbeStore,
-    ) -> wgpu::BindGroup {
-        let mut resources = vec![view.as_entire_binding()];
-        for slot in Slot::ALL {
-            let t = store.slot(slot);
-            resources.push(wgpu::BindingResource::TextureView(&t.ids.array_view));
-            resources.push(wgpu::BindingResource::TextureView(&t.lit.array_view));
-            resources.push(wgpu::BindingResource::TextureView(&t.geo.array_view));
-        }
-        resources.push(self.counters.as_entire_binding());
-        bind_group(&ctx.device, "march::bind", &self.layout, &resources)
+    ) -> [wgpu::BindGroup; 2] {
+        let own = [view.as_entire_binding(), self.counters.as_entire_binding()];
+        [
+            bind_group(&ctx.device, "march::bind", &self.layout, &own),
+            probe_textures_bind_group(&ctx.device, &self.slots_layout, store),
+        ]
     }
 
     /// Clears the counters (before the render pass that draws).
@@ -124,9 +115,10 @@ impl MarchPass {
     }
 
     /// Draws the fullscreen triangle.
-    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind: &wgpu::BindGroup) {
+    pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, binds: &[wgpu::BindGroup; 2]) {
         pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, bind, &[]);
+        pass.set_bind_group(0, &binds[0], &[]);
+        pass.set_bind_group(1, &binds[1], &[]);
         pass.draw(0..3, 0..1);
     }
 }
