@@ -424,7 +424,7 @@ impl EditorApp {
             self.report("add the mesh", Err(e));
             return;
         }
-        if let Err(e) = self.state.document.reload_meshes() {
+        if let Err(e) = self.state.document.reload_assets() {
             // Take the entity back out; the load error is what the person needs to see.
             self.dialogs.error = Some(match self.state.undo() {
                 Ok(_) => e,
@@ -476,12 +476,12 @@ impl EditorApp {
         let scene = self.state.scene();
         let missing = scene.world().query::<&Geometry>().iter().any(|g| match g {
             Geometry::Mesh { path } => {
-                !path.trim().is_empty() && self.state.document.level.meshes.get(path).is_none()
+                !path.trim().is_empty() && self.state.document.level.assets.get(path).is_none()
             }
             _ => false,
         });
         if missing && self.state.document.path.is_some() {
-            if let Err(e) = self.state.document.reload_meshes() {
+            if let Err(e) = self.state.document.reload_assets() {
                 self.dialogs.error = Some(e);
             }
             self.mesh_checked = self.state.document.revision;

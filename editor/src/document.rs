@@ -1,14 +1,14 @@
-//! The document being edited: a scene, the meshes it refers to, and where it is saved.
+//! The document being edited: a scene, the meshes and textures it refers to, and where it is saved.
 
 use std::path::{Path, PathBuf};
 
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_scene::Scene;
-use texel_scene::assets::{MeshLibrary, load_meshes};
+use texel_scene::assets::{AssetLibrary, load_assets};
 
 /// A level open in the editor.
 pub struct Document {
-    /// The scene and its meshes; `level.path` is where meshes are resolved from.
+    /// The scene and its assets; `level.path` is where they are resolved from.
     pub level: LoadedLevel,
     /// Where the document is saved; `None` until the first Save As.
     pub path: Option<PathBuf>,
@@ -23,14 +23,14 @@ impl Document {
             level: LoadedLevel {
                 path: PathBuf::from("untitled.ron"),
                 scene: Scene::new(),
-                meshes: MeshLibrary::default(),
+                assets: AssetLibrary::default(),
             },
             path: None,
             revision: 0,
         }
     }
 
-    /// Loads `path` and its meshes. The error names the file, line and column.
+    /// Loads `path` and its meshes and textures. The error names the file, line and column.
     pub fn open(path: &Path) -> Result<Self, String> {
         let level = load_level(path).map_err(|e| e.to_string())?;
         Ok(Document {
@@ -69,10 +69,10 @@ impl Document {
     }
 
     /// Reloads every mesh the scene refers to (after a mesh was added or a path changed).
-    pub fn reload_meshes(&mut self) -> Result<(), String> {
+    pub fn reload_assets(&mut self) -> Result<(), String> {
         let level = self.level.scene.to_level();
-        let meshes = load_meshes(&level, &self.level.path, None).map_err(|e| e.to_string())?;
-        self.level.meshes = meshes;
+        let assets = load_assets(&level, &self.level.path, None).map_err(|e| e.to_string())?;
+        self.level.assets = assets;
         self.revision += 1;
         Ok(())
     }

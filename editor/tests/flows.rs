@@ -323,7 +323,7 @@ fn gltf_mesh_is_added_relative_to_the_level() {
             .state
             .document
             .level
-            .meshes
+            .assets
             .get("meshes/arch.glb")
             .is_some()
     );
@@ -338,7 +338,7 @@ fn gltf_mesh_is_added_relative_to_the_level() {
         .set_row(index, row, None)
         .expect("set row");
     h.run();
-    let meshes = &h.state().state.document.level.meshes;
+    let meshes = &h.state().state.document.level.assets;
     assert!(meshes.get("meshes/arch2.glb").is_some());
     // A broken mesh is refused with a message, and the level is left as it was.
     let n = h.state().state.scene().len();

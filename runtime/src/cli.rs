@@ -219,8 +219,8 @@ fn check(path: &std::path::Path) -> ExitCode {
                 "{}: ok: {}; {} mesh files ({} triangles)",
                 path.display(),
                 loaded.scene.kind_counts(),
-                loaded.meshes.len(),
-                loaded.meshes.triangle_count()
+                loaded.assets.len(),
+                loaded.assets.triangle_count()
             );
             ExitCode::SUCCESS
         }

@@ -523,11 +523,15 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
     for (index, e) in scene.entities().enumerate() {
         let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
         if let Ok(g) = w.get::<&Geometry>(e) {
+            let primitive = !matches!(&*g, Geometry::Mesh { .. });
             let mesh = match &*g {
-                Geometry::Mesh { path } => level.meshes.get(path).cloned(),
+                Geometry::Mesh { path } => level.assets.get(path).cloned(),
                 other => primitive_mesh(other).map(Arc::new),
             };
-            let m = w.get::<&Material>(e).map(|m| *m).unwrap_or_default();
+            let m = w
+                .get::<&Material>(e)
+                .map(|m| (*m).clone())
+                .unwrap_or_default();
             if let Some(mesh) = mesh {
                 out.objects.push(ObjectInput {
                     mesh,
@@ -537,6 +541,7 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
                         emissive: m.emissive,
                         casts_shadows: m.casts_shadows,
                         outlined: m.outlined,
+                        maps: level.assets.surface_maps(&m, primitive),
                     },
                     id: entity_id(index),
                 });

@@ -2,18 +2,18 @@
 
 use std::path::{Path, PathBuf};
 
-use texel_scene::assets::{AssetError, MeshLibrary, load_meshes};
+use texel_scene::assets::{AssetError, AssetLibrary, load_assets};
 use texel_scene::read::{FileKind, read_bounded_string};
 use texel_scene::{Level, LevelError, Scene};
 
-/// A level with its meshes, ready to play.
+/// A level with its meshes and textures, ready to play.
 pub struct LoadedLevel {
     /// Where it was loaded from.
     pub path: PathBuf,
     /// The live scene.
     pub scene: Scene,
-    /// The glTF meshes it refers to.
-    pub meshes: MeshLibrary,
+    /// The glTF meshes and textures it refers to.
+    pub assets: AssetLibrary,
 }
 
 /// Why a level could not be loaded.
@@ -30,17 +30,17 @@ pub enum LoadError {
 /// Loads `path` and every asset it refers to.
 pub fn load_level(path: &Path) -> Result<LoadedLevel, LoadError> {
     let level = Level::load(path)?;
-    let meshes = match load_meshes(&level, path, None) {
+    let assets = match load_assets(&level, path, None) {
         Ok(m) => m,
         // Only then is the text read again, to point the error at the line naming the mesh.
         Err(_) => {
             let text = read_bounded_string(path, FileKind::Level).ok();
-            load_meshes(&level, path, text.as_deref())?
+            load_assets(&level, path, text.as_deref())?
         }
     };
     Ok(LoadedLevel {
         path: path.to_owned(),
         scene: Scene::from_level(&level),
-        meshes,
+        assets,
     })
 }

@@ -161,6 +161,7 @@ mod tests {
                     emissive: Vec3::ZERO,
                     casts_shadows: true,
                     outlined: false,
+                    ..Default::default()
                 },
                 id: 7,
             }],

@@ -22,6 +22,7 @@ fn scene() -> SceneInput {
             emissive: Vec3::ZERO,
             casts_shadows: true,
             outlined: false,
+            ..Default::default()
         },
         id,
     };

@@ -1,8 +1,10 @@
 //! `texel_geom` holds the plain data the scene and the renderer both speak, so the renderer
 //! needs neither hecs, RON nor glTF: the triangle mesh every geometry source produces
-//! ([`TriMesh`]) and the engine's limits and conventions ([`limits`]).
+//! ([`TriMesh`]), the images its surfaces sample ([`texture`]) and the engine's limits and conventions ([`limits`]).
 
 pub mod limits;
 pub mod mesh;
+pub mod texture;
 
-pub use mesh::TriMesh;
+pub use mesh::{MeshPart, TriMesh};
+pub use texture::{Filter, Image, Sampler, SurfaceMaps, TextureRef, Wrap};

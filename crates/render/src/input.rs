@@ -5,12 +5,12 @@
 use std::sync::Arc;
 
 use glam::{Mat4, UVec2, Vec3};
-use texel_geom::TriMesh;
+use texel_geom::{SurfaceMaps, TriMesh};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::{Role, Slot};
 
 /// How a surface is shaded.
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct MaterialInput {
     /// Linear RGB base colour.
     pub albedo: Vec3,
@@ -20,6 +20,21 @@ pub struct MaterialInput {
     pub casts_shadows: bool,
     /// Whether outlines are drawn on it.
     pub outlined: bool,
+    /// Textures, sampled at the mesh's UVs × `maps.uv_scale`; a mesh part's own textures
+    /// (glTF) are used where these have none.
+    pub maps: SurfaceMaps,
+}
+
+impl Default for MaterialInput {
+    fn default() -> Self {
+        MaterialInput {
+            albedo: Vec3::splat(0.7),
+            emissive: Vec3::ZERO,
+            casts_shadows: true,
+            outlined: true,
+            maps: SurfaceMaps::default(),
+        }
+    }
 }
 
 /// One drawable object: a mesh placed in the world. Its `id` is unique per entity.

@@ -179,6 +179,7 @@ mod tests {
                 normals: vec![glam::Vec3::Y; 3],
                 colors: vec![[1.0; 4]; 3],
                 indices: [0, 1, 2].repeat(tris),
+                ..Default::default()
             })
         };
         let object = |id, tris, casts_shadows| ObjectInput {
@@ -189,6 +190,7 @@ mod tests {
                 emissive: glam::Vec3::ZERO,
                 casts_shadows,
                 outlined: false,
+                ..Default::default()
             },
             id,
         };

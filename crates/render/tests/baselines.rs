@@ -37,6 +37,7 @@ fn stone_circle() -> SceneInput {
             emissive: Vec3::new(1.0, 0.6, 0.2),
             casts_shadows: true,
             outlined: true,
+            ..Default::default()
         },
         id: 30,
     });

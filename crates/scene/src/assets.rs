@@ -1,15 +1,18 @@
-//! Files a level refers to (glTF meshes), found relative to the level file.
+//! Files a level refers to (glTF meshes, PNG textures), found relative to the level file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
-use crate::components::Geometry;
+use texel_geom::texture::{Filter, Image, Sampler, SurfaceMaps, TextureRef};
+
+use crate::components::{Geometry, Material, Sampling};
 use crate::gltf_import::{GltfError, load_gltf};
 use crate::level::Level;
 use crate::mesh::TriMesh;
+use crate::texture::{TextureError, load_texture};
 
-/// A mesh a level refers to could not be loaded.
+/// A file a level refers to could not be loaded.
 #[derive(Debug, thiserror::Error)]
 #[error("{}{}: entity {entity} ({name}): {source}", level.display(), at.map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default())]
 pub struct AssetError {
@@ -21,20 +24,37 @@ pub struct AssetError {
     pub entity: usize,
     /// The entity's name.
     pub name: String,
-    /// The glTF error (which names the mesh file).
-    pub source: GltfError,
+    /// The file's own error (which names the file).
+    pub source: AssetFileError,
 }
 
-/// Meshes loaded for a level, keyed by the path written in the level.
+/// What was wrong with the file.
+#[derive(Debug, thiserror::Error)]
+pub enum AssetFileError {
+    /// A glTF mesh.
+    #[error(transparent)]
+    Mesh(#[from] GltfError),
+    /// A PNG texture.
+    #[error(transparent)]
+    Texture(#[from] TextureError),
+}
+
+/// Meshes and textures loaded for a level, keyed by the path written in the level.
 #[derive(Debug, Default, Clone)]
-pub struct MeshLibrary {
+pub struct AssetLibrary {
     meshes: BTreeMap<String, Arc<TriMesh>>,
+    textures: BTreeMap<String, Arc<Image>>,
 }
 
-impl MeshLibrary {
+impl AssetLibrary {
     /// The mesh for a level-relative path, if loaded.
     pub fn get(&self, rel: &str) -> Option<&Arc<TriMesh>> {
         self.meshes.get(rel)
+    }
+
+    /// The texture for a level-relative path, if loaded.
+    pub fn texture(&self, rel: &str) -> Option<&Arc<Image>> {
+        self.textures.get(rel)
     }
 
     /// Number of distinct meshes.
@@ -47,10 +67,73 @@ impl MeshLibrary {
         self.meshes.is_empty()
     }
 
+    /// Number of distinct textures.
+    pub fn texture_count(&self) -> usize {
+        self.textures.len()
+    }
+
     /// Total triangles over the distinct meshes.
     pub fn triangle_count(&self) -> usize {
         self.meshes.values().map(|m| m.triangle_count()).sum()
     }
+
+    /// Whether every file `material` names is loaded.
+    pub fn has_textures_of(&self, material: &Material) -> bool {
+        texture_paths(material).all(|p| self.textures.contains_key(p))
+    }
+
+    /// The textures `material` names, as the renderer samples them (`None` for a file not
+    /// loaded). `world_uvs`: the mesh's UVs are in world units (primitives), so the UV scale
+    /// also carries the texel density over the image's size.
+    pub fn surface_maps(&self, material: &Material, world_uvs: bool) -> SurfaceMaps {
+        let (sampler, uv_scale) = match &material.texture {
+            Some(t) => (
+                Sampler {
+                    filter: match t.sampling {
+                        Sampling::Nearest => Filter::Nearest,
+                        Sampling::Linear => Filter::Linear,
+                    },
+                    wrap: Default::default(),
+                },
+                t.uv_scale,
+            ),
+            None => (Sampler::default(), glam::Vec2::ONE),
+        };
+        let texture = |p: &str| {
+            self.textures.get(p).map(|image| TextureRef {
+                image: image.clone(),
+                sampler,
+            })
+        };
+        let albedo = material.texture.as_ref().and_then(|t| texture(&t.path));
+        let normal = material.normal_map.as_deref().and_then(texture);
+        let density = material
+            .texture
+            .as_ref()
+            .map_or(crate::components::DEFAULT_TEXEL_DENSITY, |t| t.density);
+        let uv_scale = match albedo.as_ref().or(normal.as_ref()) {
+            Some(t) if world_uvs => {
+                let size = glam::Vec2::new(t.image.width as f32, t.image.height as f32);
+                uv_scale * density / size
+            }
+            _ => uv_scale,
+        };
+        SurfaceMaps {
+            albedo,
+            normal,
+            uv_scale,
+        }
+    }
+}
+
+/// The texture files a material names.
+pub fn texture_paths(material: &Material) -> impl Iterator<Item = &str> {
+    material
+        .texture
+        .as_ref()
+        .map(|t| t.path.as_str())
+        .into_iter()
+        .chain(material.normal_map.as_deref())
 }
 
 /// Where a path written in a level points: relative to the level file's folder.
@@ -59,23 +142,17 @@ pub fn resolve(level_path: &Path, rel: &str) -> PathBuf {
     dir.join(rel)
 }
 
-/// Loads every glTF mesh `level` refers to. `level_path` is the level file (for relative
-/// paths and messages); `level_text`, if given, is its text, used to point errors at the
-/// line that names the mesh.
-pub fn load_meshes(
+/// Loads every glTF mesh and texture `level` refers to. `level_path` is the level file (for
+/// relative paths and messages); `level_text`, if given, is its text, used to point errors
+/// at the line that names the file.
+pub fn load_assets(
     level: &Level,
     level_path: &Path,
     level_text: Option<&str>,
-) -> Result<MeshLibrary, AssetError> {
-    let mut lib = MeshLibrary::default();
+) -> Result<AssetLibrary, AssetError> {
+    let mut lib = AssetLibrary::default();
     for (i, row) in level.entities.iter().enumerate() {
-        let Some(Geometry::Mesh { path }) = &row.geometry else {
-            continue;
-        };
-        if lib.meshes.contains_key(path) {
-            continue;
-        }
-        let mesh = load_gltf(&resolve(level_path, path)).map_err(|source| AssetError {
+        let error = |path: &str, source: AssetFileError| AssetError {
             level: level_path.to_owned(),
             at: level_text.and_then(|t| locate(t, &format!("{path:?}"))),
             entity: i,
@@ -84,8 +161,20 @@ pub fn load_meshes(
                 .as_ref()
                 .map_or_else(|| "unnamed".to_owned(), |n| n.0.clone()),
             source,
-        })?;
-        lib.meshes.insert(path.clone(), Arc::new(mesh));
+        };
+        if let Some(Geometry::Mesh { path }) = &row.geometry
+            && !lib.meshes.contains_key(path)
+        {
+            let mesh = load_gltf(&resolve(level_path, path)).map_err(|e| error(path, e.into()))?;
+            lib.meshes.insert(path.clone(), Arc::new(mesh));
+        }
+        for path in row.material.iter().flat_map(texture_paths) {
+            if !lib.textures.contains_key(path) {
+                let image =
+                    load_texture(&resolve(level_path, path)).map_err(|e| error(path, e.into()))?;
+                lib.textures.insert(path.to_owned(), Arc::new(image));
+            }
+        }
     }
     Ok(lib)
 }

@@ -123,10 +123,10 @@ pub enum Geometry {
 }
 
 /// How a surface is shaded.
-#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct Material {
-    /// Linear RGB base colour.
+    /// Linear RGB base colour (multiplies the texture).
     #[serde(with = "num::colour")]
     pub albedo: Vec3,
     /// Linear RGB emitted light, added unlit.
@@ -138,6 +138,77 @@ pub struct Material {
     /// Whether silhouette and crease outlines are drawn on it.
     #[serde(default = "yes")]
     pub outlined: bool,
+    /// An albedo texture (sRGB PNG). On a glTF mesh it replaces the file's own textures.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub texture: Option<TextureMap>,
+    /// A tangent-space normal map (linear PNG, glTF convention), sampled like `texture`
+    /// (with its UV scale, density and sampling when there is one).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub normal_map: Option<String>,
+}
+
+/// How texture pixels are filtered.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default, Serialize, Deserialize)]
+pub enum Sampling {
+    /// The nearest texture pixel: pixel art.
+    #[default]
+    Nearest,
+    /// Bilinear between pixels.
+    Linear,
+}
+
+/// Texture pixels per world unit when a material does not say (a 16-pixel tile per unit).
+pub const DEFAULT_TEXEL_DENSITY: f32 = 16.0;
+
+/// A texture as a material uses it.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct TextureMap {
+    /// PNG path relative to the level file, with `/` separators.
+    pub path: String,
+    /// Filtering.
+    #[serde(default, skip_serializing_if = "is_default")]
+    pub sampling: Sampling,
+    /// Texture pixels per world unit on primitives, whose UVs are in world units along the
+    /// surface: 16 puts one 16-pixel image on every unit square. (glTF meshes bring their
+    /// own UVs; `uv_scale` applies to both.)
+    #[serde(
+        default = "default_density",
+        skip_serializing_if = "is_default_density",
+        with = "num::positive"
+    )]
+    pub density: f32,
+    /// Multiplies the UVs.
+    #[serde(default = "one2", skip_serializing_if = "is_one2", with = "num::size2")]
+    pub uv_scale: Vec2,
+}
+
+impl TextureMap {
+    /// `path` at the default density, nearest sampling, no UV scale.
+    pub fn new(path: &str) -> Self {
+        TextureMap {
+            path: path.to_owned(),
+            sampling: Sampling::Nearest,
+            density: DEFAULT_TEXEL_DENSITY,
+            uv_scale: Vec2::ONE,
+        }
+    }
+}
+
+fn is_default<T: Default + PartialEq>(v: &T) -> bool {
+    *v == T::default()
+}
+const fn default_density() -> f32 {
+    DEFAULT_TEXEL_DENSITY
+}
+fn is_default_density(v: &f32) -> bool {
+    *v == DEFAULT_TEXEL_DENSITY
+}
+const fn one2() -> Vec2 {
+    Vec2::ONE
+}
+fn is_one2(v: &Vec2) -> bool {
+    *v == Vec2::ONE
 }
 
 const fn yes() -> bool {
@@ -154,6 +225,8 @@ impl Default for Material {
             emissive: Vec3::ZERO,
             casts_shadows: true,
             outlined: true,
+            texture: None,
+            normal_map: None,
         }
     }
 }
@@ -378,7 +451,23 @@ impl Validate for Geometry {
 impl Validate for Material {
     fn validate(&self) -> Result<(), (&'static str, String)> {
         field("albedo", num::check_colour(self.albedo))?;
-        field("emissive", num::check_colour(self.emissive))
+        field("emissive", num::check_colour(self.emissive))?;
+        if let Some(t) = &self.texture {
+            if t.path.trim().is_empty() {
+                return Err(("texture", "texture path is empty".to_owned()));
+            }
+            field("density", num::check_positive(t.density, "density"))?;
+            field("uv_scale", num::check_positive(t.uv_scale.x, "uv_scale"))?;
+            field("uv_scale", num::check_positive(t.uv_scale.y, "uv_scale"))?;
+        }
+        if self
+            .normal_map
+            .as_ref()
+            .is_some_and(|p| p.trim().is_empty())
+        {
+            return Err(("normal_map", "normal map path is empty".to_owned()));
+        }
+        Ok(())
     }
 }
 

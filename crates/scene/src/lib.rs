@@ -14,6 +14,7 @@ pub mod primitives;
 pub mod read;
 pub mod save;
 pub mod scene;
+pub mod texture;
 
 pub use components::*;
 pub use level::{CURRENT_VERSION, EntityRow, ErrorKind, Level, LevelError};

@@ -9,6 +9,7 @@
 //! |---|---|
 //! | 1 | first draft of the format: `transform.rotation` was a quaternion `(x, y, z, w)` |
 //! | 2 | `transform.rotation` is Euler angles in degrees (readable, editable by hand) |
+//! | 3 | materials may name a `texture` (with sampling, density, UV scale) and a `normal_map`; a version 2 file is a version 3 file without them |
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
@@ -28,6 +29,12 @@ pub(crate) fn from_old(text: &str, version: u32) -> Result<Level, ron::error::Sp
                 .with_default_extension(ron::extensions::Extensions::IMPLICIT_SOME)
                 .from_str(text)?;
             Ok(v1.into())
+        }
+        2 => {
+            // Version 3 only added optional fields, so a version 2 file parses as one.
+            let mut level: Level = crate::level::ron_options().from_str(text)?;
+            level.version = CURRENT_VERSION;
+            Ok(level)
         }
         _ => Err(ron::error::SpannedError {
             code: ron::Error::Message(format!("no migration from level version {version}")),

@@ -3,6 +3,11 @@
 //! Every mesh is counter-clockwise seen from outside, with unit normals pointing out of the
 //! solid. Flat faces get their own vertices (hard edges suit pixel art and give the crease
 //! outlines something to find); the sphere and the cylinder's side are smooth.
+//!
+//! UVs are in world units along the surface, so a texture's pixels have one world size on
+//! every face ([`crate::Material`]'s texel density turns units into texture pixels): flat
+//! faces are projected on their own plane (U horizontal, V down the face; on a floor U is X
+//! and V is Z), the cylinder's side and the sphere are wrapped by arc length.
 
 use glam::{Vec2, Vec3};
 
@@ -25,6 +30,19 @@ pub fn primitive_mesh(g: &Geometry) -> Option<TriMesh> {
     })
 }
 
+/// The planar UV of `p` on a face with unit normal `n`, in world units: U along the
+/// horizontal tangent (X on floors and ceilings), V down the face (Z on floors), so images
+/// stand upright on walls.
+pub fn face_uv(p: Vec3, n: Vec3) -> Vec2 {
+    let t = if n.y.abs() > 0.999 {
+        Vec3::X
+    } else {
+        Vec3::Y.cross(n).normalize()
+    };
+    let b = n.cross(t);
+    Vec2::new(p.dot(t), -p.dot(b))
+}
+
 /// Adds a flat polygon (convex, corners counter-clockwise seen from outside).
 fn add_face(m: &mut TriMesh, corners: &[Vec3]) {
     let n = (corners[1] - corners[0])
@@ -35,6 +53,7 @@ fn add_face(m: &mut TriMesh, corners: &[Vec3]) {
         m.positions.push(c);
         m.normals.push(n);
         m.colors.push([1.0; 4]);
+        m.uvs.push(face_uv(c, n));
     }
     for i in 1..corners.len() as u32 - 1 {
         m.indices.extend_from_slice(&[base, base + i, base + i + 1]);
@@ -176,10 +195,13 @@ pub fn cylinder(radius: f32, height: f32, segments: u32) -> TriMesh {
     for i in 0..n {
         let (a, b) = (ring(i, n), ring(i + 1, n));
         let base = m.positions.len() as u32;
-        for (p, y) in [(a, -hy), (b, -hy), (b, hy), (a, hy)] {
+        let arc = |k: u32| k as f32 / n as f32 * std::f32::consts::TAU * radius;
+        for (p, k, y) in [(a, i, -hy), (b, i + 1, -hy), (b, i + 1, hy), (a, i, hy)] {
             m.positions.push(p * radius + Vec3::Y * y);
             m.normals.push(p);
             m.colors.push([1.0; 4]);
+            // Counter-clockwise seen from +Y is right to left seen from outside.
+            m.uvs.push(Vec2::new(-arc(k), -y));
         }
         m.indices
             .extend_from_slice(&[base, base + 1, base + 2, base, base + 2, base + 3]);
@@ -206,6 +228,8 @@ pub fn sphere(radius: f32, segments: u32) -> TriMesh {
             m.positions.push(d * radius);
             m.normals.push(d.normalize());
             m.colors.push([1.0; 4]);
+            let u = -(i as f32) / n as f32 * std::f32::consts::TAU * radius;
+            m.uvs.push(Vec2::new(u, theta * radius));
         }
     }
     let row = n + 1;
@@ -314,6 +338,43 @@ mod tests {
         assert!(close(volume(&cylinder(0.5, 2.0, 64)), cyl, 0.01));
         let sph = 4.0 / 3.0 * std::f32::consts::PI * 1.5f32.powi(3);
         assert!(close(volume(&sphere(1.5, 64)), sph, 0.01));
+    }
+
+    /// One world unit along a flat face is one UV unit, in both directions, on every face
+    /// of every flat primitive; walls stand upright (V grows downward).
+    #[test]
+    fn flat_uvs_are_world_units_and_upright() {
+        for m in [
+            box_mesh(Vec3::new(1.0, 2.0, 3.0)),
+            wedge(Vec3::new(2.0, 1.0, 3.0)),
+            plane(Vec2::new(4.0, 2.0)),
+        ] {
+            assert_eq!(m.uvs.len(), m.positions.len());
+            for t in 0..m.triangle_count() {
+                let i = &m.indices[t * 3..t * 3 + 3];
+                let [a, b] = [1, 2].map(|k| i[k] as usize);
+                let o = i[0] as usize;
+                for j in [a, b] {
+                    let dp = (m.positions[j] - m.positions[o]).length();
+                    let duv = (m.uvs[j] - m.uvs[o]).length();
+                    assert!((dp - duv).abs() < 1e-5, "UV length {duv} for {dp} units");
+                }
+                let n = m.normals[o];
+                if n.y.abs() < 0.5 {
+                    let up = m.positions[o] + Vec3::Y;
+                    assert!(face_uv(up, n).y < m.uvs[o].y, "walls upright");
+                }
+            }
+        }
+        let c = cylinder(0.5, 2.0, 16);
+        let s = sphere(1.0, 16);
+        assert_eq!(c.uvs.len(), c.positions.len());
+        assert_eq!(s.uvs.len(), s.positions.len());
+        let span = |m: &TriMesh| {
+            m.uvs.iter().map(|u| u.x).fold(f32::MAX, f32::min)
+                - m.uvs.iter().map(|u| u.x).fold(f32::MIN, f32::max)
+        };
+        assert!((span(&s).abs() - std::f32::consts::TAU).abs() < 1e-4);
     }
 
     #[test]

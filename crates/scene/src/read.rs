@@ -28,18 +28,21 @@ pub enum FileKind {
     CameraPath,
     /// An evaluation report (`report.json`).
     Report,
+    /// A texture image (`.png`).
+    Texture,
 }
 
 const MIB: u64 = 1 << 20;
 
 impl FileKind {
     /// Every kind, for documentation and tests.
-    pub const ALL: [FileKind; 5] = [
+    pub const ALL: [FileKind; 6] = [
         FileKind::Level,
         FileKind::Mesh,
         FileKind::MeshBuffer,
         FileKind::CameraPath,
         FileKind::Report,
+        FileKind::Texture,
     ];
 
     /// What messages call the file.
@@ -50,17 +53,19 @@ impl FileKind {
             FileKind::MeshBuffer => "glTF buffer",
             FileKind::CameraPath => "camera path",
             FileKind::Report => "report",
+            FileKind::Texture => "texture",
         }
     }
 
     /// The built-in cap in bytes: levels 64 MiB (a 10,000-entity level is about 3 MiB),
-    /// glTF files and buffers 512 MiB each, camera paths 16 MiB, reports 64 MiB.
+    /// glTF files and buffers 512 MiB each, camera paths 16 MiB, reports 64 MiB, textures
+    /// 64 MiB (a 2048² RGBA PNG is at most 16 MiB).
     pub fn default_cap(self) -> u64 {
         match self {
             FileKind::Level => 64 * MIB,
             FileKind::Mesh | FileKind::MeshBuffer => 512 * MIB,
             FileKind::CameraPath => 16 * MIB,
-            FileKind::Report => 64 * MIB,
+            FileKind::Report | FileKind::Texture => 64 * MIB,
         }
     }
 
@@ -72,6 +77,7 @@ impl FileKind {
             FileKind::MeshBuffer => "TEXEL_MAX_MESH_BUFFER_BYTES",
             FileKind::CameraPath => "TEXEL_MAX_PATH_BYTES",
             FileKind::Report => "TEXEL_MAX_REPORT_BYTES",
+            FileKind::Texture => "TEXEL_MAX_TEXTURE_BYTES",
         }
     }
 

@@ -124,7 +124,7 @@ impl Scene {
             name: r.get::<&Name>().map(|c| (*c).clone()),
             transform: r.get::<&Transform>().map(|c| *c),
             geometry: r.get::<&Geometry>().map(|c| (*c).clone()),
-            material: r.get::<&Material>().map(|c| *c),
+            material: r.get::<&Material>().map(|c| (*c).clone()),
             directional_light: r.get::<&DirectionalLight>().map(|c| *c),
             point_light: r.get::<&PointLight>().map(|c| *c),
             probe_grid_override: r.get::<&ProbeGridOverride>().map(|c| *c),

@@ -3,7 +3,7 @@
 use std::path::{Path, PathBuf};
 
 use glam::Vec3;
-use texel_scene::{ErrorKind, Level, LevelError, Scene};
+use texel_scene::{CURRENT_VERSION, ErrorKind, Level, LevelError, Sampling, Scene, TextureMap};
 
 fn data(rel: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR"))
@@ -280,8 +280,42 @@ fn version_1_migrates_quaternions_to_degrees() {
     );
     assert_eq!(tipped.scale, Vec3::new(2.0, 0.5, 1.0));
     let text = level.to_ron_string(&path).unwrap();
-    assert!(text.contains("version: 2"));
+    assert!(text.contains(&format!("version: {CURRENT_VERSION}")));
     assert_eq!(Level::from_ron_str(&text, &path).unwrap(), level);
+}
+
+/// Version 3 added textures: a version 2 file loads unchanged but for the version, and a
+/// textured material round-trips, writing only the texture fields that differ from their
+/// defaults.
+#[test]
+fn version_2_migrates_and_textured_materials_round_trip() {
+    let path = Path::new("v2.ron");
+    let v2 = "(version: 2, entities: [(geometry: Plane(size: (4.0, 4.0)), \
+              material: (albedo: (1.0, 1.0, 1.0)))])";
+    let mut level = Level::from_ron_str(v2, path).unwrap();
+    assert_eq!(level.version, CURRENT_VERSION);
+    let m = level.entities[0].material.as_mut().unwrap();
+    assert_eq!(m.texture, None);
+    m.texture = Some(TextureMap {
+        sampling: Sampling::Linear,
+        ..TextureMap::new("../textures/bricks.png")
+    });
+    m.normal_map = Some("../textures/bricks_n.png".into());
+    let text = level.to_ron_string(path).unwrap();
+    assert!(
+        text.contains("texture: (path: \"../textures/bricks.png\", sampling: Linear)"),
+        "{text}"
+    );
+    assert!(
+        !text.contains("density"),
+        "defaults are not written: {text}"
+    );
+    let back = Level::from_ron_str(&text, path).unwrap();
+    assert_eq!(back, level);
+    assert_eq!(back.to_ron_string(path).unwrap(), text);
+    let bad = text.replace("sampling: Linear", "sampling: Linear, density: 0.0");
+    let e = Level::from_ron_str(&bad, path).unwrap_err().to_string();
+    assert!(e.contains("v2.ron:") && e.contains("positive"), "{e}");
 }
 
 #[test]
@@ -295,7 +329,7 @@ fn older_files_without_new_optional_fields_still_load() {
         ],
     )"#;
     let level = Level::from_ron_str(text, Path::new("old.ron")).unwrap();
-    let m = level.entities[0].material.unwrap();
+    let m = level.entities[0].material.clone().unwrap();
     assert!(m.casts_shadows && m.outlined && m.emissive == Vec3::ZERO);
     assert_eq!(level.entities[1].probe_grid_override.unwrap().priority, 0);
     assert_eq!(level.settings, texel_scene::LevelSettings::default());

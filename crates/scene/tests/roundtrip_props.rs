@@ -59,19 +59,45 @@ fn geometry() -> impl Strategy<Value = Geometry> {
     ]
 }
 
+fn texture_map() -> impl Strategy<Value = TextureMap> {
+    (
+        "[a-z_/.]{1,20}\\.png",
+        any::<bool>(),
+        positive(),
+        positive(),
+        positive(),
+    )
+        .prop_map(|(path, linear, density, u, v)| TextureMap {
+            path,
+            sampling: if linear {
+                Sampling::Linear
+            } else {
+                Sampling::Nearest
+            },
+            density,
+            uv_scale: Vec2::new(u, v),
+        })
+}
+
 fn material() -> impl Strategy<Value = Material> {
     (
         v3(colour_channel()),
         v3(colour_channel()),
         any::<bool>(),
         any::<bool>(),
+        proptest::option::of(texture_map()),
+        proptest::option::of("[a-z_/.]{1,20}\\.png"),
     )
-        .prop_map(|(albedo, emissive, casts_shadows, outlined)| Material {
-            albedo,
-            emissive,
-            casts_shadows,
-            outlined,
-        })
+        .prop_map(
+            |(albedo, emissive, casts_shadows, outlined, texture, normal_map)| Material {
+                albedo,
+                emissive,
+                casts_shadows,
+                outlined,
+                texture,
+                normal_map,
+            },
+        )
 }
 
 fn direction() -> impl Strategy<Value = Vec3> {

@@ -19,6 +19,7 @@ pub fn object(mesh: texel_scene::TriMesh, at: Mat4, albedo: Vec3, id: u32) -> Ob
             emissive: Vec3::ZERO,
             casts_shadows: true,
             outlined: true,
+            ..Default::default()
         },
         id,
     }

@@ -230,6 +230,7 @@ impl<'a> Importer<'a> {
                 normals,
                 colors,
                 indices,
+                ..TriMesh::default()
             },
             None => flat_shaded(&positions, &colors, &indices),
         })
