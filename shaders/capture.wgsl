@@ -1,8 +1,10 @@
 // Capture: rasterizes the scene into one cube face of a probe. Per texel: world normal and
-// Chebyshev depth from the probe origin (geo), object index + 1 (ids; 0 = sky), albedo and
-// object flags. Crates/render/src/passes/capture.rs.
+// Chebyshev depth from the probe origin (geo), object index + 1 (ids; 0 = sky), albedo (×
+// the texture, sampled for the probe texel's footprint) and object flags, the normal-mapped
+// normal when the surface has a normal map (shading). Crates/render/src/passes/capture.rs.
 
 #include "lib/common.wgsl"
+#include "lib/texture.wgsl"
 #include "lib/raster.wgsl"
 
 struct FaceParams {
@@ -27,6 +29,8 @@ struct FsOut {
     @location(0) geo: vec4<f32>,
     @location(1) id: u32,
     @location(2) albedo: vec4<f32>,
+    // pack4x8snorm(normal-mapped normal, 1), or 0 when the geometric normal is the one.
+    @location(3) shading: u32,
 }
 
 // The Chebyshev depth of the surface along this texel's centre ray. The interpolated world
@@ -36,12 +40,12 @@ struct FsOut {
 // rebuilds it from the centre ray, enough for the floor to shadow itself. So the depth is
 // where the centre ray meets the triangle's plane (from the point's screen derivatives),
 // which every driver agrees on; edge-on, the interpolated depth.
-fn centre_depth(world: vec3<f32>, pixel: vec2<f32>) -> f32 {
+fn centre_depth(world: vec3<f32>, pixel: vec2<f32>, pdx: vec3<f32>, pdy: vec3<f32>) -> f32 {
     let q = world - face.origin.xyz;
     let interpolated = chebyshev(q);
     let uv = pixel * (2.0 / f32(face.n)) - 1.0;
     let centre = cube_dir(face.face, uv.x, uv.y);
-    let plane = cross(dpdx(world), dpdy(world));
+    let plane = cross(pdx, pdy);
     let den = dot(centre, plane);
     if abs(den) <= 1e-3 * length(centre) * length(plane) {
         return interpolated;
@@ -57,9 +61,19 @@ fn centre_depth(world: vec3<f32>, pixel: vec2<f32>) -> f32 {
 @fragment
 fn fs(in: VsOut) -> FsOut {
     let obj = objects[in.object];
+    let t = surface_uv(in);
+    let pdx = dpdx(in.world);
+    let pdy = dpdy(in.world);
+    let depth = centre_depth(in.world, in.clip.xy, pdx, pdy);
+    let s = surfaces[in.surface];
     var out: FsOut;
-    out.geo = vec4(surface_normal(in.normal), centre_depth(in.world, in.clip.xy));
+    let n = surface_normal(in.normal);
+    out.geo = vec4(n, depth);
     out.id = in.object + 1u;
-    out.albedo = surface_albedo(obj, in.colour);
+    out.albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
+    out.shading = 0u;
+    if s.normal != NO_TEXTURE {
+        out.shading = pack4x8snorm(vec4(surface_shading_normal(s, n, pdx, pdy, t), 1.0));
+    }
     return out;
 }

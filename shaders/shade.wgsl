@@ -54,6 +54,8 @@ var<private> sf: ShadeFace;
 @group(0) @binding(2) var geo_tex: texture_2d_array<f32>;
 @group(0) @binding(3) var id_tex: texture_2d_array<u32>;
 @group(0) @binding(4) var albedo_tex: texture_2d_array<f32>;
+// Normal-mapped normals (pack4x8snorm, w = 1), 0 where the geometric normal lights the texel.
+@group(0) @binding(11) var shading_tex: texture_2d_array<u32>;
 @group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
@@ -271,7 +273,12 @@ fn light_texel(t: vec2<u32>) {
         // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow
         // rays start a tenth of a texel off, and never nearer than the screen's offset.
         let offset = max(SHADOW_OFFSET, 0.1 * texel_world_size(d, n, ray));
-        colour = alb.rgb * lighting(p, normal, offset);
+        let shading = textureLoad(shading_tex, t, sf.face, 0).r;
+        var lit_normal = normal;
+        if shading != 0u {
+            lit_normal = normalize(unpack4x8snorm(shading).xyz);
+        }
+        colour = alb.rgb * lighting(p, lit_normal, offset);
     }
 
     // Outlines and similar-neighbour bits from the four neighbours.

@@ -1,6 +1,7 @@
 // Scene rasterization shared by the probe capture (capture.wgsl) and the baselines' G-buffer
 // (gbuffer.wgsl): the vertex layout of `GpuScene::vertices`, what the vertex stage passes on,
-// and the surface albedo. The includer includes lib/common.wgsl (for `Object`).
+// and the surface albedo. The includer includes lib/common.wgsl (for `Object`) and
+// lib/texture.wgsl.
 
 struct SceneVertex {
     @location(0) position: vec3<f32>,
@@ -8,6 +9,9 @@ struct SceneVertex {
     @location(2) normal: vec3<f32>,
     // Vertex colour, RGBA8.
     @location(3) colour: u32,
+    @location(4) uv: vec2<f32>,
+    // Index into `surfaces` (0: untextured).
+    @location(5) surface: u32,
 }
 
 struct VsOut {
@@ -16,6 +20,8 @@ struct VsOut {
     @location(1) normal: vec3<f32>,
     @location(2) @interpolate(flat) object: u32,
     @location(3) colour: vec4<f32>,
+    @location(4) uv: vec2<f32>,
+    @location(5) @interpolate(flat) surface: u32,
 }
 
 fn raster_vertex(v: SceneVertex, view_proj: mat4x4<f32>) -> VsOut {
@@ -25,10 +31,22 @@ fn raster_vertex(v: SceneVertex, view_proj: mat4x4<f32>) -> VsOut {
     out.normal = v.normal;
     out.object = v.object;
     out.colour = unpack4x8unorm(v.colour);
+    out.uv = v.uv;
+    out.surface = v.surface;
     return out;
 }
 
-// Albedo × vertex colour (rgb) and the object flags (a, as flags / 255).
+// The texture coordinates of a fragment and their footprint: the raster's own derivatives.
+// In a probe capture the raster is the cube face, so the footprint is the probe texel's
+// (the same wherever the camera is); in a G-buffer it is the screen pixel's. Call in
+// uniform control flow (derivatives).
+fn surface_uv(in: VsOut) -> SurfaceUv {
+    let s = surfaces[in.surface];
+    let uv = in.uv * s.uv_scale;
+    return SurfaceUv(uv, dpdx(uv), dpdy(uv));
+}
+
+// Albedo × vertex colour × texture colour (rgb) and the object flags (a, as flags / 255).
 //
 // The interpolated vertex colour is snapped back to the 8 bits it was stored in: even a
 // constant colour does not interpolate exactly (the barycentrics sum to 1 within an ulp, and
@@ -37,9 +55,9 @@ fn raster_vertex(v: SceneVertex, view_proj: mat4x4<f32>) -> VsOut {
 // 127.5, as for every odd tenth — one way on some rows and the other way on the rest, and
 // posterization can make that one code a whole band: long one-texel streaks (issue 17).
 // Snapped, a surface of one colour stores one albedo wherever it is seen from.
-fn surface_albedo(obj: Object, colour: vec4<f32>) -> vec4<f32> {
+fn surface_albedo(obj: Object, colour: vec4<f32>, texture: vec4<f32>) -> vec4<f32> {
     let c = round(colour.rgb * 255.0) / 255.0;
-    return vec4(obj.albedo * c, f32(obj.flags) / 255.0);
+    return vec4(obj.albedo * c * texture.rgb, f32(obj.flags) / 255.0);
 }
 
 // The unit normal of a surface point, snapped to 1/65536 per component. The rasterizer

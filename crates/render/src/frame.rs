@@ -197,11 +197,13 @@ impl Renderer {
         Self::new(ctx, FRAME_FORMAT)
     }
 
-    /// Uploads the scene (meshes, materials, lights, shadow BVH), after checking that the
-    /// device can hold it (else the scene in use stays).
+    /// Uploads the scene (meshes, materials, textures, lights, shadow BVH), after checking
+    /// that the device can hold it (else the scene in use stays).
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
         crate::validate::scene(&ctx.device.limits(), scene)?;
-        self.scene = Some(GpuScene::upload(ctx, scene));
+        let uploaded =
+            GpuScene::upload(ctx, scene).map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
+        self.scene = Some(uploaded);
         Ok(())
     }
 
@@ -403,6 +405,7 @@ impl Renderer {
                 pixels_marched,
                 march_steps: march.steps,
                 march_fallbacks: march.fallbacks,
+                texture_bytes: self.scene.as_ref().map_or(0, |s| s.textures.bytes()),
             },
         })
     }

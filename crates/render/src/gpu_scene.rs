@@ -1,5 +1,6 @@
 //! The scene on the GPU: one vertex buffer of world-space triangles (meshes are static, so
 //! they are transformed once at upload), one record per object (material and entity id),
+//! the textures (`textures`: one atlas, a record per image, a record per distinct surface),
 //! the lights, and the shadow BVH over every shadow-casting triangle.
 
 use bytemuck::{Pod, Zeroable};
@@ -9,11 +10,12 @@ use wgpu::util::DeviceExt;
 use crate::bvh::{GpuBvh, build_bvh};
 use crate::context::GpuContext;
 use crate::input::SceneInput;
+use crate::textures::{AtlasError, GpuTextures, TextureSet};
 
 /// Largest number of directional lights the shade pass reads.
 pub const MAX_SUNS: usize = 4;
 
-/// One capture vertex (32 bytes).
+/// One capture vertex (44 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct Vertex {
@@ -25,6 +27,10 @@ pub struct Vertex {
     pub normal: [f32; 3],
     /// Vertex colour, RGBA8 (linear), multiplied into the albedo.
     pub colour: u32,
+    /// Texture coordinates (before the surface's UV scale).
+    pub uv: [f32; 2],
+    /// Index of the surface's textures (`textures::GpuSurface`; 0 = none).
+    pub surface: u32,
 }
 
 /// One object's material and id (32 bytes; `shaders/lib/scene.wgsl` `Object`).
@@ -80,6 +86,8 @@ pub struct GpuScene {
     pub shadow_triangles: usize,
     /// Entity id of each object, by object index.
     pub object_ids: Vec<u32>,
+    /// The textures.
+    pub textures: GpuTextures,
 }
 
 fn pack_colour(c: [f32; 4]) -> u32 {
@@ -88,9 +96,11 @@ fn pack_colour(c: [f32; 4]) -> u32 {
 }
 
 impl GpuScene {
-    /// Uploads `scene`: transforms every mesh to world space and builds the shadow BVH.
-    pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> GpuScene {
+    /// Uploads `scene`: transforms every mesh to world space, packs the textures and builds
+    /// the shadow BVH. Fails only when the textures do not fit the device's limits.
+    pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, AtlasError> {
         let mut vertices = Vec::new();
+        let mut textures = TextureSet::default();
         let mut objects = Vec::with_capacity(scene.objects.len().max(1));
         let mut casters: Vec<[Vec3; 3]> = Vec::new();
         for (index, o) in scene.objects.iter().enumerate() {
@@ -104,7 +114,23 @@ impl GpuScene {
                 emissive: m.emissive.to_array(),
                 id: o.id,
             });
-            for tri in o.mesh.indices.chunks_exact(3) {
+            let own = textures.surface(&m.maps);
+            let mut part_surfaces: Vec<u32> = Vec::with_capacity(o.mesh.parts.len());
+            for part in &o.mesh.parts {
+                // The material's textures win over the mesh's own.
+                let maps = if m.maps.is_empty() {
+                    &part.maps
+                } else {
+                    &m.maps
+                };
+                part_surfaces.push(textures.surface(maps));
+            }
+            for (t, tri) in o.mesh.indices.chunks_exact(3).enumerate() {
+                let t = t as u32;
+                let surface = match o.mesh.parts.partition_point(|p| p.first_triangle <= t) {
+                    0 => own,
+                    after => part_surfaces[after - 1],
+                };
                 let order = if flip { [0, 2, 1] } else { [0, 1, 2] };
                 let mut world = [Vec3::ZERO; 3];
                 for (k, &c) in order.iter().enumerate() {
@@ -117,6 +143,8 @@ impl GpuScene {
                         object: index as u32,
                         normal: n.to_array(),
                         colour: pack_colour(o.mesh.colors.get(i).copied().unwrap_or([1.0; 4])),
+                        uv: o.mesh.uv(i).to_array(),
+                        surface,
                     });
                 }
                 if m.casts_shadows {
@@ -150,6 +178,7 @@ impl GpuScene {
             .take(MAX_SUNS)
             .map(|s| (-s.direction.normalize_or_zero(), s.colour))
             .collect();
+        let textures = textures.upload(ctx)?;
         let bvh: GpuBvh = build_bvh(&casters);
         let (bvh_nodes, bvh_triangles) = bvh.upload(&ctx.device);
         let storage = |label, contents: &[u8], usage| {
@@ -160,7 +189,7 @@ impl GpuScene {
                     usage,
                 })
         };
-        GpuScene {
+        Ok(GpuScene {
             vertices: storage(
                 "scene::vertices",
                 bytemuck::cast_slice(&vertices),
@@ -183,13 +212,14 @@ impl GpuScene {
             bvh_triangles,
             shadow_triangles: casters.len(),
             object_ids: scene.objects.iter().map(|o| o.id).collect(),
-        }
+            textures,
+        })
     }
 
     /// The vertex layout of [`Vertex`].
     pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
-        const ATTRS: [wgpu::VertexAttribute; 4] = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Uint32, 2 => Float32x3, 3 => Uint32
+        const ATTRS: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Uint32, 2 => Float32x3, 3 => Uint32, 4 => Float32x2, 5 => Uint32
         ];
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,

@@ -21,6 +21,7 @@ pub mod readback;
 pub mod shader;
 pub mod stats;
 pub mod target;
+pub mod textures;
 mod timing;
 pub mod validate;
 pub mod view;

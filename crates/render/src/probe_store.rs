@@ -5,7 +5,8 @@
 //! |---|---|---|
 //! | `geo` | `rgba32float` | world normal (xyz), Chebyshev depth from the origin (w; `SKY_DEPTH` = sky) |
 //! | `ids` | `r32uint` | entity id (0 = sky) |
-//! | `albedo` | `rgba8unorm` | albedo × vertex colour (rgb), object flags (a) |
+//! | `albedo` | `rgba8unorm` | albedo × vertex colour × texture (rgb), object flags (a) |
+//! | `shading` | `r32uint` | `pack4x8snorm` of the normal-mapped normal (w = 1), 0 without a normal map |
 //! | `depth` | `depth32float` | capture depth test |
 //! | `lit` | `rgba16float` | shaded, posterized, outlined colour (rgb); similar-neighbour bits (a) |
 //! | `runs` | `r32uint` | stable slots: texels in the run this texel heads (`RUN_COLUMN` set for a column run; 0 = inside a run) |
@@ -24,6 +25,8 @@ pub const GEO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Albedo.
 pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// Normal-mapped normals.
+pub const SHADING_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Capture depth.
 pub use crate::passes::raster::DEPTH_FORMAT;
 /// Lit colour.
@@ -97,6 +100,9 @@ pub struct SlotTextures {
     pub ids: LayeredTexture,
     /// Albedo and flags.
     pub albedo: LayeredTexture,
+    /// Normal-mapped normals (lighting only; the geometric normal in `geo` sizes and culls
+    /// quads and finds creases).
+    pub shading: LayeredTexture,
     /// Capture depth buffer.
     pub depth: LayeredTexture,
     /// Lit colour.
@@ -118,6 +124,7 @@ impl SlotTextures {
             geo: LayeredTexture::new(ctx, &name("geo"), n, GEO_FORMAT, gbuf),
             ids: LayeredTexture::new(ctx, &name("ids"), n, ID_FORMAT, gbuf),
             albedo: LayeredTexture::new(ctx, &name("albedo"), n, ALBEDO_FORMAT, gbuf),
+            shading: LayeredTexture::new(ctx, &name("shading"), n, SHADING_FORMAT, gbuf),
             depth: LayeredTexture::new(ctx, &name("depth"), n, DEPTH_FORMAT, U::RENDER_ATTACHMENT),
             lit: LayeredTexture::new(
                 ctx,

@@ -19,6 +19,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/lighting.wgsl"),
     ),
     (
+        "lib/texture.wgsl",
+        include_str!("../../../shaders/lib/texture.wgsl"),
+    ),
+    (
         "lib/raster.wgsl",
         include_str!("../../../shaders/lib/raster.wgsl"),
     ),

@@ -20,6 +20,8 @@ pub struct Counters {
     /// Marched pixels the first probe they asked could not resolve (they fell back to the
     /// other stable probe, the eye probe or the sky).
     pub march_fallbacks: u64,
+    /// GPU memory of the scene's texture atlas, bytes (0 without textures).
+    pub texture_bytes: u64,
 }
 
 /// Time of one pass, in milliseconds.

@@ -11,7 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec2, Vec3};
 
 use crate::gpu_scene::GpuScene;
-use crate::passes::{entry, storage, uniform};
+use crate::passes::{ARRAY, FLOAT, entry, storage, texture, uniform};
 use crate::shader;
 
 /// World position (xyz) and view-axis depth (w; `SKY_DEPTH` = sky).
@@ -149,7 +149,13 @@ impl GBufferPass {
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("baselines::gbuffer::layout"),
-            entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
+            entries: &[
+                entry(0, vf, uniform(false)),
+                entry(1, vf, storage(true)),
+                entry(2, vf, texture(FLOAT, ARRAY)),
+                entry(3, vf, storage(true)),
+                entry(4, vf, storage(true)),
+            ],
         });
         let targets = [WORLD_FORMAT, NORMAL_FORMAT, ID_FORMAT];
         let pipeline = raster::pipeline(device, "baselines::gbuffer", &module, &layout, &targets);
@@ -192,6 +198,9 @@ impl GBufferPass {
             &[
                 self.camera.as_entire_binding(),
                 scene.objects.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&scene.textures.view),
+                scene.textures.infos_buffer.as_entire_binding(),
+                scene.textures.surfaces.as_entire_binding(),
             ],
         );
         let clear = wgpu::Color::TRANSPARENT;

@@ -225,11 +225,13 @@ impl BaselineRenderer {
         built
     }
 
-    /// Uploads the scene (meshes, materials, lights, shadow BVH), after checking that the
-    /// device can hold it (else the scene in use stays).
+    /// Uploads the scene (meshes, materials, textures, lights, shadow BVH), after checking
+    /// that the device can hold it (else the scene in use stays).
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
         crate::validate::scene(&ctx.device.limits(), scene)?;
-        self.scene = Some(GpuScene::upload(ctx, scene));
+        let uploaded =
+            GpuScene::upload(ctx, scene).map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
+        self.scene = Some(uploaded);
         Ok(())
     }
 
@@ -263,11 +265,12 @@ impl BaselineRenderer {
         if self.output.as_ref().is_none_or(|o| o.size != view.size) {
             self.output = Some(Output::new(ctx, view.size));
         }
-        let (passes, gpu_timestamps, counters) = match method {
+        let (passes, gpu_timestamps, mut counters) = match method {
             Baseline::Cubemap => self.record_cubemap(ctx, view)?,
             _ => self.record_screen(ctx, method, view)?,
         };
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
+        counters.texture_bytes = self.scene.as_ref().map_or(0, |s| s.textures.bytes());
         let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
         let pixels = out.colour.read_rgba(ctx)?;
         let ids = read_texture_layer(ctx, &out.ids.texture, 0, 4)?;

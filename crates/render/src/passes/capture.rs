@@ -5,12 +5,14 @@ use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
 use super::raster::{self, RasterDraw, RasterTargets};
-use super::{UNIFORM_STRIDE, bind_group, entry, storage, uniform, uniform_buffer};
+use super::{
+    ARRAY, FLOAT, UNIFORM_STRIDE, bind_group, entry, storage, texture, uniform, uniform_buffer,
+};
 use texel_probes::visibility::TexelRect;
 
 use crate::gpu_scene::GpuScene;
 use crate::input::CaptureInput;
-use crate::probe_store::{ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore};
+use crate::probe_store::{ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore, SHADING_FORMAT};
 use crate::shader;
 
 /// Near and far planes of a capture, world units. Beyond `CAPTURE_FAR` is sky.
@@ -47,9 +49,15 @@ impl CapturePass {
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("capture::layout"),
-            entries: &[entry(0, vf, uniform(true)), entry(1, vf, storage(true))],
+            entries: &[
+                entry(0, vf, uniform(true)),
+                entry(1, vf, storage(true)),
+                entry(2, vf, texture(FLOAT, ARRAY)),
+                entry(3, vf, storage(true)),
+                entry(4, vf, storage(true)),
+            ],
         });
-        let targets = [GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT];
+        let targets = [GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT, SHADING_FORMAT];
         let pipeline = raster::pipeline(device, "capture", &module, &layout, &targets);
         let faces = uniform_buffer(
             device,
@@ -98,7 +106,13 @@ impl CapturePass {
             offset: 0,
             size: wgpu::BufferSize::new(size_of::<FaceParams>() as u64),
         });
-        let resources = [face, scene.objects.as_entire_binding()];
+        let resources = [
+            face,
+            scene.objects.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&scene.textures.view),
+            scene.textures.infos_buffer.as_entire_binding(),
+            scene.textures.surfaces.as_entire_binding(),
+        ];
         let bind = bind_group(device, "capture::bind", &self.layout, &resources);
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
@@ -109,6 +123,7 @@ impl CapturePass {
                     (&slot.geo.layer_views[f], raster::SKY_CLEAR),
                     (&slot.ids.layer_views[f], clear),
                     (&slot.albedo.layer_views[f], clear),
+                    (&slot.shading.layer_views[f], clear),
                 ],
                 depth: &slot.depth.layer_views[f],
             };

@@ -97,6 +97,16 @@ pub(crate) const ARRAY: wgpu::TextureViewDimension = wgpu::TextureViewDimension:
 pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
     vec![
         ("capture.wgsl", "FaceParams", capture::FACE_PARAMS_SIZE),
+        (
+            "capture.wgsl",
+            "TexInfo",
+            size_of::<crate::textures::GpuTexInfo>(),
+        ),
+        (
+            "gbuffer.wgsl",
+            "Surface",
+            size_of::<crate::textures::GpuSurface>(),
+        ),
         ("shade.wgsl", "ShadeFace", shade::SHADE_FACE_SIZE),
         (
             "shade.wgsl",

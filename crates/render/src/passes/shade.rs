@@ -168,6 +168,7 @@ impl ShadePass {
                 entry(8, c, storage(false)),
                 entry(9, c, storage(false)),
                 entry(10, c, uniform(false)),
+                entry(11, c, texture(UINT, ARRAY)),
             ],
         });
         let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -443,6 +444,7 @@ impl ShadePass {
                     offset: 0,
                     size: wgpu::BufferSize::new(UNIFORM_STRIDE * MAX_JOBS as u64),
                 }),
+                tex(&slot.shading.array_view),
             ],
         )
     }

@@ -1,0 +1,143 @@
+//! Textured surfaces through the texel-splat renderer: a golden image of the textured level,
+//! probe texels that do not depend on where the camera was when they were captured, and
+//! texture sampling sized by the probe texel's footprint (far texels average, not alias).
+
+use glam::{UVec2, Vec3};
+use texel_render::input::Camera;
+use texel_tests::{Harness, check_golden};
+
+const DT: f32 = 1.0 / 30.0;
+
+fn cam(x: f32, y: f32, z: f32, yaw: f32, pitch: f32) -> Camera {
+    Camera::from_yaw_pitch(Vec3::new(x, y, z), yaw, pitch)
+}
+
+/// Renders frames until the grid probe is complete; returns the last image.
+fn settle(h: &mut Harness, c: Camera) -> Vec<u8> {
+    settle_counting(h, c).0
+}
+
+/// [`settle`], also returning how many faces were captured on the way.
+fn settle_counting(h: &mut Harness, c: Camera) -> (Vec<u8>, u32) {
+    let (mut px, mut faces) = (Vec::new(), 0);
+    for _ in 0..8 {
+        let (_, stats, p) = h.frame(c, DT);
+        faces += stats.counters.faces_captured;
+        px = p;
+    }
+    (px, faces)
+}
+
+#[test]
+fn textured_level_golden_image() {
+    let size = UVec2::new(256, 144);
+    let Some(mut h) = Harness::new("assets/levels/textured.ron", size, 64) else {
+        return;
+    };
+    let px = settle(&mut h, cam(0.3, 1.6, 6.2, 8.0, -12.0));
+    check_golden("textured_start", &px, size, 0.002);
+}
+
+/// A grid probe captured again from another camera position (after leaving its cell and
+/// coming back) lights every texel exactly as before: texture sampling depends on the probe
+/// texel's footprint only, never on the camera.
+#[test]
+fn textured_probe_texels_do_not_depend_on_the_camera() {
+    let size = UVec2::new(160, 90);
+    let Some(mut h) = Harness::new("assets/levels/textured.ron", size, 48) else {
+        return;
+    };
+    let home = Vec3::new(0.0, 2.0, 5.0);
+    settle(&mut h, cam(-0.3, 1.6, 5.2, 0.0, -12.0));
+    let first = h.frame(cam(-0.3, 1.6, 5.2, 0.0, -12.0), DT).0;
+    assert_eq!(first.grid.origin, home);
+    let (n, before) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, first.grid.slot)
+        .expect("read back");
+    // Away for long enough that both stable slots hold other probes, then back elsewhere
+    // in the same cell (looking the same way, so the view needs the same faces).
+    settle(&mut h, cam(2.2, 1.6, 3.1, 30.0, -5.0));
+    settle(&mut h, cam(-2.1, 1.6, 1.9, -40.0, -5.0));
+    let (_, recaptured) = settle_counting(&mut h, cam(0.35, 1.6, 4.7, 0.0, -12.0));
+    assert!(
+        recaptured >= 6,
+        "the probe was captured again ({recaptured} faces)"
+    );
+    let again = h.frame(cam(0.35, 1.6, 4.7, 0.0, -12.0), DT).0;
+    assert_eq!(again.grid.origin, home);
+    let (m, after) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, again.grid.slot)
+        .expect("read back");
+    assert_eq!(n, m);
+    let mut colours = std::collections::HashSet::new();
+    for (f, (a, b)) in before.iter().zip(&after).enumerate() {
+        let differ = a
+            .chunks_exact(4)
+            .zip(b.chunks_exact(4))
+            .filter(|(x, y)| x != y)
+            .count();
+        assert_eq!(differ, 0, "face {f}: {differ} texels lit differently");
+        colours.extend(a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]));
+    }
+    assert!(
+        colours.len() > 200,
+        "textures give many colours, found {}",
+        colours.len()
+    );
+}
+
+/// A one-pixel black-and-white checker of 1/16-unit squares seen from 1.5 units up: straight
+/// below the probe a texel covers less than a texture pixel, toward the horizon several. Sampled at the probe texel's
+/// footprint, far texels are the mean grey; sampled at full resolution they would alias into
+/// black and white.
+#[test]
+fn far_texels_average_the_texture_instead_of_aliasing() {
+    let size = UVec2::new(128, 72);
+    let Some(mut h) = Harness::new("tests/data/checker_floor.ron", size, 64) else {
+        return;
+    };
+    let c = cam(0.0, 1.5, 0.0, 0.0, -20.0);
+    settle(&mut h, c);
+    let input = h.frame(c, DT).0;
+    let (n, faces) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, input.grid.slot)
+        .expect("read back");
+    // The −Z face (index 5 in Face order: +X −X +Y −Y +Z −Z) looks toward the horizon; from
+    // just below its middle row to 7/8 of the way down it sees floor from 24 to 2 units away,
+    // where a texel spans two or more texture pixels.
+    let face = &faces[5];
+    let (mut extreme, mut floor, mut grey) = (0, 0, 0);
+    for y in (n / 2 + 2)..(n * 7 / 8) {
+        for x in 0..n {
+            let i = ((y * n + x) * 4) as usize;
+            let v = face[i];
+            floor += 1;
+            if !(40..=215).contains(&v) {
+                extreme += 1;
+            }
+            if (150..=215).contains(&v) {
+                grey += 1;
+            }
+        }
+    }
+    let near = &faces[3];
+    let near_extreme = near
+        .chunks_exact(4)
+        .filter(|c| c[0] < 40 || c[0] > 215)
+        .count();
+    assert!(
+        extreme * 20 < floor,
+        "{extreme} of {floor} far floor texels are black or white (aliased)"
+    );
+    assert!(
+        grey * 2 > floor,
+        "only {grey} of {floor} far texels are grey"
+    );
+    assert!(
+        near_extreme * 3 > near.len() / 4,
+        "straight below, texels still show the checker ({near_extreme} extreme)"
+    );
+}
