@@ -61,7 +61,7 @@ pub struct RunPlan {
 }
 
 /// Which paths the suite flies on which bundled level.
-pub const SUITE_PATHS: [(&str, &str); 12] = [
+pub const SUITE_PATHS: [(&str, &str); 14] = [
     ("stone_circle", "yaw"),
     ("stone_circle", "strafe_in_cell"),
     ("stone_circle", "walk_cells"),
@@ -74,6 +74,8 @@ pub const SUITE_PATHS: [(&str, &str); 12] = [
     ("colonnade", "wall_graze"),
     ("colonnade", "occluder_pass"),
     ("colonnade", "wall_brush"),
+    ("textured", "textured_strafe"),
+    ("textured", "textured_walk"),
 ];
 
 /// The suite: every bundled path on its level, every method, at `face_res` and `size`.

@@ -242,3 +242,29 @@ fn march_is_exact_under_yaw_and_calm_inside_a_cell() {
     // objects the reference raster shows, not just stable colours.
     assert!(m.coverage_error < 0.1, "{}", m.coverage_error);
 }
+
+/// Textured surfaces: inside a cell the probes' texels keep their colours, so texture
+/// detail adds no flicker of its own (naive rendering resamples the textures every frame
+/// and shimmers far more than on flat colours); and the runs still merge enough texels
+/// that no more quads are drawn than texels are seen.
+#[test]
+fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels() {
+    let Some(r) = run(
+        "textured",
+        "textured_strafe",
+        &[Method::Splat, Method::Naive],
+        64,
+    ) else {
+        return;
+    };
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
+    let quads = splat.counters.quads_splatted / splat.counters.screen_visible_texels;
+    eprintln!("quads per screen-visible texel {quads:.3}");
+    assert!(
+        splat.shimmer.mean * 10.0 < naive.shimmer.mean,
+        "splat {:?} naive {:?}",
+        splat.shimmer,
+        naive.shimmer
+    );
+    assert!(quads <= 1.0, "{quads} quads per screen-visible texel");
+}
