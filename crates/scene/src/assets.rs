@@ -1,4 +1,4 @@
-//! Files a level refers to (glTF meshes, PNG textures), found relative to the level file.
+//! Files a level refers to (glTF meshes, PNG or JPEG textures), found relative to the level file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -34,7 +34,7 @@ pub enum AssetFileError {
     /// A glTF mesh.
     #[error(transparent)]
     Mesh(#[from] GltfError),
-    /// A PNG texture.
+    /// A PNG or JPEG texture.
     #[error(transparent)]
     Texture(#[from] TextureError),
 }
