@@ -21,7 +21,8 @@
 //!   use them (they share one [`Image`](texel_geom::texture::Image));
 //! * samplers: `magFilter` NEAREST → [`Filter::Nearest`](texel_geom::texture::Filter), LINEAR →
 //!   linear, absent → nearest (the pixel-art default, where glTF leaves it to the renderer);
-//!   `minFilter` is not read (the one filter serves both); `wrapS` / `wrapT` → the wrap along U / V;
+//!   `minFilter` is not read (the one filter serves magnification and minification); `wrapS` /
+//!   `wrapT` → the wrap along U / V;
 //! * primitive modes `TRIANGLES`, `TRIANGLE_STRIP` and `TRIANGLE_FAN` (strips and fans become
 //!   triangle lists with the spec's winding; strip triangles with a repeated index are dropped).
 //!
@@ -30,18 +31,19 @@
 //! normal = the counter-clockwise face normal, colour and UV of the corner) and zero-area
 //! triangles are dropped.
 //!
-//! Reported, once per file each ([`GltfImport::warnings`]; the mesh still imports): metallic-
-//! roughness, occlusion and emissive textures; textures on `TEXCOORD_1` or above (not applied);
-//! a normal texture `scale` other than 1 (applied at 1); a textured primitive without
+//! Reported, once per file each ([`GltfImport::warnings`]; the mesh still imports):
+//! metallic-roughness, occlusion and emissive textures; textures on `TEXCOORD_1` or above (not
+//! applied); a normal texture `scale` other than 1 (applied at 1); a textured primitive without
 //! `TEXCOORD_0`; morph targets (base shape kept); skins (placed by the node transforms,
-//! unposed); animations; cameras; every extension in `extensionsUsed` (none is implemented;
-//! `KHR_texture_transform`, `KHR_lights_punctual`, `KHR_materials_*` ... are all ignored). Only
-//! what imported primitives use is checked for materials, textures and morph targets.
+//! unposed); animations; cameras; every extension in `extensionsUsed` (none is implemented:
+//! `KHR_texture_transform`, `KHR_lights_punctual`, `KHR_materials_*` ... are all ignored). For
+//! materials, textures and morph targets only what imported primitives use is checked.
 //!
 //! Not imported, silently: other material properties (metallic, roughness, alpha mode, double
-//! sidedness), `TANGENT` (the renderer derives tangents from the UVs), `TEXCOORD_1` and above,
-//! `COLOR_1` and above, joint and weight attributes. Primitives under a node whose world
-//! transform is singular (e.g. scale 0, a common way to hide something) contribute nothing.
+//! sidedness), `TANGENT` (normal maps are defined along the UVs, see `SurfaceMaps::normal`),
+//! `TEXCOORD_1` and above, `COLOR_1` and above, joint and weight attributes. Primitives under a
+//! node whose world transform is singular (e.g. scale 0, a common way to hide something)
+//! contribute nothing.
 //!
 //! Rejected with a [`GltfError`] (never a panic): unreadable files, empty or non-glTF bytes,
 //! truncated `.glb` files or buffers, JSON syntax or schema errors (with line and column),
