@@ -17,12 +17,31 @@ Outputs, next to this script:
   per box) and the lintel (material "Slate", not indexed, COLOR_0 as normalized u8 RGBA: 255 on the
   top corners, 128 on the bottom ones). The lintel passes through the pillar tops; no corner of one
   box lies inside another. 36 triangles; bounds x in [-1.7, 1.7], y in [0, 2.4], z in [-0.4, 0.4].
+* crate.glb -- binary glTF of a textured wooden crate: a unit cube (x, z in [-0.5, 0.5], y in
+  [0, 1]), 4 vertices per face with flat NORMALs and float TEXCOORD_0, every face showing the whole
+  image upright (seen from outside; the top face has -Z at the image's top, the bottom face +Z; V
+  grows down the image as in glTF). One node, no transform, one mesh of two primitives sharing
+  material "CrateWood" (base colour factor white, baseColorTexture = texture 0, normalTexture =
+  texture 1, both through sampler 0: magFilter NEAREST, minFilter NEAREST_MIPMAP_NEAREST, wrapS and
+  wrapT CLAMP_TO_EDGE): the body (sides and bottom, 10 triangles, indexed u16) and the lid (top face,
+  2 triangles, indexed u16, COLOR_0 float VEC3 = LID_TINT on every vertex). 12 triangles, 24
+  vertices. The images are PNGs in the binary chunk (buffer views, mimeType image/png):
+  - image 0 "CrateAlbedo", 16x16 RGBA pixel art; at column x, row y (0 = top) the first rule that
+    holds wins: the outer ring (x or y in {0, 15}) is CRATE_BORDER, the next ring (x or y in
+    {1, 14}) CRATE_FRAME, the diagonal brace (x == y or x == y + 1) CRATE_BRACE, the plank seams
+    (y in {5, 10}) CRATE_SEAM, everything else CRATE_PLANK; alpha 255 everywhere;
+  - image 1 "CrateNormal", 16x16 RGBA tangent-space normal map (glTF/OpenGL convention, red toward
+    +U, green toward the image's top): a one-pixel bevel around the edge -- row 0 leans up (0, S, C),
+    row 15 down (0, -S, C), then column 0 left (-S, 0, C), column 15 right (S, 0, C) (rows win at the
+    corners) with S = 0.6, C = 0.8 -- and flat (0, 0, 1) inside; each component n is stored as
+    floor(n * 127.5 + 128), so flat is (128, 128, 255) and row 0 is (128, 204, 230).
 
 Every face is wound counter-clockwise seen from outside (the script asserts it).
 """
 
 import json
 import struct
+import zlib
 from pathlib import Path
 
 OUT = Path(__file__).resolve().parent
@@ -39,6 +58,19 @@ PLINTH_HALF, PLINTH_TOP = 0.7, 0.3
 SHAFT_BOTTOM_HALF, SHAFT_TOP_HALF, SHAFT_TOP = 0.45, 0.3, 3.3
 APEX_Y = 3.8
 STONE_GREY = [0.6, 0.6, 0.6, 1.0]
+
+# Crate palette (RGB; alpha 255), lid tint and normal-map bevel.
+CRATE_BORDER = (92, 58, 30)
+CRATE_FRAME = (140, 94, 52)
+CRATE_BRACE = (196, 146, 86)
+CRATE_SEAM = (120, 80, 44)
+CRATE_PLANK = (164, 112, 62)
+LID_TINT = (1.0, 0.85, 0.7)
+BEVEL_S, BEVEL_C = 0.6, 0.8
+CRATE_SIZE = 16
+
+# glTF sampler constants.
+NEAREST, NEAREST_MIPMAP_NEAREST, CLAMP_TO_EDGE = 9728, 9984, 33071
 
 
 # --- small vector helpers -------------------------------------------------------------------
@@ -164,6 +196,88 @@ def lintel_arrays():
     return positions, colors
 
 
+def crate_albedo_pixel(x, y):
+    last = CRATE_SIZE - 1
+    if x in (0, last) or y in (0, last):
+        rgb = CRATE_BORDER
+    elif x in (1, last - 1) or y in (1, last - 1):
+        rgb = CRATE_FRAME
+    elif x == y or x == y + 1:
+        rgb = CRATE_BRACE
+    elif y in (5, 10):
+        rgb = CRATE_SEAM
+    else:
+        rgb = CRATE_PLANK
+    return rgb + (255,)
+
+
+def crate_normal_pixel(x, y):
+    last = CRATE_SIZE - 1
+    if y == 0:
+        n = (0.0, BEVEL_S, BEVEL_C)
+    elif y == last:
+        n = (0.0, -BEVEL_S, BEVEL_C)
+    elif x == 0:
+        n = (-BEVEL_S, 0.0, BEVEL_C)
+    elif x == last:
+        n = (BEVEL_S, 0.0, BEVEL_C)
+    else:
+        n = (0.0, 0.0, 1.0)
+    return tuple(int(c * 127.5 + 128) for c in n) + (255,)
+
+
+def crate_faces():
+    """The cube's 6 faces as (outward normal, image-up vector, 4 corners CCW from outside)."""
+    lo, hi = (-0.5, 0.0, -0.5), (0.5, 1.0, 0.5)
+    corners = box_corners(lo, hi)
+    center = centroid(corners)
+    faces = []
+    for quad in box_faces(lo, hi):
+        pts = [corners[i] for i in quad]
+        normal = normalize(cross(sub(pts[1], pts[0]), sub(pts[2], pts[0])))
+        if normal[1] > 0.5:
+            up = (0.0, 0.0, -1.0)
+        elif normal[1] < -0.5:
+            up = (0.0, 0.0, 1.0)
+        else:
+            up = (0.0, 1.0, 0.0)
+        faces.append((normal, up, pts, center))
+    return faces
+
+
+def crate_arrays(want_top):
+    """Positions, normals, UVs and u16 indices of the top face (want_top) or of the others."""
+    positions, normals, uvs, indices = [], [], [], []
+    for normal, up, pts, center in crate_faces():
+        if (normal[1] > 0.5) != want_top:
+            continue
+        right = cross(tuple(-c for c in normal), up)
+        base = len(positions)
+        for p in pts:
+            d = sub(p, center)
+            uvs.append((dot(d, right) + 0.5, 0.5 - dot(d, up)))
+        positions += pts
+        normals += [normal] * 4
+        indices += [base + i for tri in quad_tris([0, 1, 2, 3]) for i in tri]
+    return positions, normals, uvs, indices
+
+
+# --- PNG writing ------------------------------------------------------------------------------
+
+def png_bytes(width, height, pixel):
+    """An 8-bit RGBA PNG; pixel(x, y) gives (r, g, b, a), y = 0 at the top."""
+    def chunk(kind, data):
+        return struct.pack(">I", len(data)) + kind + data + struct.pack(">I", zlib.crc32(kind + data))
+
+    rows = b"".join(
+        b"\0" + b"".join(struct.pack("4B", *pixel(x, y)) for x in range(width))
+        for y in range(height)
+    )
+    header = struct.pack(">IIBBBBB", width, height, 8, 6, 0, 0, 0)
+    return (b"\x89PNG\r\n\x1a\n" + chunk(b"IHDR", header)
+            + chunk(b"IDAT", zlib.compress(rows, 9)) + chunk(b"IEND", b""))
+
+
 # --- glTF writing -----------------------------------------------------------------------------
 
 class BinBuilder:
@@ -192,6 +306,18 @@ class BinBuilder:
             acc["max"] = [max(p[k] for p in stored) for k in range(3)]
         self.accessors.append(acc)
         return len(self.accessors) - 1
+
+    def vec2(self, points):
+        payload = b"".join(struct.pack("<2f", *p) for p in points)
+        self.accessors.append({"bufferView": self._view(payload, 34962), "componentType": 5126,
+                               "count": len(points), "type": "VEC2"})
+        return len(self.accessors) - 1
+
+    def image_view(self, payload):
+        """A buffer view holding an encoded image (no target)."""
+        view = self._view(payload, None)
+        del self.views[view]["target"]
+        return view
 
     def rgba8(self, colors):
         payload = b"".join(struct.pack("<4B", *c) for c in colors)
@@ -261,6 +387,43 @@ def arch_document(builder):
     }
 
 
+def crate_document(builder):
+    body_pos, body_nrm, body_uv, body_idx = crate_arrays(want_top=False)
+    lid_pos, lid_nrm, lid_uv, lid_idx = crate_arrays(want_top=True)
+    assert len(body_idx) // 3 == 10 and len(lid_idx) // 3 == 2
+    body = {"attributes": {"POSITION": builder.vec3(body_pos, True),
+                           "NORMAL": builder.vec3(body_nrm),
+                           "TEXCOORD_0": builder.vec2(body_uv)},
+            "indices": builder.indices_u16(body_idx), "material": 0}
+    lid = {"attributes": {"POSITION": builder.vec3(lid_pos, True),
+                          "NORMAL": builder.vec3(lid_nrm),
+                          "TEXCOORD_0": builder.vec2(lid_uv),
+                          "COLOR_0": builder.vec3([LID_TINT] * len(lid_pos))},
+           "indices": builder.indices_u16(lid_idx), "material": 0}
+    albedo = builder.image_view(png_bytes(CRATE_SIZE, CRATE_SIZE, crate_albedo_pixel))
+    normal = builder.image_view(png_bytes(CRATE_SIZE, CRATE_SIZE, crate_normal_pixel))
+    return {
+        "asset": asset_header(),
+        "scene": 0,
+        "scenes": [{"name": "Crate", "nodes": [0]}],
+        "nodes": [{"name": "Crate", "mesh": 0}],
+        "meshes": [{"name": "Crate", "primitives": [body, lid]}],
+        "materials": [{"name": "CrateWood",
+                       "pbrMetallicRoughness": {"baseColorFactor": [1.0, 1.0, 1.0, 1.0],
+                                                "baseColorTexture": {"index": 0},
+                                                "metallicFactor": 0.0},
+                       "normalTexture": {"index": 1}}],
+        "textures": [{"sampler": 0, "source": 0}, {"sampler": 0, "source": 1}],
+        "samplers": [{"magFilter": NEAREST, "minFilter": NEAREST_MIPMAP_NEAREST,
+                      "wrapS": CLAMP_TO_EDGE, "wrapT": CLAMP_TO_EDGE}],
+        "images": [{"name": "CrateAlbedo", "bufferView": albedo, "mimeType": "image/png"},
+                   {"name": "CrateNormal", "bufferView": normal, "mimeType": "image/png"}],
+        "buffers": [{"byteLength": len(builder.data)}],
+        "bufferViews": builder.views,
+        "accessors": builder.accessors,
+    }
+
+
 def pad(data, fill):
     return bytes(data) + fill * ((4 - len(data) % 4) % 4)
 
@@ -282,7 +445,11 @@ def main():
     builder = BinBuilder()
     doc = arch_document(builder)
     (OUT / "arch.glb").write_bytes(glb_bytes(doc, builder.data))
-    for name in ("obelisk.gltf", "obelisk.bin", "arch.glb"):
+
+    builder = BinBuilder()
+    doc = crate_document(builder)
+    (OUT / "crate.glb").write_bytes(glb_bytes(doc, builder.data))
+    for name in ("obelisk.gltf", "obelisk.bin", "arch.glb", "crate.glb"):
         print(f"wrote {OUT / name} ({(OUT / name).stat().st_size} bytes)")
 
 

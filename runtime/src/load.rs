@@ -27,7 +27,8 @@ pub enum LoadError {
     Asset(#[from] AssetError),
 }
 
-/// Loads `path` and every asset it refers to.
+/// Loads `path` and every asset it refers to. What the meshes use that was not imported is
+/// printed to stderr, each warning once, as `warning: <level>: <mesh>: <message>`.
 pub fn load_level(path: &Path) -> Result<LoadedLevel, LoadError> {
     let level = Level::load(path)?;
     let assets = match load_assets(&level, path, None) {
@@ -38,6 +39,9 @@ pub fn load_level(path: &Path) -> Result<LoadedLevel, LoadError> {
             load_assets(&level, path, text.as_deref())?
         }
     };
+    for (mesh, message) in assets.warnings() {
+        eprintln!("warning: {}: {mesh}: {message}", path.display());
+    }
     Ok(LoadedLevel {
         path: path.to_owned(),
         scene: Scene::from_level(&level),

@@ -1,4 +1,4 @@
-//! Files a level refers to (glTF meshes, PNG textures), found relative to the level file.
+//! Files a level refers to (glTF meshes, PNG or JPEG textures), found relative to the level file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -7,7 +7,7 @@ use std::sync::Arc;
 use texel_geom::texture::{Filter, Image, Sampler, SurfaceMaps, TextureRef};
 
 use crate::components::{Geometry, Material, Sampling};
-use crate::gltf_import::{GltfError, load_gltf};
+use crate::gltf_import::{GltfError, load_gltf_report};
 use crate::level::Level;
 use crate::mesh::TriMesh;
 use crate::texture::{TextureError, load_texture};
@@ -34,16 +34,18 @@ pub enum AssetFileError {
     /// A glTF mesh.
     #[error(transparent)]
     Mesh(#[from] GltfError),
-    /// A PNG texture.
+    /// A PNG or JPEG texture.
     #[error(transparent)]
     Texture(#[from] TextureError),
 }
 
-/// Meshes and textures loaded for a level, keyed by the path written in the level.
+/// Meshes and textures loaded for a level, keyed by the path written in the level, and the
+/// warnings the meshes' import raised.
 #[derive(Debug, Default, Clone)]
 pub struct AssetLibrary {
     meshes: BTreeMap<String, Arc<TriMesh>>,
     textures: BTreeMap<String, Arc<Image>>,
+    mesh_warnings: BTreeMap<String, Vec<String>>,
 }
 
 impl AssetLibrary {
@@ -55,6 +57,15 @@ impl AssetLibrary {
     /// The texture for a level-relative path, if loaded.
     pub fn texture(&self, rel: &str) -> Option<&Arc<Image>> {
         self.textures.get(rel)
+    }
+
+    /// What the meshes use that was not imported, as `(mesh path, message)`: each mesh's
+    /// warnings once (see [`GltfImport::warnings`](crate::gltf_import::GltfImport)), meshes in
+    /// path order.
+    pub fn warnings(&self) -> impl Iterator<Item = (&str, &str)> {
+        self.mesh_warnings
+            .iter()
+            .flat_map(|(path, messages)| messages.iter().map(move |m| (path.as_str(), m.as_str())))
     }
 
     /// Number of distinct meshes.
@@ -165,8 +176,12 @@ pub fn load_assets(
         if let Some(Geometry::Mesh { path }) = &row.geometry
             && !lib.meshes.contains_key(path)
         {
-            let mesh = load_gltf(&resolve(level_path, path)).map_err(|e| error(path, e.into()))?;
-            lib.meshes.insert(path.clone(), Arc::new(mesh));
+            let import =
+                load_gltf_report(&resolve(level_path, path)).map_err(|e| error(path, e.into()))?;
+            if !import.warnings.is_empty() {
+                lib.mesh_warnings.insert(path.clone(), import.warnings);
+            }
+            lib.meshes.insert(path.clone(), Arc::new(import.mesh));
         }
         for path in row.material.iter().flat_map(texture_paths) {
             if !lib.textures.contains_key(path) {
@@ -191,11 +206,65 @@ fn locate(text: &str, needle: &str) -> Option<(usize, usize)> {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::level::EntityRow;
 
     #[test]
     fn paths_are_relative_to_the_level() {
         let p = resolve(Path::new("assets/levels/a.ron"), "../meshes/m.glb");
         assert_eq!(p, Path::new("assets/levels/../meshes/m.glb"));
         assert_eq!(locate("a\n  b \"x\"", "\"x\""), Some((2, 5)));
+    }
+
+    /// A one-triangle glTF with an external buffer, plus top-level JSON `members`.
+    fn write_triangle(dir: &Path, name: &str, members: &str) {
+        let bin: Vec<u8> = [0.0f32, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0, 1.0, 0.0]
+            .iter()
+            .flat_map(|v| v.to_le_bytes())
+            .collect();
+        std::fs::write(dir.join("tri.bin"), bin).unwrap();
+        let json = format!(
+            r#"{{"asset":{{"version":"2.0"}},
+            "meshes":[{{"primitives":[{{"attributes":{{"POSITION":0}}}}]}}],
+            "accessors":[{{"bufferView":0,"componentType":5126,"count":3,"type":"VEC3",
+                "min":[0,0,0],"max":[1,1,0]}}],
+            "bufferViews":[{{"buffer":0,"byteLength":36}}],
+            "buffers":[{{"byteLength":36,"uri":"tri.bin"}}]{members}}}"#
+        );
+        std::fs::write(dir.join(name), json).unwrap();
+    }
+
+    #[test]
+    fn mesh_warnings_are_kept_once_per_mesh() {
+        let dir = tempfile::tempdir().unwrap();
+        write_triangle(dir.path(), "plain.gltf", "");
+        let cameras = r#","cameras":[{"type":"perspective","perspective":{"yfov":1,"znear":0.1}}]"#;
+        write_triangle(
+            dir.path(),
+            "fancy.gltf",
+            &format!(r#"{cameras},"extensionsUsed":["KHR_lights_punctual"]"#),
+        );
+        let row = |path: &str| EntityRow {
+            geometry: Some(Geometry::Mesh {
+                path: path.to_owned(),
+            }),
+            ..Default::default()
+        };
+        let level = Level {
+            entities: vec![row("fancy.gltf"), row("plain.gltf"), row("fancy.gltf")],
+            ..Default::default()
+        };
+        let lib = load_assets(&level, &dir.path().join("level.ron"), None).unwrap();
+        assert_eq!(lib.len(), 2);
+        let warnings: Vec<_> = lib.warnings().collect();
+        assert_eq!(
+            warnings,
+            [
+                ("fancy.gltf", "1 camera ignored"),
+                (
+                    "fancy.gltf",
+                    "extension KHR_lights_punctual ignored: not implemented"
+                )
+            ]
+        );
     }
 }

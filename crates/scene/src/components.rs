@@ -138,10 +138,10 @@ pub struct Material {
     /// Whether silhouette and crease outlines are drawn on it.
     #[serde(default = "yes")]
     pub outlined: bool,
-    /// An albedo texture (sRGB PNG). On a glTF mesh it replaces the file's own textures.
+    /// An albedo texture (sRGB PNG or JPEG). On a glTF mesh it replaces the file's own textures.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub texture: Option<TextureMap>,
-    /// A tangent-space normal map (linear PNG, glTF convention), sampled like `texture`
+    /// A tangent-space normal map (linear PNG or JPEG, glTF convention), sampled like `texture`
     /// (with its UV scale, density and sampling when there is one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_map: Option<String>,
@@ -164,7 +164,7 @@ pub const DEFAULT_TEXEL_DENSITY: f32 = 16.0;
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 #[serde(deny_unknown_fields)]
 pub struct TextureMap {
-    /// PNG path relative to the level file, with `/` separators.
+    /// PNG or JPEG path relative to the level file, with `/` separators.
     pub path: String,
     /// Filtering.
     #[serde(default, skip_serializing_if = "is_default")]

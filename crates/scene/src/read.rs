@@ -28,7 +28,7 @@ pub enum FileKind {
     CameraPath,
     /// An evaluation report (`report.json`).
     Report,
-    /// A texture image (`.png`).
+    /// A texture image (`.png` or `.jpg`).
     Texture,
 }
 

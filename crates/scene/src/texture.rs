@@ -1,4 +1,4 @@
-//! Decoding texture images (PNG) from files or bytes into [`Image`]s, bounded: the file
+//! Decoding texture images (PNG or JPEG) from files or bytes into [`Image`]s, bounded: the file
 //! through [`crate::read`], the decoded size by [`MAX_TEXTURE_SIZE`] per edge before any
 //! pixel is allocated.
 
@@ -23,7 +23,7 @@ pub enum TextureError {
     /// Not a regular file, or over the size cap.
     #[error(transparent)]
     Read(ReadError),
-    /// The bytes are not a PNG this build decodes, or the image is too large.
+    /// The bytes are not a PNG or JPEG this build decodes, or the image is too large.
     #[error("{name}: {detail}")]
     Decode {
         /// The file or image name.
@@ -33,7 +33,7 @@ pub enum TextureError {
     },
 }
 
-/// Reads and decodes the PNG at `path`.
+/// Reads and decodes the PNG or JPEG at `path`.
 pub fn load_texture(path: &Path) -> Result<Image, TextureError> {
     let bytes = read_bounded(path, FileKind::Texture).map_err(|e| match e {
         ReadError::Io { path, source, .. } => TextureError::Io { path, source },
@@ -42,21 +42,27 @@ pub fn load_texture(path: &Path) -> Result<Image, TextureError> {
     decode_texture(&bytes, &path.display().to_string())
 }
 
-/// Decodes PNG bytes (`name` names them in errors and in the image). 8- and 16-bit, grey,
-/// grey + alpha, RGB, RGBA and palette images all become RGBA8.
+/// Decodes PNG or JPEG bytes (`name` names them in errors and in the image); the format is
+/// recognised from the bytes, whatever the file is called. PNG: 8- and 16-bit, grey, grey +
+/// alpha, RGB, RGBA and palette images; JPEG: grey or colour. All become RGBA8 (JPEG pixels
+/// are opaque).
 pub fn decode_texture(bytes: &[u8], name: &str) -> Result<Image, TextureError> {
     let fail = |detail: String| TextureError::Decode {
         name: name.to_owned(),
         detail,
     };
     let format = image::guess_format(bytes)
-        .map_err(|_| fail("not a PNG image (unrecognised bytes)".to_owned()))?;
-    if format != image::ImageFormat::Png {
-        return Err(fail(format!(
-            "{} images are not supported; save it as PNG",
-            format.extensions_str().first().unwrap_or(&"this kind of")
-        )));
-    }
+        .map_err(|_| fail("not a PNG or JPEG image (unrecognised bytes)".to_owned()))?;
+    let label = match format {
+        image::ImageFormat::Png => "PNG",
+        image::ImageFormat::Jpeg => "JPEG",
+        other => {
+            return Err(fail(format!(
+                "{} images are not supported; save it as PNG or JPEG",
+                other.extensions_str().first().unwrap_or(&"this kind of")
+            )));
+        }
+    };
     let mut reader = image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
     let mut limits = image::Limits::default();
     limits.max_image_width = Some(MAX_TEXTURE_SIZE);
@@ -67,7 +73,7 @@ pub fn decode_texture(bytes: &[u8], name: &str) -> Result<Image, TextureError> {
         image::ImageError::Limits(_) => fail(format!(
             "the image is larger than {MAX_TEXTURE_SIZE}×{MAX_TEXTURE_SIZE} pixels"
         )),
-        other => fail(format!("cannot decode PNG: {other}")),
+        other => fail(format!("cannot decode {label}: {other}")),
     })?;
     let rgba = decoded.into_rgba8();
     let (width, height) = rgba.dimensions();
@@ -93,6 +99,17 @@ pub fn encode_png(image: &Image) -> Vec<u8> {
     out
 }
 
+/// A JPEG of `width` × `height` pixels, every pixel `rgb` (for tests).
+#[cfg(test)]
+pub(crate) fn encode_jpeg(width: u32, height: u32, rgb: [u8; 3]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let pixels = rgb.repeat((width * height) as usize);
+    image::codecs::jpeg::JpegEncoder::new_with_quality(&mut out, 95)
+        .encode(&pixels, width, height, image::ExtendedColorType::Rgb8)
+        .expect("JPEG encoding to memory does not fail");
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -108,7 +125,11 @@ mod tests {
     #[test]
     fn bad_bytes_are_named_errors() {
         let e = decode_texture(b"", "a.png").unwrap_err().to_string();
-        assert!(e.starts_with("a.png: not a PNG"), "{e}");
+        assert!(e.starts_with("a.png: not a PNG or JPEG"), "{e}");
+        let e = decode_texture(b"GIF89a\x01\x00\x01\x00", "g.gif")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("gif images are not supported"), "{e}");
         let mut png = encode_png(&Image::solid("t", 4, 4, [1; 4]));
         png.truncate(png.len() / 2);
         let e = decode_texture(&png, "b.png").unwrap_err().to_string();
@@ -120,10 +141,28 @@ mod tests {
     }
 
     #[test]
+    fn jpeg_decodes_to_opaque_rgba() {
+        let img = decode_texture(&encode_jpeg(8, 4, [200, 100, 50]), "j.jpg").unwrap();
+        assert_eq!((img.width, img.height, img.name.as_str()), (8, 4, "j.jpg"));
+        let [r, g, b, a] = img.pixel(3, 2);
+        // Lossy: close to the colour, fully opaque.
+        assert!(r.abs_diff(200) <= 4 && g.abs_diff(100) <= 4 && b.abs_diff(50) <= 4);
+        assert_eq!(a, 255);
+        let mut jpeg = encode_jpeg(8, 8, [1, 2, 3]);
+        jpeg.truncate(jpeg.len() / 3);
+        let e = decode_texture(&jpeg, "cut.jpg").unwrap_err().to_string();
+        assert!(e.starts_with("cut.jpg: cannot decode JPEG"), "{e}");
+    }
+
+    #[test]
     fn oversized_images_are_refused_before_decoding() {
         // A valid PNG header claiming 100000 × 1 pixels.
         let img = Image::solid("t", MAX_TEXTURE_SIZE + 1, 1, [0; 4]);
         let e = decode_texture(&encode_png(&img), "big.png")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("larger than 2048"), "{e}");
+        let e = decode_texture(&encode_jpeg(MAX_TEXTURE_SIZE + 1, 1, [0; 3]), "big.jpg")
             .unwrap_err()
             .to_string();
         assert!(e.contains("larger than 2048"), "{e}");

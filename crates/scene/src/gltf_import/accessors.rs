@@ -1,7 +1,7 @@
 //! Typed accessor reads, checked against the spec and their buffers' bounds: positions,
-//! normals, colours, indices.
+//! normals, colours, texture coordinates, indices.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use gltf::Accessor;
 use gltf::accessor::{DataType, Dimensions};
 
@@ -117,6 +117,45 @@ impl Importer<'_> {
         Ok(values
             .chunks_exact(width)
             .map(|c| [c[0], c[1], c[2], c.get(3).copied().unwrap_or(1.0)])
+            .collect())
+    }
+
+    /// Reads `TEXCOORD_0` (float, or normalised u8/u16 as the spec allows) as UVs.
+    pub(super) fn read_uvs(
+        &self,
+        acc: &Accessor<'_>,
+        count: usize,
+        site: Site,
+    ) -> Result<Vec<Vec2>, GltfError> {
+        let what = format!("TEXCOORD_0 of {site}");
+        let types = [DataType::F32, DataType::U8, DataType::U16];
+        self.expect_type(acc, &what, &[Dimensions::Vec2], &types)?;
+        self.expect_count(acc, &what, Some(count))?;
+        let scale = match acc.data_type() {
+            DataType::U8 => Some(255.0),
+            DataType::U16 => Some(65535.0),
+            _ => None,
+        };
+        if scale.is_some() && !acc.normalized() {
+            return Err(self.accessor_error(
+                acc,
+                format!(
+                    "{what}: integer texture coordinates must be normalized (`\"normalized\": \
+                     true`)"
+                ),
+            ));
+        }
+        let values: Vec<f32> = self
+            .read_raw(acc)?
+            .into_iter()
+            .map(|bits| scale.map_or(f32::from_bits(bits), |s| bits as f32 / s))
+            .collect();
+        if let Some(i) = values.iter().position(|v| !v.is_finite()) {
+            return Err(self.accessor_error(acc, format!("{what}: value {i} is not finite")));
+        }
+        Ok(values
+            .chunks_exact(2)
+            .map(|c| Vec2::new(c[0], c[1]))
             .collect())
     }
 

@@ -1,4 +1,5 @@
-//! Buffers: the GLB binary chunk, `data:` URIs, or files next to the glTF.
+//! Buffers: the GLB binary chunk, `data:` URIs, or files next to the glTF; and the URI rules
+//! images share.
 
 use std::borrow::Cow;
 use std::path::{Component, Path, PathBuf};
@@ -28,7 +29,9 @@ pub(super) fn load_buffers<'a>(
                 Source::Bin => blob.map(Cow::Borrowed).ok_or_else(|| {
                     "refers to the binary chunk of a .glb, but the file has none".to_string()
                 }),
-                Source::Uri(uri) => read_uri(uri, base_dir, allow_any_uri).map(Cow::Owned),
+                Source::Uri(uri) => {
+                    read_uri(uri, base_dir, allow_any_uri, FileKind::MeshBuffer).map(Cow::Owned)
+                }
             }
             .map_err(fail)?;
             if data.len() < buffer.length() {
@@ -44,12 +47,14 @@ pub(super) fn load_buffers<'a>(
         .collect()
 }
 
-/// Reads a buffer URI: a `data:` URI, or a percent-encoded path relative to `base_dir` that
-/// stays inside it (unless `allow_any`), read through [`read_bounded`].
+/// Reads a buffer or image URI: a `data:` URI (base64), or a percent-encoded path relative to
+/// `base_dir` that stays inside it (unless `allow_any`), read through [`read_bounded`] as a
+/// `kind` ([`FileKind::MeshBuffer`] or [`FileKind::Texture`]).
 pub(super) fn read_uri(
     uri: &str,
     base_dir: Option<&Path>,
     allow_any: bool,
+    kind: FileKind,
 ) -> Result<Vec<u8>, String> {
     if uri.starts_with("data:") {
         return gltf::buffer::Data::from_source(Source::Uri(uri), None)
@@ -68,10 +73,10 @@ pub(super) fn read_uri(
         format!("refers to external file `{relative}`, but no base directory was given")
     })?;
     if !allow_any {
-        confined(base, &relative)?;
+        confined(base, &relative, kind)?;
     }
     let file = base.join(&relative);
-    read_bounded(&file, FileKind::MeshBuffer).map_err(|e| match e {
+    read_bounded(&file, kind).map_err(|e| match e {
         ReadError::Io { path, source, .. } => format!("cannot read `{}`: {source}", path.display()),
         other => other.to_string(),
     })
@@ -79,10 +84,14 @@ pub(super) fn read_uri(
 
 /// Checks that `relative` names a file inside `base`: not absolute, no `..` leading out, and
 /// (when both exist) not out of it through a symbolic link.
-fn confined(base: &Path, relative: &str) -> Result<(), String> {
+fn confined(base: &Path, relative: &str, kind: FileKind) -> Result<(), String> {
+    let what = match kind {
+        FileKind::Texture => "image",
+        _ => "buffer",
+    };
     let refuse = |why: &str| {
         Err(format!(
-            "buffer URI `{}` {why}: only files inside the glTF file's folder are read (set \
+            "{what} URI `{}` {why}: only files inside the glTF file's folder are read (set \
              TEXEL_GLTF_ANY_URI=1 to allow any path)",
             short(relative)
         ))

@@ -1,20 +1,24 @@
 //! Scene traversal: the nodes of the chosen scenes, with their world transforms, turned into
-//! one [`TriMesh`]: each primitive's positions, normals and colours (read by
-//! [`accessors`](super::accessors)), its triangles, flat shading where normals are missing.
+//! one [`TriMesh`]: each primitive's positions, normals, colours and UVs (read by
+//! [`accessors`](super::accessors)), its triangles, flat shading where normals are missing,
+//! and its material's textures (read by [`textures`](super::textures)) as a [`MeshPart`].
 
 use std::borrow::Cow;
-use std::cell::Cell;
-use std::collections::HashSet;
+use std::cell::{Cell, RefCell};
+use std::collections::{HashMap, HashSet};
 use std::fmt;
 use std::path::Path;
+use std::sync::Arc;
 
 use glam::{Mat4, Vec3};
 use gltf::mesh::Mode;
 use gltf::{Accessor, Document, Node, Primitive, Semantic};
+use texel_geom::texture::Image;
 
-use crate::mesh::TriMesh;
+use crate::mesh::{MeshPart, TriMesh};
 
 use super::geometry::{flat_shaded, triangle_list};
+use super::report::Warnings;
 use super::{GltfError, GltfLimits};
 
 /// A primitive's place in the document, for messages.
@@ -30,29 +34,60 @@ impl fmt::Display for Site {
     }
 }
 
-/// The loaded buffers plus the file name errors report.
+/// The document and its loaded buffers, the file name errors report, the budgets, and what
+/// the import has gathered so far (decoded images, warnings).
 pub(super) struct Importer<'a> {
     /// What errors call the file.
     pub(super) name: &'a Path,
+    /// The folder relative image URIs resolve against.
+    pub(super) base_dir: Option<&'a Path>,
+    /// The document.
+    pub(super) document: &'a Document,
     /// Every buffer's bytes, by index.
     pub(super) buffers: Vec<Cow<'a, [u8]>>,
     /// The budgets.
-    limits: GltfLimits,
+    pub(super) limits: GltfLimits,
     /// Primitive instances placed so far.
     instances: Cell<usize>,
     /// Triangles (at most) imported so far.
     triangles: Cell<usize>,
+    /// Most bytes of decoded images.
+    pub(super) max_image_bytes: u64,
+    /// Bytes of the images decoded so far.
+    pub(super) image_bytes: Cell<u64>,
+    /// Images decoded so far, by index in the document.
+    pub(super) images: RefCell<HashMap<usize, Arc<Image>>>,
+    /// What the file uses that is not imported.
+    pub(super) warnings: RefCell<Warnings>,
 }
 
 impl<'a> Importer<'a> {
-    pub(super) fn new(name: &'a Path, buffers: Vec<Cow<'a, [u8]>>, limits: &GltfLimits) -> Self {
+    pub(super) fn new(
+        name: &'a Path,
+        base_dir: Option<&'a Path>,
+        document: &'a Document,
+        buffers: Vec<Cow<'a, [u8]>>,
+        limits: &GltfLimits,
+        max_image_bytes: u64,
+    ) -> Self {
         Importer {
             name,
+            base_dir,
+            document,
             buffers,
             limits: *limits,
             instances: Cell::new(0),
             triangles: Cell::new(0),
+            max_image_bytes,
+            image_bytes: Cell::new(0),
+            images: RefCell::new(HashMap::new()),
+            warnings: RefCell::new(Warnings::default()),
         }
+    }
+
+    /// The warnings raised, each distinct one once.
+    pub(super) fn into_warnings(self) -> Vec<String> {
+        self.warnings.into_inner().into_messages()
     }
 
     /// Counts one more instance of `prim` against the budgets, before any of its data is
@@ -115,7 +150,9 @@ impl<'a> Importer<'a> {
     }
 
     /// Default scene, else every scene, else every mesh untransformed.
-    pub(super) fn scene_mesh(&self, doc: &Document) -> Result<TriMesh, GltfError> {
+    pub(super) fn scene_mesh(&self) -> Result<TriMesh, GltfError> {
+        let doc = self.document;
+        self.document_warnings(doc);
         let mut out = TriMesh::default();
         if let Some(scene) = doc.default_scene() {
             self.add_scene(&scene, &mut out)?;
@@ -195,7 +232,8 @@ impl<'a> Importer<'a> {
 
     // ---- one primitive ------------------------------------------------------------------------
 
-    /// Reads one primitive as a triangle list in its mesh's local space.
+    /// Reads one primitive as a triangle list in its mesh's local space, with one part for its
+    /// material's textures when it has any.
     pub(super) fn primitive_mesh(
         &self,
         prim: &Primitive<'_>,
@@ -224,16 +262,30 @@ impl<'a> Importer<'a> {
         let indices = triangle_list(mode, &corners)
             .map_err(|detail| self.invalid(format!("{site}: {detail}")))?;
         let colors = self.vertex_colors(prim, count, site)?;
-        Ok(match self.vertex_normals(prim, count, site)? {
+        let uvs = match prim.get(&Semantic::TexCoords(0)) {
+            Some(acc) => self.read_uvs(&acc, count, site)?,
+            None => Vec::new(),
+        };
+        self.primitive_warnings(prim, site);
+        let maps = self.surface_maps(&prim.material(), !uvs.is_empty(), site)?;
+        let mut mesh = match self.vertex_normals(prim, count, site)? {
             Some(normals) => TriMesh {
                 positions,
                 normals,
                 colors,
                 indices,
-                ..TriMesh::default()
+                uvs,
+                parts: Vec::new(),
             },
-            None => flat_shaded(&positions, &colors, &indices),
-        })
+            None => flat_shaded(&positions, &colors, &uvs, &indices),
+        };
+        if !maps.is_empty() && !mesh.indices.is_empty() {
+            mesh.parts.push(MeshPart {
+                first_triangle: 0,
+                maps,
+            });
+        }
+        Ok(mesh)
     }
 
     /// Unit normals, or `None` when absent or some cannot be normalised (then: flat shading).

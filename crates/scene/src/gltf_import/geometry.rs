@@ -1,6 +1,6 @@
 //! Geometry: triangle lists from strips and fans, flat shading.
 
-use glam::Vec3;
+use glam::{Vec2, Vec3};
 use gltf::mesh::Mode;
 
 use crate::mesh::TriMesh;
@@ -35,9 +35,15 @@ pub(super) fn triangle_list(mode: Mode, corners: &[u32]) -> Result<Vec<u32>, Str
     }
 }
 
-/// Flat shading: three fresh vertices per triangle with its face normal; zero-area triangles
-/// (which have no normal) are dropped. Indices must be in range.
-pub(super) fn flat_shaded(positions: &[Vec3], colors: &[[f32; 4]], indices: &[u32]) -> TriMesh {
+/// Flat shading: three fresh vertices per triangle with its face normal, colours and UVs
+/// (`uvs` is one per position, or empty for none); zero-area triangles (which have no
+/// normal) are dropped. Indices must be in range.
+pub(super) fn flat_shaded(
+    positions: &[Vec3],
+    colors: &[[f32; 4]],
+    uvs: &[Vec2],
+    indices: &[u32],
+) -> TriMesh {
     let mut out = TriMesh::default();
     for tri in indices.chunks_exact(3) {
         let corners = [tri[0], tri[1], tri[2]].map(|i| i as usize);
@@ -49,6 +55,9 @@ pub(super) fn flat_shaded(positions: &[Vec3], colors: &[[f32; 4]], indices: &[u3
         out.positions.extend([a, b, c]);
         out.normals.extend([normal; 3]);
         out.colors.extend(corners.map(|i| colors[i]));
+        if !uvs.is_empty() {
+            out.uvs.extend(corners.map(|i| uvs[i]));
+        }
         out.indices.extend([base, base + 1, base + 2]);
     }
     out
