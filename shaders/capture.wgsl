@@ -13,8 +13,9 @@ struct FaceParams {
     // The cube face (0..6) and its texels per edge.
     face: u32,
     n: u32,
-    _pad0: u32,
-    _pad1: u32,
+    // 0: albedo; 1: texture-density debug colour.
+    mode: u32,
+    _pad: u32,
 }
 
 @group(0) @binding(0) var<uniform> face: FaceParams;
@@ -58,6 +59,29 @@ fn centre_depth(world: vec3<f32>, pixel: vec2<f32>, pdx: vec3<f32>, pdy: vec3<f3
     return t;
 }
 
+// The texel-density debug colour: green where a probe texel (an art pixel) spans one texture
+// pixel (within a factor √2), blue where the texture is magnified (a texture pixel spans
+// several art pixels), red where minified, deeper the further from 1:1 (up to 2^3); grey
+// untextured.
+fn density_colour(s: Surface, t: SurfaceUv) -> vec3<f32> {
+    var index = s.albedo;
+    if index == NO_TEXTURE {
+        index = s.normal;
+    }
+    if index == NO_TEXTURE {
+        return vec3(0.35);
+    }
+    let lod = tex_lod(tex_infos[index], t.dx, t.dy);
+    if abs(lod) <= 0.5 {
+        return vec3(0.1, 0.75, 0.1);
+    }
+    let k = clamp((abs(lod) - 0.5) / 2.5, 0.0, 1.0);
+    if lod < 0.0 {
+        return mix(vec3(0.35, 0.55, 1.0), vec3(0.02, 0.05, 0.8), k);
+    }
+    return mix(vec3(1.0, 0.6, 0.25), vec3(0.8, 0.02, 0.02), k);
+}
+
 @fragment
 fn fs(in: VsOut) -> FsOut {
     let obj = objects[in.object];
@@ -71,6 +95,9 @@ fn fs(in: VsOut) -> FsOut {
     out.geo = vec4(n, depth);
     out.id = in.object + 1u;
     out.albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
+    if face.mode == 1u {
+        out.albedo = vec4(density_colour(s, t), out.albedo.a);
+    }
     out.shading = 0u;
     if s.normal != NO_TEXTURE {
         out.shading = pack4x8snorm(vec4(surface_shading_normal(s, n, pdx, pdy, t), 1.0));

@@ -107,6 +107,16 @@ impl Session {
         Ok(())
     }
 
+    /// Turns the texel-density debug view on or off (see
+    /// [`Renderer::set_texture_density_view`]) and plans afresh, so every probe is captured
+    /// again in the new mode.
+    pub fn set_texture_density_view(&mut self, on: bool) -> Result<(), SessionError> {
+        self.renderer.set_texture_density_view(on);
+        let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
+        self.driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        Ok(())
+    }
+
     /// Renders `request` once offscreen with a throwaway driver, so shaders are compiled and
     /// targets allocated before the first measured frame, and the session's own driver still
     /// starts from nothing.

@@ -141,3 +141,50 @@ fn far_texels_average_the_texture_instead_of_aliasing() {
         "straight below, texels still show the checker ({near_extreme} extreme)"
     );
 }
+
+/// The texel-density debug view colours texels by texture pixels per probe texel: on the
+/// checker floor, green straight below the probe (about one texture pixel per texel) and
+/// red toward the horizon (many); turning it off captures the texture again.
+#[test]
+fn texel_density_view_marks_one_to_one_green_and_minified_red() {
+    let size = UVec2::new(128, 72);
+    let Some(mut h) = Harness::new("tests/data/checker_floor.ron", size, 64) else {
+        return;
+    };
+    h.session
+        .set_texture_density_view(true)
+        .expect("density view");
+    let c = cam(0.0, 1.5, 0.0, 0.0, -20.0);
+    settle(&mut h, c);
+    let input = h.frame(c, DT).0;
+    let (n, faces) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, input.grid.slot)
+        .expect("read back");
+    let texel = |f: usize, x: u32, y: u32| {
+        let i = ((y * n + x) * 4) as usize;
+        [faces[f][i], faces[f][i + 1], faces[f][i + 2]]
+    };
+    let below = texel(3, n / 2, n / 2);
+    assert!(
+        below[1] > below[0] && below[1] > below[2],
+        "straight below: {below:?}"
+    );
+    let far = texel(5, n / 2, n / 2 + 3);
+    assert!(
+        far[0] > far[1] && far[0] > far[2],
+        "toward the horizon: {far:?}"
+    );
+    h.session
+        .set_texture_density_view(false)
+        .expect("density view off");
+    settle(&mut h, c);
+    let input = h.frame(c, DT).0;
+    let (_, faces) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, input.grid.slot)
+        .expect("read back");
+    let i = ((n / 2 * n + n / 2) * 4) as usize;
+    let v = faces[3][i];
+    assert!(v < 40 || v > 215, "the checker is back straight below: {v}");
+}

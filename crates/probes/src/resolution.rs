@@ -174,10 +174,66 @@ pub fn pixel_perfect_distance(
     Ok(size * extent / (2.0 * res * half_tan(fov)?))
 }
 
+// ---- Texture density against art pixels --------------------------------------------------
+//
+// In a texel-splat world the art pixel is the probe texel. Seen head-on from the probe at
+// Chebyshev distance `d`, a texel of a face of `N` texels spans `2d / N` world units (the
+// relation above with the camera at the probe). A texture of `ρ` pixels per world unit
+// shows `ρ · 2d / N` texture pixels per art pixel, 1:1 at `d = N / (2ρ)`: Frerichs' distance
+// with the probe face as the screen (extent `2d`, resolution `N`).
+
+/// World size of a probe texel seen head-on at Chebyshev distance `distance` on faces of
+/// `face_resolution` texels: `2d / N`.
+pub fn texel_world_size(distance: f32, face_resolution: u32) -> f32 {
+    2.0 * distance / face_resolution as f32
+}
+
+/// Texture pixels per art pixel (probe texel) for a texture of `density` pixels per world
+/// unit seen head-on at `distance` with faces of `face_resolution`: `ρ · 2d / N` (1 is
+/// pixel-perfect; below 1 the texture is magnified, above minified).
+pub fn texture_pixels_per_art_pixel(density: f32, distance: f32, face_resolution: u32) -> f32 {
+    density * texel_world_size(distance, face_resolution)
+}
+
+/// Distance from the probe at which a texture of `density` pixels per world unit shows one
+/// texture pixel per art pixel on faces of `face_resolution`: `N / (2ρ)`.
+pub fn one_to_one_distance(face_resolution: u32, density: f32) -> Result<f32, ResolutionError> {
+    let density = positive("density", density)?;
+    Ok(face_resolution as f32 / (2.0 * density))
+}
+
+/// The (unsnapped) face resolution that makes a texture of `density` pixels per world unit
+/// 1:1 with art pixels at `distance`: `2dρ`.
+pub fn face_resolution_for_density(density: f32, distance: f32) -> Result<f32, ResolutionError> {
+    Ok(2.0 * positive("distance", distance)? * positive("density", density)?)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
     use std::f32::consts::FRAC_PI_3;
+
+    #[test]
+    fn texture_density_relations_agree() {
+        // 16 px per unit on 128-texel faces: 1:1 at 4 units.
+        let d = one_to_one_distance(128, 16.0).unwrap();
+        assert_eq!(d, 4.0);
+        assert_eq!(texture_pixels_per_art_pixel(16.0, d, 128), 1.0);
+        assert_eq!(texture_pixels_per_art_pixel(16.0, 8.0, 128), 2.0);
+        assert_eq!(face_resolution_for_density(16.0, 4.0).unwrap(), 128.0);
+        assert!(one_to_one_distance(128, 0.0).is_err());
+        assert!(face_resolution_for_density(16.0, f32::NAN).is_err());
+        // Frerichs' relation with the face as the screen: extent 2d, resolution N, and a
+        // 90° face: the same distance.
+        let z = pixel_perfect_distance(
+            128.0,
+            2.0 * d,
+            128.0 * 16.0 * 2.0 * d / 128.0,
+            std::f32::consts::FRAC_PI_2,
+        )
+        .unwrap();
+        assert!((z - d).abs() < 1e-4, "{z}");
+    }
 
     #[test]
     fn matches_the_source_document_example() {

@@ -10,7 +10,7 @@ use crate::context::{GpuContext, GpuError};
 use crate::gpu_scene::GpuScene;
 use crate::input::{Display, FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
-use crate::passes::capture::CapturePass;
+use crate::passes::capture::{CaptureMode, CapturePass};
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::lines::LinesPass;
 use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
@@ -211,6 +211,18 @@ impl Renderer {
     /// (on by default; off draws one quad per texel, for comparison).
     pub fn set_runs(&mut self, on: bool) {
         self.runs_on = on;
+    }
+
+    /// Whether captures store a texture-density colour instead of the albedo (a debug view:
+    /// green where one texture pixel is one probe texel, blue where textures are magnified,
+    /// red where minified, grey untextured). Only faces captured from now on change: start
+    /// a fresh frame driver (`texel_runtime::session::Session::set_texture_density_view`).
+    pub fn set_texture_density_view(&mut self, on: bool) {
+        self.capture.mode = if on {
+            CaptureMode::TextureDensity
+        } else {
+            CaptureMode::Surface
+        };
     }
 
     /// How texels reach the pixels: splatted (the default) or marched.

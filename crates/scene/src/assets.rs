@@ -78,6 +78,11 @@ impl AssetLibrary {
         self.meshes.is_empty()
     }
 
+    /// Adds (or replaces) the texture a level names `rel`.
+    pub fn insert_texture(&mut self, rel: &str, image: Arc<Image>) {
+        self.textures.insert(rel.to_owned(), image);
+    }
+
     /// Number of distinct textures.
     pub fn texture_count(&self) -> usize {
         self.textures.len()

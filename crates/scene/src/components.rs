@@ -379,10 +379,29 @@ pub struct LevelSettings {
     /// (0 = none; left out of the file when 0).
     #[serde(default, skip_serializing_if = "is_zero", with = "num::haze")]
     pub haze: f32,
+    /// The distance at which textures are meant to be seen pixel-perfect (one texture pixel
+    /// per art pixel), in world units: what `texel-run check --density` and the inspector
+    /// measure texture densities against (left out of the file at its default, 4).
+    #[serde(
+        default = "default_reference_distance",
+        skip_serializing_if = "is_default_reference_distance",
+        with = "num::positive"
+    )]
+    pub reference_distance: f32,
 }
 
 fn is_zero(v: &f32) -> bool {
     *v == 0.0
+}
+
+/// [`LevelSettings::reference_distance`] when a level does not say.
+pub const DEFAULT_REFERENCE_DISTANCE: f32 = 4.0;
+
+const fn default_reference_distance() -> f32 {
+    DEFAULT_REFERENCE_DISTANCE
+}
+fn is_default_reference_distance(v: &f32) -> bool {
+    *v == DEFAULT_REFERENCE_DISTANCE
 }
 
 impl Default for LevelSettings {
@@ -394,6 +413,7 @@ impl Default for LevelSettings {
             pixel_scale: PixelScale::PixelSize(2.5),
             cell_size: 1.0,
             haze: 0.0,
+            reference_distance: DEFAULT_REFERENCE_DISTANCE,
         }
     }
 }
@@ -536,7 +556,11 @@ impl Validate for LevelSettings {
                 num::check_range(n, FACE_RESOLUTIONS, "face resolution"),
             ),
             PixelScale::PixelSize(s) => field("pixel_scale", num::check_positive(s, "pixel size")),
-        }
+        }?;
+        field(
+            "reference_distance",
+            num::check_positive(self.reference_distance, "reference distance"),
+        )
     }
 }
 

@@ -6,6 +6,7 @@
 
 pub mod assets;
 pub mod components;
+pub mod density;
 pub mod gltf_import;
 pub mod level;
 pub mod migrate;

@@ -177,15 +177,19 @@ fn settings() -> impl Strategy<Value = LevelSettings> {
         ],
         positive(),
         prop_oneof![Just(0.0f32), 0.0f32..=10.0],
+        prop_oneof![Just(DEFAULT_REFERENCE_DISTANCE), positive()],
     )
         .prop_map(
-            |(sky, ambient, bands, pixel_scale, cell_size, haze)| LevelSettings {
-                sky,
-                ambient,
-                bands,
-                pixel_scale,
-                cell_size,
-                haze,
+            |(sky, ambient, bands, pixel_scale, cell_size, haze, reference_distance)| {
+                LevelSettings {
+                    sky,
+                    ambient,
+                    bands,
+                    pixel_scale,
+                    cell_size,
+                    haze,
+                    reference_distance,
+                }
             },
         )
 }

@@ -29,7 +29,17 @@ struct FaceParams {
     origin: [f32; 4],
     face: u32,
     n: u32,
-    _pad: [u32; 2],
+    mode: u32,
+    _pad: u32,
+}
+
+/// What a capture stores as the albedo.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum CaptureMode {
+    /// The surface's albedo × vertex colour × texture.
+    Surface,
+    /// A colour for the texture's pixels per probe texel (the texel-density debug view).
+    TextureDensity,
 }
 
 /// Size of `FaceParams` (WGSL `FaceParams`).
@@ -37,6 +47,9 @@ pub const FACE_PARAMS_SIZE: usize = size_of::<FaceParams>();
 
 /// The capture pass.
 pub struct CapturePass {
+    /// What the captures store as the albedo ([`CaptureMode::Surface`] unless a debug view
+    /// asks otherwise).
+    pub mode: CaptureMode,
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
@@ -65,6 +78,7 @@ impl CapturePass {
             UNIFORM_STRIDE * MAX_CAPTURES as u64,
         );
         Ok(CapturePass {
+            mode: CaptureMode::Surface,
             pipeline,
             layout,
             faces,
@@ -82,6 +96,7 @@ impl CapturePass {
         store: &ProbeStore,
         scene: &GpuScene,
     ) {
+        let mode = self.mode;
         let (device, queue) = (&ctx.device, &ctx.queue);
         let captures = &captures[..captures.len().min(MAX_CAPTURES)];
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
@@ -92,7 +107,8 @@ impl CapturePass {
                 origin: c.origin.extend(1.0).to_array(),
                 face: c.face.index() as u32,
                 n: store.slot(c.slot).n,
-                _pad: [0; 2],
+                mode: u32::from(mode == CaptureMode::TextureDensity),
+                _pad: 0,
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
