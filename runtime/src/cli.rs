@@ -25,6 +25,17 @@ pub enum Command {
     Check {
         /// The level file (.ron).
         level: PathBuf,
+        /// Also list the textured entities whose texture pixels are far from one per art
+        /// pixel (probe texel) at the level's reference distance.
+        #[arg(long)]
+        density: bool,
+        /// The output size the density is judged for, WIDTHxHEIGHT (it sets the face
+        /// resolution of a level whose pixel scale is a pixel size).
+        #[arg(long, default_value = "640x360", requires = "density")]
+        size: String,
+        /// Vertical field of view in degrees, for the density.
+        #[arg(long, default_value_t = 60.0, requires = "density")]
+        fov: f32,
     },
     /// Rewrite a level in canonical form (atomically), as the editor would save it.
     Fmt {
@@ -115,7 +126,12 @@ pub const EXIT_BAD_INPUT: u8 = 2;
 /// Runs a parsed command line; errors are printed to stderr as `path:line:column: message`.
 pub fn run(cli: Cli) -> ExitCode {
     match cli.command {
-        Command::Check { level } => check(&level),
+        Command::Check {
+            level,
+            density,
+            size,
+            fov,
+        } => check(&level, density.then_some((size.as_str(), fov))),
         Command::Fmt { levels, check } => fmt(&levels, check),
         Command::Play { level, size } => play(&level, &size),
         Command::Render(args) => render(&args),
@@ -212,16 +228,39 @@ fn play(path: &std::path::Path, size: &str) -> ExitCode {
     }
 }
 
-fn check(path: &std::path::Path) -> ExitCode {
+fn check(path: &std::path::Path, density: Option<(&str, f32)>) -> ExitCode {
+    // The numbers first, before anything is loaded.
+    let viewport = match density.map(|(size, fov)| -> anyhow::Result<_> {
+        let (w, h) = crate::play::parse_size(size).map_err(|e| anyhow::anyhow!("--size: {e}"))?;
+        let fov = check_fov(fov)?;
+        Ok((
+            (w, h),
+            crate::extract::Viewport {
+                height: h,
+                fov_y: fov.to_radians(),
+            },
+        ))
+    }) {
+        Some(Err(e)) => {
+            eprintln!("texel-run check: {e:#}");
+            return ExitCode::FAILURE;
+        }
+        Some(Ok(v)) => Some(v),
+        None => None,
+    };
     match load_level(path) {
         Ok(loaded) => {
             println!(
-                "{}: ok: {}; {} mesh files ({} triangles)",
+                "{}: ok: {}; {} mesh files ({} triangles), {} textures",
                 path.display(),
                 loaded.scene.kind_counts(),
                 loaded.assets.len(),
-                loaded.assets.triangle_count()
+                loaded.assets.triangle_count(),
+                loaded.assets.texture_count()
             );
+            if let Some((size, viewport)) = viewport {
+                println!("{}", crate::density::format_report(&loaded, viewport, size));
+            }
             ExitCode::SUCCESS
         }
         Err(e) => {

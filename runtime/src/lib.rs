@@ -5,6 +5,7 @@
 
 pub mod camera;
 pub mod cli;
+pub mod density;
 pub mod driver;
 pub mod extract;
 pub mod headless;

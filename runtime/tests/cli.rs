@@ -157,3 +157,36 @@ fn soak_reports_resident_memory_and_holds_it_flat() {
     assert_eq!(bad.status.code(), Some(1));
     assert!(stderr(&bad).contains("--frames"), "{}", stderr(&bad));
 }
+
+#[test]
+fn check_density_lists_the_entities_far_from_one_to_one() {
+    let out = texel_run(&[
+        "check",
+        "--density",
+        repo("assets/levels/textured.ron").to_str().unwrap(),
+    ]);
+    assert!(out.status.success());
+    let text = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        text.contains("texture density at the reference distance 4"),
+        "{text}"
+    );
+    assert!(
+        text.contains("(Meadow): ../textures/grass.png at 8.0 px/unit"),
+        "{text}"
+    );
+    assert!(
+        text.contains("of 11 textured entities are far from 1:1"),
+        "{text}"
+    );
+    // A bad number is refused before the level is read.
+    let bad = texel_run(&[
+        "check",
+        "--density",
+        "--size",
+        "0x0",
+        repo("assets/levels/textured.ron").to_str().unwrap(),
+    ]);
+    assert!(!bad.status.success());
+    assert!(String::from_utf8_lossy(&bad.stderr).contains("--size"));
+}
