@@ -127,6 +127,24 @@ fn level_with_mesh(dir: &Path, name: &str, mesh: &str) -> PathBuf {
     path
 }
 
+/// A blank RGBA image of `w` × `h`.
+fn texel_geom_image(w: u32, h: u32) -> texel_scene::texture::Image {
+    texel_scene::texture::Image::solid("blank", w, h, [0; 4])
+}
+
+/// A level whose one entity is a box textured with `texture` (written as is in the level).
+fn level_with_texture(dir: &Path, name: &str, texture: &str) -> PathBuf {
+    let path = dir.join(name);
+    let text = format!(
+        "(version: 3, settings: (sky: (0.5, 0.6, 0.8), ambient: (0.2, 0.2, 0.2), bands: 32, \
+         pixel_scale: PixelSize(2.5), cell_size: 1.0),\n entities: [(name: \"T\", \
+         geometry: Box(size: (1.0, 1.0, 1.0)),\n material: (albedo: (1.0, 1.0, 1.0), \
+         texture: (path: {texture:?})))])\n"
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 /// A glTF of one triangle (positions and `u32` indices in `bin`, written beside it unless
 /// `write_bin` is false), placed by `nodes` nodes; `primitives` copies of the primitive per
 /// mesh; `tri_copies` repeats the triangle's indices.
@@ -385,6 +403,43 @@ fn hostile_files_are_refused_fast_with_a_clear_error() {
         "(frames: 2, keyframes: [(position: (0.0, 1.0, 0.0), pitch: 95.0)])",
     )
     .unwrap();
+    // Textures: missing, not images, not PNG, too large, not regular files.
+    let textures = d.join("textures");
+    std::fs::create_dir(&textures).unwrap();
+    std::fs::write(textures.join("text.png"), "not an image").unwrap();
+    let png = texel_scene::texture::encode_png(&texel_geom_image(4096, 1));
+    std::fs::write(textures.join("wide.png"), &png).unwrap();
+    let mut half = texel_scene::texture::encode_png(&texel_geom_image(64, 64));
+    half.truncate(half.len() / 2);
+    std::fs::write(textures.join("truncated.png"), &half).unwrap();
+    // A BMP header: recognised as an image, not one this build reads.
+    let mut bmp = b"BM".to_vec();
+    bmp.resize(64, 0);
+    std::fs::write(textures.join("bitmap.png"), &bmp).unwrap();
+    sparse(&textures.join("sparse.png"), 1 << 40);
+    mkfifo(&textures.join("fifo.png"));
+    let textured = |name: &str, file: &str, expect| {
+        let level = level_with_texture(d, &format!("{name}.ron"), file);
+        check(name, &level, expect)
+    };
+    cases.extend([
+        textured(
+            "texture missing",
+            "textures/missing.png",
+            "textures/missing.png",
+        ),
+        textured("texture text", "textures/text.png", "not a PNG"),
+        textured("texture 4096 wide", "textures/wide.png", "larger than 2048"),
+        textured(
+            "texture truncated",
+            "textures/truncated.png",
+            "cannot decode",
+        ),
+        textured("texture BMP", "textures/bitmap.png", "not supported"),
+        textured("texture sparse 1 TiB", "textures/sparse.png", "too large"),
+        textured("texture FIFO", "textures/fifo.png", "a FIFO"),
+        textured("texture directory", "textures", "a directory"),
+    ]);
     let out = d.join("out");
     let render_path = |name: &str, path: &Path, expect| {
         case(

@@ -4,7 +4,8 @@
 
 use std::path::{Path, PathBuf};
 
-use texel_geom::texture::{Image, MAX_TEXTURE_SIZE};
+pub use texel_geom::texture::Image;
+use texel_geom::texture::MAX_TEXTURE_SIZE;
 
 use crate::read::{FileKind, ReadError, read_bounded};
 
