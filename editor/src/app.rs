@@ -8,8 +8,8 @@ use std::time::Instant;
 use egui::{Key, KeyboardShortcut, Modifiers, Ui};
 use texel_scene::{EntityRow, Geometry, Material, Name, Transform};
 
-use crate::command::CommandError;
-use crate::document::Document;
+use crate::command::{Command, CommandError};
+use crate::document::{Document, unloaded_paths};
 use crate::files::{self, Picked, Recent};
 use crate::state::EditorState;
 use crate::ui::dialogs::{Answer, Dialogs, Pending, Prompt, Purpose};
@@ -35,7 +35,7 @@ pub struct EditorApp {
     focus_seen: Option<egui::Id>,
     allow_close: bool,
     ctx: Option<egui::Context>,
-    mesh_checked: u64,
+    assets_checked: u64,
 }
 
 impl EditorApp {
@@ -58,7 +58,7 @@ impl EditorApp {
             focus_seen: None,
             allow_close: false,
             ctx: None,
-            mesh_checked: 0,
+            assets_checked: 0,
         };
         match path {
             Some(p) => app.load(p),
@@ -165,7 +165,7 @@ impl EditorApp {
         for a in actions {
             self.act(a);
         }
-        self.load_new_meshes(&ctx);
+        self.load_new_assets(&ctx);
         self.end_gesture(&ctx);
         self.close_request(&ctx);
         self.autosave();
@@ -465,27 +465,40 @@ impl EditorApp {
         }
     }
 
-    /// Loads meshes the scene names but the library lacks (a path typed in the inspector),
-    /// once the person has stopped typing.
-    fn load_new_meshes(&mut self, ctx: &egui::Context) {
+    /// Loads meshes and textures the scene names but the library lacks (a path typed in the
+    /// inspector), once the person has stopped typing. A file that cannot be loaded is shown
+    /// in the error dialog, and the edit that named it is undone, so the level stays as it
+    /// was (as a broken mesh added from the menu is taken out again).
+    fn load_new_assets(&mut self, ctx: &egui::Context) {
         let revision = self.state.document.revision;
-        if revision == self.mesh_checked || ctx.memory(|m| m.focused()).is_some() {
+        if revision == self.assets_checked || ctx.memory(|m| m.focused()).is_some() {
             return;
         }
-        self.mesh_checked = revision;
-        let scene = self.state.scene();
-        let missing = scene.world().query::<&Geometry>().iter().any(|g| match g {
-            Geometry::Mesh { path } => {
-                !path.trim().is_empty() && self.state.document.level.assets.get(path).is_none()
-            }
-            _ => false,
-        });
-        if missing && self.state.document.path.is_some() {
-            if let Err(e) = self.state.document.reload_assets() {
-                self.dialogs.error = Some(e);
-            }
-            self.mesh_checked = self.state.document.revision;
+        self.assets_checked = revision;
+        if self.state.document.path.is_none() || !self.state.document.has_unloaded_assets() {
+            return;
         }
+        if let Err(e) = self.state.document.reload_assets() {
+            let assets = &self.state.document.level.assets;
+            let named_by_last_edit = match self.state.history.last_undo() {
+                Some(Command::SetRow { before, after, .. }) => {
+                    let old = unloaded_paths(before, assets);
+                    unloaded_paths(after, assets)
+                        .iter()
+                        .any(|p| !old.contains(p))
+                }
+                _ => false,
+            };
+            self.dialogs.error = Some(if named_by_last_edit {
+                match self.state.undo() {
+                    Ok(_) => format!("{e}\n\nThe edit that named it was undone."),
+                    Err(u) => format!("{e} (and the edit could not be undone: {u})"),
+                }
+            } else {
+                e
+            });
+        }
+        self.assets_checked = self.state.document.revision;
     }
 
     /// A gesture (drag, typing into one field) ends when the pointer is released or the

@@ -3,8 +3,8 @@
 use std::path::{Path, PathBuf};
 
 use texel_runtime::load::{LoadedLevel, load_level};
-use texel_scene::Scene;
-use texel_scene::assets::{AssetLibrary, load_assets};
+use texel_scene::assets::{AssetLibrary, load_assets, texture_paths};
+use texel_scene::{EntityRow, Geometry, Scene};
 
 /// A level open in the editor.
 pub struct Document {
@@ -68,12 +68,57 @@ impl Document {
             .unwrap_or_else(|| "untitled".to_owned())
     }
 
-    /// Reloads every mesh the scene refers to (after a mesh was added or a path changed).
+    /// Whether the scene names a mesh or texture file the library lacks (a path typed in the
+    /// inspector).
+    pub fn has_unloaded_assets(&self) -> bool {
+        let assets = &self.level.assets;
+        self.level
+            .scene
+            .entities()
+            .filter_map(|e| self.level.scene.row(e))
+            .any(|row| !unloaded_paths(&row, assets).is_empty())
+    }
+
+    /// Reloads every mesh and texture the scene refers to (after a mesh was added or a path
+    /// changed). Paths still empty (a texture or mesh just added in the inspector, not yet
+    /// typed) are skipped. On failure the library is left as it was.
     pub fn reload_assets(&mut self) -> Result<(), String> {
-        let level = self.level.scene.to_level();
+        let mut level = self.level.scene.to_level();
+        for row in &mut level.entities {
+            if let Some(Geometry::Mesh { path }) = &row.geometry
+                && path.trim().is_empty()
+            {
+                row.geometry = None;
+            }
+            if let Some(m) = &mut row.material {
+                if m.texture.as_ref().is_some_and(|t| t.path.trim().is_empty()) {
+                    m.texture = None;
+                }
+                if m.normal_map.as_ref().is_some_and(|p| p.trim().is_empty()) {
+                    m.normal_map = None;
+                }
+            }
+        }
         let assets = load_assets(&level, &self.level.path, None).map_err(|e| e.to_string())?;
         self.level.assets = assets;
         self.revision += 1;
         Ok(())
     }
+}
+
+/// The non-empty mesh and texture paths `row` names that `assets` has not loaded.
+pub fn unloaded_paths(row: &EntityRow, assets: &AssetLibrary) -> Vec<String> {
+    let mut out = Vec::new();
+    if let Some(Geometry::Mesh { path }) = &row.geometry
+        && !path.trim().is_empty()
+        && assets.get(path).is_none()
+    {
+        out.push(path.clone());
+    }
+    for p in row.material.iter().flat_map(texture_paths) {
+        if !p.trim().is_empty() && assets.texture(p).is_none() {
+            out.push(p.to_owned());
+        }
+    }
+    out
 }

@@ -120,6 +120,11 @@ impl History {
         self.redo.last().map(|e| e.command.describe())
     }
 
+    /// The step the next undo would revert.
+    pub fn last_undo(&self) -> Option<&Command> {
+        self.undo.last().map(|e| &e.command)
+    }
+
     /// Number of undo steps.
     pub fn undo_len(&self) -> usize {
         self.undo.len()
