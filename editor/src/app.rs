@@ -11,8 +11,10 @@ use texel_scene::{EntityRow, Geometry, Material, Name, Transform};
 use crate::command::{Command, CommandError};
 use crate::document::{Document, unloaded_paths};
 use crate::files::{self, Picked, Recent};
+use crate::pixel::{PixelInfo, pixel_info};
 use crate::state::EditorState;
 use crate::ui::dialogs::{Answer, Dialogs, Pending, Prompt, Purpose};
+use crate::ui::inspector::PixelCalc;
 use crate::ui::menu::{self, Action};
 use crate::ui::{hierarchy, inspector};
 use crate::viewport::Viewport;
@@ -36,7 +38,14 @@ pub struct EditorApp {
     allow_close: bool,
     ctx: Option<egui::Context>,
     assets_checked: u64,
+    /// The face-resolution calculator's inputs.
+    pixel_calc: PixelCalc,
+    /// The selected entity's pixel-perfect numbers, for the document revision, selection and
+    /// viewport they were computed for (a glTF mesh's density walks its triangles).
+    pixel_info: Option<(PixelKey, Option<PixelInfo>)>,
 }
+
+type PixelKey = (u64, Option<usize>, u32);
 
 impl EditorApp {
     /// Opens `path` (an empty level when `None`) with the recent list in the user's config.
@@ -59,6 +68,8 @@ impl EditorApp {
             allow_close: false,
             ctx: None,
             assets_checked: 0,
+            pixel_calc: PixelCalc::default(),
+            pixel_info: None,
         };
         match path {
             Some(p) => app.load(p),
@@ -102,6 +113,8 @@ impl EditorApp {
         self.ctx = Some(ctx.clone());
         let mut actions = self.shortcuts(&ctx);
         let playing = self.viewport.playing();
+        let info = self.selected_pixel_info();
+        let mut frame = false;
         egui::Panel::top("menu").show(ui, |ui| {
             let (u, r) = (
                 self.state.history.undo_label(),
@@ -110,6 +123,7 @@ impl EditorApp {
             let view = menu::ViewChoice {
                 schedule: self.viewport.schedule,
                 debug: self.viewport.debug.flags,
+                textured_selection: info.is_some(),
             };
             if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing, view) {
                 actions.push(a);
@@ -135,6 +149,16 @@ impl EditorApp {
                         .show(ui, |ui| {
                             ui.heading("Inspector");
                             let entity = inspector::entity(ui, &mut self.state);
+                            let pixel = inspector::pixel_perfect(
+                                ui,
+                                &mut self.state,
+                                info.as_ref(),
+                                &mut self.pixel_calc,
+                            );
+                            if pixel == Ok(true) {
+                                frame = true;
+                            }
+                            let entity = entity.and(pixel.map(|_| ()));
                             ui.separator();
                             let settings = egui::CollapsingHeader::new("Level settings")
                                 .default_open(self.state.selection.is_none())
@@ -148,6 +172,9 @@ impl EditorApp {
             })
             .inner;
         self.report("edit", edited);
+        if frame {
+            actions.push(Action::FrameOneToOne);
+        }
         let had_error = self.viewport.error.is_some();
         let edited = egui::CentralPanel::no_frame()
             .show(ui, |ui| self.viewport.show(ui, &mut self.state))
@@ -301,6 +328,11 @@ impl EditorApp {
             }
             Action::Schedule(s) => self.viewport.set_schedule(s),
             Action::ToggleDebug(v) => self.viewport.debug.flags.toggle(v),
+            Action::FrameOneToOne => {
+                if let Err(e) = self.viewport.frame_one_to_one(&self.state) {
+                    self.dialogs.error = Some(format!("cannot frame 1:1: {e}"));
+                }
+            }
             Action::Quit => self.guard(Pending::Quit),
         }
         self.state.history.seal();
@@ -433,6 +465,29 @@ impl EditorApp {
         }
     }
 
+    /// The selected entity's pixel-perfect numbers on the viewport (`None` without a loaded
+    /// texture), computed again only when the document, the selection or the viewport's
+    /// height changed.
+    pub fn selected_pixel_info(&mut self) -> Option<PixelInfo> {
+        let view = self.viewport.extract_viewport();
+        let key = (
+            self.state.document.revision,
+            self.state.selection,
+            view.height,
+        );
+        if let Some((k, info)) = &self.pixel_info
+            && *k == key
+        {
+            return info.clone();
+        }
+        let info = self.state.selected_row().and_then(|(_, row)| {
+            let level = &self.state.document.level;
+            pixel_info(&row, &level.scene.settings, &level.assets, view)
+        });
+        self.pixel_info = Some((key, info.clone()));
+        info
+    }
+
     /// Shows a command that failed in the error dialog (the document is left as it was).
     fn report(&mut self, what: &str, result: Result<(), CommandError>) {
         if let Err(e) = result {
@@ -497,6 +552,7 @@ impl EditorApp {
             } else {
                 e
             });
+            ctx.request_repaint();
         }
         self.assets_checked = self.state.document.revision;
     }

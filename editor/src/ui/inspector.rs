@@ -5,11 +5,13 @@ use egui::Ui;
 use glam::{Vec2, Vec3};
 use texel_scene::{
     BANDS, DirectionalLight, EntityRow, FACE_RESOLUTIONS, Geometry, LevelSettings, Material, Name,
-    PixelScale, PlayerStart, PointLight, ProbeGridOverride, SEGMENTS, Transform,
+    PixelScale, PlayerStart, PointLight, ProbeGridOverride, SEGMENTS, Sampling, TextureMap,
+    Transform,
 };
 
 use crate::command::{Command, CommandError};
 use crate::history::MergeKey;
+use crate::pixel::{PixelInfo, face_resolution_for_one_to_one};
 use crate::state::EditorState;
 use crate::ui::widgets::{colour, integer, scalar, vec2, vec3};
 
@@ -185,6 +187,71 @@ fn material(ui: &mut Ui, m: &mut Material) {
     colour(ui, "Emissive", &mut m.emissive);
     ui.checkbox(&mut m.casts_shadows, "Casts shadows");
     ui.checkbox(&mut m.outlined, "Outlined");
+    let mut textured = m.texture.is_some();
+    ui.checkbox(&mut textured, "Texture");
+    match (textured, &m.texture) {
+        (true, None) => m.texture = Some(TextureMap::new("")),
+        (false, Some(_)) => m.texture = None,
+        _ => {}
+    }
+    if let Some(t) = &mut m.texture {
+        ui.indent("texture", |ui| texture(ui, t));
+    }
+    let mut normals = m.normal_map.is_some();
+    ui.checkbox(&mut normals, "Normal map");
+    match (normals, &m.normal_map) {
+        (true, None) => m.normal_map = Some(String::new()),
+        (false, Some(_)) => m.normal_map = None,
+        _ => {}
+    }
+    if let Some(p) = &mut m.normal_map {
+        ui.indent("normal map", |ui| path_field(ui, "Normal map path", p));
+    }
+}
+
+/// A texture's file, filtering, density and UV scale.
+fn texture(ui: &mut Ui, t: &mut TextureMap) {
+    path_field(ui, "Texture path", &mut t.path);
+    ui.horizontal(|ui| {
+        ui.label("Sampling");
+        ui.radio_value(&mut t.sampling, Sampling::Nearest, "Nearest");
+        ui.radio_value(&mut t.sampling, Sampling::Linear, "Linear");
+    });
+    ui.horizontal(|ui| {
+        ui.label("Density");
+        ui.add(
+            egui::DragValue::new(&mut t.density)
+                .speed(0.1)
+                .range(0.01..=BIG)
+                .suffix(" px/unit"),
+        )
+        .on_hover_text(
+            "Texture pixels per world unit on primitives (glTF meshes bring their own UVs)",
+        )
+        .accessible_name("Density");
+    });
+    ui.horizontal(|ui| {
+        ui.label("UV scale");
+        for (axis, c) in ["U", "V"]
+            .iter()
+            .zip([&mut t.uv_scale.x, &mut t.uv_scale.y])
+        {
+            ui.add(egui::DragValue::new(c).speed(0.01).range(MIN_SIZE..=BIG))
+                .accessible_name(format!("UV scale {axis}"));
+        }
+    });
+}
+
+/// A file path relative to the level, typed (loaded once typing stops).
+fn path_field(ui: &mut Ui, name: &str, path: &mut String) {
+    ui.horizontal(|ui| {
+        ui.label("Path");
+        ui.add(
+            egui::TextEdit::singleline(path)
+                .hint_text("relative to the level, e.g. ../textures/a.png"),
+        )
+        .accessible_name(name);
+    });
 }
 
 fn sun(ui: &mut Ui, s: &mut DirectionalLight) {
@@ -228,6 +295,146 @@ fn start(ui: &mut Ui, p: &mut PlayerStart) {
     scalar(ui, "Eye height", &mut p.eye_height, 0.01, 0.01, 100.0);
 }
 
+/// What the face-resolution calculator was given for the selected entity (`None`: follow
+/// the default, the material's density and the level's reference distance).
+#[derive(Debug, Clone, Copy, Default, PartialEq)]
+pub struct PixelCalc {
+    index: Option<usize>,
+    density: Option<f32>,
+    distance: Option<f32>,
+}
+
+/// The pixel-perfect section of a textured entity: its texture density, the distance at
+/// which one texture pixel is one art pixel, texture pixels per art pixel at the level's
+/// reference distance, Frame 1:1, and a calculator of the face resolution that makes a
+/// density 1:1 at a distance, which can be applied to the level. `info` is the selected
+/// entity's [`PixelInfo`] on the viewport. Returns whether Frame 1:1 was asked for; a command
+/// that fails is returned, for the caller to show.
+pub fn pixel_perfect(
+    ui: &mut Ui,
+    state: &mut EditorState,
+    info: Option<&PixelInfo>,
+    calc: &mut PixelCalc,
+) -> Result<bool, CommandError> {
+    let Some((index, row)) = state.selected_row() else {
+        return Ok(false);
+    };
+    let Some(material) = row.material.as_ref().filter(|_| row.geometry.is_some()) else {
+        return Ok(false);
+    };
+    if calc.index != Some(index) {
+        *calc = PixelCalc {
+            index: Some(index),
+            ..PixelCalc::default()
+        };
+    }
+    let mut frame = false;
+    let mut apply = None;
+    egui::CollapsingHeader::new("Pixel-perfect")
+        .default_open(true)
+        .show(ui, |ui| {
+            let Some(info) = info else {
+                ui.label(match &material.texture {
+                    Some(t) if t.path.trim().is_empty() => "Type the texture's path.",
+                    Some(_) if state.document.path.is_none() => {
+                        "The texture is not loaded: save the level first (paths are relative to it)."
+                    }
+                    Some(_) => "The texture is not loaded.",
+                    None => "Untextured: nothing to compare with the art pixel.",
+                });
+                return;
+            };
+            egui::Grid::new("pixel-perfect").num_columns(2).show(ui, |ui| {
+                ui.label("Texture");
+                ui.label(&info.texture);
+                ui.end_row();
+                ui.label("Density");
+                ui.label(format!("{:.2} px/unit", info.density));
+                ui.end_row();
+                ui.label("Face resolution");
+                ui.label(format!("{} texels (level, this viewport)", info.face_resolution))
+                    .on_hover_text("The level's face resolution at the viewport's height and field of view");
+                ui.end_row();
+                ui.label("1:1 distance");
+                ui.label(format!("{:.2} units", info.one_to_one))
+                    .on_hover_text("Where one texture pixel is one art pixel (probe texel), seen head-on");
+                ui.end_row();
+                ui.label(format!("At {:.2} units", info.reference_distance))
+                    .on_hover_text("The level's reference distance");
+                ui.label(ratio_text(info.at_reference));
+                ui.end_row();
+            });
+            frame = ui
+                .button("Frame 1:1")
+                .on_hover_text(
+                    "Look straight at the face turned most toward the camera from the 1:1 distance",
+                )
+                .clicked();
+            ui.separator();
+            ui.label("Face resolution for 1:1");
+            let mut density = calc.density.unwrap_or(info.density);
+            let mut distance = calc.distance.unwrap_or(info.reference_distance);
+            ui.horizontal(|ui| {
+                ui.label("Density");
+                if ui
+                    .add(egui::DragValue::new(&mut density).speed(0.1).range(0.01..=BIG).suffix(" px/unit"))
+                    .accessible_name("Calculator density")
+                    .changed()
+                {
+                    calc.density = Some(density);
+                }
+            });
+            ui.horizontal(|ui| {
+                ui.label("Distance");
+                if ui
+                    .add(egui::DragValue::new(&mut distance).speed(0.05).range(0.01..=BIG).suffix(" units"))
+                    .accessible_name("Calculator distance")
+                    .changed()
+                {
+                    calc.distance = Some(distance);
+                }
+            });
+            match face_resolution_for_one_to_one(density, distance) {
+                Ok((raw, n)) => {
+                    ui.label(format!("{n} texels (exactly {raw:.1}, snapped to the engine's range)"));
+                    let current = state.scene().settings.pixel_scale;
+                    let fresh = current != PixelScale::FaceResolution(n);
+                    if ui
+                        .add_enabled(fresh, egui::Button::new(format!("Apply {n} to the level")))
+                        .on_hover_text("Sets the level's pixel scale to this face resolution")
+                        .clicked()
+                    {
+                        apply = Some(n);
+                    }
+                }
+                Err(e) => {
+                    ui.label(e);
+                }
+            }
+        });
+    if let Some(n) = apply {
+        let before = state.scene().settings;
+        let after = LevelSettings {
+            pixel_scale: PixelScale::FaceResolution(n),
+            ..before
+        };
+        state.apply(Command::SetSettings { before, after }, None)?;
+    }
+    Ok(frame)
+}
+
+/// "1.00 texture px per art pixel (1:1)", with magnified or minified and by how much.
+fn ratio_text(k: f32) -> String {
+    let how = if (k - 1.0).abs() < 0.005 {
+        "1:1".to_owned()
+    } else if k < 1.0 {
+        format!("magnified ×{:.2}", 1.0 / k)
+    } else {
+        format!("minified ×{k:.2}")
+    };
+    format!("{k:.2} texture px per art pixel ({how})")
+}
+
 /// The level settings. A command that fails is returned, for the caller to show.
 pub fn settings(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
     let before: LevelSettings = state.scene().settings;
@@ -254,6 +461,14 @@ pub fn settings(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError
         }
     }
     scalar(ui, "Default cell size", &mut s.cell_size, 0.01, 0.01, BIG);
+    scalar(
+        ui,
+        "Reference distance",
+        &mut s.reference_distance,
+        0.05,
+        0.01,
+        BIG,
+    );
     if s != before {
         let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Settings { widget });
         state.apply(Command::SetSettings { before, after: s }, key)?;

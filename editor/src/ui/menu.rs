@@ -46,6 +46,8 @@ pub enum Action {
     Schedule(Schedule),
     /// Switch this debug view on or off.
     ToggleDebug(DebugView),
+    /// Move the editor camera to see the selected entity's texture 1:1.
+    FrameOneToOne,
     /// Quit.
     Quit,
 }
@@ -111,6 +113,8 @@ pub struct ViewChoice {
     pub schedule: Schedule,
     /// The debug views that are on.
     pub debug: DebugFlags,
+    /// Whether the selection has a loaded texture (Frame 1:1 is offered).
+    pub textured_selection: bool,
 }
 
 /// Draws the menu bar and returns what was chosen.
@@ -191,6 +195,15 @@ pub fn show(
                 if ui.radio(view.schedule == s, label).clicked() {
                     out = Some(Action::Schedule(s));
                 }
+            }
+            ui.separator();
+            let frame = egui::Button::new("Frame 1:1 (selected texture)");
+            if ui
+                .add_enabled(view.textured_selection && !playing, frame)
+                .on_disabled_hover_text("Select an entity with a loaded texture")
+                .clicked()
+            {
+                out = Some(Action::FrameOneToOne);
             }
             ui.separator();
             ui.label("Debug views");

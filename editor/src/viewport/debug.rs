@@ -1,7 +1,7 @@
 //! Debug views of the probe renderer, switched on in the View menu: pixels drawn from the
 //! eye probe tinted, the origins of the probes the last frame drew, the grid cells around
-//! the camera, and a window with the grid probe's six lit cube faces. Each reads GPU data
-//! back only while it is on.
+//! the camera, a window with the grid probe's six lit cube faces, and the renderer's
+//! texel-density view (with its legend). Each reads GPU data back only while it is on.
 
 use egui::{Color32, ColorImage, Painter, Stroke, TextureHandle, TextureOptions};
 use glam::Vec3;
@@ -27,15 +27,19 @@ pub enum DebugView {
     GridCells,
     /// A window with the grid probe's six lit faces.
     CubeFaces,
+    /// Captures coloured by texture pixels per art pixel (the renderer's texel-density view):
+    /// green 1:1, blue magnified, red minified, grey untextured.
+    TexelDensity,
 }
 
 impl DebugView {
     /// All views in menu order.
-    pub const ALL: [DebugView; 4] = [
+    pub const ALL: [DebugView; 5] = [
         DebugView::EyePixels,
         DebugView::ProbeOrigins,
         DebugView::GridCells,
         DebugView::CubeFaces,
+        DebugView::TexelDensity,
     ];
 
     /// The menu label.
@@ -45,6 +49,7 @@ impl DebugView {
             DebugView::ProbeOrigins => "Probe origins",
             DebugView::GridCells => "Grid cells",
             DebugView::CubeFaces => "Cube faces of the grid probe",
+            DebugView::TexelDensity => "Texel density",
         }
     }
 }
@@ -60,6 +65,8 @@ pub struct DebugFlags {
     pub grid_cells: bool,
     /// See [`DebugView::CubeFaces`].
     pub cube_faces: bool,
+    /// See [`DebugView::TexelDensity`].
+    pub texel_density: bool,
 }
 
 impl DebugFlags {
@@ -69,6 +76,7 @@ impl DebugFlags {
             DebugView::ProbeOrigins => &mut self.probe_origins,
             DebugView::GridCells => &mut self.grid_cells,
             DebugView::CubeFaces => &mut self.cube_faces,
+            DebugView::TexelDensity => &mut self.texel_density,
         }
     }
 
@@ -293,6 +301,31 @@ impl DebugState {
         self.flags.cube_faces = open;
     }
 
+    /// The legend of the texel-density view (shown while it is on), in the bottom right
+    /// corner of the viewport `rect`.
+    pub fn density_legend(&self, ctx: &egui::Context, rect: egui::Rect) {
+        if !self.flags.texel_density {
+            return;
+        }
+        egui::Area::new(egui::Id::unique("debug::density_legend"))
+            .pivot(egui::Align2::RIGHT_BOTTOM)
+            .fixed_pos(rect.right_bottom() + egui::vec2(-8.0, -8.0))
+            .interactable(false)
+            .show(ctx, |ui| {
+                egui::Frame::popup(ui.style()).show(ui, |ui| {
+                    ui.label(egui::RichText::new("Texel density").strong());
+                    for (colour, text) in DENSITY_LEGEND {
+                        ui.horizontal(|ui| {
+                            let (r, _) = ui
+                                .allocate_exact_size(egui::vec2(14.0, 14.0), egui::Sense::hover());
+                            ui.painter().rect_filled(r, 2.0, colour);
+                            ui.label(text);
+                        });
+                    }
+                });
+            });
+    }
+
     /// Whether an eye-pixel tint is ready to paint.
     pub fn has_eye_tint(&self) -> bool {
         self.eye_tint.is_some()
@@ -303,6 +336,23 @@ impl DebugState {
         self.faces.as_ref().map_or(0, |f| f.textures.len())
     }
 }
+
+/// The texel-density view's colours (the capture shader's, in sRGB, unlit) and meanings.
+pub const DENSITY_LEGEND: [(Color32, &str); 4] = [
+    (
+        Color32::from_rgb(89, 225, 89),
+        "green: 1:1 (a texture pixel per art pixel)",
+    ),
+    (
+        Color32::from_rgb(39, 63, 231),
+        "blue: magnified (texture pixels larger)",
+    ),
+    (
+        Color32::from_rgb(231, 39, 39),
+        "red: minified (texture pixels smaller)",
+    ),
+    (Color32::from_gray(160), "grey: untextured"),
+];
 
 /// Shown size of one face in the faces window, points.
 const FACE_PX: f32 = 88.0;

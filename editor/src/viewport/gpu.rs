@@ -49,6 +49,9 @@ pub struct GpuView {
     session: Option<(Session, u64)>,
     /// The lines the renderer draws (kept for a session made later).
     lines: Vec<LineVertex>,
+    /// Whether captures show texture density (kept for a session made later, and applied
+    /// again whenever the session's level is replaced).
+    density_view: bool,
     egui: Arc<RwLock<egui_wgpu::Renderer>>,
     target: Option<Target>,
     /// Cost of the last frame.
@@ -82,6 +85,7 @@ impl GpuView {
             ctx,
             session: None,
             lines: Vec::new(),
+            density_view: false,
             egui: rs.renderer.clone(),
             target: None,
             report: RenderReport::default(),
@@ -107,6 +111,9 @@ impl GpuView {
             Some((_, r)) if *r == revision => {}
             Some((session, r)) => {
                 session.set_level(&self.ctx, level).map_err(err)?;
+                if self.density_view {
+                    session.set_texture_density_view(true).map_err(err)?;
+                }
                 *r = revision;
                 self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
             }
@@ -115,6 +122,9 @@ impl GpuView {
                 let mut session =
                     Session::new(&self.ctx, level, DRAW_FORMAT, size, fov_y).map_err(err)?;
                 session.renderer_mut().set_lines(&self.ctx, &self.lines);
+                if self.density_view {
+                    session.set_texture_density_view(true).map_err(err)?;
+                }
                 self.session = Some((session, revision));
                 self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
             }
@@ -226,6 +236,25 @@ impl GpuView {
         if let Some((session, _)) = &mut self.session {
             session.renderer_mut().set_lines(&self.ctx, lines);
         }
+    }
+
+    /// Turns the texel-density debug view on or off: captures then store green where one
+    /// texture pixel is one probe texel, blue where textures are magnified, red where
+    /// minified, grey untextured. Every probe is captured again; the setting holds for a
+    /// session made later and across level edits.
+    pub fn set_texture_density_view(&mut self, on: bool) -> Result<(), String> {
+        self.density_view = on;
+        if let Some((session, _)) = &mut self.session {
+            session
+                .set_texture_density_view(on)
+                .map_err(|e| e.to_string())?;
+        }
+        Ok(())
+    }
+
+    /// Whether the texel-density debug view is on.
+    pub fn texture_density_view(&self) -> bool {
+        self.density_view
     }
 
     /// The texture of the last frame, if one was rendered.

@@ -38,6 +38,9 @@ pub const SCALE_MOVING: f32 = 0.25;
 const SETTLE_FRAMES: u32 = 6;
 /// Fly speed of the editor camera, units per second.
 const FLY_SPEED: f32 = 6.0;
+/// Internal height assumed before the viewport was first drawn (an 800-point panel at
+/// [`SCALE_STILL`]).
+const DEFAULT_STILL_HEIGHT: u32 = 400;
 
 /// What the viewport is doing.
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -73,6 +76,9 @@ pub struct Viewport {
     /// Wall time of the render of the first frame after the last edit (scene upload,
     /// frame driver, first frame), ms.
     pub edit_stall_ms: f64,
+    /// Internal height of a still frame at the last draw: the face resolution a level's
+    /// pixel size gives follows it.
+    still_height: u32,
     drag: Option<Drag>,
     face_drag: Option<FaceDrag>,
     /// Whether the renderer was last given the grid (`None`: never told).
@@ -98,6 +104,7 @@ impl Default for Viewport {
             grabbed: false,
             rect: None,
             edit_stall_ms: 0.0,
+            still_height: DEFAULT_STILL_HEIGHT,
             drag: None,
             face_drag: None,
             grid_lines: None,
@@ -144,6 +151,29 @@ impl Viewport {
             let size = t.scale.max_element().max(1.0) * 4.0;
             self.camera.focus(t.translation, size.max(4.0));
         }
+    }
+
+    /// The viewport as the level's face resolution sees it: the internal height of a still
+    /// frame and the editor camera's field of view.
+    pub fn extract_viewport(&self) -> ExtractViewport {
+        ExtractViewport {
+            height: self.still_height,
+            fov_y: FOV_Y_DEG.to_radians(),
+        }
+    }
+
+    /// Moves the editor camera to see the selected entity's texture 1:1: perpendicular to
+    /// its face that most faces the camera, from the 1:1 distance with the level's face
+    /// resolution on this viewport ([`crate::pixel::frame_one_to_one`]). An error says why
+    /// it cannot (nothing selected, no loaded texture).
+    pub fn frame_one_to_one(&mut self, state: &EditorState) -> Result<(), String> {
+        let (_, row) = state.selected_row().ok_or("nothing is selected")?;
+        let level = &state.document.level;
+        let view = self.extract_viewport();
+        let settings = level.scene.settings;
+        crate::pixel::frame_one_to_one(&mut self.camera, &row, &settings, &level.assets, view)?;
+        self.settle = SETTLE_FRAMES;
+        Ok(())
     }
 
     /// Draws the viewport into the remaining space of `ui`. A command of the gizmo or the
@@ -196,6 +226,7 @@ impl Viewport {
             (rect.width() * ppp * scale).max(16.0) as u32,
             (rect.height() * ppp * scale).max(16.0) as u32,
         );
+        self.still_height = (rect.height() * ppp * SCALE_STILL).max(16.0) as u32;
         let key = (state.document.revision, self.camera, size);
         let changed = self.last != Some(key) || self.playing();
         if changed {
@@ -213,6 +244,13 @@ impl Viewport {
                 };
                 gpu.set_lines(&lines);
                 self.grid_lines = Some(grid);
+                self.settle = SETTLE_FRAMES;
+            }
+            let density = self.debug.flags.texel_density;
+            if gpu.texture_density_view() != density {
+                if let Err(e) = gpu.set_texture_density_view(density) {
+                    self.error = Some(e);
+                }
                 self.settle = SETTLE_FRAMES;
             }
             let rendered = self.settle > 0;
@@ -280,6 +318,7 @@ impl Viewport {
             extract_view,
         );
         self.debug.faces_window(ui.ctx(), rect);
+        self.debug.density_legend(ui.ctx(), rect);
         if self.playing() {
             let how = if self.grabbed {
                 "mouse to look"
