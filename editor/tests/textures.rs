@@ -108,9 +108,10 @@ fn a_texture_set_on_an_entity_is_loaded_and_its_one_to_one_distance_shown() {
     // 16 pixels per unit on 128-texel faces: 1:1 at 128 / 32 = 4 units, which is the
     // level's reference distance.
     h.get_by_label("16.00 px/unit");
-    h.get_by_label("128 texels (level, this viewport)");
+    h.get_by_label("128 texels");
     h.get_by_label("4.00 units");
-    h.get_by_label("1.00 texture px per art pixel (1:1)");
+    h.get_by_label("1.00 texture px per art px");
+    h.get_by_label("1:1");
 
     // A texture that cannot be loaded is shown, and the edit that named it undone.
     set_texture(&mut h, "textures/missing.png");
@@ -202,12 +203,12 @@ fn face_resolution_calculator_applies_to_the_level_as_one_undo_step() {
     let path = box_level(dir.path(), 0.0);
     let mut h = textured_box(&path);
     // The defaults: this material's density at the reference distance give the level's 128.
-    h.get_by_label("128 texels (exactly 128.0, snapped to the engine's range)");
+    h.get_by_label("128 texels (exactly 128.0)");
     h.get_by_label("Calculator distance")
         .set_value_accesskit(6.1);
     h.run();
     // 2 × 6.1 × 16 = 195.2, snapped to a multiple of 8.
-    h.get_by_label("192 texels (exactly 195.2, snapped to the engine's range)");
+    h.get_by_label("192 texels (exactly 195.2)");
     h.get_by_label("Apply 192 to the level").click_accesskit();
     h.run();
     let settings = h.state().state.scene().settings;
@@ -238,7 +239,7 @@ fn frame_one_to_one_looks_along_the_facing_faces_normal_from_the_one_to_one_dist
     let mut h = textured_box(&path);
     // In front of the box, a little above and to the side: the +Z face faces the camera.
     h.state_mut().viewport.camera.eye = Vec3::new(0.6, 0.8, 6.0);
-    h.get_by_label("Frame 1:1").click();
+    h.get_by_label("Frame 1:1").click_accesskit();
     h.run();
     let c = h.state().viewport.camera;
     // 1:1 at 128 / (2 × 16) = 4 units in front of the face's centre (0, 0, 0.5).

@@ -352,8 +352,9 @@ pub fn pixel_perfect(
                 ui.label(format!("{:.2} px/unit", info.density));
                 ui.end_row();
                 ui.label("Face resolution");
-                ui.label(format!("{} texels (level, this viewport)", info.face_resolution))
-                    .on_hover_text("The level's face resolution at the viewport's height and field of view");
+                ui.label(format!("{} texels", info.face_resolution)).on_hover_text(
+                    "The level's face resolution at the viewport's height and field of view",
+                );
                 ui.end_row();
                 ui.label("1:1 distance");
                 ui.label(format!("{:.2} units", info.one_to_one))
@@ -361,7 +362,11 @@ pub fn pixel_perfect(
                 ui.end_row();
                 ui.label(format!("At {:.2} units", info.reference_distance))
                     .on_hover_text("The level's reference distance");
-                ui.label(ratio_text(info.at_reference));
+                let (ratio, how) = ratio_text(info.at_reference);
+                ui.label(ratio);
+                ui.end_row();
+                ui.label("");
+                ui.label(how);
                 ui.end_row();
             });
             frame = ui
@@ -396,7 +401,9 @@ pub fn pixel_perfect(
             });
             match face_resolution_for_one_to_one(density, distance) {
                 Ok((raw, n)) => {
-                    ui.label(format!("{n} texels (exactly {raw:.1}, snapped to the engine's range)"));
+                    ui.label(format!("{n} texels (exactly {raw:.1})")).on_hover_text(
+                        "Rounded to a multiple of 8 and clamped to the engine's 16..=2048",
+                    );
                     let current = state.scene().settings.pixel_scale;
                     let fresh = current != PixelScale::FaceResolution(n);
                     if ui
@@ -423,8 +430,8 @@ pub fn pixel_perfect(
     Ok(frame)
 }
 
-/// "1.00 texture px per art pixel (1:1)", with magnified or minified and by how much.
-fn ratio_text(k: f32) -> String {
+/// "0.50 texture px per art px" and "magnified ×2.00" (or "1:1", or minified).
+fn ratio_text(k: f32) -> (String, String) {
     let how = if (k - 1.0).abs() < 0.005 {
         "1:1".to_owned()
     } else if k < 1.0 {
@@ -432,7 +439,7 @@ fn ratio_text(k: f32) -> String {
     } else {
         format!("minified ×{k:.2}")
     };
-    format!("{k:.2} texture px per art pixel ({how})")
+    (format!("{k:.2} texture px per art px"), how)
 }
 
 /// The level settings. A command that fails is returned, for the caller to show.
