@@ -186,5 +186,8 @@ fn texel_density_view_marks_one_to_one_green_and_minified_red() {
         .expect("read back");
     let i = ((n / 2 * n + n / 2) * 4) as usize;
     let v = faces[3][i];
-    assert!(!(40..=215).contains(&v), "the checker is back straight below: {v}");
+    assert!(
+        !(40..=215).contains(&v),
+        "the checker is back straight below: {v}"
+    );
 }
