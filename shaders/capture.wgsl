@@ -82,13 +82,26 @@ fn density_colour(s: Surface, t: SurfaceUv) -> vec3<f32> {
     return mix(vec3(1.0, 0.6, 0.25), vec3(0.8, 0.02, 0.02), k);
 }
 
+// The direction of the ray through face pixel `pixel` (texel centres at half-integers).
+fn pixel_ray(pixel: vec2<f32>) -> vec3<f32> {
+    let uv = pixel * (2.0 / f32(face.n)) - 1.0;
+    return cube_dir(face.face, uv.x, uv.y);
+}
+
 @fragment
 fn fs(in: VsOut) -> FsOut {
     let obj = objects[in.object];
-    let t = surface_uv(in);
     let pdx = dpdx(in.world);
     let pdy = dpdy(in.world);
     let depth = centre_depth(in.world, in.clip.xy, pdx, pdy);
+    // The probe texel's footprint on the triangle's plane: where the rays through this texel
+    // and its neighbours meet it.
+    let o = face.origin.xyz;
+    let plane = surface_plane_normal(in);
+    let centre = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy));
+    let fx = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(1.0, 0.0))) - centre;
+    let fy = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(0.0, 1.0))) - centre;
+    let t = surface_uv(in, fx, fy);
     let s = surfaces[in.surface];
     var out: FsOut;
     let n = surface_normal(in.normal);
@@ -100,7 +113,7 @@ fn fs(in: VsOut) -> FsOut {
     }
     out.shading = 0u;
     if s.normal != NO_TEXTURE {
-        out.shading = pack4x8snorm(vec4(surface_shading_normal(s, n, pdx, pdy, t), 1.0));
+        out.shading = pack4x8snorm(vec4(surface_shading_normal(s, n, in.grad_u, in.grad_v, t), 1.0));
     }
     return out;
 }

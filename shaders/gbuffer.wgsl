@@ -11,6 +11,10 @@ struct Camera {
     view_proj: mat4x4<f32>,
     // World-space view axis (unit) and, in w, its dot with the camera position.
     axis: vec4<f32>,
+    // Clip → world, for the rays through neighbouring pixels (texture footprints).
+    inv_view_proj: mat4x4<f32>,
+    // Target size in pixels (xy).
+    size: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -27,16 +31,28 @@ struct FsOut {
     @location(2) ids: vec2<u32>,
 }
 
+// Where the ray through target pixel `pixel` meets the plane through `p` with normal `n`
+// (perspective or orthographic: the ray runs from the near plane to the far one).
+fn pixel_hit(pixel: vec2<f32>, p: vec3<f32>, n: vec3<f32>) -> vec3<f32> {
+    let ndc = vec2(pixel.x / camera.size.x * 2.0 - 1.0, 1.0 - pixel.y / camera.size.y * 2.0);
+    let a = camera.inv_view_proj * vec4(ndc, 0.0, 1.0);
+    let b = camera.inv_view_proj * vec4(ndc, 1.0, 1.0);
+    let o = a.xyz / a.w;
+    return plane_hit(p, n, o, b.xyz / b.w - o);
+}
+
 @fragment
 fn fs(in: VsOut) -> FsOut {
     let obj = objects[in.object];
-    let t = surface_uv(in);
-    let pdx = dpdx(in.world);
-    let pdy = dpdy(in.world);
+    let plane = surface_plane_normal(in);
+    let centre = pixel_hit(in.clip.xy, in.world, plane);
+    let fx = pixel_hit(in.clip.xy + vec2(1.0, 0.0), in.world, plane) - centre;
+    let fy = pixel_hit(in.clip.xy + vec2(0.0, 1.0), in.world, plane) - centre;
+    let t = surface_uv(in, fx, fy);
     let s = surfaces[in.surface];
     var out: FsOut;
     out.world = vec4(in.world, dot(in.world, camera.axis.xyz) - camera.axis.w);
-    out.normal = vec4(surface_shading_normal(s, surface_normal(in.normal), pdx, pdy, t), 0.0);
+    out.normal = vec4(surface_shading_normal(s, surface_normal(in.normal), in.grad_u, in.grad_v, t), 0.0);
     let albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
     out.ids = vec2(in.object + 1u, pack4x8unorm(albedo));
     return out;

@@ -12,6 +12,9 @@ struct SceneVertex {
     @location(4) uv: vec2<f32>,
     // Index into `surfaces` (0: untextured).
     @location(5) surface: u32,
+    // World-space gradients of the triangle's U and V (the same on its three vertices).
+    @location(6) grad_u: vec3<f32>,
+    @location(7) grad_v: vec3<f32>,
 }
 
 struct VsOut {
@@ -22,6 +25,8 @@ struct VsOut {
     @location(3) colour: vec4<f32>,
     @location(4) uv: vec2<f32>,
     @location(5) @interpolate(flat) surface: u32,
+    @location(6) @interpolate(flat) grad_u: vec3<f32>,
+    @location(7) @interpolate(flat) grad_v: vec3<f32>,
 }
 
 fn raster_vertex(v: SceneVertex, view_proj: mat4x4<f32>) -> VsOut {
@@ -33,17 +38,46 @@ fn raster_vertex(v: SceneVertex, view_proj: mat4x4<f32>) -> VsOut {
     out.colour = unpack4x8unorm(v.colour);
     out.uv = v.uv;
     out.surface = v.surface;
+    out.grad_u = v.grad_u;
+    out.grad_v = v.grad_v;
     return out;
 }
 
-// The texture coordinates of a fragment and their footprint: the raster's own derivatives.
-// In a probe capture the raster is the cube face, so the footprint is the probe texel's
-// (the same wherever the camera is); in a G-buffer it is the screen pixel's. Call in
-// uniform control flow (derivatives).
-fn surface_uv(in: VsOut) -> SurfaceUv {
+// The unit normal of the fragment's triangle plane: across its UV gradients when they span
+// it, else the interpolated normal.
+fn surface_plane_normal(in: VsOut) -> vec3<f32> {
+    let c = cross(in.grad_u, in.grad_v);
+    let l = length(c);
+    if l > 1e-12 {
+        return c / l;
+    }
+    return normalize(in.normal);
+}
+
+// Where the ray from `o` along `d` meets the plane through `p` with unit normal `n`; a ray
+// parallel to the plane, or meeting it behind `o`, lands "far away" (a million units along
+// `d`), so its footprint takes the coarsest mip.
+fn plane_hit(p: vec3<f32>, n: vec3<f32>, o: vec3<f32>, d: vec3<f32>) -> vec3<f32> {
+    let den = dot(d, n);
+    let t = dot(p - o, n) / den;
+    if abs(den) <= 1e-7 * length(d) || t <= 0.0 {
+        return o + normalize(d) * 1.0e6;
+    }
+    return o + d * t;
+}
+
+// The texture coordinates of a fragment and their footprint, from the world-space steps
+// `fx`, `fy` to the next texel (or pixel) along x and y on the surface: in a probe capture
+// the steps are the probe texel's (the same wherever the camera is), in a G-buffer the
+// screen pixel's. No screen derivatives: some rasterizers (lavapipe) give garbage in the
+// helper lanes of quads that straddle a triangle edge, which drew a coarse mip, a seam, along
+// every triangle edge.
+fn surface_uv(in: VsOut, fx: vec3<f32>, fy: vec3<f32>) -> SurfaceUv {
     let s = surfaces[in.surface];
     let uv = in.uv * s.uv_scale;
-    return SurfaceUv(uv, dpdx(uv), dpdy(uv));
+    let dx = vec2(dot(in.grad_u, fx), dot(in.grad_v, fx)) * s.uv_scale;
+    let dy = vec2(dot(in.grad_u, fy), dot(in.grad_v, fy)) * s.uv_scale;
+    return SurfaceUv(uv, dx, dy);
 }
 
 // Albedo × vertex colour × texture colour (rgb) and the object flags (a, as flags / 255).

@@ -127,19 +127,17 @@ fn surface_texture_colour(s: Surface, t: SurfaceUv) -> vec4<f32> {
     return tex_sample(s.albedo, t.uv, t.dx, t.dy);
 }
 
-// The normal-mapped normal of a surface point whose geometric normal is `n`, world position
-// derivatives `pdx`, `pdy` and UV footprint `t`; `n` itself without a normal map. The
-// tangent frame comes from the derivatives (no tangent attribute): on a flat triangle they
-// are the triangle's own, wherever its texel is. Green points up the image (−V), as glTF.
-fn surface_shading_normal(s: Surface, n: vec3<f32>, pdx: vec3<f32>, pdy: vec3<f32>, t: SurfaceUv) -> vec3<f32> {
+// The normal-mapped normal of a surface point whose geometric normal is `n` on a triangle
+// whose U and V have world gradients `grad_u`, `grad_v` (its cotangent frame: no tangent
+// attribute needed) at UV footprint `t`; `n` itself without a normal map. Green points up
+// the image (−V), as glTF.
+fn surface_shading_normal(s: Surface, n: vec3<f32>, grad_u: vec3<f32>, grad_v: vec3<f32>, t: SurfaceUv) -> vec3<f32> {
     if s.normal == NO_TEXTURE {
         return n;
     }
     let m = tex_sample(s.normal, t.uv, t.dx, t.dy).xyz * 2.0 - 1.0;
-    let dp2perp = cross(pdy, n);
-    let dp1perp = cross(n, pdx);
-    let tangent = dp2perp * t.dx.x + dp1perp * t.dy.x;
-    let bitangent = dp2perp * t.dx.y + dp1perp * t.dy.y;
+    let tangent = grad_u;
+    let bitangent = grad_v;
     let scale = inverseSqrt(max(max(dot(tangent, tangent), dot(bitangent, bitangent)), 1e-20));
     let shaded = tangent * scale * m.x - bitangent * scale * m.y + n * m.z;
     let len = length(shaded);

@@ -15,7 +15,7 @@ use crate::textures::{AtlasError, GpuTextures, TextureSet};
 /// Largest number of directional lights the shade pass reads.
 pub const MAX_SUNS: usize = 4;
 
-/// One capture vertex (44 bytes).
+/// One capture vertex (68 bytes).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct Vertex {
@@ -31,6 +31,35 @@ pub struct Vertex {
     pub uv: [f32; 2],
     /// Index of the surface's textures (`textures::GpuSurface`; 0 = none).
     pub surface: u32,
+    /// World-space gradient of the triangle's U (the same on its three vertices): with
+    /// [`Vertex::grad_v`], the UV footprint of any probe texel or pixel follows from its
+    /// world footprint, without screen derivatives (which some rasterizers get wrong in
+    /// quads that straddle a triangle edge), and it is the normal map's tangent frame.
+    pub grad_u: [f32; 3],
+    /// World-space gradient of the triangle's V.
+    pub grad_v: [f32; 3],
+}
+
+/// The world-space gradients of U and V over the triangle `p` with UVs `uv` (zero for a
+/// degenerate triangle or UV map).
+pub fn uv_gradients(p: [Vec3; 3], uv: [glam::Vec2; 3]) -> (Vec3, Vec3) {
+    let (e1, e2) = (p[1] - p[0], p[2] - p[0]);
+    let n = e1.cross(e2);
+    let area2 = n.length_squared();
+    if !(area2.is_finite() && area2 > 1e-20) {
+        return (Vec3::ZERO, Vec3::ZERO);
+    }
+    // Gradients of the barycentric coordinates along e1 and e2.
+    let ga = e2.cross(n) / area2;
+    let gb = n.cross(e1) / area2;
+    let (d1, d2) = (uv[1] - uv[0], uv[2] - uv[0]);
+    let gu = ga * d1.x + gb * d2.x;
+    let gv = ga * d1.y + gb * d2.y;
+    if gu.is_finite() && gv.is_finite() {
+        (gu, gv)
+    } else {
+        (Vec3::ZERO, Vec3::ZERO)
+    }
 }
 
 /// One object's material and id (32 bytes; `shaders/lib/scene.wgsl` `Object`).
@@ -132,12 +161,15 @@ impl GpuScene {
                     after => part_surfaces[after - 1],
                 };
                 let order = if flip { [0, 2, 1] } else { [0, 1, 2] };
-                let mut world = [Vec3::ZERO; 3];
+                let world: [Vec3; 3] = order.map(|c| {
+                    o.transform
+                        .transform_point3(o.mesh.positions[tri[c] as usize])
+                });
+                let (gu, gv) = uv_gradients(world, order.map(|c| o.mesh.uv(tri[c] as usize)));
                 for (k, &c) in order.iter().enumerate() {
                     let i = tri[c] as usize;
-                    let p = o.transform.transform_point3(o.mesh.positions[i]);
+                    let p = world[k];
                     let n = (normal_m * o.mesh.normals[i]).normalize_or_zero();
-                    world[k] = p;
                     vertices.push(Vertex {
                         position: p.to_array(),
                         object: index as u32,
@@ -145,6 +177,8 @@ impl GpuScene {
                         colour: pack_colour(o.mesh.colors.get(i).copied().unwrap_or([1.0; 4])),
                         uv: o.mesh.uv(i).to_array(),
                         surface,
+                        grad_u: gu.to_array(),
+                        grad_v: gv.to_array(),
                     });
                 }
                 if m.casts_shadows {
@@ -218,13 +252,40 @@ impl GpuScene {
 
     /// The vertex layout of [`Vertex`].
     pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
-        const ATTRS: [wgpu::VertexAttribute; 6] = wgpu::vertex_attr_array![
-            0 => Float32x3, 1 => Uint32, 2 => Float32x3, 3 => Uint32, 4 => Float32x2, 5 => Uint32
+        const ATTRS: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
+            0 => Float32x3, 1 => Uint32, 2 => Float32x3, 3 => Uint32, 4 => Float32x2, 5 => Uint32,
+            6 => Float32x3, 7 => Float32x3
         ];
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
             attributes: &ATTRS,
         }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use glam::Vec2;
+
+    #[test]
+    fn uv_gradients_recover_a_linear_map() {
+        // u = 2x + z, v = 3y on a tilted triangle.
+        let p = [
+            Vec3::new(0.0, 0.0, 0.0),
+            Vec3::new(1.0, 0.5, 0.0),
+            Vec3::new(0.0, 1.0, 1.0),
+        ];
+        let uv = p.map(|q| Vec2::new(2.0 * q.x + q.z, 3.0 * q.y));
+        let (gu, gv) = uv_gradients(p, uv);
+        for q in [p[1] - p[0], p[2] - p[0], (p[1] + p[2]) * 0.5 - p[0]] {
+            let want = Vec2::new(2.0 * q.x + q.z, 3.0 * q.y);
+            assert!((Vec2::new(gu.dot(q), gv.dot(q)) - want).length() < 1e-5);
+        }
+        assert_eq!(
+            uv_gradients([Vec3::ZERO; 3], [Vec2::ZERO; 3]),
+            (Vec3::ZERO, Vec3::ZERO)
+        );
     }
 }

@@ -34,6 +34,8 @@ pub use texel_geom::limits::SKY_DEPTH;
 struct CameraUniform {
     view_proj: [[f32; 4]; 4],
     axis: [f32; 4],
+    inv_view_proj: [[f32; 4]; 4],
+    size: [f32; 4],
 }
 
 /// One texture and its view.
@@ -189,6 +191,8 @@ impl GBufferPass {
         let cam = CameraUniform {
             view_proj: view_proj.to_cols_array_2d(),
             axis: axis.extend(axis.dot(eye)).to_array(),
+            inv_view_proj: view_proj.inverse().to_cols_array_2d(),
+            size: [targets.size.x as f32, targets.size.y as f32, 0.0, 0.0],
         };
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
         let bind = bind_group(
