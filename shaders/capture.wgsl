@@ -5,6 +5,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/texture.wgsl"
+#include "lib/terrain.wgsl"
 #include "lib/raster.wgsl"
 
 struct FaceParams {
@@ -16,6 +17,9 @@ struct FaceParams {
     // 0: albedo; 1: texture-density debug colour.
     mode: u32,
     _pad: u32,
+    // Where terrain bands are measured from: the grid probe's origin (for the eye probe's
+    // faces too, so terrain colours agree between the probes).
+    band_origin: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> face: FaceParams;
@@ -108,6 +112,10 @@ fn fs(in: VsOut) -> FsOut {
     out.geo = vec4(n, depth);
     out.id = in.object + 1u;
     out.albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
+    if (obj.flags & FLAG_TERRAIN) != 0u {
+        let terrain = terrain_colour(terrains[obj.flags >> 8u], centre, face.band_origin.xyz, f32(face.n));
+        out.albedo = vec4(out.albedo.rgb * terrain, out.albedo.a);
+    }
     if face.mode == 1u {
         out.albedo = vec4(density_colour(s, t), out.albedo.a);
     }

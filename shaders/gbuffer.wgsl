@@ -5,6 +5,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/texture.wgsl"
+#include "lib/terrain.wgsl"
 #include "lib/raster.wgsl"
 
 struct Camera {
@@ -15,6 +16,8 @@ struct Camera {
     inv_view_proj: mat4x4<f32>,
     // Target size in pixels (xy).
     size: vec4<f32>,
+    // The camera position (bands of terrain pixels are measured from it).
+    eye: vec4<f32>,
 }
 
 @group(0) @binding(0) var<uniform> camera: Camera;
@@ -53,7 +56,13 @@ fn fs(in: VsOut) -> FsOut {
     var out: FsOut;
     out.world = vec4(in.world, dot(in.world, camera.axis.xyz) - camera.axis.w);
     out.normal = vec4(surface_shading_normal(s, surface_normal(in.normal), in.grad_u, in.grad_v, t), 0.0);
-    let albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
+    var albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
+    if (obj.flags & FLAG_TERRAIN) != 0u {
+        // Screen methods measure bands from the camera, with no texel bound: the seed's own
+        // method.
+        let terrain = terrain_colour(terrains[obj.flags >> 8u], centre, camera.eye.xyz, 1.0e9);
+        albedo = vec4(albedo.rgb * terrain, albedo.a);
+    }
     out.ids = vec2(in.object + 1u, pack4x8unorm(albedo));
     return out;
 }

@@ -11,6 +11,8 @@ Outputs, next to this script (RGBA8 PNG; colour maps are sRGB, normal maps linea
   toward the image top): flat brick faces, mortar joints sunk, so their edges tilt.
 * planks.png    16x16 -- three wooden planks along U with grain streaks and dark seams.
 * cobble.png    32x32 -- irregular cobbles (Voronoi cells from 12 fixed seeds) in dark grout.
+* displacement.png 32x32 -- a tileable greyscale displacement for terrain (smooth value noise
+  over a 4x4 lattice that wraps, plus a little per-pixel grain), read by the red channel.
 * checker.png   8x8   -- a one-pixel black/white checker (its first mip is uniform grey), for
   tests of sampling and density.
 """
@@ -154,6 +156,30 @@ def cobble():
     return rows
 
 
+def displacement():
+    lattice = [[hash2(i, j, 31) for i in range(4)] for j in range(4)]
+
+    def smooth(t):
+        return t * t * (3 - 2 * t)
+
+    rows = []
+    for y in range(32):
+        row = []
+        for x in range(32):
+            gx, gy = x / 8.0, y / 8.0
+            i0, j0 = int(gx) % 4, int(gy) % 4
+            i1, j1 = (i0 + 1) % 4, (j0 + 1) % 4
+            fx, fy = smooth(gx - int(gx)), smooth(gy - int(gy))
+            a = lattice[j0][i0] * (1 - fx) + lattice[j0][i1] * fx
+            b = lattice[j1][i0] * (1 - fx) + lattice[j1][i1] * fx
+            v = a * (1 - fy) + b * fy
+            v = 0.8 * v + 0.2 * hash2(x, y, 33)
+            g = int(round(v * 255))
+            row.append((g, g, g, 255))
+        rows.append(row)
+    return rows
+
+
 def checker():
     return [
         [(255, 255, 255, 255) if (x + y) % 2 == 0 else (0, 0, 0, 255) for x in range(8)]
@@ -168,6 +194,7 @@ def main():
         ("bricks_n.png", bricks_normal()),
         ("planks.png", planks()),
         ("cobble.png", cobble()),
+        ("displacement.png", displacement()),
         ("checker.png", checker()),
     ]:
         png(OUT / name, len(rows[0]), len(rows), rows)

@@ -28,9 +28,10 @@ use texel_probes::visibility::{
 };
 use texel_render::input::{
     Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
-    SceneInput, Schedule, SunInput, internal_size, view_up,
+    SceneInput, Schedule, SunInput, TerrainInput, internal_size, view_up,
 };
 use texel_scene::primitives::primitive_mesh;
+use texel_scene::terrain::Terrain;
 use texel_scene::{
     DirectionalLight, Geometry, Material, PixelScale, PlayerStart, PointLight, Scene, Transform,
 };
@@ -542,10 +543,29 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
                         casts_shadows: m.casts_shadows,
                         outlined: m.outlined,
                         maps: level.assets.surface_maps(&m, primitive),
+                        terrain: None,
                     },
                     id: entity_id(index),
                 });
             }
+        }
+        if let Ok(terrain) = w.get::<&Terrain>(e)
+            && let Some((input, mesh)) = terrain_input(&terrain, &t, &level.assets)
+        {
+            out.objects.push(ObjectInput {
+                mesh,
+                transform: glam::Mat4::from_translation(t.translation),
+                material: MaterialInput {
+                    albedo: Vec3::ONE,
+                    emissive: Vec3::ZERO,
+                    casts_shadows: terrain.casts_shadows,
+                    outlined: terrain.outlined,
+                    maps: Default::default(),
+                    terrain: Some(out.terrains.len()),
+                },
+                id: entity_id(index),
+            });
+            out.terrains.push(input);
         }
         if let Ok(sun) = w.get::<&DirectionalLight>(e) {
             out.suns.push(SunInput {
@@ -562,6 +582,45 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
         }
     }
     out
+}
+
+/// A terrain's colouring and mesh, `None` when its heights are not loaded. Only the
+/// transform's translation applies (terrains lie along the world axes).
+pub fn terrain_input(
+    terrain: &Terrain,
+    t: &Transform,
+    assets: &texel_scene::assets::AssetLibrary,
+) -> Option<(TerrainInput, Arc<texel_scene::TriMesh>)> {
+    let field = assets.heightfield(terrain)?;
+    let mesh = Arc::new(field.mesh(terrain.size));
+    let corner = t.translation - Vec3::new(0.5 * terrain.size.x, 0.0, 0.5 * terrain.size.y);
+    let displacement = terrain.displacement.as_ref().and_then(|d| {
+        let image = assets.texture(&d.path)?.clone();
+        Some((texel_geom_texture(image), d.strength, d.tile_size))
+    });
+    Some((
+        TerrainInput {
+            corner,
+            size: terrain.size,
+            samples: glam::UVec2::new(field.width, field.depth),
+            heights: Arc::new(field.heights.clone()),
+            max_height: terrain.max_height,
+            gradient: terrain.gradient.iter().map(|g| (g.at, g.colour)).collect(),
+            displacement,
+            pixel_density: terrain.pixel_density,
+            band_distance: terrain.band_distance,
+            band_transition: terrain.band_transition,
+        },
+        mesh,
+    ))
+}
+
+/// A displacement image as the renderer samples it: nearest, repeating.
+fn texel_geom_texture(image: Arc<texel_scene::texture::Image>) -> texel_render::input::TextureRef {
+    texel_render::input::TextureRef {
+        image,
+        sampler: Default::default(),
+    }
 }
 
 #[cfg(test)]

@@ -129,6 +129,8 @@ struct PointLight {
 
 const FLAG_OUTLINED: u32 = 1u;
 const FLAG_EMISSIVE: u32 = 2u;
+// A terrain, whose index is flags >> 8 (only the low 8 bits reach the albedo target).
+const FLAG_TERRAIN: u32 = 4u;
 
 // --- splat keys: a dense index over (slot, face, texel) with faces of `max_n` texels ---
 

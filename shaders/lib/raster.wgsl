@@ -91,7 +91,7 @@ fn surface_uv(in: VsOut, fx: vec3<f32>, fy: vec3<f32>) -> SurfaceUv {
 // Snapped, a surface of one colour stores one albedo wherever it is seen from.
 fn surface_albedo(obj: Object, colour: vec4<f32>, texture: vec4<f32>) -> vec4<f32> {
     let c = round(colour.rgb * 255.0) / 255.0;
-    return vec4(obj.albedo * c * texture.rgb, f32(obj.flags) / 255.0);
+    return vec4(obj.albedo * c * texture.rgb, f32(obj.flags & 0xffu) / 255.0);
 }
 
 // The unit normal of a surface point, snapped to 1/65536 per component. The rasterizer

@@ -317,6 +317,7 @@ impl Renderer {
         let mut stages = Stages::new(ctx, self.queries.as_ref());
         let rects = capture_rects(input, &globals, store);
         stages.run("capture", |enc| {
+            self.capture.eye_band_origin = input.grid.origin;
             (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         let jobs = shade_jobs(input, &rects);

@@ -40,6 +40,48 @@ pub struct Vertex {
     pub grad_v: [f32; 3],
 }
 
+/// The terrains' records and their heights and gradients in one float array (each list at
+/// least one element long, as bindings need).
+fn terrain_records(scene: &SceneInput, textures: &mut TextureSet) -> (Vec<GpuTerrain>, Vec<f32>) {
+    let mut records = Vec::with_capacity(scene.terrains.len().max(1));
+    let mut data: Vec<f32> = Vec::new();
+    for t in &scene.terrains {
+        let heights_at = data.len() as u32;
+        data.extend_from_slice(&t.heights);
+        let gradient_at = data.len() as u32;
+        for (at, c) in &t.gradient {
+            data.extend_from_slice(&[*at, c.x, c.y, c.z]);
+        }
+        let (displacement, strength, tile_size) = match &t.displacement {
+            Some((tex, strength, tile)) => (textures.data_texture(tex), *strength, *tile),
+            None => (crate::textures::NO_TEXTURE, 0.0, 1.0),
+        };
+        records.push(GpuTerrain {
+            corner: t.corner.to_array(),
+            max_height: t.max_height,
+            size: t.size.to_array(),
+            samples: t.samples.to_array(),
+            heights_at,
+            gradient_at,
+            gradient_len: t.gradient.len() as u32,
+            displacement,
+            strength,
+            tile_size,
+            pixel_density: t.pixel_density,
+            band_distance: t.band_distance,
+            band_transition: t.band_transition,
+            _pad: [0; 3],
+        });
+    }
+    if records.is_empty() {
+        records.push(GpuTerrain::zeroed());
+    }
+    if data.is_empty() {
+        data.push(0.0);
+    }
+    (records, data)
+}
+
 /// The world-space gradients of U and V over the triangle `p` with UVs `uv` (zero for a
 /// degenerate triangle or UV map).
 pub fn uv_gradients(p: [Vec3; 3], uv: [glam::Vec2; 3]) -> (Vec3, Vec3) {
@@ -68,7 +110,8 @@ pub fn uv_gradients(p: [Vec3; 3], uv: [glam::Vec2; 3]) -> (Vec3, Vec3) {
 pub struct GpuObject {
     /// Linear albedo.
     pub albedo: [f32; 3],
-    /// Bit 0: outlined; bit 1: emissive (drawn unlit).
+    /// Bit 0: outlined; bit 1: emissive (drawn unlit); bit 2: a terrain, whose index is in
+    /// bits 8..32 (only the low 8 bits reach the albedo target's alpha).
     pub flags: u32,
     /// Linear emissive colour.
     pub emissive: [f32; 3],
@@ -92,6 +135,43 @@ pub struct GpuPointLight {
 pub const FLAG_OUTLINED: u32 = 1;
 /// Object flag: drawn unlit with its emissive colour.
 pub const FLAG_EMISSIVE: u32 = 2;
+/// Object flag: coloured as the terrain whose index is `flags >> 8`.
+pub const FLAG_TERRAIN: u32 = 4;
+
+/// One terrain's colouring (80 bytes; WGSL `Terrain` in `lib/terrain.wgsl`); its heights and
+/// gradient live in the shared `terrain_data` buffer.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuTerrain {
+    /// World position of sample (0, 0) at height 0.
+    pub corner: [f32; 3],
+    /// Height of normalised elevation 1.
+    pub max_height: f32,
+    /// World extent X, Z.
+    pub size: [f32; 2],
+    /// Samples along X, Z.
+    pub samples: [u32; 2],
+    /// First height in `terrain_data`.
+    pub heights_at: u32,
+    /// First gradient stop in `terrain_data` (4 floats each: at, r, g, b).
+    pub gradient_at: u32,
+    /// Number of stops.
+    pub gradient_len: u32,
+    /// Displacement texture record, or `textures::NO_TEXTURE`.
+    pub displacement: u32,
+    /// Displacement strength.
+    pub strength: f32,
+    /// Displacement tile size, world units.
+    pub tile_size: f32,
+    /// Pixels per world unit in band 0.
+    pub pixel_density: f32,
+    /// Distance of band 0.
+    pub band_distance: f32,
+    /// Transition share of a band.
+    pub band_transition: f32,
+    /// Padding.
+    pub _pad: [u32; 3],
+}
 
 /// The uploaded scene.
 pub struct GpuScene {
@@ -117,6 +197,10 @@ pub struct GpuScene {
     pub object_ids: Vec<u32>,
     /// The textures.
     pub textures: GpuTextures,
+    /// Terrain records (at least one).
+    pub terrains: wgpu::Buffer,
+    /// Terrain heights and gradient stops (at least one word).
+    pub terrain_data: wgpu::Buffer,
 }
 
 fn pack_colour(c: [f32; 4]) -> u32 {
@@ -137,9 +221,15 @@ impl GpuScene {
             let flip = o.transform.determinant() < 0.0;
             let m = &o.material;
             let emissive = m.emissive.max_element() > 0.0;
+            let terrain = m
+                .terrain
+                .filter(|&t| t < scene.terrains.len())
+                .map_or(0, |t| FLAG_TERRAIN | ((t as u32) << 8));
             objects.push(GpuObject {
                 albedo: m.albedo.to_array(),
-                flags: u32::from(m.outlined) * FLAG_OUTLINED + u32::from(emissive) * FLAG_EMISSIVE,
+                flags: u32::from(m.outlined) * FLAG_OUTLINED
+                    + u32::from(emissive) * FLAG_EMISSIVE
+                    + terrain,
                 emissive: m.emissive.to_array(),
                 id: o.id,
             });
@@ -212,6 +302,7 @@ impl GpuScene {
             .take(MAX_SUNS)
             .map(|s| (-s.direction.normalize_or_zero(), s.colour))
             .collect();
+        let (gpu_terrains, terrain_data) = terrain_records(scene, &mut textures);
         let textures = textures.upload(ctx)?;
         let bvh: GpuBvh = build_bvh(&casters);
         let (bvh_nodes, bvh_triangles) = bvh.upload(&ctx.device);
@@ -247,6 +338,16 @@ impl GpuScene {
             shadow_triangles: casters.len(),
             object_ids: scene.objects.iter().map(|o| o.id).collect(),
             textures,
+            terrains: storage(
+                "scene::terrains",
+                bytemuck::cast_slice(&gpu_terrains),
+                wgpu::BufferUsages::STORAGE,
+            ),
+            terrain_data: storage(
+                "scene::terrain_data",
+                bytemuck::cast_slice(&terrain_data),
+                wgpu::BufferUsages::STORAGE,
+            ),
         })
     }
 

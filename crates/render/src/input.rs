@@ -5,6 +5,7 @@
 use std::sync::Arc;
 
 use glam::{Mat4, UVec2, Vec3};
+pub use texel_geom::TextureRef;
 use texel_geom::{SurfaceMaps, TriMesh};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::{Role, Slot};
@@ -23,6 +24,9 @@ pub struct MaterialInput {
     /// Textures, sampled at the mesh's UVs × `maps.uv_scale`; a mesh part's own textures
     /// (glTF) are used where these have none.
     pub maps: SurfaceMaps,
+    /// Index into [`SceneInput::terrains`]: the surface is coloured as that terrain (its
+    /// world pixel grid, bands, gradient and displacement) instead of by albedo and texture.
+    pub terrain: Option<usize>,
 }
 
 impl Default for MaterialInput {
@@ -33,8 +37,34 @@ impl Default for MaterialInput {
             casts_shadows: true,
             outlined: true,
             maps: SurfaceMaps::default(),
+            terrain: None,
         }
     }
+}
+
+/// A heightmap terrain's colouring (the mesh itself is an ordinary object).
+#[derive(Debug, Clone, PartialEq)]
+pub struct TerrainInput {
+    /// World position of height sample (0, 0) at height 0: the terrain's −X −Z corner.
+    pub corner: Vec3,
+    /// World extent along X and Z.
+    pub size: glam::Vec2,
+    /// Samples along X and Z.
+    pub samples: glam::UVec2,
+    /// Heights (world units above `corner`), rows along X, one row per Z sample.
+    pub heights: Arc<Vec<f32>>,
+    /// Height that normalised elevation 1 stands for.
+    pub max_height: f32,
+    /// `(normalised elevation, linear RGB)` stops, ascending.
+    pub gradient: Vec<(f32, Vec3)>,
+    /// Displacement texture (red channel), with its strength and world tile size.
+    pub displacement: Option<(texel_geom::TextureRef, f32, f32)>,
+    /// Terrain pixels per world unit in the nearest band.
+    pub pixel_density: f32,
+    /// Distance within which the nearest band applies.
+    pub band_distance: f32,
+    /// Share of a band over which cells are promoted to the next band (Bayer pattern).
+    pub band_transition: f32,
 }
 
 /// One drawable object: a mesh placed in the world. Its `id` is unique per entity.
@@ -79,6 +109,8 @@ pub struct SceneInput {
     pub suns: Vec<SunInput>,
     /// Point lights.
     pub points: Vec<PointLightInput>,
+    /// Terrains the objects' materials refer to.
+    pub terrains: Vec<TerrainInput>,
 }
 
 /// A perspective camera.

@@ -23,6 +23,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/texture.wgsl"),
     ),
     (
+        "lib/terrain.wgsl",
+        include_str!("../../../shaders/lib/terrain.wgsl"),
+    ),
+    (
         "lib/raster.wgsl",
         include_str!("../../../shaders/lib/raster.wgsl"),
     ),

@@ -296,6 +296,11 @@ impl TextureSet {
         i
     }
 
+    /// The record index of a data texture (linear, not sRGB: a displacement map).
+    pub fn data_texture(&mut self, t: &TextureRef) -> u32 {
+        self.texture(t, false)
+    }
+
     /// The surface index of `maps` (0 is "untextured", always present).
     pub fn surface(&mut self, maps: &SurfaceMaps) -> u32 {
         if self.surfaces.is_empty() {

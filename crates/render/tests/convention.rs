@@ -49,6 +49,7 @@ fn room() -> SceneInput {
         objects,
         suns: vec![],
         points: vec![],
+        terrains: Vec::new(),
     }
 }
 

@@ -66,6 +66,7 @@ fn one_box() -> SceneInput {
         )],
         suns: vec![],
         points: vec![],
+        terrains: Vec::new(),
     }
 }
 

@@ -10,7 +10,8 @@ use crate::components::{Geometry, Material, Sampling};
 use crate::gltf_import::{GltfError, load_gltf_report};
 use crate::level::Level;
 use crate::mesh::TriMesh;
-use crate::texture::{TextureError, load_texture};
+use crate::terrain::{HeightSource, Heightfield, Terrain};
+use crate::texture::{TextureError, load_heightmap, load_texture};
 
 /// A file a level refers to could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -45,6 +46,7 @@ pub enum AssetFileError {
 pub struct AssetLibrary {
     meshes: BTreeMap<String, Arc<TriMesh>>,
     textures: BTreeMap<String, Arc<Image>>,
+    heightfields: BTreeMap<String, Arc<Heightfield>>,
     mesh_warnings: BTreeMap<String, Vec<String>>,
 }
 
@@ -76,6 +78,16 @@ impl AssetLibrary {
     /// Whether no mesh is loaded.
     pub fn is_empty(&self) -> bool {
         self.meshes.is_empty()
+    }
+
+    /// The heights of `terrain`, if loaded (or baked).
+    pub fn heightfield(&self, terrain: &Terrain) -> Option<&Arc<Heightfield>> {
+        self.heightfields.get(&heightfield_key(terrain))
+    }
+
+    /// Sets the heights of `terrain` (a sculpted or imported field).
+    pub fn insert_heightfield(&mut self, terrain: &Terrain, field: Arc<Heightfield>) {
+        self.heightfields.insert(heightfield_key(terrain), field);
     }
 
     /// Adds (or replaces) the texture a level names `rel`.
@@ -142,6 +154,29 @@ impl AssetLibrary {
     }
 }
 
+/// What a terrain's heights are cached under: the file's path, or the noise parameters with
+/// the extent and height they were baked for.
+fn heightfield_key(t: &Terrain) -> String {
+    match &t.heightmap {
+        HeightSource::File { path } => format!("file:{path}:{}", t.max_height),
+        noise => format!("{noise:?}:{:?}:{}", t.size, t.max_height),
+    }
+}
+
+/// Loads (or bakes) a terrain's heights.
+pub fn load_heightfield(terrain: &Terrain, level_path: &Path) -> Result<Heightfield, TextureError> {
+    match &terrain.heightmap {
+        HeightSource::File { path } => {
+            let (w, h, samples) = load_heightmap(&resolve(level_path, path))?;
+            Ok(Heightfield::from_u16(w, h, &samples, terrain.max_height))
+        }
+        noise => Ok(
+            Heightfield::from_noise(noise, terrain.size, terrain.max_height)
+                .expect("a noise source bakes"),
+        ),
+    }
+}
+
 /// The texture files a material names.
 pub fn texture_paths(material: &Material) -> impl Iterator<Item = &str> {
     material
@@ -188,7 +223,24 @@ pub fn load_assets(
             }
             lib.meshes.insert(path.clone(), Arc::new(import.mesh));
         }
-        for path in row.material.iter().flat_map(texture_paths) {
+        if let Some(t) = &row.terrain
+            && let std::collections::btree_map::Entry::Vacant(slot) =
+                lib.heightfields.entry(heightfield_key(t))
+        {
+            let path = match &t.heightmap {
+                HeightSource::File { path } => path.as_str(),
+                HeightSource::Noise { .. } => "heightmap",
+            };
+            let field = load_heightfield(t, level_path).map_err(|e| error(path, e.into()))?;
+            slot.insert(Arc::new(field));
+        }
+        let displacement = row.terrain.as_ref().and_then(|t| t.displacement.as_ref());
+        for path in row
+            .material
+            .iter()
+            .flat_map(texture_paths)
+            .chain(displacement.map(|d| d.path.as_str()))
+        {
             if !lib.textures.contains_key(path) {
                 let image =
                     load_texture(&resolve(level_path, path)).map_err(|e| error(path, e.into()))?;

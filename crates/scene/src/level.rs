@@ -80,6 +80,9 @@ pub struct EntityRow {
     /// Player start.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub player_start: Option<PlayerStart>,
+    /// Heightmap terrain.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub terrain: Option<crate::terrain::Terrain>,
 }
 
 /// The names of the components an entity row may hold, in file order.
@@ -92,6 +95,7 @@ pub const COMPONENT_NAMES: &[&str] = &[
     "point_light",
     "probe_grid_override",
     "player_start",
+    "terrain",
 ];
 
 /// What is wrong with a level, for callers that react to the kind.
@@ -325,7 +329,8 @@ impl EntityRow {
             "probe_grid_override",
             self.probe_grid_override.as_ref().map(|v| v as _),
         )?;
-        check("player_start", self.player_start.as_ref().map(|v| v as _))
+        check("player_start", self.player_start.as_ref().map(|v| v as _))?;
+        check("terrain", self.terrain.as_ref().map(|v| v as _))
     }
 }
 

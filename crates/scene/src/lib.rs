@@ -15,6 +15,7 @@ pub mod primitives;
 pub mod read;
 pub mod save;
 pub mod scene;
+pub mod terrain;
 pub mod texture;
 
 pub use components::*;

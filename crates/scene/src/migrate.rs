@@ -10,6 +10,7 @@
 //! | 1 | first draft of the format: `transform.rotation` was a quaternion `(x, y, z, w)` |
 //! | 2 | `transform.rotation` is Euler angles in degrees (readable, editable by hand) |
 //! | 3 | materials may name a `texture` (with sampling, density, UV scale) and a `normal_map`; a version 2 file is a version 3 file without them |
+//! | 3 | (later, still 3) entities may hold a `terrain`; files without one are unchanged |
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
@@ -123,6 +124,7 @@ impl From<LevelV1> for Level {
                     point_light: e.point_light,
                     probe_grid_override: e.probe_grid_override,
                     player_start: e.player_start,
+                    terrain: None,
                 })
                 .collect(),
         }

@@ -318,3 +318,31 @@ f32_with!(
     haze,
     check_haze
 );
+
+u32_with!(
+    /// Samples per edge of a baked heightmap.
+    heightmap_resolution,
+    2..=crate::terrain::MAX_HEIGHTMAP,
+    "heightmap resolution"
+);
+u32_with!(
+    /// Octaves of fractal noise.
+    octaves,
+    1..=8,
+    "octaves"
+);
+
+/// Checks a fraction: finite and within 0..=1.
+pub fn check_unit(v: f32) -> Result<f32, String> {
+    if v.is_finite() && (0.0..=1.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("must be within 0..=1, got {v:?}"))
+    }
+}
+
+f32_with!(
+    /// A fraction within 0..=1.
+    unit,
+    check_unit
+);

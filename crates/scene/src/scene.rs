@@ -13,6 +13,7 @@ use crate::components::{
     ProbeGridOverride, Transform,
 };
 use crate::level::{EntityRow, Level, LevelError};
+use crate::terrain::Terrain;
 
 /// A level loaded into a hecs world.
 #[derive(Default)]
@@ -129,6 +130,7 @@ impl Scene {
             point_light: r.get::<&PointLight>().map(|c| *c),
             probe_grid_override: r.get::<&ProbeGridOverride>().map(|c| *c),
             player_start: r.get::<&PlayerStart>().map(|c| *c),
+            terrain: r.get::<&Terrain>().map(|c| (*c).clone()),
         })
     }
 
@@ -154,6 +156,7 @@ fn remove_each(world: &mut World, e: Entity) {
     let _ = world.remove_one::<PointLight>(e);
     let _ = world.remove_one::<ProbeGridOverride>(e);
     let _ = world.remove_one::<PlayerStart>(e);
+    let _ = world.remove_one::<Terrain>(e);
 }
 
 fn build(row: EntityRow) -> EntityBuilder {
@@ -171,6 +174,9 @@ fn build(row: EntityRow) -> EntityBuilder {
         b.add(c);
     }
     if let Some(c) = row.directional_light {
+        b.add(c);
+    }
+    if let Some(c) = row.terrain {
         b.add(c);
     }
     if let Some(c) = row.point_light {
@@ -202,6 +208,8 @@ pub struct KindCounts {
     pub probe_overrides: usize,
     /// Player starts.
     pub player_starts: usize,
+    /// Terrains.
+    pub terrains: usize,
 }
 
 impl Scene {
@@ -222,6 +230,7 @@ impl Scene {
         k.point_lights = w.query::<&PointLight>().iter().count();
         k.probe_overrides = w.query::<&ProbeGridOverride>().iter().count();
         k.player_starts = w.query::<&PlayerStart>().iter().count();
+        k.terrains = w.query::<&Terrain>().iter().count();
         k
     }
 }
@@ -231,14 +240,15 @@ impl std::fmt::Display for KindCounts {
         write!(
             f,
             "{} entities: {} primitives, {} meshes, {} directional lights, {} point lights, \
-             {} probe-grid overrides, {} player starts",
+             {} probe-grid overrides, {} player starts, {} terrains",
             self.entities,
             self.primitives,
             self.meshes,
             self.directional_lights,
             self.point_lights,
             self.probe_overrides,
-            self.player_starts
+            self.player_starts,
+            self.terrains
         )
     }
 }

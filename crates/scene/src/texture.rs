@@ -89,6 +89,68 @@ pub fn decode_texture(bytes: &[u8], name: &str) -> Result<Image, TextureError> {
     })
 }
 
+/// Decodes a heightmap: a 16-bit greyscale PNG of 2..=4097 samples per edge, as
+/// `(width, height, samples)` rows top to bottom (rows run along +Z, columns along +X).
+pub fn decode_heightmap(bytes: &[u8], name: &str) -> Result<(u32, u32, Vec<u16>), TextureError> {
+    use crate::terrain::MAX_HEIGHTMAP;
+    let fail = |detail: String| TextureError::Decode {
+        name: name.to_owned(),
+        detail,
+    };
+    let format = image::guess_format(bytes)
+        .map_err(|_| fail("not a PNG heightmap (unrecognised bytes)".to_owned()))?;
+    if format != image::ImageFormat::Png {
+        return Err(fail(
+            "heightmaps must be 16-bit greyscale PNG files".to_owned(),
+        ));
+    }
+    let mut reader = image::ImageReader::with_format(std::io::Cursor::new(bytes), format);
+    let mut limits = image::Limits::default();
+    limits.max_image_width = Some(MAX_HEIGHTMAP);
+    limits.max_image_height = Some(MAX_HEIGHTMAP);
+    limits.max_alloc = Some(2 * u64::from(MAX_HEIGHTMAP).pow(2) * 2);
+    reader.limits(limits);
+    let decoded = reader.decode().map_err(|e| match e {
+        image::ImageError::Limits(_) => fail(format!(
+            "the heightmap is larger than {MAX_HEIGHTMAP}×{MAX_HEIGHTMAP} samples"
+        )),
+        other => fail(format!("cannot decode PNG: {other}")),
+    })?;
+    let image::DynamicImage::ImageLuma16(grey) = decoded else {
+        return Err(fail(format!(
+            "a heightmap must be a 16-bit greyscale PNG, this one is {:?}",
+            decoded.color()
+        )));
+    };
+    let (w, h) = grey.dimensions();
+    if w < 2 || h < 2 {
+        return Err(fail(format!(
+            "a heightmap needs at least 2×2 samples, this one has {w}×{h}"
+        )));
+    }
+    Ok((w, h, grey.into_raw()))
+}
+
+/// Reads and decodes the heightmap at `path` ([`decode_heightmap`]).
+pub fn load_heightmap(path: &Path) -> Result<(u32, u32, Vec<u16>), TextureError> {
+    let bytes = read_bounded(path, FileKind::Texture).map_err(|e| match e {
+        ReadError::Io { path, source, .. } => TextureError::Io { path, source },
+        other => TextureError::Read(other),
+    })?;
+    decode_heightmap(&bytes, &path.display().to_string())
+}
+
+/// Encodes 16-bit samples as a greyscale PNG.
+pub fn encode_heightmap(width: u32, height: u32, samples: &[u16]) -> Vec<u8> {
+    let mut out = Vec::new();
+    let buffer: image::ImageBuffer<image::Luma<u16>, Vec<u16>> =
+        image::ImageBuffer::from_raw(width, height, samples.to_vec()).expect("samples match");
+    buffer
+        .write_to(&mut std::io::Cursor::new(&mut out), image::ImageFormat::Png)
+        .expect("PNG encoding to memory does not fail");
+    out
+}
+
 /// Encodes `image` as PNG bytes (for tests and generated assets).
 pub fn encode_png(image: &Image) -> Vec<u8> {
     let mut out = Vec::new();
@@ -153,6 +215,20 @@ mod tests {
         jpeg.truncate(jpeg.len() / 3);
         let e = decode_texture(&jpeg, "cut.jpg").unwrap_err().to_string();
         assert!(e.starts_with("cut.jpg: cannot decode JPEG"), "{e}");
+    }
+
+    #[test]
+    fn heightmaps_are_16_bit_grey_and_round_trip() {
+        let samples: Vec<u16> = (0..12).map(|i| i * 5000).collect();
+        let png = encode_heightmap(4, 3, &samples);
+        assert_eq!(decode_heightmap(&png, "h").unwrap(), (4, 3, samples));
+        let rgba = encode_png(&Image::solid("t", 4, 4, [1; 4]));
+        let e = decode_heightmap(&rgba, "c.png").unwrap_err().to_string();
+        assert!(e.contains("16-bit greyscale") && e.contains("Rgba8"), "{e}");
+        let e = decode_heightmap(&encode_heightmap(1, 5, &[0; 5]), "d.png")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("at least 2×2"), "{e}");
     }
 
     #[test]

@@ -151,9 +151,10 @@ fn row() -> impl Strategy<Value = EntityRow> {
                 eye_height,
             },
         )),
+        proptest::option::of(terrain().boxed()),
     )
         .prop_map(
-            |(name, transform, geometry, material, sun, point, grid, start)| EntityRow {
+            |(name, transform, geometry, material, sun, point, grid, start, terrain)| EntityRow {
                 name,
                 transform,
                 geometry,
@@ -162,8 +163,82 @@ fn row() -> impl Strategy<Value = EntityRow> {
                 point_light: point,
                 probe_grid_override: grid,
                 player_start: start,
+                terrain,
             },
         )
+}
+
+fn terrain() -> BoxedStrategy<texel_scene::terrain::Terrain> {
+    use texel_scene::terrain::{Displacement, GradientStop, HeightSource, Terrain};
+    let source = prop_oneof![
+        "[a-z_/.]{1,20}\\.png".prop_map(|path| HeightSource::File { path }),
+        (
+            any::<u32>(),
+            2u32..=4097,
+            positive(),
+            1u32..=8,
+            0.0f32..=1.0
+        )
+            .prop_map(|(seed, resolution, frequency, octaves, island)| {
+                HeightSource::Noise {
+                    seed,
+                    resolution,
+                    frequency,
+                    octaves,
+                    island,
+                }
+            }),
+    ];
+    let stops =
+        proptest::collection::vec((0.0f32..=1.0, v3(colour_channel())), 1..5).prop_map(|mut v| {
+            v.sort_by(|a, b| a.0.total_cmp(&b.0));
+            v.into_iter()
+                .map(|(at, colour)| GradientStop { at, colour })
+                .collect::<Vec<_>>()
+        });
+    let displacement = proptest::option::of(
+        ("[a-z_/.]{1,20}\\.png", 0.0f32..=10.0, positive()).prop_map(
+            |(path, strength, tile_size)| Displacement {
+                path,
+                strength,
+                tile_size,
+            },
+        ),
+    );
+    (
+        (positive(), positive()),
+        source,
+        positive(),
+        stops,
+        displacement,
+        (positive(), positive(), 0.0f32..=1.0),
+        (any::<bool>(), any::<bool>()),
+    )
+        .prop_map(
+            |(
+                (x, z),
+                heightmap,
+                max_height,
+                gradient,
+                displacement,
+                (density, band, t),
+                (s, o),
+            )| {
+                Terrain {
+                    size: Vec2::new(x, z),
+                    heightmap,
+                    max_height,
+                    gradient,
+                    displacement,
+                    pixel_density: density,
+                    band_distance: band,
+                    band_transition: t,
+                    casts_shadows: s,
+                    outlined: o,
+                }
+            },
+        )
+        .boxed()
 }
 
 fn settings() -> impl Strategy<Value = LevelSettings> {

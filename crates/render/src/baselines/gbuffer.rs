@@ -36,6 +36,7 @@ struct CameraUniform {
     axis: [f32; 4],
     inv_view_proj: [[f32; 4]; 4],
     size: [f32; 4],
+    eye: [f32; 4],
 }
 
 /// One texture and its view.
@@ -157,6 +158,8 @@ impl GBufferPass {
                 entry(2, vf, texture(FLOAT, ARRAY)),
                 entry(3, vf, storage(true)),
                 entry(4, vf, storage(true)),
+                entry(5, vf, storage(true)),
+                entry(6, vf, storage(true)),
             ],
         });
         let targets = [WORLD_FORMAT, NORMAL_FORMAT, ID_FORMAT];
@@ -193,6 +196,7 @@ impl GBufferPass {
             axis: axis.extend(axis.dot(eye)).to_array(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
             size: [targets.size.x as f32, targets.size.y as f32, 0.0, 0.0],
+            eye: eye.extend(1.0).to_array(),
         };
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));
         let bind = bind_group(
@@ -205,6 +209,8 @@ impl GBufferPass {
                 wgpu::BindingResource::TextureView(&scene.textures.view),
                 scene.textures.infos_buffer.as_entire_binding(),
                 scene.textures.surfaces.as_entire_binding(),
+                scene.terrains.as_entire_binding(),
+                scene.terrain_data.as_entire_binding(),
             ],
         );
         let clear = wgpu::Color::TRANSPARENT;

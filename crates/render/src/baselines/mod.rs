@@ -362,6 +362,7 @@ impl BaselineRenderer {
         let store = &self.store;
         let mut stages = Stages::new(ctx, self.queries.as_ref());
         stages.run("capture", |enc| {
+            self.capture.eye_band_origin = view.camera.position;
             self.capture.record(ctx, enc, &caps, &[], store, scene);
         });
         stages.run("shade", |enc| {

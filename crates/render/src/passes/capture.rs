@@ -31,6 +31,7 @@ struct FaceParams {
     n: u32,
     mode: u32,
     _pad: u32,
+    band_origin: [f32; 4],
 }
 
 /// What a capture stores as the albedo.
@@ -50,6 +51,9 @@ pub struct CapturePass {
     /// What the captures store as the albedo ([`CaptureMode::Surface`] unless a debug view
     /// asks otherwise).
     pub mode: CaptureMode,
+    /// Where the eye probe's faces measure terrain bands from: the frame's grid probe
+    /// origin (stable slots measure from their own origin).
+    pub eye_band_origin: glam::Vec3,
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
@@ -68,6 +72,8 @@ impl CapturePass {
                 entry(2, vf, texture(FLOAT, ARRAY)),
                 entry(3, vf, storage(true)),
                 entry(4, vf, storage(true)),
+                entry(5, vf, storage(true)),
+                entry(6, vf, storage(true)),
             ],
         });
         let targets = [GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT, SHADING_FORMAT];
@@ -79,6 +85,7 @@ impl CapturePass {
         );
         Ok(CapturePass {
             mode: CaptureMode::Surface,
+            eye_band_origin: glam::Vec3::ZERO,
             pipeline,
             layout,
             faces,
@@ -109,6 +116,13 @@ impl CapturePass {
                 n: store.slot(c.slot).n,
                 mode: u32::from(mode == CaptureMode::TextureDensity),
                 _pad: 0,
+                band_origin: if c.slot == texel_probes::probe_set::Slot::Eye {
+                    self.eye_band_origin
+                } else {
+                    c.origin
+                }
+                .extend(1.0)
+                .to_array(),
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
@@ -128,6 +142,8 @@ impl CapturePass {
             wgpu::BindingResource::TextureView(&scene.textures.view),
             scene.textures.infos_buffer.as_entire_binding(),
             scene.textures.surfaces.as_entire_binding(),
+            scene.terrains.as_entire_binding(),
+            scene.terrain_data.as_entire_binding(),
         ];
         let bind = bind_group(device, "capture::bind", &self.layout, &resources);
         for (i, c) in captures.iter().enumerate() {

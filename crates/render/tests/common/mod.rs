@@ -54,6 +54,7 @@ pub fn boxes_scene() -> SceneInput {
             colour: Vec3::splat(1.0),
         }],
         points: vec![],
+        terrains: Vec::new(),
     }
 }
 

@@ -1,0 +1,442 @@
+//! Pixel-art terrain (Populous: The Beginning's trick, after the Godot terrain seed): a
+//! heightmap coloured by an elevation gradient perturbed by a tiling displacement texture,
+//! quantized to a world-anchored pixel grid whose cells double in size in distance bands.
+//!
+//! This module holds the level component ([`Terrain`]), its heights ([`Heightfield`]: a
+//! 16-bit PNG beside the level, or baked from noise) and the mesh built from them. The
+//! colouring runs on the GPU (`shaders/lib/terrain.wgsl`); [`band`] and [`cell_size`] are
+//! its CPU twins, for tests and tools.
+
+use glam::{Vec2, Vec3};
+use serde::{Deserialize, Serialize};
+
+use crate::mesh::TriMesh;
+use crate::num;
+
+/// Largest heightmap edge, in samples.
+pub const MAX_HEIGHTMAP: u32 = 4097;
+/// Most gradient stops.
+pub const MAX_GRADIENT_STOPS: usize = 64;
+/// Quads per chunk edge: the mesh is built chunk by chunk, so consecutive triangles are near
+/// each other and the renderer's per-range bounds cull well.
+pub const CHUNK_QUADS: u32 = 32;
+
+/// Where a terrain's heights come from.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub enum HeightSource {
+    /// A 16-bit greyscale PNG, path relative to the level (0 = ground level, 65535 =
+    /// `max_height`); its size sets the grid.
+    File {
+        /// Path relative to the level file.
+        path: String,
+    },
+    /// Fractal noise baked on load into a `resolution` × `resolution` grid.
+    Noise {
+        /// Seed.
+        seed: u32,
+        /// Samples per edge (2..=4097).
+        #[serde(with = "num::heightmap_resolution")]
+        resolution: u32,
+        /// Features per world unit of the first octave.
+        #[serde(with = "num::positive")]
+        frequency: f32,
+        /// Octaves (1..=8).
+        #[serde(with = "num::octaves")]
+        octaves: u32,
+        /// Pushes the edges down (0 = none, 1 = an island whose border is at height 0).
+        #[serde(default, with = "num::unit")]
+        island: f32,
+    },
+}
+
+/// One colour of the elevation gradient.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct GradientStop {
+    /// Normalised elevation (0 = ground level, 1 = `max_height`).
+    #[serde(with = "num::unit")]
+    pub at: f32,
+    /// Linear RGB colour.
+    #[serde(with = "num::colour")]
+    pub colour: Vec3,
+}
+
+/// The displacement texture that perturbs the elevation looked up in the gradient.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Displacement {
+    /// Greyscale PNG, path relative to the level (its red channel is read).
+    pub path: String,
+    /// How far a displacement of ±0.5 moves the gradient lookup (normalised elevation).
+    #[serde(with = "num::intensity")]
+    pub strength: f32,
+    /// World size of one tile of the texture.
+    #[serde(with = "num::positive")]
+    pub tile_size: f32,
+}
+
+/// A heightmap terrain, centred on its transform's translation (rotation and scale are not
+/// applied: a terrain is laid out along the world's axes).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Terrain {
+    /// World extent along X and Z.
+    #[serde(with = "num::size2")]
+    pub size: Vec2,
+    /// The heights.
+    pub heightmap: HeightSource,
+    /// Height of the top of the range, world units.
+    #[serde(with = "num::positive")]
+    pub max_height: f32,
+    /// Colours by normalised elevation, ascending `at`.
+    pub gradient: Vec<GradientStop>,
+    /// Optional displacement texture.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub displacement: Option<Displacement>,
+    /// Terrain pixels per world unit in the nearest band.
+    #[serde(with = "num::positive")]
+    pub pixel_density: f32,
+    /// Distance from the probe within which the nearest band applies; each doubling of the
+    /// distance past it halves the density.
+    #[serde(with = "num::positive")]
+    pub band_distance: f32,
+    /// Share of each band (0..1) over which its cells are promoted to the next band's by a
+    /// Bayer pattern, toward its far end.
+    #[serde(with = "num::unit")]
+    pub band_transition: f32,
+    /// Whether it blocks shadow rays.
+    #[serde(default = "yes")]
+    pub casts_shadows: bool,
+    /// Whether outlines are drawn on it.
+    #[serde(default = "yes")]
+    pub outlined: bool,
+}
+
+const fn yes() -> bool {
+    true
+}
+
+impl Terrain {
+    /// The band of a point at `distance` from the probe origin (0 = the nearest, finest),
+    /// before the texel constraint: 0 within `band_distance`, then one more per doubling.
+    pub fn distance_band(&self, distance: f32) -> u32 {
+        if distance <= self.band_distance {
+            0
+        } else {
+            (distance / self.band_distance).log2().ceil().max(0.0) as u32
+        }
+    }
+
+    /// The band at `distance` from a probe whose faces have `face_resolution` texels: the
+    /// distance band, raised until a terrain pixel is at least as large as the probe texel
+    /// there (`2d / N` world units), so a terrain pixel is never smaller than an art pixel.
+    pub fn band(&self, distance: f32, face_resolution: u32) -> u32 {
+        let texel = 2.0 * distance / face_resolution as f32;
+        let mut b = self.distance_band(distance);
+        while self.cell_size(b) < texel && b < 30 {
+            b += 1;
+        }
+        b
+    }
+
+    /// World size of a terrain pixel in band `b`: `2^b / pixel_density`.
+    pub fn cell_size(&self, band: u32) -> f32 {
+        (1u64 << band.min(62)) as f32 / self.pixel_density
+    }
+}
+
+/// Heights on a regular grid over a terrain's extent, world units above its origin.
+#[derive(Debug, Clone, PartialEq)]
+pub struct Heightfield {
+    /// Samples along X.
+    pub width: u32,
+    /// Samples along Z.
+    pub depth: u32,
+    /// `width * depth` heights, row by row (Z), each row along X.
+    pub heights: Vec<f32>,
+}
+
+impl Heightfield {
+    /// A flat field of `width` × `depth` samples at height `h`.
+    pub fn flat(width: u32, depth: u32, h: f32) -> Self {
+        Heightfield {
+            width,
+            depth,
+            heights: vec![h; (width * depth) as usize],
+        }
+    }
+
+    /// The height at sample (`x`, `z`), clamped to the grid.
+    pub fn at(&self, x: i64, z: i64) -> f32 {
+        let x = x.clamp(0, i64::from(self.width) - 1) as usize;
+        let z = z.clamp(0, i64::from(self.depth) - 1) as usize;
+        self.heights[z * self.width as usize + x]
+    }
+
+    /// Bilinear height at grid coordinates (`gx`, `gz`) (sample units).
+    pub fn sample(&self, gx: f32, gz: f32) -> f32 {
+        let (x0, z0) = (gx.floor(), gz.floor());
+        let (fx, fz) = (gx - x0, gz - z0);
+        let (x0, z0) = (x0 as i64, z0 as i64);
+        let a = self.at(x0, z0) * (1.0 - fx) + self.at(x0 + 1, z0) * fx;
+        let b = self.at(x0, z0 + 1) * (1.0 - fx) + self.at(x0 + 1, z0 + 1) * fx;
+        a * (1.0 - fz) + b * fz
+    }
+
+    /// Bakes fractal noise (`HeightSource::Noise`) over a terrain of `size` and height
+    /// `max_height`.
+    pub fn from_noise(source: &HeightSource, size: Vec2, max_height: f32) -> Option<Self> {
+        use noise::{Fbm, MultiFractal, NoiseFn, Perlin};
+        let HeightSource::Noise {
+            seed,
+            resolution,
+            frequency,
+            octaves,
+            island,
+        } = *source
+        else {
+            return None;
+        };
+        let fbm = Fbm::<Perlin>::new(seed)
+            .set_octaves(octaves as usize)
+            .set_frequency(f64::from(frequency));
+        let n = resolution.max(2);
+        let mut heights = Vec::with_capacity((n * n) as usize);
+        for z in 0..n {
+            for x in 0..n {
+                let u = x as f32 / (n - 1) as f32;
+                let v = z as f32 / (n - 1) as f32;
+                let p = [f64::from((u - 0.5) * size.x), f64::from((v - 0.5) * size.y)];
+                let h = (fbm.get(p) as f32 * 0.5 + 0.5).clamp(0.0, 1.0);
+                // Distance to the nearest edge, 0 at the border and 1 in the middle.
+                let edge = (1.0 - (2.0 * u - 1.0).abs()).min(1.0 - (2.0 * v - 1.0).abs());
+                let fall = 1.0 - island * (1.0 - (edge * 3.0).min(1.0)).powi(2);
+                heights.push(h * fall.max(0.0) * max_height);
+            }
+        }
+        Some(Heightfield {
+            width: n,
+            depth: n,
+            heights,
+        })
+    }
+
+    /// From 16-bit samples (0..=65535 → 0..=`max_height`).
+    pub fn from_u16(width: u32, depth: u32, samples: &[u16], max_height: f32) -> Self {
+        Heightfield {
+            width,
+            depth,
+            heights: samples
+                .iter()
+                .map(|&s| f32::from(s) / 65535.0 * max_height)
+                .collect(),
+        }
+    }
+
+    /// The samples as 16-bit values for `max_height` (clamped).
+    pub fn to_u16(&self, max_height: f32) -> Vec<u16> {
+        self.heights
+            .iter()
+            .map(|h| ((h / max_height).clamp(0.0, 1.0) * 65535.0).round() as u16)
+            .collect()
+    }
+
+    /// The terrain's mesh in object space (centred on the origin, heights up from 0), built
+    /// chunk by chunk of [`CHUNK_QUADS`]² quads; smooth normals from the height differences.
+    pub fn mesh(&self, size: Vec2) -> TriMesh {
+        let (w, d) = (self.width.max(2), self.depth.max(2));
+        let step = Vec2::new(size.x / (w - 1) as f32, size.y / (d - 1) as f32);
+        let pos = |x: u32, z: u32| {
+            Vec3::new(
+                -0.5 * size.x + x as f32 * step.x,
+                self.at(i64::from(x), i64::from(z)),
+                -0.5 * size.y + z as f32 * step.y,
+            )
+        };
+        let normal = |x: u32, z: u32| {
+            let (x, z) = (i64::from(x), i64::from(z));
+            let dx = (self.at(x + 1, z) - self.at(x - 1, z)) / (2.0 * step.x);
+            let dz = (self.at(x, z + 1) - self.at(x, z - 1)) / (2.0 * step.y);
+            Vec3::new(-dx, 1.0, -dz).normalize()
+        };
+        let mut m = TriMesh::default();
+        for cz in (0..d - 1).step_by(CHUNK_QUADS as usize) {
+            for cx in (0..w - 1).step_by(CHUNK_QUADS as usize) {
+                let (x1, z1) = ((cx + CHUNK_QUADS).min(w - 1), (cz + CHUNK_QUADS).min(d - 1));
+                let base = m.positions.len() as u32;
+                let cols = x1 - cx + 1;
+                for z in cz..=z1 {
+                    for x in cx..=x1 {
+                        let p = pos(x, z);
+                        m.positions.push(p);
+                        m.normals.push(normal(x, z));
+                        m.colors.push([1.0; 4]);
+                        m.uvs.push(Vec2::new(p.x, p.z));
+                    }
+                }
+                for z in 0..(z1 - cz) {
+                    for x in 0..(x1 - cx) {
+                        let a = base + z * cols + x;
+                        let (b, c, e) = (a + 1, a + cols, a + cols + 1);
+                        // Counter-clockwise seen from above (+Y).
+                        m.indices.extend_from_slice(&[a, c, b, b, c, e]);
+                    }
+                }
+            }
+        }
+        m
+    }
+}
+
+impl crate::components::Validate for Terrain {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        let field = |name, r: Result<f32, String>| r.map(|_| ()).map_err(|m| (name, m));
+        field("size", num::check_positive(self.size.x, "size"))?;
+        field("size", num::check_positive(self.size.y, "size"))?;
+        field(
+            "max_height",
+            num::check_positive(self.max_height, "max height"),
+        )?;
+        field(
+            "pixel_density",
+            num::check_positive(self.pixel_density, "pixel density"),
+        )?;
+        field(
+            "band_distance",
+            num::check_positive(self.band_distance, "band distance"),
+        )?;
+        check_gradient(&self.gradient).map_err(|m| ("gradient", m))?;
+        match &self.heightmap {
+            HeightSource::File { path } if path.trim().is_empty() => {
+                return Err(("heightmap", "heightmap path is empty".to_owned()));
+            }
+            _ => {}
+        }
+        if let Some(d) = &self.displacement
+            && d.path.trim().is_empty()
+        {
+            return Err(("displacement", "displacement path is empty".to_owned()));
+        }
+        Ok(())
+    }
+}
+
+/// A gradient has 1..=[`MAX_GRADIENT_STOPS`] stops in ascending order.
+pub fn check_gradient(stops: &[GradientStop]) -> Result<(), String> {
+    if stops.is_empty() {
+        return Err("the gradient needs at least one colour stop".to_owned());
+    }
+    if stops.len() > MAX_GRADIENT_STOPS {
+        return Err(format!(
+            "the gradient has {} stops, at most {MAX_GRADIENT_STOPS} are allowed",
+            stops.len()
+        ));
+    }
+    if stops.windows(2).any(|w| w[1].at < w[0].at) {
+        return Err("gradient stops must be in ascending order of `at`".to_owned());
+    }
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn terrain() -> Terrain {
+        Terrain {
+            size: Vec2::splat(64.0),
+            heightmap: HeightSource::Noise {
+                seed: 3,
+                resolution: 65,
+                frequency: 0.05,
+                octaves: 4,
+                island: 1.0,
+            },
+            max_height: 8.0,
+            gradient: vec![GradientStop {
+                at: 0.0,
+                colour: Vec3::ONE,
+            }],
+            displacement: None,
+            pixel_density: 8.0,
+            band_distance: 6.0,
+            band_transition: 0.25,
+            casts_shadows: true,
+            outlined: true,
+        }
+    }
+
+    /// Property: the band never decreases with distance, and a terrain pixel is never smaller
+    /// than the probe texel there, for every face resolution.
+    #[test]
+    fn bands_grow_with_distance_and_never_undercut_a_texel() {
+        let t = terrain();
+        for n in [16u32, 64, 128, 384, 2048] {
+            let mut last = 0;
+            for i in 0..4000 {
+                let d = 0.01 + i as f32 * 0.1;
+                let b = t.band(d, n);
+                assert!(b >= last, "band fell from {last} to {b} at {d} (N {n})");
+                assert!(t.cell_size(b) >= 2.0 * d / n as f32 * 0.9999);
+                last = b;
+            }
+        }
+        assert_eq!(t.distance_band(6.0), 0);
+        assert_eq!(t.distance_band(6.1), 1);
+        assert_eq!(t.distance_band(12.0), 1);
+        assert_eq!(t.distance_band(12.5), 2);
+    }
+
+    #[test]
+    fn noise_islands_sink_at_the_border_and_meshes_are_chunked_and_upright() {
+        let t = terrain();
+        let h = Heightfield::from_noise(&t.heightmap, t.size, t.max_height).unwrap();
+        assert_eq!((h.width, h.depth), (65, 65));
+        assert!(h.heights.iter().all(|v| (0.0..=8.0).contains(v)));
+        assert!(
+            h.at(0, 32) < 1e-4 && h.at(32, 0) < 1e-4,
+            "the border is at sea level"
+        );
+        assert!(h.heights.iter().any(|v| *v > 1.0), "there are hills");
+        let m = h.mesh(t.size);
+        assert_eq!(m.triangle_count(), 64 * 64 * 2);
+        assert!(m.normals.iter().all(|n| n.y > 0.0));
+        for tri in m.indices.chunks_exact(3) {
+            let [a, b, c] = [0, 1, 2].map(|k| m.positions[tri[k] as usize]);
+            assert!((b - a).cross(c - a).y > 0.0, "triangles face up");
+        }
+        // The first chunk's triangles stay within its 32×32 quads.
+        let chunk = 64.0 / 64.0 * CHUNK_QUADS as f32;
+        for tri in m.indices[..(CHUNK_QUADS * CHUNK_QUADS * 6) as usize].chunks_exact(3) {
+            for &i in tri {
+                let p = m.positions[i as usize];
+                assert!(p.x <= -32.0 + chunk + 1e-4 && p.z <= -32.0 + chunk + 1e-4);
+            }
+        }
+        let round = Heightfield::from_u16(65, 65, &h.to_u16(8.0), 8.0);
+        assert!(
+            round
+                .heights
+                .iter()
+                .zip(&h.heights)
+                .all(|(a, b)| (a - b).abs() <= 8.0 / 65535.0)
+        );
+        assert!((h.sample(10.5, 20.0) - 0.5 * (h.at(10, 20) + h.at(11, 20))).abs() < 1e-5);
+    }
+
+    #[test]
+    fn bad_gradients_are_refused() {
+        assert!(check_gradient(&[]).unwrap_err().contains("at least one"));
+        let s = |at| GradientStop {
+            at,
+            colour: Vec3::ONE,
+        };
+        assert!(
+            check_gradient(&[s(0.5), s(0.2)])
+                .unwrap_err()
+                .contains("ascending")
+        );
+        assert!(check_gradient(&[s(0.0), s(1.0)]).is_ok());
+    }
+}

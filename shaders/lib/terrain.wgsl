@@ -1,0 +1,147 @@
+// Pixel-art terrain colouring (crates/scene/src/terrain.rs; the Godot terrain seed's
+// technique): the terrain is cut into a world-anchored grid of square pixels whose size
+// doubles in distance bands (never below the probe texel), and each pixel takes one colour:
+// the elevation gradient at its centre's height, perturbed by the displacement texture at its
+// centre. Bands come from the distance to the band origin (the grid probe's origin in a
+// capture, also for the eye probe; the camera in a G-buffer), so a pixel's colour does not
+// change while the camera moves inside a cell. Between bands, fine pixels are promoted to the
+// coarser band's by a Bayer pattern. The includer includes lib/common.wgsl and
+// lib/texture.wgsl and binds `terrains` and `terrain_data` at group 0, bindings 5 and 6.
+
+struct Terrain {
+    corner: vec3<f32>,
+    max_height: f32,
+    size: vec2<f32>,
+    samples: vec2<u32>,
+    heights_at: u32,
+    gradient_at: u32,
+    gradient_len: u32,
+    displacement: u32,
+    strength: f32,
+    tile_size: f32,
+    pixel_density: f32,
+    band_distance: f32,
+    band_transition: f32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
+}
+
+@group(0) @binding(5) var<storage, read> terrains: array<Terrain>;
+@group(0) @binding(6) var<storage, read> terrain_data: array<f32>;
+
+fn terrain_height_at(t: Terrain, x: i32, z: i32) -> f32 {
+    let s = vec2<i32>(t.samples);
+    let cx = clamp(x, 0, s.x - 1);
+    let cz = clamp(z, 0, s.y - 1);
+    return terrain_data[t.heights_at + u32(cz * s.x + cx)];
+}
+
+// Bilinear height at a point `q` relative to the corner (world units along X, Z).
+fn terrain_height(t: Terrain, q: vec2<f32>) -> f32 {
+    let g = q / t.size * vec2<f32>(t.samples - vec2(1u));
+    let i = vec2<i32>(floor(g));
+    let f = g - floor(g);
+    let a = mix(terrain_height_at(t, i.x, i.y), terrain_height_at(t, i.x + 1, i.y), f.x);
+    let b = mix(terrain_height_at(t, i.x, i.y + 1), terrain_height_at(t, i.x + 1, i.y + 1), f.x);
+    return mix(a, b, f.y);
+}
+
+// Band by distance only: 0 within band_distance, one more per doubling past it.
+fn terrain_distance_band(t: Terrain, d: f32) -> u32 {
+    if d <= t.band_distance {
+        return 0u;
+    }
+    return u32(max(ceil(log2(d / t.band_distance)), 0.0));
+}
+
+// The band at distance `d` from a probe of `n` texels per face edge: raised until a pixel is
+// at least the probe texel there (2d/n).
+fn terrain_band(t: Terrain, d: f32, n: f32) -> u32 {
+    let texel = 2.0 * d / n;
+    var b = terrain_distance_band(t, d);
+    for (var k = 0u; k < 30u; k++) {
+        if exp2(f32(b)) / t.pixel_density >= texel {
+            break;
+        }
+        b += 1u;
+    }
+    return b;
+}
+
+// Where a band's distances end (band 0: band_distance; band b: band_distance · 2^b).
+fn terrain_band_end(t: Terrain, b: u32) -> f32 {
+    return t.band_distance * exp2(f32(b));
+}
+
+// The world point at the centre of cell `cell` of size `s` (on the surface).
+fn terrain_cell_point(t: Terrain, cell: vec2<f32>, s: f32) -> vec3<f32> {
+    let q = (cell + 0.5) * s;
+    return vec3(t.corner.x + q.x, t.corner.y + terrain_height(t, q), t.corner.z + q.y);
+}
+
+// The gradient's colour at normalised elevation `e` (linear between stops, clamped).
+fn terrain_gradient(t: Terrain, e: f32) -> vec3<f32> {
+    var colour = vec3(
+        terrain_data[t.gradient_at + 1u],
+        terrain_data[t.gradient_at + 2u],
+        terrain_data[t.gradient_at + 3u],
+    );
+    var prev_at = terrain_data[t.gradient_at];
+    for (var i = 1u; i < t.gradient_len; i++) {
+        let k = t.gradient_at + 4u * i;
+        let at = terrain_data[k];
+        let c = vec3(terrain_data[k + 1u], terrain_data[k + 2u], terrain_data[k + 3u]);
+        if e >= at {
+            colour = c;
+            prev_at = at;
+            continue;
+        }
+        if e > prev_at {
+            colour = mix(colour, c, (e - prev_at) / max(at - prev_at, 1e-6));
+        }
+        break;
+    }
+    return colour;
+}
+
+// The colour of terrain `t` at world point `p`, with bands measured from `origin` for a
+// probe of `n` texels per face edge (a huge `n`: no texel bound).
+fn terrain_colour(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> vec3<f32> {
+    let q = p.xz - t.corner.xz;
+    // The finest band whose own cell containing p is far enough to belong to it.
+    var b = 0u;
+    var s = 1.0 / t.pixel_density;
+    var cell = floor(q / s);
+    var d = distance(terrain_cell_point(t, cell, s), origin);
+    for (var k = 0u; k < 30u; k++) {
+        if terrain_band(t, d, n) <= b {
+            break;
+        }
+        b += 1u;
+        s = exp2(f32(b)) / t.pixel_density;
+        cell = floor(q / s);
+        d = distance(terrain_cell_point(t, cell, s), origin);
+    }
+    // Toward the band's far end, a Bayer share of its cells takes the next band's pixel.
+    let end = terrain_band_end(t, b);
+    let start = select(end * 0.5, 0.0, b == 0u);
+    let width = t.band_transition * (end - start);
+    if width > 0.0 {
+        let ramp = clamp((d - (end - width)) / width, 0.0, 1.0);
+        let i = vec2<i32>(cell);
+        if ramp > bayer_threshold(vec2<u32>(i & vec2(0x3fffffff))) {
+            b += 1u;
+            s = exp2(f32(b)) / t.pixel_density;
+            cell = floor(q / s);
+        }
+    }
+    let centre = (cell + 0.5) * s;
+    var e = terrain_height(t, centre) / t.max_height;
+    if t.displacement != NO_TEXTURE {
+        let info = tex_infos[t.displacement];
+        let disp = tex_level(info, 0u, (centre + t.corner.xz) / t.tile_size).r;
+        e += (disp - 0.5) * t.strength;
+    }
+    return terrain_gradient(t, clamp(e, 0.0, 1.0));
+}

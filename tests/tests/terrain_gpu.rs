@@ -1,0 +1,153 @@
+//! Terrain through the texel-splat renderer: one colour per world pixel cell on a flat
+//! terrain, probe texels that do not depend on the camera, and the bundled island.
+
+use std::collections::HashMap;
+
+use glam::{UVec2, Vec3};
+use texel_render::input::Camera;
+use texel_tests::{Harness, check_golden};
+
+const DT: f32 = 1.0 / 30.0;
+
+fn cam(x: f32, y: f32, z: f32, yaw: f32, pitch: f32) -> Camera {
+    Camera::from_yaw_pitch(Vec3::new(x, y, z), yaw, pitch)
+}
+
+fn settle(h: &mut Harness, c: Camera) -> (Vec<u8>, u32) {
+    let (mut px, mut faces) = (Vec::new(), 0);
+    for _ in 0..8 {
+        let (_, stats, p) = h.frame(c, DT);
+        faces += stats.counters.faces_captured;
+        px = p;
+    }
+    (px, faces)
+}
+
+/// A flat terrain at height 0 (a constant 16-bit heightmap), lit straight from above, no
+/// outlines, with a displacement texture so neighbouring cells differ: `band_distance` far
+/// beyond the view keeps every cell in the finest band.
+fn flat_terrain_level(dir: &std::path::Path, density: f32) -> std::path::PathBuf {
+    let png = texel_scene::texture::encode_heightmap(4, 4, &[0; 16]);
+    std::fs::write(dir.join("flat.png"), png).unwrap();
+    let disp = texel_tests::repo_root().join("assets/textures/displacement.png");
+    let text = format!(
+        "(version: 3, settings: (sky: (0.5, 0.6, 0.8), ambient: (0.0, 0.0, 0.0), bands: 256, \
+         pixel_scale: FaceResolution(64), cell_size: 1.0),\n entities: [(name: \"T\", \
+         terrain: (size: (200.0, 200.0), heightmap: File(path: \"flat.png\"), max_height: 1.0, \
+         gradient: [(at: 0.0, colour: (0.1, 0.1, 0.1)), (at: 1.0, colour: (1.0, 1.0, 1.0))], \
+         displacement: (path: {disp:?}, strength: 1.0, tile_size: 3.0), \
+         pixel_density: {density:?}, band_distance: 1000.0, band_transition: 0.0, \
+         outlined: false)),\n (directional_light: (direction: (0.0, -1.0, 0.0), \
+         colour: (1.0, 1.0, 1.0), intensity: 1.0))])\n"
+    );
+    let path = dir.join("flat.ron");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// Every texel of the face below the probe whose centre ray meets the same world cell holds
+/// the same colour, and the cells differ (the displacement shows).
+#[test]
+fn a_flat_terrain_face_holds_one_colour_per_world_cell() {
+    let dir = tempfile::tempdir().unwrap();
+    let density = 2.0;
+    let level = flat_terrain_level(dir.path(), density);
+    let size = UVec2::new(128, 72);
+    let Some(mut h) = Harness::new(level.to_str().unwrap(), size, 64) else {
+        return;
+    };
+    let c = cam(0.3, 1.6, 0.2, 0.0, -30.0);
+    settle(&mut h, c);
+    let input = h.frame(c, DT).0;
+    let origin = input.grid.origin;
+    let (n, faces) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, input.grid.slot)
+        .expect("read back");
+    // Face −Y (index 3); the cube convention of texel_probes::cube gives each texel's ray.
+    let face = texel_probes::cube::Face::ALL[3];
+    let mut cells: HashMap<(i64, i64), [u8; 3]> = HashMap::new();
+    let mut texels = 0;
+    for y in 0..n {
+        for x in 0..n {
+            let texel = texel_probes::cube::Texel { face, x, y };
+            let d = texel_probes::cube::texel_center_direction(texel, n);
+            let t = origin.y / -d.y;
+            let p = origin + d * t;
+            // Cells are anchored at the terrain's corner (−100, −100).
+            let q = (p.x + 100.0, p.z + 100.0);
+            let fx = q.0 * density;
+            let fz = q.1 * density;
+            // Skip texels whose hit is within a hair of a cell edge (rounding).
+            if (fx - fx.round()).abs() < 1e-3 || (fz - fz.round()).abs() < 1e-3 {
+                continue;
+            }
+            let key = (fx.floor() as i64, fz.floor() as i64);
+            let i = ((y * n + x) * 4) as usize;
+            let colour = [faces[3][i], faces[3][i + 1], faces[3][i + 2]];
+            texels += 1;
+            let first = *cells.entry(key).or_insert(colour);
+            assert_eq!(first, colour, "cell {key:?} holds two colours");
+        }
+    }
+    let distinct: std::collections::HashSet<_> = cells.values().collect();
+    assert!(
+        texels > 3000 && cells.len() > 20,
+        "{texels} texels in {} cells",
+        cells.len()
+    );
+    assert!(distinct.len() > 5, "only {} colours", distinct.len());
+}
+
+/// A grid probe captured again from elsewhere in its cell, after both stable slots held
+/// other probes, lights every terrain texel exactly as before: bands are measured from the
+/// probe origin, never the camera.
+#[test]
+fn terrain_probe_texels_do_not_depend_on_the_camera() {
+    let size = UVec2::new(160, 90);
+    let Some(mut h) = Harness::new("assets/levels/terrain_hills.ron", size, 48) else {
+        return;
+    };
+    let at = cam(0.2, 12.0, 30.3, 0.0, -20.0);
+    settle(&mut h, at);
+    let first = h.frame(at, DT).0;
+    let (n, before) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, first.grid.slot)
+        .expect("read back");
+    settle(&mut h, cam(3.2, 12.0, 27.1, 0.0, -20.0));
+    settle(&mut h, cam(-3.1, 12.0, 25.9, 0.0, -20.0));
+    let back = cam(-0.3, 12.2, 29.8, 0.0, -20.0);
+    let (_, recaptured) = settle(&mut h, back);
+    assert!(recaptured >= 6, "captured again ({recaptured} faces)");
+    let again = h.frame(back, DT).0;
+    assert_eq!(again.grid.origin, first.grid.origin);
+    let (_, after) = h
+        .renderer()
+        .read_lit_faces(&h.ctx, again.grid.slot)
+        .expect("read back");
+    let mut colours = std::collections::HashSet::new();
+    // The faces this view needs (−Y below, −Z ahead); the others hold whatever the slot
+    // last held.
+    for f in [3, 5] {
+        let (a, b) = (&before[f], &after[f]);
+        let differ = a
+            .chunks_exact(4)
+            .zip(b.chunks_exact(4))
+            .filter(|(x, y)| x != y)
+            .count();
+        assert_eq!(differ, 0, "face {f}: {differ} of {} texels differ", n * n);
+        colours.extend(a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]));
+    }
+    assert!(colours.len() > 50, "{} colours", colours.len());
+}
+
+#[test]
+fn terrain_hills_golden_image() {
+    let size = UVec2::new(256, 144);
+    let Some(mut h) = Harness::new("assets/levels/terrain_hills.ron", size, 64) else {
+        return;
+    };
+    let (px, _) = settle(&mut h, cam(0.3, 16.0, 44.0, 0.0, -22.0));
+    check_golden("terrain_hills_overview", &px, size, 0.002);
+}
