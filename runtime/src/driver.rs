@@ -592,7 +592,9 @@ pub fn terrain_input(
     assets: &texel_scene::assets::AssetLibrary,
 ) -> Option<(TerrainInput, Arc<texel_scene::TriMesh>)> {
     let field = assets.heightfield(terrain)?;
-    let mesh = Arc::new(field.mesh(terrain.size));
+    // Skirts deep enough to hide the cracks between levels: the largest height step between
+    // neighbouring samples bounds what a coarser level can miss.
+    let mesh = Arc::new(field.lod_mesh(terrain.size, skirt_depth(field)));
     let corner = t.translation - Vec3::new(0.5 * terrain.size.x, 0.0, 0.5 * terrain.size.y);
     let displacement = terrain.displacement.as_ref().and_then(|d| {
         let image = assets.texture(&d.path)?.clone();
@@ -613,6 +615,28 @@ pub fn terrain_input(
         },
         mesh,
     ))
+}
+
+/// How deep a terrain's chunk skirts hang: the steepest step between neighbouring samples,
+/// times the widest stride a coarse level skips (bounded by the whole height range).
+fn skirt_depth(field: &texel_scene::terrain::Heightfield) -> f32 {
+    let mut step: f32 = 0.0;
+    let (w, d) = (i64::from(field.width), i64::from(field.depth));
+    for z in 0..d {
+        for x in 0..w {
+            let h = field.at(x, z);
+            step = step
+                .max((field.at(x + 1, z) - h).abs())
+                .max((field.at(x, z + 1) - h).abs());
+        }
+    }
+    let (lo, hi) = field
+        .heights
+        .iter()
+        .fold((f32::MAX, f32::MIN), |(a, b), &h| (a.min(h), b.max(h)));
+    (step * texel_scene::terrain::CHUNK_QUADS as f32 * 0.5)
+        .min(hi - lo)
+        .max(0.05)
 }
 
 /// A displacement image as the renderer samples it: nearest, repeating.

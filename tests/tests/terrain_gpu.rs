@@ -143,7 +143,7 @@ fn terrain_probe_texels_do_not_depend_on_the_camera() {
 }
 
 #[test]
-fn terrain_hills_golden_image() {
+fn terrain_hills_golden_images() {
     let size = UVec2::new(256, 144);
     let Some(mut h) = Harness::new("assets/levels/terrain_hills.ron", size, 64) else {
         return;

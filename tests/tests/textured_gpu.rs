@@ -29,7 +29,7 @@ fn settle_counting(h: &mut Harness, c: Camera) -> (Vec<u8>, u32) {
 }
 
 #[test]
-fn textured_level_golden_image() {
+fn textured_level_golden_images() {
     let size = UVec2::new(256, 144);
     let Some(mut h) = Harness::new("assets/levels/textured.ron", size, 64) else {
         return;

@@ -6,5 +6,5 @@ pub mod limits;
 pub mod mesh;
 pub mod texture;
 
-pub use mesh::{MeshPart, TriMesh};
+pub use mesh::{LodPiece, MeshPart, TriMesh};
 pub use texture::{Filter, Image, Sampler, SurfaceMaps, TextureRef, Wrap};

@@ -24,6 +24,31 @@ pub struct TriMesh {
     /// `first_triangle`; triangles before the first part, or in a part without maps, use the
     /// object's material.
     pub parts: Vec<MeshPart>,
+    /// Levels of detail (terrains): when not empty, every triangle belongs to exactly one
+    /// piece, and a raster draws, per chunk, only the pieces of the level it picks for its
+    /// distance; a G-buffer and the shadow BVH take level 0.
+    pub pieces: Vec<LodPiece>,
+}
+
+/// A run of triangles holding one chunk of a mesh at one level of detail.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct LodPiece {
+    /// First triangle.
+    pub first_triangle: u32,
+    /// Triangles in the run.
+    pub triangles: u32,
+    /// The chunk it draws (the same for every level of a chunk).
+    pub chunk: u32,
+    /// Its level (0 = full detail); each level doubles the spacing.
+    pub lod: u32,
+    /// The chunk's coarsest level.
+    pub max_lod: u32,
+    /// Object-space distance between samples at level 0.
+    pub spacing: f32,
+    /// The chunk's object-space bounds (the same for every level).
+    pub min: Vec3,
+    /// See [`LodPiece::min`].
+    pub max: Vec3,
 }
 
 /// Triangles from `first_triangle` up to the next part's start share these textures.
@@ -129,6 +154,7 @@ mod tests {
                 Vec::new()
             },
             parts: Vec::new(),
+            pieces: Vec::new(),
         }
     }
 

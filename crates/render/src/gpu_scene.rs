@@ -40,6 +40,29 @@ pub struct Vertex {
     pub grad_v: [f32; 3],
 }
 
+/// World bounds of an object-space box under `m`.
+fn transform_bounds(m: glam::Mat4, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
+    let mut lo = Vec3::splat(f32::INFINITY);
+    let mut hi = Vec3::splat(f32::NEG_INFINITY);
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        );
+        let p = m.transform_point3(c);
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    (lo, hi)
+}
+
+/// The largest axis scale of `m`.
+fn max_scale(m: glam::Mat4) -> f32 {
+    let (scale, _, _) = m.to_scale_rotation_translation();
+    scale.abs().max_element()
+}
+
 /// The terrains' records and their heights and gradients in one float array (each list at
 /// least one element long, as bindings need).
 fn terrain_records(scene: &SceneInput, textures: &mut TextureSet) -> (Vec<GpuTerrain>, Vec<f32>) {
@@ -173,6 +196,107 @@ pub struct GpuTerrain {
     pub _pad: [u32; 3],
 }
 
+/// Most triangles in one [`DrawRange`]: a terrain chunk of 32×32 quads.
+pub const RANGE_TRIANGLES: u32 = 2048;
+
+/// A run of vertices in the vertex buffer and their world bounds.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct DrawRange {
+    /// First vertex.
+    pub first: u32,
+    /// Vertices (three per triangle).
+    pub count: u32,
+    /// Bounds.
+    pub min: Vec3,
+    /// Bounds.
+    pub max: Vec3,
+    /// Level of detail (0 for everything but terrain chunks).
+    pub lod: u32,
+    /// The chunk's coarsest level (0: no levels).
+    pub max_lod: u32,
+    /// World distance between samples at level 0.
+    pub spacing: f32,
+}
+
+impl DrawRange {
+    /// Whether any part of the box may be inside the clip volume of `view_proj` (depth 0..1):
+    /// false only when all eight corners are beyond one clip plane.
+    pub fn may_be_visible(&self, view_proj: &glam::Mat4) -> bool {
+        let corners: [glam::Vec4; 8] = std::array::from_fn(|i| {
+            let p = Vec3::new(
+                if i & 1 == 0 { self.min.x } else { self.max.x },
+                if i & 2 == 0 { self.min.y } else { self.max.y },
+                if i & 4 == 0 { self.min.z } else { self.max.z },
+            );
+            *view_proj * p.extend(1.0)
+        });
+        let outside = |f: &dyn Fn(&glam::Vec4) -> bool| corners.iter().all(f);
+        !(outside(&|c| c.x < -c.w)
+            || outside(&|c| c.x > c.w)
+            || outside(&|c| c.y < -c.w)
+            || outside(&|c| c.y > c.w)
+            || outside(&|c| c.z < 0.0)
+            || outside(&|c| c.z > c.w))
+    }
+}
+
+/// Every range at level 0 (terrains at full detail), neighbours merged.
+pub fn full_detail_runs(ranges: &[DrawRange]) -> Vec<(u32, u32)> {
+    let mut runs: Vec<(u32, u32)> = Vec::new();
+    for r in ranges.iter().filter(|r| r.lod == 0) {
+        match runs.last_mut() {
+            Some(last) if last.0 + last.1 == r.first => last.1 += r.count,
+            _ => runs.push((r.first, r.count)),
+        }
+    }
+    runs
+}
+
+/// The level a chunk is drawn at from `origin` on faces of `n` texels: the coarsest whose
+/// sample spacing is at most one probe texel at the chunk's nearest point (`2d / n`).
+pub fn chunk_lod(r: &DrawRange, origin: Vec3, n: u32) -> u32 {
+    if r.max_lod == 0 || r.spacing <= 0.0 {
+        return 0;
+    }
+    let d = (origin.clamp(r.min, r.max) - origin).length();
+    let texel = 2.0 * d / n as f32;
+    let ratio = texel / r.spacing;
+    if ratio < 2.0 {
+        return 0;
+    }
+    (ratio.log2().floor() as u32).min(r.max_lod)
+}
+
+/// How a raster picks terrain levels: from a probe (`origin`, `n` texels per face edge), or
+/// level 0 everywhere (a G-buffer).
+#[derive(Debug, Clone, Copy)]
+pub enum LodFrom {
+    /// Levels for a probe at `origin` with faces of `n` texels.
+    Probe(Vec3, u32),
+    /// Full detail.
+    Full,
+}
+
+/// The vertex runs of `ranges` that may be visible through `view_proj`, at the level `lod`
+/// picks for each chunk, neighbours merged.
+pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<(u32, u32)> {
+    let mut runs: Vec<(u32, u32)> = Vec::new();
+    let wanted = |r: &DrawRange| match lod {
+        LodFrom::Full => r.lod == 0,
+        LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
+    };
+    for r in ranges
+        .iter()
+        .filter(|r| wanted(r) && r.may_be_visible(view_proj))
+    {
+        match runs.last_mut() {
+            Some(last) if last.0 + last.1 == r.first => last.1 += r.count,
+            _ => runs.push((r.first, r.count)),
+        }
+    }
+    runs
+}
+
 /// The uploaded scene.
 pub struct GpuScene {
     /// Capture vertices.
@@ -197,6 +321,9 @@ pub struct GpuScene {
     pub object_ids: Vec<u32>,
     /// The textures.
     pub textures: GpuTextures,
+    /// Consecutive runs of at most [`RANGE_TRIANGLES`] triangles of one object with their
+    /// world bounds: a raster draws only the ranges its frustum meets.
+    pub ranges: Vec<DrawRange>,
     /// Terrain records (at least one).
     pub terrains: wgpu::Buffer,
     /// Terrain heights and gradient stops (at least one word).
@@ -213,6 +340,7 @@ impl GpuScene {
     /// the shadow BVH. Fails only when the textures do not fit the device's limits.
     pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, AtlasError> {
         let mut vertices = Vec::new();
+        let mut ranges: Vec<DrawRange> = Vec::new();
         let mut textures = TextureSet::default();
         let mut objects = Vec::with_capacity(scene.objects.len().max(1));
         let mut casters: Vec<[Vec3; 3]> = Vec::new();
@@ -244,8 +372,46 @@ impl GpuScene {
                 };
                 part_surfaces.push(textures.surface(maps));
             }
+            let mut piece = 0usize;
+            let mut piece_start = 0u32;
             for (t, tri) in o.mesh.indices.chunks_exact(3).enumerate() {
                 let t = t as u32;
+                // A new range at every piece (level of a chunk) and every RANGE_TRIANGLES.
+                while piece < o.mesh.pieces.len()
+                    && t >= o.mesh.pieces[piece].first_triangle + o.mesh.pieces[piece].triangles
+                {
+                    piece += 1;
+                }
+                let lod_piece = o.mesh.pieces.get(piece).filter(|p| t >= p.first_triangle);
+                let starts_piece = lod_piece.is_some_and(|p| p.first_triangle == t);
+                if starts_piece {
+                    piece_start = t;
+                }
+                if starts_piece || (t - piece_start).is_multiple_of(RANGE_TRIANGLES) {
+                    let (lod, max_lod, spacing, min, max) = match lod_piece {
+                        Some(p) => {
+                            let (lo, hi) = transform_bounds(o.transform, p.min, p.max);
+                            (p.lod, p.max_lod, p.spacing * max_scale(o.transform), lo, hi)
+                        }
+                        None => (
+                            0,
+                            0,
+                            0.0,
+                            Vec3::splat(f32::INFINITY),
+                            Vec3::splat(f32::NEG_INFINITY),
+                        ),
+                    };
+                    ranges.push(DrawRange {
+                        first: vertices.len() as u32,
+                        count: 0,
+                        min,
+                        max,
+                        lod,
+                        max_lod,
+                        spacing,
+                    });
+                }
+                let level0 = lod_piece.is_none_or(|p| p.lod == 0);
                 let surface = match o.mesh.parts.partition_point(|p| p.first_triangle <= t) {
                     0 => own,
                     after => part_surfaces[after - 1],
@@ -256,6 +422,15 @@ impl GpuScene {
                         .transform_point3(o.mesh.positions[tri[c] as usize])
                 });
                 let (gu, gv) = uv_gradients(world, order.map(|c| o.mesh.uv(tri[c] as usize)));
+                if let Some(r) = ranges.last_mut() {
+                    r.count += 3;
+                    if r.max_lod == 0 {
+                        for p in world {
+                            r.min = r.min.min(p);
+                            r.max = r.max.max(p);
+                        }
+                    }
+                }
                 for (k, &c) in order.iter().enumerate() {
                     let i = tri[c] as usize;
                     let p = world[k];
@@ -271,7 +446,7 @@ impl GpuScene {
                         grad_v: gv.to_array(),
                     });
                 }
-                if m.casts_shadows {
+                if m.casts_shadows && level0 {
                     casters.push(world);
                 }
             }
@@ -338,6 +513,7 @@ impl GpuScene {
             shadow_triangles: casters.len(),
             object_ids: scene.objects.iter().map(|o| o.id).collect(),
             textures,
+            ranges,
             terrains: storage(
                 "scene::terrains",
                 bytemuck::cast_slice(&gpu_terrains),
@@ -369,6 +545,28 @@ impl GpuScene {
 mod tests {
     use super::*;
     use glam::Vec2;
+
+    #[test]
+    fn ranges_outside_a_frustum_are_skipped_and_neighbours_merge() {
+        let mut camera = crate::input::Camera::looking(Vec3::ZERO, -Vec3::Z);
+        camera.far = 100.0;
+        let view_proj = camera.projection(1.0) * camera.view();
+        let r = |first, z: f32| DrawRange {
+            first,
+            count: 3,
+            min: Vec3::new(-1.0, -1.0, z - 1.0),
+            max: Vec3::new(1.0, 1.0, z + 1.0),
+            lod: 0,
+            max_lod: 0,
+            spacing: 0.0,
+        };
+        // In front, in front, behind, beyond the far plane, in front.
+        let ranges = [r(0, -5.0), r(3, -9.0), r(6, 5.0), r(9, -200.0), r(12, -3.0)];
+        assert_eq!(
+            visible_runs(&ranges, &view_proj, LodFrom::Full),
+            vec![(0, 6), (12, 3)]
+        );
+    }
 
     #[test]
     fn uv_gradients_recover_a_linear_map() {

@@ -242,6 +242,136 @@ impl Heightfield {
             .collect()
     }
 
+    /// The terrain's mesh with levels of detail: per chunk of [`CHUNK_QUADS`]² quads, one
+    /// piece per level (every 1st, 2nd, 4th, … sample up to one quad per chunk), each with a
+    /// skirt hanging from its border (`skirt` deep) so neighbouring chunks at different
+    /// levels leave no crack to see through. A capture draws each chunk at the level its
+    /// distance needs (`texel_geom::LodPiece`); shadows and G-buffers take level 0.
+    pub fn lod_mesh(&self, size: Vec2, skirt: f32) -> TriMesh {
+        use texel_geom::LodPiece;
+        let (w, d) = (self.width.max(2), self.depth.max(2));
+        let step = Vec2::new(size.x / (w - 1) as f32, size.y / (d - 1) as f32);
+        let pos = |x: u32, z: u32| {
+            Vec3::new(
+                -0.5 * size.x + x as f32 * step.x,
+                self.at(i64::from(x), i64::from(z)),
+                -0.5 * size.y + z as f32 * step.y,
+            )
+        };
+        let normal = |x: u32, z: u32, stride: u32| {
+            let (x, z, k) = (i64::from(x), i64::from(z), i64::from(stride));
+            let dx = (self.at(x + k, z) - self.at(x - k, z)) / (2.0 * k as f32 * step.x);
+            let dz = (self.at(x, z + k) - self.at(x, z - k)) / (2.0 * k as f32 * step.y);
+            Vec3::new(-dx, 1.0, -dz).normalize()
+        };
+        let mut m = TriMesh::default();
+        // Chunks with their far corners, levels and bounds.
+        let mut chunks = Vec::new();
+        for cz in (0..d - 1).step_by(CHUNK_QUADS as usize) {
+            for cx in (0..w - 1).step_by(CHUNK_QUADS as usize) {
+                let (x1, z1) = ((cx + CHUNK_QUADS).min(w - 1), (cz + CHUNK_QUADS).min(d - 1));
+                let span = (x1 - cx).max(z1 - cz);
+                let max_lod = span.max(1).ilog2();
+                let (mut lo, mut hi) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+                for z in cz..=z1 {
+                    for x in cx..=x1 {
+                        lo = lo.min(pos(x, z));
+                        hi = hi.max(pos(x, z));
+                    }
+                }
+                chunks.push((cx, cz, x1, z1, max_lod, lo, hi));
+            }
+        }
+        // Level by level, so that chunks drawn at the same level are one run of triangles.
+        let top = chunks.iter().map(|c| c.4).max().unwrap_or(0);
+        for lod in 0..=top {
+            for (chunk, &(cx, cz, x1, z1, max_lod, lo, hi)) in chunks.iter().enumerate() {
+                let chunk = chunk as u32;
+                if lod > max_lod {
+                    continue;
+                }
+                {
+                    let stride = 1u32 << lod;
+                    let first = m.triangle_count() as u32;
+                    // Sample columns and rows of this level, always including the chunk's
+                    // far edges so neighbours meet.
+                    let line = |a: u32, b: u32| {
+                        let mut v: Vec<u32> = (a..b).step_by(stride as usize).collect();
+                        v.push(b);
+                        v
+                    };
+                    let (xs, zs) = (line(cx, x1), line(cz, z1));
+                    let base = m.positions.len() as u32;
+                    let cols = xs.len() as u32;
+                    for &z in &zs {
+                        for &x in &xs {
+                            let p = pos(x, z);
+                            m.positions.push(p);
+                            m.normals.push(normal(x, z, stride));
+                            m.colors.push([1.0; 4]);
+                            m.uvs.push(Vec2::new(p.x, p.z));
+                        }
+                    }
+                    for j in 0..zs.len() as u32 - 1 {
+                        for i in 0..cols - 1 {
+                            let a = base + j * cols + i;
+                            let (b, c, e) = (a + 1, a + cols, a + cols + 1);
+                            m.indices.extend_from_slice(&[a, c, b, b, c, e]);
+                        }
+                    }
+                    // The skirt: the border's samples, and copies `skirt` below them.
+                    let mut border: Vec<(u32, u32)> = Vec::new();
+                    border.extend(xs.iter().map(|&x| (x, cz)));
+                    border.extend(zs[1..].iter().map(|&z| (x1, z)));
+                    border.extend(xs.iter().rev().skip(1).map(|&x| (x, z1)));
+                    border.extend(zs.iter().rev().skip(1).map(|&z| (cx, z)));
+                    let centre = 0.5 * (pos(cx, cz) + pos(x1, z1));
+                    for pair in border.windows(2) {
+                        let [(ax, az), (bx, bz)] = [pair[0], pair[1]];
+                        let (pa, pb) = (pos(ax, az), pos(bx, bz));
+                        let out = {
+                            let mid = 0.5 * (pa + pb) - centre;
+                            Vec3::new(mid.x, 0.0, mid.z).normalize_or_zero()
+                        };
+                        let k = m.positions.len() as u32;
+                        for p in [pa, pb, pb - Vec3::Y * skirt, pa - Vec3::Y * skirt] {
+                            m.positions.push(p);
+                            m.normals.push(out);
+                            m.colors.push([1.0; 4]);
+                            m.uvs.push(Vec2::new(p.x, p.z));
+                        }
+                        // Facing outward, counter-clockwise seen from outside.
+                        let tri = |a: u32, b: u32, c: u32, m: &TriMesh| {
+                            let n = (m.positions[b as usize] - m.positions[a as usize])
+                                .cross(m.positions[c as usize] - m.positions[a as usize]);
+                            if n.dot(out) >= 0.0 {
+                                [a, b, c]
+                            } else {
+                                [a, c, b]
+                            }
+                        };
+                        let t1 = tri(k, k + 1, k + 2, &m);
+                        let t2 = tri(k, k + 2, k + 3, &m);
+                        m.indices.extend_from_slice(&t1);
+                        m.indices.extend_from_slice(&t2);
+                    }
+                    m.pieces.push(LodPiece {
+                        first_triangle: first,
+                        triangles: m.triangle_count() as u32 - first,
+                        chunk,
+                        lod,
+                        max_lod,
+                        spacing: step.x.max(step.y),
+                        min: lo - Vec3::Y * skirt,
+                        max: hi,
+                    });
+                }
+            }
+        }
+        m.pieces.sort_by_key(|p| p.first_triangle);
+        m
+    }
+
     /// The terrain's mesh in object space (centred on the origin, heights up from 0), built
     /// chunk by chunk of [`CHUNK_QUADS`]² quads; smooth normals from the height differences.
     pub fn mesh(&self, size: Vec2) -> TriMesh {
@@ -423,6 +553,30 @@ mod tests {
                 .all(|(a, b)| (a - b).abs() <= 8.0 / 65535.0)
         );
         assert!((h.sample(10.5, 20.0) - 0.5 * (h.at(10, 20) + h.at(11, 20))).abs() < 1e-5);
+    }
+
+    #[test]
+    fn lod_meshes_hold_every_level_of_every_chunk() {
+        let t = terrain();
+        let h = Heightfield::from_noise(&t.heightmap, t.size, t.max_height).unwrap();
+        let m = h.lod_mesh(t.size, 0.5);
+        // 64 quads per edge: 2 × 2 chunks of 32, each with levels 0..=5.
+        assert_eq!(m.pieces.len(), 4 * 6);
+        let total: u32 = m.pieces.iter().map(|p| p.triangles).sum();
+        assert_eq!(total as usize, m.triangle_count());
+        let level0: Vec<_> = m.pieces.iter().filter(|p| p.lod == 0).collect();
+        // Level 0 is the full mesh plus skirts: 32 × 32 × 2 surface triangles per chunk.
+        for p in &level0 {
+            assert_eq!(p.triangles, 32 * 32 * 2 + 4 * 32 * 2);
+            assert_eq!(p.max_lod, 5);
+        }
+        let coarsest = m.pieces.iter().find(|p| p.lod == 5).unwrap();
+        assert_eq!(coarsest.triangles, 2 + 4 * 2);
+        // Every level of a chunk shares its bounds.
+        for p in &m.pieces {
+            let l0 = level0.iter().find(|q| q.chunk == p.chunk).unwrap();
+            assert_eq!((p.min, p.max), (l0.min, l0.max));
+        }
     }
 
     #[test]

@@ -223,11 +223,14 @@ impl GBufferPass {
             colour: &colour,
             depth: &targets.depth.view,
         };
+        // Terrains at full detail, no culling (a G-buffer is one view, drawn once).
+        let runs = crate::gpu_scene::full_detail_runs(&scene.ranges);
         let draw = RasterDraw {
             pipeline: &self.pipeline,
             bind: &bind,
             offsets: &[],
             scissor: None,
+            runs: Some(&runs),
         };
         raster::record(encoder, "baselines::gbuffer::pass", &targets, scene, &draw);
     }

@@ -148,6 +148,10 @@ impl CapturePass {
         let bind = bind_group(device, "capture::bind", &self.layout, &resources);
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
+            // Only the ranges this face may see (terrain chunks, objects).
+            let view_proj = face_view_projection(c.origin, c.face, CAPTURE_NEAR, CAPTURE_FAR);
+            let lod = crate::gpu_scene::LodFrom::Probe(c.origin, slot.n);
+            let runs = crate::gpu_scene::visible_runs(&scene.ranges, &view_proj, lod);
             let f = c.face.index();
             let clear = wgpu::Color::TRANSPARENT;
             let targets = RasterTargets {
@@ -164,6 +168,7 @@ impl CapturePass {
                 bind: &bind,
                 offsets: &[(i as u64 * UNIFORM_STRIDE) as u32],
                 scissor: rects.get(i).copied().flatten(),
+                runs: Some(&runs),
             };
             raster::record(encoder, "capture::face", &targets, scene, &draw);
         }

@@ -51,6 +51,9 @@ pub(crate) struct RasterDraw<'a> {
     pub(crate) bind: &'a wgpu::BindGroup,
     pub(crate) offsets: &'a [u32],
     pub(crate) scissor: Option<TexelRect>,
+    /// Draw only these vertex runs `(first, count)` (the ranges the view may see); `None`
+    /// draws every triangle.
+    pub(crate) runs: Option<&'a [(u32, u32)]>,
 }
 
 /// Records one render pass that clears `targets` and draws every triangle of `scene`.
@@ -100,7 +103,14 @@ pub(crate) fn record(
     pass.set_pipeline(draw.pipeline);
     pass.set_bind_group(0, draw.bind, draw.offsets);
     pass.set_vertex_buffer(0, scene.vertices.slice(..));
-    pass.draw(0..scene.vertex_count, 0..1);
+    match draw.runs {
+        Some(runs) => {
+            for &(first, count) in runs {
+                pass.draw(first..first + count, 0..1);
+            }
+        }
+        None => pass.draw(0..scene.vertex_count, 0..1),
+    }
 }
 
 /// The clear value of a target storing depth in alpha: [`texel_geom::limits::SKY_DEPTH`].

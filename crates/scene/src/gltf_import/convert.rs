@@ -275,7 +275,7 @@ impl<'a> Importer<'a> {
                 colors,
                 indices,
                 uvs,
-                parts: Vec::new(),
+                ..TriMesh::default()
             },
             None => flat_shaded(&positions, &colors, &uvs, &indices),
         };
