@@ -127,6 +127,19 @@ fn level_with_mesh(dir: &Path, name: &str, mesh: &str) -> PathBuf {
     path
 }
 
+/// A level whose one entity is a terrain with the heightmap file `heightmap`.
+fn level_with_terrain(dir: &Path, name: &str, heightmap: &str) -> PathBuf {
+    let path = dir.join(name);
+    let text = format!(
+        "(version: 3, entities: [(name: \"T\",\n terrain: (size: (16.0, 16.0), \
+         heightmap: File(path: {heightmap:?}), max_height: 4.0, \
+         gradient: [(at: 0.0, colour: (0.2, 0.5, 0.1))], pixel_density: 4.0, \
+         band_distance: 8.0, band_transition: 0.3))])\n"
+    );
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
 /// A blank RGBA image of `w` × `h`.
 fn texel_geom_image(w: u32, h: u32) -> texel_scene::texture::Image {
     texel_scene::texture::Image::solid("blank", w, h, [0; 4])
@@ -439,6 +452,46 @@ fn hostile_files_are_refused_fast_with_a_clear_error() {
         textured("texture sparse 1 TiB", "textures/sparse.png", "too large"),
         textured("texture FIFO", "textures/fifo.png", "a FIFO"),
         textured("texture directory", "textures", "a directory"),
+    ]);
+    // Heightmaps: missing, 8-bit, a single row, too large.
+    let heights = d.join("heights");
+    std::fs::create_dir(&heights).unwrap();
+    std::fs::write(
+        heights.join("rgba.png"),
+        texel_scene::texture::encode_png(&texel_geom_image(8, 8)),
+    )
+    .unwrap();
+    std::fs::write(
+        heights.join("row.png"),
+        texel_scene::texture::encode_heightmap(8, 1, &[0; 8]),
+    )
+    .unwrap();
+    std::fs::write(
+        heights.join("huge.png"),
+        texel_scene::texture::encode_heightmap(5000, 2, &vec![0; 10_000]),
+    )
+    .unwrap();
+    let terrain = |name: &str, file: &str, expect| {
+        let level = level_with_terrain(d, &format!("{name}.ron"), file);
+        check(name, &level, expect)
+    };
+    cases.extend([
+        terrain(
+            "heightmap missing",
+            "heights/missing.png",
+            "heights/missing.png",
+        ),
+        terrain(
+            "heightmap 8-bit RGBA",
+            "heights/rgba.png",
+            "16-bit greyscale",
+        ),
+        terrain("heightmap one row", "heights/row.png", "at least 2×2"),
+        terrain(
+            "heightmap 5000 wide",
+            "heights/huge.png",
+            "larger than 4097",
+        ),
     ]);
     let out = d.join("out");
     let render_path = |name: &str, path: &Path, expect| {

