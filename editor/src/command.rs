@@ -4,7 +4,13 @@
 //! Entities are addressed by their position in the level order rather than by hecs handle:
 //! a handle dies with a delete, while the position survives undoing it.
 
+use std::sync::Arc;
+
+use texel_scene::assets::AssetLibrary;
+use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 use texel_scene::{EntityRow, LevelSettings, Scene};
+
+use crate::terrain::HeightChange;
 
 /// One undoable change to the scene.
 #[derive(Debug, Clone, PartialEq)]
@@ -39,6 +45,19 @@ pub enum Command {
         /// After.
         after: LevelSettings,
     },
+    /// Changes the heights of the terrain of the entity at `index` (a sculpt stroke, an
+    /// imported heightmap) and its components (a noise source becomes the file its heights
+    /// are saved to).
+    SetHeights {
+        /// Position in the level order.
+        index: usize,
+        /// The components before.
+        before: Box<EntityRow>,
+        /// The components after.
+        after: Box<EntityRow>,
+        /// The heights changed.
+        change: Arc<HeightChange>,
+    },
 }
 
 /// What should be selected after a command ran.
@@ -65,14 +84,23 @@ impl std::fmt::Display for CommandError {
 impl std::error::Error for CommandError {}
 
 impl Command {
-    /// Applies the change.
-    pub fn execute(&self, scene: &mut Scene) -> Result<Focus, CommandError> {
+    /// Applies the change to `scene`; terrain heights live in `assets`.
+    pub fn execute(
+        &self,
+        scene: &mut Scene,
+        assets: &mut AssetLibrary,
+    ) -> Result<Focus, CommandError> {
         match self {
-            Command::SetRow { index, after, .. } => {
+            Command::SetRow {
+                index,
+                before,
+                after,
+            } => {
                 let e = entity_at(scene, *index)?;
                 scene
                     .set_row(e, (**after).clone())
                     .map_err(|_| CommandError(format!("entity {index} vanished")))?;
+                ensure_heights(before.terrain.as_ref(), after.terrain.as_ref(), assets);
                 Ok(Focus::Entity(*index))
             }
             Command::Spawn { index, row } => {
@@ -80,6 +108,7 @@ impl Command {
                     return Err(CommandError(format!("no position {index} to insert at")));
                 }
                 scene.spawn_at(*index, (**row).clone());
+                ensure_heights(None, row.terrain.as_ref(), assets);
                 Ok(Focus::Entity(*index))
             }
             Command::Despawn { index, .. } => {
@@ -91,12 +120,64 @@ impl Command {
                 scene.settings = *after;
                 Ok(Focus::Keep)
             }
+            Command::SetHeights { .. } => self.set_heights(scene, assets, true),
         }
     }
 
     /// Undoes the change.
-    pub fn revert(&self, scene: &mut Scene) -> Result<Focus, CommandError> {
-        self.inverse().execute(scene)
+    pub fn revert(
+        &self,
+        scene: &mut Scene,
+        assets: &mut AssetLibrary,
+    ) -> Result<Focus, CommandError> {
+        match self {
+            // Without copying the heights an inverse would hold.
+            Command::SetHeights { .. } => self.set_heights(scene, assets, false),
+            _ => self.inverse().execute(scene, assets),
+        }
+    }
+
+    /// Runs a [`Command::SetHeights`] forward (execute) or backward (revert): the heights of
+    /// the terrain it starts from, changed, become those of the terrain it ends with.
+    fn set_heights(
+        &self,
+        scene: &mut Scene,
+        assets: &mut AssetLibrary,
+        forward: bool,
+    ) -> Result<Focus, CommandError> {
+        let Command::SetHeights {
+            index,
+            before,
+            after,
+            change,
+        } = self
+        else {
+            return Err(CommandError("not a height change".into()));
+        };
+        let (from, to) = if forward {
+            (before, after)
+        } else {
+            (after, before)
+        };
+        let e = entity_at(scene, *index)?;
+        let (Some(tf), Some(tt)) = (from.terrain.as_ref(), to.terrain.as_ref()) else {
+            return Err(CommandError(format!("entity {index} has no terrain")));
+        };
+        let current = scene.row(e).and_then(|r| r.terrain);
+        if current.as_ref() != Some(tf) {
+            return Err(CommandError(format!(
+                "the terrain of entity {index} is not the one that was sculpted"
+            )));
+        }
+        let field = assets
+            .heightfield(tf)
+            .ok_or_else(|| CommandError(format!("the heights of entity {index} are not loaded")))?;
+        let next = change.apply(field, forward).map_err(CommandError)?;
+        assets.insert_heightfield(tt, Arc::new(next));
+        scene
+            .set_row(e, (**to).clone())
+            .map_err(|_| CommandError(format!("entity {index} vanished")))?;
+        Ok(Focus::Entity(*index))
     }
 
     /// The command that undoes this one.
@@ -123,6 +204,28 @@ impl Command {
                 before: *after,
                 after: *before,
             },
+            Command::SetHeights {
+                index,
+                before,
+                after,
+                change,
+            } => Command::SetHeights {
+                index: *index,
+                before: after.clone(),
+                after: before.clone(),
+                change: Arc::new(change.reversed()),
+            },
+        }
+    }
+
+    /// The entity components the command holds (what it sets and what it restores).
+    pub fn rows(&self) -> Vec<&EntityRow> {
+        match self {
+            Command::SetRow { before, after, .. } | Command::SetHeights { before, after, .. } => {
+                vec![before, after]
+            }
+            Command::Spawn { row, .. } | Command::Despawn { row, .. } => vec![row],
+            Command::SetSettings { .. } => Vec::new(),
         }
     }
 
@@ -156,6 +259,50 @@ impl Command {
             Command::Spawn { .. } => "add",
             Command::Despawn { .. } => "delete",
             Command::SetSettings { .. } => "level settings",
+            Command::SetHeights { change, .. } => change.describe(),
+        }
+    }
+}
+
+/// Gives a terrain whose heights `assets` lacks the heights that can be made without reading
+/// a file: noise is baked; a file source keeps the heights it had as `before` (a noise source
+/// turned into a file keeps them as they are, a new max height rescales a file's). A path
+/// that must be read is left to the app's asset loading.
+pub fn ensure_heights(
+    before: Option<&Terrain>,
+    after: Option<&Terrain>,
+    assets: &mut AssetLibrary,
+) {
+    let Some(after) = after else {
+        return;
+    };
+    if assets.heightfield(after).is_some() {
+        return;
+    }
+    match &after.heightmap {
+        HeightSource::Noise { .. } => {
+            if let Some(f) = Heightfield::from_noise(&after.heightmap, after.size, after.max_height)
+            {
+                assets.insert_heightfield(after, Arc::new(f));
+            }
+        }
+        HeightSource::File { path } => {
+            let Some(b) = before else {
+                return;
+            };
+            let Some(old) = assets.heightfield(b).cloned() else {
+                return;
+            };
+            let scale = match &b.heightmap {
+                HeightSource::File { path: p } if p == path => after.max_height / b.max_height,
+                HeightSource::Noise { .. } => 1.0,
+                HeightSource::File { .. } => return,
+            };
+            let mut f = (*old).clone();
+            for h in &mut f.heights {
+                *h = (*h * scale).clamp(0.0, after.max_height);
+            }
+            assets.insert_heightfield(after, Arc::new(f));
         }
     }
 }
@@ -192,9 +339,10 @@ mod tests {
             index: 1,
             row: Box::new(row("b")),
         };
-        assert_eq!(cmd.execute(&mut scene), Ok(Focus::Nothing));
+        let mut assets = AssetLibrary::default();
+        assert_eq!(cmd.execute(&mut scene, &mut assets), Ok(Focus::Nothing));
         assert_eq!(scene.len(), 2);
-        cmd.revert(&mut scene).expect("revert");
+        cmd.revert(&mut scene, &mut assets).expect("revert");
         assert_eq!(scene.to_level(), before);
     }
 
@@ -231,6 +379,66 @@ mod tests {
             index: 3,
             row: Box::new(row("x")),
         };
-        assert!(cmd.execute(&mut scene).is_err());
+        assert!(
+            cmd.execute(&mut scene, &mut AssetLibrary::default())
+                .is_err()
+        );
+    }
+
+    #[test]
+    fn height_changes_turn_noise_into_a_file_and_back() {
+        let mut scene = Scene::new();
+        let mut assets = AssetLibrary::default();
+        let noise = crate::terrain::terrain_row(glam::Vec3::ZERO);
+        let spawn = Command::Spawn {
+            index: 0,
+            row: Box::new(noise.clone()),
+        };
+        spawn.execute(&mut scene, &mut assets).expect("spawn");
+        let t0 = noise.terrain.clone().expect("terrain");
+        let baked = assets
+            .heightfield(&t0)
+            .cloned()
+            .expect("noise is baked on spawn");
+        let mut file = noise.clone();
+        if let Some(t) = &mut file.terrain {
+            t.heightmap = HeightSource::File {
+                path: "t.png".into(),
+            };
+        }
+        let mut sculpted = (*baked).clone();
+        sculpted.heights[5] = 7.5;
+        let region = crate::terrain::Region {
+            x0: 0,
+            z0: 0,
+            x1: 8,
+            z1: 1,
+        };
+        let cmd = Command::SetHeights {
+            index: 0,
+            before: Box::new(noise.clone()),
+            after: Box::new(file.clone()),
+            change: Arc::new(HeightChange::patch(&baked, &sculpted, region)),
+        };
+        cmd.execute(&mut scene, &mut assets).expect("sculpt");
+        let t1 = file.terrain.clone().expect("terrain");
+        assert_eq!(**assets.heightfield(&t1).expect("file heights"), sculpted);
+        assert_eq!(scene.to_level().entities[0], file);
+        cmd.revert(&mut scene, &mut assets).expect("undo");
+        assert_eq!(scene.to_level().entities[0], noise);
+        assert_eq!(**assets.heightfield(&t0).expect("noise heights"), *baked);
+        // The inverse undoes it as well.
+        cmd.execute(&mut scene, &mut assets).expect("redo");
+        cmd.inverse()
+            .execute(&mut scene, &mut assets)
+            .expect("inverse");
+        assert_eq!(**assets.heightfield(&t0).expect("noise heights"), *baked);
+        // A doubled max height on a file source doubles its heights.
+        cmd.execute(&mut scene, &mut assets).expect("redo");
+        let mut taller = t1.clone();
+        taller.max_height *= 2.0;
+        ensure_heights(Some(&t1), Some(&taller), &mut assets);
+        let h = assets.heightfield(&taller).expect("rescaled");
+        assert!((h.heights[5] - 15.0).abs() < 1e-4);
     }
 }

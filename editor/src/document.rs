@@ -1,9 +1,15 @@
-//! The document being edited: a scene, the meshes and textures it refers to, and where it is saved.
+//! The document being edited: a scene, the meshes, textures and terrain heights it refers
+//! to, and where it is saved. Terrain heights live in the asset library, where sculpting and
+//! imports change them; saving writes a terrain's heightmap file when its heights are not
+//! what the file holds.
 
+use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
+use std::sync::Arc;
 
 use texel_runtime::load::{LoadedLevel, load_level};
-use texel_scene::assets::{AssetLibrary, load_assets, texture_paths};
+use texel_scene::assets::{AssetLibrary, load_assets, resolve, texture_paths};
+use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 use texel_scene::{EntityRow, Geometry, Scene};
 
 /// A level open in the editor.
@@ -14,6 +20,9 @@ pub struct Document {
     pub path: Option<PathBuf>,
     /// Bumped on every change, so views know when to rebuild what they derive.
     pub revision: u64,
+    /// The heights each heightmap file (by level-relative path) held when it was last read or
+    /// written: a terrain whose heights are still these is not written again on save.
+    on_disk: BTreeMap<String, Arc<Heightfield>>,
 }
 
 impl Document {
@@ -27,17 +36,34 @@ impl Document {
             },
             path: None,
             revision: 0,
+            on_disk: BTreeMap::new(),
         }
     }
 
     /// Loads `path` and its meshes and textures. The error names the file, line and column.
     pub fn open(path: &Path) -> Result<Self, String> {
         let level = load_level(path).map_err(|e| e.to_string())?;
-        Ok(Document {
+        let mut doc = Document {
             level,
             path: Some(path.to_owned()),
             revision: 0,
-        })
+            on_disk: BTreeMap::new(),
+        };
+        doc.note_files_read(&AssetLibrary::default());
+        Ok(doc)
+    }
+
+    /// Records the heightmap files just read (the scene's file terrains whose heights `old`
+    /// lacked) as what is on disk.
+    fn note_files_read(&mut self, old: &AssetLibrary) {
+        for t in terrains(&self.level.scene) {
+            if let HeightSource::File { path } = &t.heightmap
+                && old.heightfield(&t).is_none()
+                && let Some(f) = self.level.assets.heightfield(&t)
+            {
+                self.on_disk.insert(path.clone(), f.clone());
+            }
+        }
     }
 
     /// The scene.
@@ -51,12 +77,71 @@ impl Document {
         &mut self.level.scene
     }
 
-    /// Saves atomically to `path` and makes it the document's path.
+    /// The scene and the asset library (where terrain heights live), for commands.
+    pub fn parts_mut(&mut self) -> (&mut Scene, &mut AssetLibrary) {
+        self.revision += 1;
+        (&mut self.level.scene, &mut self.level.assets)
+    }
+
+    /// Marks a change made in place (a terrain's heights during a stroke), so views rebuild.
+    pub fn touch(&mut self) {
+        self.revision += 1;
+    }
+
+    /// Saves atomically to `path` and makes it the document's path. The heightmaps of
+    /// terrains sculpted or imported since they were last written (or missing beside `path`)
+    /// are written first, each atomically; a failure leaves the level file untouched.
     pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
+        self.write_heightmaps(path)?;
         self.level.scene.save(path).map_err(|e| e.to_string())?;
         self.path = Some(path.to_owned());
         self.level.path = path.to_owned();
         Ok(())
+    }
+
+    /// Writes the 16-bit heightmap of every file terrain whose heights differ from what its
+    /// file held, or whose file is missing, beside the level file `level` (every one when the
+    /// level moves to another folder).
+    fn write_heightmaps(&mut self, level: &Path) -> Result<(), String> {
+        let dir = |p: &Path| {
+            let d = p.parent().unwrap_or(Path::new("")).to_owned();
+            std::fs::canonicalize(&d).unwrap_or(d)
+        };
+        let moved = self.path.is_none() || dir(&self.level.path) != dir(level);
+        let mut done = BTreeSet::new();
+        for t in terrains(&self.level.scene) {
+            let HeightSource::File { path: rel } = &t.heightmap else {
+                continue;
+            };
+            if rel.trim().is_empty() || !done.insert(rel.clone()) {
+                continue;
+            }
+            let Some(field) = self.level.assets.heightfield(&t).cloned() else {
+                continue;
+            };
+            let file = resolve(level, rel);
+            let same = self
+                .on_disk
+                .get(rel)
+                .is_some_and(|f| Arc::ptr_eq(f, &field));
+            if same && !moved && file.is_file() {
+                continue;
+            }
+            crate::terrain::write_heightmap(&file, &field, t.max_height)?;
+            self.on_disk.insert(rel.clone(), field);
+        }
+        Ok(())
+    }
+
+    /// Whether a heightmap file name (relative to the level) is used: named by a terrain of
+    /// the scene, or a file beside the level this document did not write or read.
+    pub fn heightmap_taken(&self, rel: &str) -> bool {
+        let named = terrains(&self.level.scene)
+            .any(|t| matches!(&t.heightmap, HeightSource::File { path } if path == rel));
+        let foreign = self.path.is_some()
+            && resolve(&self.level.path, rel).exists()
+            && !self.on_disk.contains_key(rel);
+        named || foreign
     }
 
     /// Display name: the file name, or "untitled".
@@ -81,10 +166,38 @@ impl Document {
 
     /// Reloads every mesh and texture the scene refers to (after a mesh was added or a path
     /// changed). Paths still empty (a texture or mesh just added in the inspector, not yet
-    /// typed) are skipped. On failure the library is left as it was.
+    /// typed) are skipped. Terrain heights already in memory are kept (they may be sculpted
+    /// and not saved yet). On failure the library is left as it was.
     pub fn reload_assets(&mut self) -> Result<(), String> {
+        self.reload_assets_keeping(&[])
+    }
+
+    /// [`Document::reload_assets`], also keeping the heights in memory of `more` terrains
+    /// (those the history can bring back).
+    pub fn reload_assets_keeping(&mut self, more: &[Terrain]) -> Result<(), String> {
+        let old = &self.level.assets;
         let mut level = self.level.scene.to_level();
         for row in &mut level.entities {
+            if let Some(t) = &mut row.terrain {
+                if t.displacement
+                    .as_ref()
+                    .is_some_and(|d| d.path.trim().is_empty())
+                {
+                    t.displacement = None;
+                }
+                let empty =
+                    matches!(&t.heightmap, HeightSource::File { path } if path.trim().is_empty());
+                if empty || old.heightfield(t).is_some() {
+                    // Nothing to read: a two-sample stand-in, replaced below.
+                    t.heightmap = HeightSource::Noise {
+                        seed: 0,
+                        resolution: 2,
+                        frequency: 1.0,
+                        octaves: 1,
+                        island: 0.0,
+                    };
+                }
+            }
             if let Some(Geometry::Mesh { path }) = &row.geometry
                 && path.trim().is_empty()
             {
@@ -99,16 +212,43 @@ impl Document {
                 }
             }
         }
-        let assets = load_assets(&level, &self.level.path, None).map_err(|e| e.to_string())?;
-        self.level.assets = assets;
+        let mut assets = load_assets(&level, &self.level.path, None).map_err(|e| e.to_string())?;
+        for t in terrains(&self.level.scene).chain(more.iter().cloned()) {
+            if let Some(f) = old.heightfield(&t) {
+                assets.insert_heightfield(&t, f.clone());
+            }
+        }
+        let old = std::mem::replace(&mut self.level.assets, assets);
+        self.note_files_read(&old);
         self.revision += 1;
         Ok(())
     }
 }
 
-/// The non-empty mesh and texture paths `row` names that `assets` has not loaded.
+/// The terrains of `scene`, in level order.
+fn terrains(scene: &Scene) -> impl Iterator<Item = Terrain> + '_ {
+    scene
+        .entities()
+        .filter_map(|e| scene.world().get::<&Terrain>(e).ok().map(|t| (*t).clone()))
+}
+
+/// The non-empty mesh, texture and heightmap paths `row` names that `assets` has not loaded.
 pub fn unloaded_paths(row: &EntityRow, assets: &AssetLibrary) -> Vec<String> {
     let mut out = Vec::new();
+    if let Some(t) = &row.terrain {
+        if let HeightSource::File { path } = &t.heightmap
+            && !path.trim().is_empty()
+            && assets.heightfield(t).is_none()
+        {
+            out.push(path.clone());
+        }
+        if let Some(d) = &t.displacement
+            && !d.path.trim().is_empty()
+            && assets.texture(&d.path).is_none()
+        {
+            out.push(d.path.clone());
+        }
+    }
     if let Some(Geometry::Mesh { path }) = &row.geometry
         && !path.trim().is_empty()
         && assets.get(path).is_none()

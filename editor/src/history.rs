@@ -125,6 +125,11 @@ impl History {
         self.undo.last().map(|e| &e.command)
     }
 
+    /// Every step kept, undoable and redoable.
+    pub fn commands(&self) -> impl Iterator<Item = &Command> {
+        self.undo.iter().chain(&self.redo).map(|e| &e.command)
+    }
+
     /// Number of undo steps.
     pub fn undo_len(&self) -> usize {
         self.undo.len()

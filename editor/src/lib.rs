@@ -12,6 +12,7 @@ pub mod files;
 pub mod history;
 pub mod pixel;
 pub mod state;
+pub mod terrain;
 pub mod ui;
 pub mod viewport;
 

@@ -41,7 +41,8 @@ impl EditorState {
 
     /// Executes `command` and records it (folded into the open step with the same `merge`).
     pub fn apply(&mut self, command: Command, merge: Option<MergeKey>) -> Result<(), CommandError> {
-        let focus = command.execute(self.document.scene_mut())?;
+        let (scene, assets) = self.document.parts_mut();
+        let focus = command.execute(scene, assets)?;
         self.focus(focus);
         self.history.push(command, merge);
         Ok(())
@@ -53,7 +54,8 @@ impl EditorState {
         let Some(cmd) = self.history.pop_undo().cloned() else {
             return Ok(false);
         };
-        match cmd.revert(self.document.scene_mut()) {
+        let (scene, assets) = self.document.parts_mut();
+        match cmd.revert(scene, assets) {
             Ok(f) => {
                 self.focus(f);
                 Ok(true)
@@ -71,7 +73,8 @@ impl EditorState {
         let Some(cmd) = self.history.pop_redo().cloned() else {
             return Ok(false);
         };
-        match cmd.execute(self.document.scene_mut()) {
+        let (scene, assets) = self.document.parts_mut();
+        match cmd.execute(scene, assets) {
             Ok(f) => {
                 self.focus(f);
                 Ok(true)
@@ -104,6 +107,19 @@ impl EditorState {
         self.document.save_as(path)?;
         self.saved_id = self.history.state_id();
         Ok(())
+    }
+
+    /// Reloads the meshes and textures the scene names ([`Document::reload_assets`]), keeping
+    /// in memory the terrain heights of the scene and of every step undo or redo can bring
+    /// back.
+    pub fn reload_assets(&mut self) -> Result<(), String> {
+        let terrains: Vec<_> = self
+            .history
+            .commands()
+            .flat_map(|c| c.rows())
+            .filter_map(|r| r.terrain.clone())
+            .collect();
+        self.document.reload_assets_keeping(&terrains)
     }
 
     /// Marks the document modified though its history says otherwise (a recovered autosave).
