@@ -13,6 +13,7 @@ use crate::document::{Document, unloaded_paths};
 use crate::files::{self, Picked, Recent};
 use crate::pixel::{PixelInfo, pixel_info};
 use crate::state::EditorState;
+use crate::terrain;
 use crate::ui::dialogs::{Answer, Dialogs, Pending, Prompt, Purpose};
 use crate::ui::inspector::PixelCalc;
 use crate::ui::menu::{self, Action};
@@ -124,6 +125,8 @@ impl EditorApp {
                 schedule: self.viewport.schedule,
                 debug: self.viewport.debug.flags,
                 textured_selection: info.is_some(),
+                terrain_selection: terrain::selected_terrain(&self.state).is_some(),
+                terrain_tool: self.viewport.terrain.active,
             };
             if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing, view) {
                 actions.push(a);
@@ -278,11 +281,19 @@ impl EditorApp {
     pub fn act(&mut self, action: Action) {
         let edits = matches!(
             action,
-            Action::Undo | Action::Redo | Action::Duplicate | Action::Delete
+            Action::Undo
+                | Action::Redo
+                | Action::Duplicate
+                | Action::Delete
+                | Action::ImportHeightmapPath(_)
+                | Action::ToggleTerrainTool
         );
         if edits && self.viewport.playing() {
             return;
         }
+        // A sculpt stroke in progress lands before anything else happens.
+        let landed = self.viewport.terrain.finish(&mut self.state);
+        self.report("sculpt", landed);
         match action {
             Action::New => self.guard(Pending::New),
             Action::Open => self.guard(Pending::Open(None)),
@@ -307,6 +318,20 @@ impl EditorApp {
             }
             Action::AddMesh => self.ask(Purpose::Mesh),
             Action::AddMeshPath(p) => self.add_mesh(&p),
+            Action::AddTerrain => {
+                self.viewport.stop();
+                let at = self.viewport.ground_focus();
+                let added = self.state.add(terrain::terrain_row(at));
+                self.report("add a terrain", added);
+            }
+            Action::ToggleTerrainTool => {
+                let toggled = self.viewport.terrain.toggle(&mut self.state);
+                self.report("sculpt", toggled);
+            }
+            Action::ImportHeightmap => self.ask(Purpose::ImportHeightmap),
+            Action::ImportHeightmapPath(p) => self.import_heightmap(&p),
+            Action::ExportHeightmap => self.ask(Purpose::ExportHeightmap),
+            Action::ExportHeightmapPath(p) => self.export_heightmap(&p),
             Action::Duplicate => {
                 if let Some(i) = self.state.selection {
                     let duplicated = self.state.duplicate(i);
@@ -375,6 +400,8 @@ impl EditorApp {
             Purpose::Open => files::pick_open(),
             Purpose::SaveAs => files::pick_save(self.state.document.path.as_deref()),
             Purpose::Mesh => files::pick_mesh(),
+            Purpose::ImportHeightmap => files::pick_heightmap(),
+            Purpose::ExportHeightmap => files::pick_heightmap_save(&self.export_name()),
         };
         match picked {
             Picked::Path(p) => self.answer(Answer::Path(purpose, p)),
@@ -388,6 +415,7 @@ impl EditorApp {
                         .as_ref()
                         .map(|p| p.display().to_string())
                         .unwrap_or_default(),
+                    Purpose::ExportHeightmap => self.export_name(),
                     _ => String::new(),
                 };
                 self.dialogs.prompt = Some(Prompt { purpose, text });
@@ -400,6 +428,8 @@ impl EditorApp {
             Answer::Path(Purpose::Open, p) => self.proceed(Pending::Open(Some(p))),
             Answer::Path(Purpose::SaveAs, p) => self.save_to(&p),
             Answer::Path(Purpose::Mesh, p) => self.add_mesh(&p),
+            Answer::Path(Purpose::ImportHeightmap, p) => self.import_heightmap(&p),
+            Answer::Path(Purpose::ExportHeightmap, p) => self.export_heightmap(&p),
             Answer::Discard(pending) => self.proceed(pending),
             Answer::Recover(p) => self.recover(&p),
         }
@@ -456,13 +486,47 @@ impl EditorApp {
             self.report("add the mesh", Err(e));
             return;
         }
-        if let Err(e) = self.state.document.reload_assets() {
+        if let Err(e) = self.state.reload_assets() {
             // Take the entity back out; the load error is what the person needs to see.
             self.dialogs.error = Some(match self.state.undo() {
                 Ok(_) => e,
                 Err(u) => format!("{e} (and the mesh could not be taken out again: {u})"),
             });
         }
+    }
+
+    /// Replaces the selected terrain's heights with the 16-bit heightmap `file`, as one undo
+    /// step; a file that cannot be imported is shown in the error dialog and changes nothing.
+    pub fn import_heightmap(&mut self, file: &Path) {
+        let result = match self.state.selection {
+            Some(i) => terrain::import_heightmap(&mut self.state, i, file),
+            None => Err("select a terrain first".to_owned()),
+        };
+        if let Err(e) = result {
+            self.dialogs.error = Some(format!("cannot import the heightmap: {e}"));
+        }
+    }
+
+    /// Writes the selected terrain's heights to `file` as a 16-bit PNG; a failure is shown
+    /// in the error dialog.
+    pub fn export_heightmap(&mut self, file: &Path) {
+        let result = match self.state.selection {
+            Some(i) => terrain::export_heightmap(&self.state, i, file),
+            None => Err("select a terrain first".to_owned()),
+        };
+        if let Err(e) = result {
+            self.dialogs.error = Some(format!("cannot export the heightmap: {e}"));
+        }
+    }
+
+    /// The file name an export suggests: the selected entity's name.
+    fn export_name(&self) -> String {
+        let name = self
+            .state
+            .selected_row()
+            .and_then(|(_, r)| r.name)
+            .map_or_else(|| "terrain".to_owned(), |n| n.0);
+        format!("{name}.png")
     }
 
     /// The selected entity's pixel-perfect numbers on the viewport (`None` without a loaded
@@ -533,7 +597,7 @@ impl EditorApp {
         if self.state.document.path.is_none() || !self.state.document.has_unloaded_assets() {
             return;
         }
-        if let Err(e) = self.state.document.reload_assets() {
+        if let Err(e) = self.state.reload_assets() {
             let assets = &self.state.document.level.assets;
             let named_by_last_edit = match self.state.history.last_undo() {
                 Some(Command::SetRow { before, after, .. }) => {

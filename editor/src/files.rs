@@ -54,6 +54,25 @@ pub fn pick_mesh() -> Picked {
     })
 }
 
+/// Asks for a 16-bit heightmap PNG to import.
+pub fn pick_heightmap() -> Picked {
+    timed(|| {
+        rfd::FileDialog::new()
+            .add_filter("16-bit greyscale PNG", &["png"])
+            .pick_file()
+    })
+}
+
+/// Asks where to export a heightmap, suggesting `name`.
+pub fn pick_heightmap_save(name: &str) -> Picked {
+    timed(|| {
+        rfd::FileDialog::new()
+            .add_filter("16-bit greyscale PNG", &["png"])
+            .set_file_name(name)
+            .save_file()
+    })
+}
+
 fn timed(f: impl FnOnce() -> Option<PathBuf>) -> Picked {
     if std::env::var_os("TEXEL_EDITOR_NO_DIALOGS").is_some() {
         return Picked::NoService;

@@ -14,6 +14,10 @@ pub enum Purpose {
     SaveAs,
     /// Add a glTF mesh.
     Mesh,
+    /// Import a heightmap into the selected terrain.
+    ImportHeightmap,
+    /// Export the selected terrain's heightmap.
+    ExportHeightmap,
 }
 
 /// A typed-path prompt.
@@ -91,6 +95,8 @@ impl Dialogs {
                 Purpose::Open => "Open level (path)",
                 Purpose::SaveAs => "Save level as (path)",
                 Purpose::Mesh => "Add glTF mesh (path)",
+                Purpose::ImportHeightmap => "Import 16-bit heightmap (path)",
+                Purpose::ExportHeightmap => "Export 16-bit heightmap (path)",
             };
             egui::Window::new(title)
                 .collapsible(false)

@@ -3,6 +3,9 @@
 
 use egui::Ui;
 use glam::{Vec2, Vec3};
+use texel_scene::terrain::{
+    Displacement, GradientStop, HeightSource, MAX_GRADIENT_STOPS, MAX_HEIGHTMAP, Terrain,
+};
 use texel_scene::{
     BANDS, DirectionalLight, EntityRow, FACE_RESOLUTIONS, Geometry, LevelSettings, Material, Name,
     PixelScale, PlayerStart, PointLight, ProbeGridOverride, SEGMENTS, Sampling, TextureMap,
@@ -26,7 +29,8 @@ pub fn entity(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> 
         return Ok(());
     };
     let mut row = before.clone();
-    edit_row(ui, &mut row);
+    let terrain = TerrainInfo::of(state, index, &before);
+    edit_row(ui, &mut row, &terrain);
     if row != before {
         let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Row { index, widget });
         state.set_row(index, row, key)?;
@@ -34,7 +38,34 @@ pub fn entity(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> 
     Ok(())
 }
 
-fn edit_row(ui: &mut Ui, row: &mut EntityRow) {
+/// What the terrain section shows beside the component: the file a noise source switched to
+/// File starts with, and the size of the loaded heights.
+struct TerrainInfo {
+    file_name: String,
+    samples: Option<(u32, u32)>,
+}
+
+impl TerrainInfo {
+    fn of(state: &EditorState, index: usize, row: &EntityRow) -> Self {
+        let Some(t) = &row.terrain else {
+            return TerrainInfo {
+                file_name: String::new(),
+                samples: None,
+            };
+        };
+        let file_name = match &crate::terrain::file_backed(state, index, row).terrain {
+            Some(Terrain {
+                heightmap: HeightSource::File { path },
+                ..
+            }) => path.clone(),
+            _ => String::new(),
+        };
+        let samples = (state.document.level.assets.heightfield(t)).map(|f| (f.width, f.depth));
+        TerrainInfo { file_name, samples }
+    }
+}
+
+fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo) {
     let mut name = row.name.as_ref().map(|n| n.0.clone()).unwrap_or_default();
     ui.horizontal(|ui| {
         ui.label("Name");
@@ -64,6 +95,13 @@ fn edit_row(ui: &mut Ui, row: &mut EntityRow) {
         probe,
     );
     section(ui, "Player start", &mut row.player_start, start);
+    section_with(
+        ui,
+        "Terrain",
+        &mut row.terrain,
+        crate::terrain::default_terrain,
+        |ui, t| terrain(ui, t, info),
+    );
 }
 
 /// A collapsible component with a remove button, or an add button when absent.
@@ -76,7 +114,7 @@ fn section_with<T>(
     title: &str,
     c: &mut Option<T>,
     make: fn() -> T,
-    body: fn(&mut Ui, &mut T),
+    body: impl FnOnce(&mut Ui, &mut T),
 ) {
     match c {
         Some(v) => {
@@ -252,6 +290,165 @@ fn path_field(ui: &mut Ui, name: &str, path: &mut String) {
         )
         .accessible_name(name);
     });
+}
+
+/// Every field of a terrain. Switching the heights to File keeps them (saved to
+/// `info.file_name` beside the level); switching to Noise bakes noise.
+fn terrain(ui: &mut Ui, t: &mut Terrain, info: &TerrainInfo) {
+    vec2(ui, "Terrain size", &mut t.size, 0.5, MIN_SIZE);
+    scalar(ui, "Max height", &mut t.max_height, 0.05, MIN_SIZE, BIG);
+    let mut file = matches!(t.heightmap, HeightSource::File { .. });
+    ui.horizontal(|ui| {
+        ui.label("Heights");
+        ui.radio_value(&mut file, false, "Noise")
+            .on_hover_text("Fractal noise baked when the level loads");
+        ui.radio_value(&mut file, true, "File")
+            .on_hover_text("A 16-bit greyscale PNG beside the level (sculpting makes one)");
+    });
+    match (file, &t.heightmap) {
+        (true, HeightSource::Noise { .. }) if !info.file_name.is_empty() => {
+            t.heightmap = HeightSource::File {
+                path: info.file_name.clone(),
+            };
+        }
+        (false, HeightSource::File { .. }) => {
+            t.heightmap = crate::terrain::default_terrain().heightmap;
+        }
+        _ => {}
+    }
+    match &mut t.heightmap {
+        HeightSource::Noise {
+            seed,
+            resolution,
+            frequency,
+            octaves,
+            island,
+        } => {
+            integer(ui, "Seed", seed, 0..=u32::MAX);
+            integer(ui, "Resolution", resolution, 2..=MAX_HEIGHTMAP);
+            scalar(ui, "Frequency", frequency, 0.001, 1e-4, 100.0);
+            integer(ui, "Octaves", octaves, 1..=8);
+            scalar(ui, "Island", island, 0.01, 0.0, 1.0);
+        }
+        HeightSource::File { path } => {
+            path_field(ui, "Heightmap path", path);
+        }
+    }
+    if let Some((w, d)) = info.samples {
+        ui.label(format!("{w}×{d} height samples"));
+    }
+    gradient(ui, &mut t.gradient);
+    let mut displaced = t.displacement.is_some();
+    ui.checkbox(&mut displaced, "Displacement");
+    match (displaced, &t.displacement) {
+        (true, None) => {
+            t.displacement = Some(Displacement {
+                path: String::new(),
+                strength: 0.2,
+                tile_size: 6.0,
+            })
+        }
+        (false, Some(_)) => t.displacement = None,
+        _ => {}
+    }
+    if let Some(d) = &mut t.displacement {
+        ui.indent("displacement", |ui| {
+            path_field(ui, "Displacement path", &mut d.path);
+            scalar(
+                ui,
+                "Displacement strength",
+                &mut d.strength,
+                0.005,
+                0.0,
+                10.0,
+            );
+            scalar(ui, "Tile size", &mut d.tile_size, 0.05, MIN_SIZE, BIG);
+        });
+    }
+    scalar(
+        ui,
+        "Pixel density",
+        &mut t.pixel_density,
+        0.05,
+        0.01,
+        1000.0,
+    );
+    scalar(
+        ui,
+        "Band distance",
+        &mut t.band_distance,
+        0.1,
+        MIN_SIZE,
+        BIG,
+    );
+    scalar(
+        ui,
+        "Band transition",
+        &mut t.band_transition,
+        0.01,
+        0.0,
+        1.0,
+    );
+    ui.checkbox(&mut t.casts_shadows, "Terrain casts shadows");
+    ui.checkbox(&mut t.outlined, "Terrain outlined");
+}
+
+/// The elevation gradient: each stop's colour and elevation (kept between its neighbours, so
+/// the stops stay in order), removed (one is always left) or followed by a new one.
+fn gradient(ui: &mut Ui, stops: &mut Vec<GradientStop>) {
+    ui.label("Gradient");
+    let n = stops.len();
+    let (mut remove, mut insert) = (None, None);
+    for i in 0..n {
+        let lo = if i > 0 { stops[i - 1].at } else { 0.0 };
+        let hi = stops.get(i + 1).map_or(1.0, |s| s.at);
+        let s = &mut stops[i];
+        ui.horizontal(|ui| {
+            let k = i + 1;
+            let mut rgb = s.colour.to_array();
+            if ui
+                .color_edit_button_rgb(&mut rgb)
+                .accessible_name(format!("Stop {k} colour"))
+                .changed()
+            {
+                s.colour = Vec3::from_array(rgb).max(Vec3::ZERO);
+            }
+            ui.add(egui::DragValue::new(&mut s.at).speed(0.005).range(lo..=hi))
+                .on_hover_text("Elevation: 0 ground level, 1 the max height")
+                .accessible_name(format!("Stop {k} at"));
+            let minus = egui::Button::new("−").small();
+            if ui
+                .add_enabled(n > 1, minus)
+                .on_hover_text("Remove this stop")
+                .accessible_name(format!("Remove stop {k}"))
+                .clicked()
+            {
+                remove = Some(i);
+            }
+            let plus = egui::Button::new("+").small();
+            if ui
+                .add_enabled(n < MAX_GRADIENT_STOPS, plus)
+                .on_hover_text("Add a stop after this one")
+                .accessible_name(format!("Add stop after {k}"))
+                .clicked()
+            {
+                insert = Some(i);
+            }
+        });
+    }
+    if let Some(i) = remove.filter(|_| n > 1) {
+        stops.remove(i);
+    } else if let Some(i) = insert.filter(|_| n < MAX_GRADIENT_STOPS) {
+        let a = stops[i];
+        let next = stops.get(i + 1).map_or(1.0, |s| s.at);
+        stops.insert(
+            i + 1,
+            GradientStop {
+                at: 0.5 * (a.at + next),
+                colour: a.colour,
+            },
+        );
+    }
 }
 
 fn sun(ui: &mut Ui, s: &mut DirectionalLight) {

@@ -36,6 +36,18 @@ pub enum Action {
     AddMesh,
     /// Add a glTF mesh from this file.
     AddMeshPath(PathBuf),
+    /// Add a terrain at the view's focus.
+    AddTerrain,
+    /// Switch the terrain tool on or off.
+    ToggleTerrainTool,
+    /// Replace the selected terrain's heights with a 16-bit heightmap (asks which).
+    ImportHeightmap,
+    /// Replace the selected terrain's heights with this 16-bit heightmap.
+    ImportHeightmapPath(PathBuf),
+    /// Write the selected terrain's heights as a 16-bit heightmap (asks where).
+    ExportHeightmap,
+    /// Write the selected terrain's heights to this file.
+    ExportHeightmapPath(PathBuf),
     /// Duplicate the selection.
     Duplicate,
     /// Delete the selection.
@@ -115,6 +127,10 @@ pub struct ViewChoice {
     pub debug: DebugFlags,
     /// Whether the selection has a loaded texture (Frame 1:1 is offered).
     pub textured_selection: bool,
+    /// Whether the selection is a terrain with loaded heights.
+    pub terrain_selection: bool,
+    /// Whether the terrain tool is on.
+    pub terrain_tool: bool,
 }
 
 /// Draws the menu bar and returns what was chosen.
@@ -185,6 +201,37 @@ pub fn show(
             if ui.button("glTF mesh…").clicked() {
                 out = Some(Action::AddMesh);
             }
+            if ui.button("Terrain").clicked() {
+                out = Some(Action::AddTerrain);
+            }
+        });
+        ui.menu_button("Tools", |ui| {
+            let mut on = view.terrain_tool;
+            if ui
+                .add_enabled(!playing, egui::Checkbox::new(&mut on, "Terrain tool  (T)"))
+                .clicked()
+            {
+                out = Some(Action::ToggleTerrainTool);
+            }
+            let hint = "Select a terrain";
+            let enabled = view.terrain_selection && !playing;
+            if ui
+                .add_enabled(enabled, egui::Button::new("Import heightmap…"))
+                .on_disabled_hover_text(hint)
+                .clicked()
+            {
+                out = Some(Action::ImportHeightmap);
+            }
+            if ui
+                .add_enabled(
+                    view.terrain_selection,
+                    egui::Button::new("Export heightmap…"),
+                )
+                .on_disabled_hover_text(hint)
+                .clicked()
+            {
+                out = Some(Action::ExportHeightmap);
+            }
         });
         ui.menu_button("View", |ui| {
             ui.label("Render method");
@@ -215,6 +262,14 @@ pub fn show(
             }
         });
         ui.separator();
+        let sculpt = egui::Button::selectable(view.terrain_tool, "Sculpt (T)");
+        if ui
+            .add_enabled(!playing, sculpt)
+            .on_hover_text("The terrain tool: brushes for the selected terrain")
+            .clicked()
+        {
+            out = Some(Action::ToggleTerrainTool);
+        }
         let play = if playing { "Stop (Esc)" } else { "Play (F5)" };
         if ui.button(play).clicked() {
             out = Some(Action::TogglePlay);

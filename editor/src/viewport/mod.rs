@@ -10,6 +10,7 @@ pub mod gpu;
 pub mod handles;
 pub mod overlay;
 pub mod play;
+pub mod sculpt;
 
 use std::time::Instant;
 
@@ -28,6 +29,7 @@ use drag::Pointer;
 use gizmo::{Drag, Mode};
 use gpu::GpuView;
 use handles::FaceDrag;
+use sculpt::TerrainTool;
 
 /// Internal resolution relative to the panel's physical pixels while the view is still, and
 /// while it moves (cheaper frames keep the camera responsive on a CPU rasterizer).
@@ -76,6 +78,8 @@ pub struct Viewport {
     /// Wall time of the render of the first frame after the last edit (scene upload,
     /// frame driver, first frame), ms.
     pub edit_stall_ms: f64,
+    /// The terrain tool.
+    pub terrain: TerrainTool,
     /// Internal height of a still frame at the last draw: the face resolution a level's
     /// pixel size gives follows it.
     still_height: u32,
@@ -104,6 +108,7 @@ impl Default for Viewport {
             grabbed: false,
             rect: None,
             edit_stall_ms: 0.0,
+            terrain: TerrainTool::default(),
             still_height: DEFAULT_STILL_HEIGHT,
             drag: None,
             face_drag: None,
@@ -151,6 +156,19 @@ impl Viewport {
             let size = t.scale.max_element().max(1.0) * 4.0;
             self.camera.focus(t.translation, size.max(4.0));
         }
+    }
+
+    /// Where something added "at the view's focus" goes: where the view's centre line meets
+    /// the ground (y = 0) within 500 units, else the point the camera orbits.
+    pub fn ground_focus(&self) -> Vec3 {
+        let (eye, forward) = (self.camera.eye, self.camera.forward());
+        if forward.y < -1e-3 {
+            let t = -eye.y / forward.y;
+            if (0.0..=500.0).contains(&t) {
+                return eye + forward * t;
+            }
+        }
+        eye + forward * self.camera.distance
     }
 
     /// The viewport as the level's face resolution sees it: the internal height of a still
@@ -202,6 +220,9 @@ impl Viewport {
                     self.focus_selection(state);
                 }
             });
+            if ui.input(|i| i.key_pressed(Key::T)) {
+                self.terrain.toggle(state)?;
+            }
         }
         let camera = match self.mode {
             ViewMode::Edit => self.camera.camera(),
@@ -335,9 +356,21 @@ impl Viewport {
             return Ok(());
         }
         overlay::markers(&painter, &proj, state.scene(), state.selection);
-        let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;
-        let on_gizmo = !on_face && self.gizmo_ui(ui, &response, &painter, &proj, state)?;
-        if response.clicked() && !on_gizmo && !on_face {
+        // The terrain tool on a selected terrain takes the primary button (no gizmo).
+        let sculpting = self.terrain.active && crate::terrain::selected_terrain(state).is_some();
+        let used = if sculpting {
+            self.drag = None;
+            self.face_drag = None;
+            self.terrain.ui(ui, &response, &painter, &proj, state)?
+        } else {
+            self.terrain.finish(state)?;
+            let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;
+            on_face || self.gizmo_ui(ui, &response, &painter, &proj, state)?
+        };
+        if self.terrain.active {
+            self.terrain.panel(ui.ctx(), rect, state);
+        }
+        if response.clicked() && !used {
             self.select_at(&response, rect, size, state);
         }
         Ok(())
