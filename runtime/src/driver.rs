@@ -182,6 +182,18 @@ impl FrameDriver {
         })
     }
 
+    /// Takes `level` in place of the current one after an edit confined to the box
+    /// `min..max` (world units, including where the edit's shadows may fall): the probes and
+    /// their captures stay, only the captured faces that may see the box are marked stale
+    /// (drawn until captured again, spread over frames by the usual budget), and only the
+    /// probe placements of cells near it are recomputed. Returns the faces marked.
+    pub fn replace_level(&mut self, level: Arc<PreparedLevel>, min: Vec3, max: Vec3) -> u32 {
+        self.level = level;
+        self.overrides = self.level.overrides.clone();
+        self.placements.forget_near(min, max);
+        self.scheduler.invalidate_region(min, max)
+    }
+
     /// The scene to upload to the renderer.
     pub fn scene_input(&self) -> &SceneInput {
         self.level.scene()

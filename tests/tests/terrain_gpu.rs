@@ -151,3 +151,94 @@ fn terrain_hills_golden_images() {
     let (px, _) = settle(&mut h, cam(0.3, 16.0, 44.0, 0.0, -22.0));
     check_golden("terrain_hills_overview", &px, size, 0.002);
 }
+
+/// A terrain edit through `Session::update_level_region` marks only the probe faces that may
+/// see the changed area (or its shadow) for capture, and once they are captured again the
+/// frame is exactly what a session started on the edited level draws.
+#[test]
+fn a_terrain_dab_recaptures_only_the_faces_that_see_it() {
+    use std::sync::Arc;
+    use texel_runtime::load::load_level;
+    use texel_runtime::session::{Session, set_face_resolution};
+    use texel_scene::terrain::Terrain;
+
+    let size = UVec2::new(160, 90);
+    let n = 48;
+    let Some(mut h) = Harness::new("assets/levels/terrain_hills.ron", size, n) else {
+        return;
+    };
+    let c = cam(2.0, 7.0, 34.0, 0.0, -15.0);
+    let (before, _) = settle(&mut h, c);
+    // Raise a disc of radius 3 around (-4, 24) by up to 2 units.
+    let path = texel_tests::repo_root().join("assets/levels/terrain_hills.ron");
+    let mut edited = load_level(&path).expect("level loads");
+    set_face_resolution(&mut edited, n).expect("face resolution");
+    let world = edited.scene.world();
+    let terrain = edited
+        .scene
+        .entities()
+        .find_map(|e| world.get::<&Terrain>(e).ok().map(|t| (*t).clone()))
+        .expect("a terrain");
+    drop(world);
+    let mut field = (**edited.assets.heightfield(&terrain).expect("heights")).clone();
+    let step = terrain.size.x / (field.width - 1) as f32;
+    for z in 0..field.depth {
+        for x in 0..field.width {
+            let p = glam::Vec2::new(-48.0 + x as f32 * step, -48.0 + z as f32 * step);
+            let r = p.distance(glam::Vec2::new(-4.0, 24.0));
+            if r < 3.0 {
+                let i = (z * field.width + x) as usize;
+                field.heights[i] += 2.0 * (1.0 - r / 3.0);
+            }
+        }
+    }
+    edited.assets.insert_heightfield(&terrain, Arc::new(field));
+    let (min, max) = (Vec3::new(-7.0, 0.0, 21.0), Vec3::new(-1.0, 12.0, 27.0));
+    let marked = h
+        .session
+        .update_level_region(&h.ctx, &edited, min, max)
+        .expect("update");
+    // Faces cached: the eye's six and the grid probe's visible ones at least.
+    assert!(marked > 0, "the dab is in view");
+    let mut captured_stable = 0;
+    let mut px = Vec::new();
+    for _ in 0..8 {
+        let (input, _, p) = h.frame(c, DT);
+        captured_stable += input
+            .captures
+            .iter()
+            .filter(|w| w.slot != texel_probes::probe_set::Slot::Eye)
+            .count();
+        px = p;
+    }
+    assert!(
+        captured_stable < 6,
+        "only the faces that see the dab are captured again: {captured_stable}"
+    );
+    // A session started on the edited level draws the same frame.
+    let mut fresh = Session::headless(&h.ctx, &edited, size, 60f32.to_radians()).expect("session");
+    let request = texel_runtime::session::FrameRequest {
+        camera: c,
+        dt: DT,
+        schedule: texel_render::input::Schedule::Ours,
+        size,
+    };
+    let mut expect = Vec::new();
+    for _ in 0..8 {
+        expect = fresh.draw_offscreen(&h.ctx, &request).expect("frame").1;
+    }
+    let count = |a: &[u8], b: &[u8]| {
+        a.chunks_exact(4)
+            .zip(b.chunks_exact(4))
+            .filter(|(x, y)| x != y)
+            .count()
+    };
+    let changed = count(&before, &px);
+    eprintln!("marked {marked}, stable faces captured {captured_stable}, pixels changed {changed}");
+    assert!(changed > 100, "the dab shows: {changed} pixels changed");
+    let differ = count(&px, &expect);
+    assert_eq!(
+        differ, 0,
+        "{differ} pixels differ from a fresh session's frame"
+    );
+}

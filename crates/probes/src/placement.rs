@@ -156,6 +156,17 @@ impl Placements {
         Ok(choice)
     }
 
+    /// Forgets the placements of the cells whose search volume (a cell around its origin)
+    /// meets the box `min..max`, after the scene changed there; the others stay.
+    pub fn forget_near(&mut self, min: Vec3, max: Vec3) {
+        self.cache.retain(|&(index, bits), _| {
+            let size = f32::from_bits(bits);
+            let o = index.as_vec3() * size;
+            let (lo, hi) = (o - Vec3::splat(size), o + Vec3::splat(size));
+            !(lo.cmple(max).all() && hi.cmpge(min).all())
+        });
+    }
+
     /// Cells placed so far.
     pub fn len(&self) -> usize {
         self.cache.len()

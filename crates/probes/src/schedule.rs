@@ -42,6 +42,28 @@ use crate::visibility::{Frustum, splat_extent, visible_faces};
 /// make progress.
 pub const MIN_FACE_BUDGET: u32 = 7;
 
+/// Whether the cube face `face` of a probe at `origin` (capturing up to `far`, Chebyshev)
+/// may see any point of the box `min..max`: false only when every corner lies beyond one of
+/// the face pyramid's planes (behind the face, past one of its four sides, or farther than
+/// `far`).
+pub fn face_may_see_box(face: Face, origin: Vec3, min: Vec3, max: Vec3, far: f32) -> bool {
+    let (a, u, v) = (face.axis(), face.u_axis(), face.v_axis());
+    let corners: [Vec3; 8] = std::array::from_fn(|i| {
+        Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        ) - origin
+    });
+    let all = |f: &dyn Fn(Vec3) -> bool| corners.iter().all(|&c| f(c));
+    !(all(&|c| c.dot(a) <= 0.0)
+        || all(&|c| c.dot(u) > c.dot(a))
+        || all(&|c| c.dot(u) < -c.dot(a))
+        || all(&|c| c.dot(v) > c.dot(a))
+        || all(&|c| c.dot(v) < -c.dot(a))
+        || all(&|c| c.dot(a) > far))
+}
+
 /// What a face's data was captured for.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct CaptureStamp {
@@ -226,6 +248,27 @@ impl Scheduler {
     /// Forgets every capture (e.g. after the GPU textures were recreated).
     pub fn invalidate_all(&mut self) {
         self.stamps = [[None; 6]; 3];
+    }
+
+    /// Marks stale every captured face (of any slot) that may see the box `min..max`: it stays
+    /// drawable (its old image is in the right place) and is captured again when the budget
+    /// allows, like after a scene change, but faces that cannot see the box keep their
+    /// captures. Returns how many faces were marked. A scene edit (a terrain brush dab, an
+    /// object moved) then costs the faces it touches, not every face of every probe.
+    pub fn invalidate_region(&mut self, min: Vec3, max: Vec3) -> u32 {
+        let mut marked = 0;
+        for slot in &mut self.stamps {
+            for (f, stamp) in slot.iter_mut().enumerate() {
+                let Some(s) = stamp else {
+                    continue;
+                };
+                if face_may_see_box(Face::ALL[f], s.origin, min, max, self.capture_far) {
+                    s.scene_generation = s.scene_generation.wrapping_add(1);
+                    marked += 1;
+                }
+            }
+        }
+        marked
     }
 
     /// Records that every face of `plan` was captured.

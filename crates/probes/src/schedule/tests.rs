@@ -395,3 +395,22 @@ fn prefetch_waits_for_stable_work() {
     assert_eq!(plan.work.len(), before);
     assert_eq!(plan.prefetch, None);
 }
+
+#[test]
+fn a_box_is_seen_only_by_the_faces_facing_it() {
+    let o = Vec3::ZERO;
+    let (min, max) = (Vec3::new(-1.0, -1.0, -10.0), Vec3::new(1.0, 1.0, -8.0));
+    let seeing: Vec<Face> = Face::ALL
+        .into_iter()
+        .filter(|&f| face_may_see_box(f, o, min, max, 500.0))
+        .collect();
+    assert_eq!(seeing.len(), 1, "{seeing:?}");
+    assert_eq!(seeing[0].axis(), -Vec3::Z);
+    assert!(!face_may_see_box(seeing[0], o, min, max, 5.0), "beyond far");
+    // A box around the origin is seen by every face.
+    let all = Face::ALL
+        .into_iter()
+        .filter(|&f| face_may_see_box(f, o, Vec3::splat(-1.0), Vec3::splat(1.0), 500.0))
+        .count();
+    assert_eq!(all, 6);
+}
