@@ -173,13 +173,14 @@ fn a_terrain_dab_recaptures_only_the_faces_that_see_it() {
     let path = texel_tests::repo_root().join("assets/levels/terrain_hills.ron");
     let mut edited = load_level(&path).expect("level loads");
     set_face_resolution(&mut edited, n).expect("face resolution");
-    let world = edited.scene.world();
-    let terrain = edited
-        .scene
-        .entities()
-        .find_map(|e| world.get::<&Terrain>(e).ok().map(|t| (*t).clone()))
-        .expect("a terrain");
-    drop(world);
+    let terrain = {
+        let world = edited.scene.world();
+        edited
+            .scene
+            .entities()
+            .find_map(|e| world.get::<&Terrain>(e).ok().map(|t| (*t).clone()))
+            .expect("a terrain")
+    };
     let mut field = (**edited.assets.heightfield(&terrain).expect("heights")).clone();
     let step = terrain.size.x / (field.width - 1) as f32;
     for z in 0..field.depth {
