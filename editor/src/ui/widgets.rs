@@ -85,6 +85,8 @@ pub fn kind_icon(row: &EntityRow) -> &'static str {
         "[light]"
     } else if row.probe_grid_override.is_some() {
         "[probes]"
+    } else if row.terrain.is_some() && row.geometry.is_none() {
+        "[terrain]"
     } else {
         match &row.geometry {
             Some(G::Box { .. }) => "[box]",

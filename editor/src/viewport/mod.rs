@@ -361,7 +361,10 @@ impl Viewport {
         let used = if sculpting {
             self.drag = None;
             self.face_drag = None;
-            self.terrain.ui(ui, &response, &painter, &proj, state)?
+            let upload_ms = self.gpu.as_ref().map_or(0.0, |g| g.report.upload_ms);
+            let refresh = sculpt::refresh_interval(upload_ms);
+            self.terrain
+                .ui(ui, &response, &painter, &proj, state, refresh)?
         } else {
             self.terrain.finish(state)?;
             let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;

@@ -26,8 +26,16 @@ use crate::terrain::{
 };
 
 /// Shortest time between two refreshes of the view during a stroke (each rebuilds the
-/// session's level).
+/// session's level); longer when the last rebuild was slow ([`refresh_interval`]).
 pub const REFRESH_EVERY: Duration = Duration::from_millis(100);
+
+/// How long a stroke waits between refreshes of the view when the last scene upload took
+/// `upload_ms`: [`REFRESH_EVERY`], or three uploads when that is longer, so rebuilding the
+/// level takes at most about a quarter of the stroke's time.
+pub fn refresh_interval(upload_ms: f64) -> Duration {
+    let slow = Duration::from_secs_f64((upload_ms * 3.0 / 1e3).clamp(0.0, 10.0));
+    slow.max(REFRESH_EVERY)
+}
 /// Segments of the brush circle.
 const CIRCLE_SEGMENTS: usize = 64;
 
@@ -80,7 +88,8 @@ impl TerrainTool {
     /// finds the surface under the pointer, sculpts while the primary button is down on the
     /// viewport, lands the stroke on release and draws the brush. Returns whether the tool
     /// used the pointer (it is over the terrain, or a stroke is in progress), so a click
-    /// there does not pick.
+    /// there does not pick. `refresh` is the shortest time between two refreshes of the view
+    /// ([`refresh_interval`]).
     pub fn ui(
         &mut self,
         ui: &Ui,
@@ -88,6 +97,7 @@ impl TerrainTool {
         painter: &Painter,
         proj: &Projector,
         state: &mut EditorState,
+        refresh: Duration,
     ) -> Result<bool, CommandError> {
         let Some(target) = selected_terrain(state) else {
             self.finish(state)?;
@@ -148,7 +158,7 @@ impl TerrainTool {
                         s.pending = true;
                     }
                 }
-                if s.pending && s.refreshed.is_none_or(|t| t.elapsed() >= REFRESH_EVERY) {
+                if s.pending && s.refreshed.is_none_or(|t| t.elapsed() >= refresh) {
                     let assets = &mut state.document.level.assets;
                     assets.insert_heightfield(&s.terrain, Arc::new(s.work.clone()));
                     state.document.touch();
