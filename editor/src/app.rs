@@ -441,7 +441,7 @@ impl EditorApp {
         match self.state.save_as(path) {
             Ok(()) => {
                 if let Some(o) = old {
-                    let _ = std::fs::remove_file(o);
+                    files::remove_autosave_file(&o);
                 }
                 files::remove_autosave(path);
                 self.recent.touch(path);
@@ -454,6 +454,7 @@ impl EditorApp {
         let level_path = self.state.document.path.clone();
         match Document::open(auto) {
             Ok(mut doc) => {
+                doc.adopt_autosaved_heights();
                 // The recovered document is the level it autosaved (or stays untitled).
                 doc.level.path = level_path
                     .clone()
@@ -669,14 +670,21 @@ impl EditorApp {
         let Some(file) = self.autosave_file() else {
             return;
         };
-        if let Err(e) = files::write_autosave(self.state.scene(), &file) {
-            self.dialogs.error = Some(format!("autosave failed: {e}"));
+        let before = files::autosave_heightmaps(&file);
+        match self.state.document.write_autosave(&file) {
+            // Heightmaps the previous autosave kept and this one does not are dropped.
+            Ok(kept) => {
+                for png in before.iter().filter(|p| !kept.contains(p)) {
+                    let _ = std::fs::remove_file(png);
+                }
+            }
+            Err(e) => self.dialogs.error = Some(format!("autosave failed: {e}")),
         }
     }
 
     fn discard_autosave(&mut self) {
         if let Some(file) = self.autosave_file() {
-            let _ = std::fs::remove_file(file);
+            files::remove_autosave_file(&file);
         }
     }
 }

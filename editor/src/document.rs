@@ -12,6 +12,8 @@ use texel_scene::assets::{AssetLibrary, load_assets, resolve, texture_paths};
 use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 use texel_scene::{EntityRow, Geometry, Scene};
 
+use crate::files;
+
 /// A level open in the editor.
 pub struct Document {
     /// The scene and its assets; `level.path` is where they are resolved from.
@@ -131,6 +133,76 @@ impl Document {
             self.on_disk.insert(rel.clone(), field);
         }
         Ok(())
+    }
+
+    /// Writes an autosave of the document to `file` (atomically, creating its folder). A
+    /// file terrain whose heights are not saved (sculpted, imported) has them written first
+    /// beside `file` as `name.autosave.png` ([`files::autosave_heightmap`]), which the
+    /// autosave names instead. Returns those heightmap files.
+    pub fn write_autosave(&self, file: &Path) -> Result<Vec<PathBuf>, String> {
+        if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        let mut level = self.level.scene.to_level();
+        let mut written = Vec::new();
+        for row in &mut level.entities {
+            let Some(t) = &mut row.terrain else {
+                continue;
+            };
+            let HeightSource::File { path } = &t.heightmap else {
+                continue;
+            };
+            let Some(field) = self.level.assets.heightfield(t) else {
+                continue;
+            };
+            let saved = self.path.is_some()
+                && self
+                    .on_disk
+                    .get(path)
+                    .is_some_and(|f| Arc::ptr_eq(f, field))
+                && resolve(&self.level.path, path).is_file();
+            if saved {
+                continue;
+            }
+            let auto = files::autosave_heightmap(path);
+            let png = resolve(file, &auto);
+            if !written.contains(&png) {
+                crate::terrain::write_heightmap(&png, field, t.max_height)?;
+                written.push(png);
+            }
+            t.heightmap = HeightSource::File { path: auto };
+        }
+        level.save(file).map_err(|e| e.to_string())?;
+        Ok(written)
+    }
+
+    /// After opening an autosave: terrains reading a `name.autosave.png` name `name.png`
+    /// again and keep the heights read (written to `name.png` on the next save).
+    pub fn adopt_autosaved_heights(&mut self) {
+        let scene = &mut self.level.scene;
+        let entities: Vec<_> = scene.entities().collect();
+        for e in entities {
+            let Some(mut row) = scene.row(e) else {
+                continue;
+            };
+            let Some(t) = &mut row.terrain else {
+                continue;
+            };
+            let HeightSource::File { path } = &t.heightmap else {
+                continue;
+            };
+            let Some(original) = files::autosaved_heightmap_of(path) else {
+                continue;
+            };
+            let field = self.level.assets.heightfield(t).cloned();
+            self.on_disk.remove(path);
+            t.heightmap = HeightSource::File { path: original };
+            if let Some(f) = field {
+                self.level.assets.insert_heightfield(t, f);
+            }
+            let _ = scene.set_row(e, row);
+        }
+        self.revision += 1;
     }
 
     /// Whether a heightmap file name (relative to the level) is used: named by a terrain of

@@ -119,9 +119,58 @@ pub fn write_autosave(scene: &Scene, path: &Path) -> Result<(), String> {
     scene.save(path).map_err(|e| e.to_string())
 }
 
-/// Removes the autosave beside `level` (after a save or a discard).
+/// Removes the autosave beside `level` (after a save or a discard), with the heightmaps it
+/// kept.
 pub fn remove_autosave(level: &Path) {
-    let _ = std::fs::remove_file(autosave_path(level));
+    remove_autosave_file(&autosave_path(level));
+}
+
+/// Removes the autosave file `auto` and the heightmaps it kept ([`autosave_heightmaps`]).
+pub fn remove_autosave_file(auto: &Path) {
+    for png in autosave_heightmaps(auto) {
+        let _ = std::fs::remove_file(png);
+    }
+    let _ = std::fs::remove_file(auto);
+}
+
+/// The heightmap an autosave keeps a terrain's unsaved heights in: `a/name.png` →
+/// `a/name.autosave.png` (relative to the autosave, which sits where the level does).
+pub fn autosave_heightmap(rel: &str) -> String {
+    let stem = rel
+        .len()
+        .checked_sub(4)
+        .filter(|&n| rel.is_char_boundary(n) && rel[n..].eq_ignore_ascii_case(".png"))
+        .map_or(rel, |n| &rel[..n]);
+    format!("{stem}{AUTOSAVE_HEIGHTMAP}")
+}
+
+/// The heightmap an autosave's heightmap stands for (`name.autosave.png` → `name.png`);
+/// `None` for any other path.
+pub fn autosaved_heightmap_of(rel: &str) -> Option<String> {
+    rel.strip_suffix(AUTOSAVE_HEIGHTMAP)
+        .filter(|s| !s.is_empty())
+        .map(|s| format!("{s}.png"))
+}
+
+/// What autosaved heightmap names end with.
+pub const AUTOSAVE_HEIGHTMAP: &str = ".autosave.png";
+
+/// The heightmap files the autosave `auto` names ([`autosave_heightmap`]); none when it is
+/// missing or unreadable.
+pub fn autosave_heightmaps(auto: &Path) -> Vec<PathBuf> {
+    let Ok(level) = texel_scene::Level::load(auto) else {
+        return Vec::new();
+    };
+    level
+        .entities
+        .iter()
+        .filter_map(|r| match &r.terrain.as_ref()?.heightmap {
+            texel_scene::terrain::HeightSource::File { path } => {
+                autosaved_heightmap_of(path).map(|_| texel_scene::assets::resolve(auto, path))
+            }
+            texel_scene::terrain::HeightSource::Noise { .. } => None,
+        })
+        .collect()
 }
 
 /// The recent-files list, most recent first, kept in the user's config directory.
@@ -185,6 +234,21 @@ impl Recent {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn autosaved_heightmaps_name_their_heightmap() {
+        assert_eq!(
+            autosave_heightmap("a/hills_T.png"),
+            "a/hills_T.autosave.png"
+        );
+        assert_eq!(autosave_heightmap("x.PNG"), "x.autosave.png");
+        assert_eq!(autosave_heightmap("odd"), "odd.autosave.png");
+        assert_eq!(
+            autosaved_heightmap_of("a/hills_T.autosave.png").as_deref(),
+            Some("a/hills_T.png")
+        );
+        assert_eq!(autosaved_heightmap_of("hills_T.png"), None);
+    }
 
     #[test]
     fn autosave_sits_beside_the_level() {

@@ -613,3 +613,75 @@ fn sculpting_a_duplicate_gives_it_its_own_heightmap() {
     );
     assert_eq!(heights(&h), original);
 }
+
+#[test]
+fn an_autosave_keeps_sculpted_heights_and_recovering_it_brings_them_back() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = noise_level(dir.path());
+    let p = Vec3::new(0.0, 3.0, 0.0);
+    let mut h = sculpting(&path, BrushKind::Raise, p);
+    let at = screen(&h, h.state().viewport.terrain.hover.unwrap_or(p));
+    stroke(&mut h, at, 3);
+    let sculpted = heights(&h);
+    h.state_mut().autosave_now();
+    assert!(
+        h.state().dialogs.error.is_none(),
+        "{:?}",
+        h.state().dialogs.error
+    );
+    let auto = texel_editor::files::autosave_path(&path);
+    let kept = dir.path().join("hills_Terrain.autosave.png");
+    assert!(kept.is_file(), "the autosave keeps the unsaved heights");
+    assert!(!dir.path().join("hills_Terrain.png").exists());
+    let autosaved = Scene::load(&auto).expect("autosave");
+    let e = autosaved.entities().next().expect("terrain");
+    assert_eq!(
+        autosaved
+            .row(e)
+            .and_then(|r| r.terrain)
+            .map(|t| t.heightmap),
+        Some(HeightSource::File {
+            path: "hills_Terrain.autosave.png".into()
+        })
+    );
+
+    // A crash, then recovery: the heights come back, named as the level will save them.
+    drop(h);
+    let level_time = std::fs::metadata(&path)
+        .and_then(|m| m.modified())
+        .expect("time");
+    std::fs::File::options()
+        .write(true)
+        .open(&auto)
+        .and_then(|f| f.set_modified(level_time + std::time::Duration::from_secs(60)))
+        .expect("set time");
+    let mut h = harness(EditorApp::with_recent(Some(&path), Recent::default()));
+    h.get_by_label("Recover").click();
+    h.run();
+    h.state_mut().state.selection = Some(0);
+    assert!(h.state().state.is_dirty());
+    let t = terrain_row(&h).terrain.expect("terrain");
+    assert_eq!(
+        t.heightmap,
+        HeightSource::File {
+            path: "hills_Terrain.png".into()
+        }
+    );
+    let back = heights(&h);
+    assert!(
+        back.heights
+            .iter()
+            .zip(&sculpted.heights)
+            .all(|(a, b)| (a - b).abs() <= t.max_height / 65535.0)
+    );
+    // Saving writes the heightmap and forgets the autosave and what it kept.
+    h.key_press_modifiers(Modifiers::COMMAND, Key::S);
+    h.run();
+    assert!(
+        h.state().dialogs.error.is_none(),
+        "{:?}",
+        h.state().dialogs.error
+    );
+    assert!(dir.path().join("hills_Terrain.png").is_file());
+    assert!(!auto.exists() && !kept.exists());
+}
