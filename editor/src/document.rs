@@ -25,6 +25,10 @@ pub struct Document {
     /// The heights each heightmap file (by level-relative path) held when it was last read or
     /// written: a terrain whose heights are still these is not written again on save.
     on_disk: BTreeMap<String, Arc<Heightfield>>,
+    /// The last revision that changed anything but terrain heights in a known box.
+    full_revision: u64,
+    /// Revisions that only changed terrain heights, with the world box they changed.
+    regions: Vec<(u64, glam::Vec3, glam::Vec3)>,
 }
 
 impl Document {
@@ -39,6 +43,8 @@ impl Document {
             path: None,
             revision: 0,
             on_disk: BTreeMap::new(),
+            full_revision: 0,
+            regions: Vec::new(),
         }
     }
 
@@ -50,6 +56,8 @@ impl Document {
             path: Some(path.to_owned()),
             revision: 0,
             on_disk: BTreeMap::new(),
+            full_revision: 0,
+            regions: Vec::new(),
         };
         doc.note_files_read(&AssetLibrary::default());
         Ok(doc)
@@ -75,19 +83,41 @@ impl Document {
 
     /// The scene, for commands.
     pub fn scene_mut(&mut self) -> &mut Scene {
-        self.revision += 1;
+        self.touch();
         &mut self.level.scene
     }
 
     /// The scene and the asset library (where terrain heights live), for commands.
     pub fn parts_mut(&mut self) -> (&mut Scene, &mut AssetLibrary) {
-        self.revision += 1;
+        self.touch();
         (&mut self.level.scene, &mut self.level.assets)
     }
 
-    /// Marks a change made in place (a terrain's heights during a stroke), so views rebuild.
+    /// Marks a change made in place, so views rebuild.
     pub fn touch(&mut self) {
         self.revision += 1;
+        self.full_revision = self.revision;
+        self.regions.clear();
+    }
+
+    /// Marks a change of terrain heights confined to the world box `min..max` (a stroke in
+    /// progress), so views update only what sees it ([`Document::region_since`]).
+    pub fn touch_region(&mut self, min: glam::Vec3, max: glam::Vec3) {
+        self.revision += 1;
+        self.regions.push((self.revision, min, max));
+    }
+
+    /// The box every change since `revision` fell in, when they were all region changes
+    /// ([`Document::touch_region`]); `None` when something else changed (rebuild the view).
+    pub fn region_since(&self, revision: u64) -> Option<(glam::Vec3, glam::Vec3)> {
+        if self.full_revision > revision {
+            return None;
+        }
+        self.regions
+            .iter()
+            .filter(|r| r.0 > revision)
+            .map(|r| (r.1, r.2))
+            .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
     }
 
     /// Saves atomically to `path` and makes it the document's path. The heightmaps of
@@ -202,7 +232,7 @@ impl Document {
             }
             let _ = scene.set_row(e, row);
         }
-        self.revision += 1;
+        self.touch();
     }
 
     /// Whether a heightmap file name (relative to the level) is used: named by a terrain of
@@ -292,7 +322,7 @@ impl Document {
         }
         let old = std::mem::replace(&mut self.level.assets, assets);
         self.note_files_read(&old);
-        self.revision += 1;
+        self.touch();
         Ok(())
     }
 }
@@ -333,4 +363,33 @@ pub fn unloaded_paths(row: &EntityRow, assets: &AssetLibrary) -> Vec<String> {
         }
     }
     out
+}
+
+#[cfg(test)]
+mod region_tests {
+    use super::*;
+    use glam::Vec3;
+
+    #[test]
+    fn region_changes_union_until_a_full_change() {
+        let mut d = Document::new_empty();
+        let r0 = d.revision;
+        assert_eq!(d.region_since(r0), None, "nothing changed");
+        d.touch_region(Vec3::ZERO, Vec3::ONE);
+        d.touch_region(Vec3::splat(-1.0), Vec3::splat(0.5));
+        assert_eq!(
+            d.region_since(r0),
+            Some((Vec3::splat(-1.0), Vec3::ONE)),
+            "the union of both"
+        );
+        let r2 = d.revision;
+        assert_eq!(d.region_since(r2), None);
+        d.touch();
+        d.touch_region(Vec3::ZERO, Vec3::ONE);
+        assert_eq!(d.region_since(r2), None, "a full change since r2");
+        assert_eq!(
+            d.region_since(d.revision - 1),
+            Some((Vec3::ZERO, Vec3::ONE))
+        );
+    }
 }

@@ -54,6 +54,9 @@ pub struct GpuView {
     density_view: bool,
     egui: Arc<RwLock<egui_wgpu::Renderer>>,
     target: Option<Target>,
+    /// A box that every change since the session's revision fell in (terrain heights during
+    /// a stroke): the next render updates only the probe faces that see it.
+    region: Option<(glam::Vec3, glam::Vec3)>,
     /// Cost of the last frame.
     pub report: RenderReport,
     /// The probes the last frame drew: eye, grid and (during a crossfade) previous.
@@ -88,9 +91,22 @@ impl GpuView {
             density_view: false,
             egui: rs.renderer.clone(),
             target: None,
+            region: None,
             report: RenderReport::default(),
             probes: None,
         })
+    }
+
+    /// The document revision the session shows, once there is one.
+    pub fn session_revision(&self) -> Option<u64> {
+        self.session.as_ref().map(|s| s.1)
+    }
+
+    /// Tells the next render that every change since [`GpuView::session_revision`] fell in
+    /// `region` (or not: `None`), so it can update the probes that see it instead of
+    /// rebuilding the session.
+    pub fn use_region(&mut self, region: Option<(glam::Vec3, glam::Vec3)>) {
+        self.region = region;
     }
 
     /// Renders `level` (at document `revision`) from `camera` at `size` and returns the
@@ -110,7 +126,14 @@ impl GpuView {
         match &mut self.session {
             Some((_, r)) if *r == revision => {}
             Some((session, r)) => {
-                session.set_level(&self.ctx, level).map_err(err)?;
+                match self.region.take() {
+                    Some((min, max)) => {
+                        session
+                            .update_level_region(&self.ctx, level, min, max)
+                            .map_err(err)?;
+                    }
+                    None => session.set_level(&self.ctx, level).map_err(err)?,
+                }
                 if self.density_view {
                     session.set_texture_density_view(true).map_err(err)?;
                 }

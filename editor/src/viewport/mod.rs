@@ -277,6 +277,10 @@ impl Viewport {
             let rendered = self.settle > 0;
             if rendered {
                 let t = Instant::now();
+                let region = gpu
+                    .session_revision()
+                    .and_then(|r| state.document.region_since(r));
+                gpu.use_region(region);
                 let r = gpu.render(
                     &state.document.level,
                     state.document.revision,

@@ -161,7 +161,14 @@ impl TerrainTool {
                 if s.pending && s.refreshed.is_none_or(|t| t.elapsed() >= refresh) {
                     let assets = &mut state.document.level.assets;
                     assets.insert_heightfield(&s.terrain, Arc::new(s.work.clone()));
-                    state.document.touch();
+                    // Only the probe faces that see the stroke so far are captured again.
+                    match s.touched {
+                        Some(r) => {
+                            let (min, max) = region_bounds(&s.place, r);
+                            state.document.touch_region(min, max);
+                        }
+                        None => state.document.touch(),
+                    }
                     s.refreshed = Some(Instant::now());
                     s.pending = false;
                 }
@@ -313,4 +320,24 @@ fn draw_brush(
     if let Some(c) = proj.project(centre) {
         painter.circle_filled(c, 3.0, colour);
     }
+}
+
+/// The world box of the samples `r` of a terrain placed at `place`, over its whole height
+/// range (a region's heights may have moved anywhere in it), one sample wider each side.
+fn region_bounds(
+    place: &crate::terrain::Placement,
+    r: crate::terrain::Region,
+) -> (glam::Vec3, glam::Vec3) {
+    let step = glam::Vec2::new(
+        place.size.x / (place.width.max(2) - 1) as f32,
+        place.size.y / (place.depth.max(2) - 1) as f32,
+    );
+    let corner = place.origin - glam::Vec3::new(0.5 * place.size.x, 0.0, 0.5 * place.size.y);
+    let at = |x: u32, z: u32| corner + glam::Vec3::new(x as f32 * step.x, 0.0, z as f32 * step.y);
+    let lo = at(r.x0.saturating_sub(1), r.z0.saturating_sub(1));
+    let hi = at(r.x1 + 1, r.z1 + 1);
+    (
+        glam::Vec3::new(lo.x, place.origin.y - 1.0, lo.z),
+        glam::Vec3::new(hi.x, place.origin.y + place.max_height + 1.0, hi.z),
+    )
 }
