@@ -105,6 +105,74 @@ impl Harness {
         self.frame_with(camera, dt, Schedule::Ours)
     }
 
+    /// Renders eight frames from `camera` (enough for the grid probe to be complete at the
+    /// test sizes); returns the last image and how many faces were captured on the way.
+    pub fn settle(&mut self, camera: Camera) -> (Vec<u8>, u32) {
+        let (mut px, mut faces) = (Vec::new(), 0);
+        for _ in 0..8 {
+            let (_, stats, p) = self.frame(camera, 1.0 / 30.0);
+            faces += stats.counters.faces_captured;
+            px = p;
+        }
+        (px, faces)
+    }
+
+    /// Settles at `camera`, renders one more frame and reads back its grid probe's six lit
+    /// faces: the frame's input, the face resolution, the faces (sRGB8 RGBA, rows top down).
+    pub fn grid_lit_faces(&mut self, camera: Camera) -> (FrameInput, u32, Vec<Vec<u8>>) {
+        self.settle(camera);
+        let input = self.frame(camera, 1.0 / 30.0).0;
+        let (n, faces) = self
+            .renderer()
+            .read_lit_faces(&self.ctx, input.grid.slot)
+            .expect("lit faces read back");
+        (input, n, faces)
+    }
+
+    /// Captures the grid probe at `home`, leaves for each of `away` (long enough that both
+    /// stable slots hold other probes), comes back to `back` in the same cell, and asserts
+    /// the probe was captured again and that `faces` of it are lit texel for texel as before:
+    /// nothing a capture stores may depend on where the camera was. Returns the number of
+    /// distinct colours those faces hold (for the caller to check there was something to
+    /// compare).
+    pub fn assert_recaptured_identically(
+        &mut self,
+        home: Camera,
+        away: &[Camera],
+        back: Camera,
+        faces: &[usize],
+    ) -> usize {
+        let (first, n, before) = self.grid_lit_faces(home);
+        for &c in away {
+            self.settle(c);
+        }
+        let (_, recaptured) = self.settle(back);
+        assert!(
+            recaptured >= 6,
+            "the probe was captured again ({recaptured} faces)"
+        );
+        let (again, _, after) = self.grid_lit_faces(back);
+        assert_eq!(
+            again.grid.origin, first.grid.origin,
+            "back in the same cell"
+        );
+        let mut colours = std::collections::HashSet::new();
+        for &f in faces {
+            let (a, b) = (&before[f], &after[f]);
+            let differ = (a.chunks_exact(4).zip(b.chunks_exact(4)))
+                .filter(|(x, y)| x != y)
+                .count();
+            assert_eq!(
+                differ,
+                0,
+                "face {f}: {differ} of {} texels lit differently",
+                n * n
+            );
+            colours.extend(a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]));
+        }
+        colours.len()
+    }
+
     /// [`Harness::frame`] with `schedule`.
     pub fn frame_with(
         &mut self,

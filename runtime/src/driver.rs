@@ -610,7 +610,11 @@ pub fn terrain_input(
     let corner = t.translation - Vec3::new(0.5 * terrain.size.x, 0.0, 0.5 * terrain.size.y);
     let displacement = terrain.displacement.as_ref().and_then(|d| {
         let image = assets.texture(&d.path)?.clone();
-        Some((texel_geom_texture(image), d.strength, d.tile_size))
+        let texture = texel_render::input::TextureRef {
+            image,
+            sampler: Default::default(),
+        };
+        Some((texture, d.strength, d.tile_size))
     });
     Some((
         TerrainInput {
@@ -649,14 +653,6 @@ fn skirt_depth(field: &texel_scene::terrain::Heightfield) -> f32 {
     (step * texel_scene::terrain::CHUNK_QUADS as f32 * 0.5)
         .min(hi - lo)
         .max(0.05)
-}
-
-/// A displacement image as the renderer samples it: nearest, repeating.
-fn texel_geom_texture(image: Arc<texel_scene::texture::Image>) -> texel_render::input::TextureRef {
-    texel_render::input::TextureRef {
-        image,
-        sampler: Default::default(),
-    }
 }
 
 #[cfg(test)]

@@ -13,16 +13,6 @@ fn cam(x: f32, y: f32, z: f32, yaw: f32, pitch: f32) -> Camera {
     Camera::from_yaw_pitch(Vec3::new(x, y, z), yaw, pitch)
 }
 
-fn settle(h: &mut Harness, c: Camera) -> (Vec<u8>, u32) {
-    let (mut px, mut faces) = (Vec::new(), 0);
-    for _ in 0..8 {
-        let (_, stats, p) = h.frame(c, DT);
-        faces += stats.counters.faces_captured;
-        px = p;
-    }
-    (px, faces)
-}
-
 /// A flat terrain at height 0 (a constant 16-bit heightmap), lit straight from above, no
 /// outlines, with a displacement texture so neighbouring cells differ: `band_distance` far
 /// beyond the view keeps every cell in the finest band.
@@ -57,13 +47,8 @@ fn a_flat_terrain_face_holds_one_colour_per_world_cell() {
         return;
     };
     let c = cam(0.3, 1.6, 0.2, 0.0, -30.0);
-    settle(&mut h, c);
-    let input = h.frame(c, DT).0;
+    let (input, n, faces) = h.grid_lit_faces(c);
     let origin = input.grid.origin;
-    let (n, faces) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, input.grid.slot)
-        .expect("read back");
     // Face −Y (index 3); the cube convention of texel_probes::cube gives each texel's ray.
     let face = texel_probes::cube::Face::ALL[3];
     let mut cells: HashMap<(i64, i64), [u8; 3]> = HashMap::new();
@@ -108,38 +93,16 @@ fn terrain_probe_texels_do_not_depend_on_the_camera() {
     let Some(mut h) = Harness::new("assets/levels/terrain_hills.ron", size, 48) else {
         return;
     };
-    let at = cam(0.2, 12.0, 30.3, 0.0, -20.0);
-    settle(&mut h, at);
-    let first = h.frame(at, DT).0;
-    let (n, before) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, first.grid.slot)
-        .expect("read back");
-    settle(&mut h, cam(3.2, 12.0, 27.1, 0.0, -20.0));
-    settle(&mut h, cam(-3.1, 12.0, 25.9, 0.0, -20.0));
+    let home = cam(0.2, 12.0, 30.3, 0.0, -20.0);
+    let away = [
+        cam(3.2, 12.0, 27.1, 0.0, -20.0),
+        cam(-3.1, 12.0, 25.9, 0.0, -20.0),
+    ];
     let back = cam(-0.3, 12.2, 29.8, 0.0, -20.0);
-    let (_, recaptured) = settle(&mut h, back);
-    assert!(recaptured >= 6, "captured again ({recaptured} faces)");
-    let again = h.frame(back, DT).0;
-    assert_eq!(again.grid.origin, first.grid.origin);
-    let (_, after) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, again.grid.slot)
-        .expect("read back");
-    let mut colours = std::collections::HashSet::new();
     // The faces this view needs (−Y below, −Z ahead); the others hold whatever the slot
     // last held.
-    for f in [3, 5] {
-        let (a, b) = (&before[f], &after[f]);
-        let differ = a
-            .chunks_exact(4)
-            .zip(b.chunks_exact(4))
-            .filter(|(x, y)| x != y)
-            .count();
-        assert_eq!(differ, 0, "face {f}: {differ} of {} texels differ", n * n);
-        colours.extend(a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]));
-    }
-    assert!(colours.len() > 50, "{} colours", colours.len());
+    let colours = h.assert_recaptured_identically(home, &away, back, &[3, 5]);
+    assert!(colours > 50, "{colours} colours");
 }
 
 #[test]
@@ -148,7 +111,7 @@ fn terrain_hills_golden_images() {
     let Some(mut h) = Harness::new("assets/levels/terrain_hills.ron", size, 64) else {
         return;
     };
-    let (px, _) = settle(&mut h, cam(0.3, 16.0, 44.0, 0.0, -22.0));
+    let (px, _) = h.settle(cam(0.3, 16.0, 44.0, 0.0, -22.0));
     check_golden("terrain_hills_overview", &px, size, 0.002);
 }
 
@@ -168,7 +131,7 @@ fn a_terrain_dab_recaptures_only_the_faces_that_see_it() {
         return;
     };
     let c = cam(2.0, 7.0, 34.0, 0.0, -15.0);
-    let (before, _) = settle(&mut h, c);
+    let (before, _) = h.settle(c);
     // Raise a disc of radius 3 around (-4, 24) by up to 2 units.
     let path = texel_tests::repo_root().join("assets/levels/terrain_hills.ron");
     let mut edited = load_level(&path).expect("level loads");

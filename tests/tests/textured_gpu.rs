@@ -12,29 +12,13 @@ fn cam(x: f32, y: f32, z: f32, yaw: f32, pitch: f32) -> Camera {
     Camera::from_yaw_pitch(Vec3::new(x, y, z), yaw, pitch)
 }
 
-/// Renders frames until the grid probe is complete; returns the last image.
-fn settle(h: &mut Harness, c: Camera) -> Vec<u8> {
-    settle_counting(h, c).0
-}
-
-/// [`settle`], also returning how many faces were captured on the way.
-fn settle_counting(h: &mut Harness, c: Camera) -> (Vec<u8>, u32) {
-    let (mut px, mut faces) = (Vec::new(), 0);
-    for _ in 0..8 {
-        let (_, stats, p) = h.frame(c, DT);
-        faces += stats.counters.faces_captured;
-        px = p;
-    }
-    (px, faces)
-}
-
 #[test]
 fn textured_level_golden_images() {
     let size = UVec2::new(256, 144);
     let Some(mut h) = Harness::new("assets/levels/textured.ron", size, 64) else {
         return;
     };
-    let px = settle(&mut h, cam(0.3, 1.6, 6.2, 8.0, -12.0));
+    let (px, _) = h.settle(cam(0.3, 1.6, 6.2, 8.0, -12.0));
     check_golden("textured_start", &px, size, 0.002);
 }
 
@@ -47,45 +31,16 @@ fn textured_probe_texels_do_not_depend_on_the_camera() {
     let Some(mut h) = Harness::new("assets/levels/textured.ron", size, 48) else {
         return;
     };
-    let home = Vec3::new(0.0, 2.0, 5.0);
-    settle(&mut h, cam(-0.3, 1.6, 5.2, 0.0, -12.0));
-    let first = h.frame(cam(-0.3, 1.6, 5.2, 0.0, -12.0), DT).0;
-    assert_eq!(first.grid.origin, home);
-    let (n, before) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, first.grid.slot)
-        .expect("read back");
-    // Away for long enough that both stable slots hold other probes, then back elsewhere
-    // in the same cell (looking the same way, so the view needs the same faces).
-    settle(&mut h, cam(2.2, 1.6, 3.1, 30.0, -5.0));
-    settle(&mut h, cam(-2.1, 1.6, 1.9, -40.0, -5.0));
-    let (_, recaptured) = settle_counting(&mut h, cam(0.35, 1.6, 4.7, 0.0, -12.0));
-    assert!(
-        recaptured >= 6,
-        "the probe was captured again ({recaptured} faces)"
-    );
-    let again = h.frame(cam(0.35, 1.6, 4.7, 0.0, -12.0), DT).0;
-    assert_eq!(again.grid.origin, home);
-    let (m, after) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, again.grid.slot)
-        .expect("read back");
-    assert_eq!(n, m);
-    let mut colours = std::collections::HashSet::new();
-    for (f, (a, b)) in before.iter().zip(&after).enumerate() {
-        let differ = a
-            .chunks_exact(4)
-            .zip(b.chunks_exact(4))
-            .filter(|(x, y)| x != y)
-            .count();
-        assert_eq!(differ, 0, "face {f}: {differ} texels lit differently");
-        colours.extend(a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]));
-    }
-    assert!(
-        colours.len() > 200,
-        "textures give many colours, found {}",
-        colours.len()
-    );
+    let home = cam(-0.3, 1.6, 5.2, 0.0, -12.0);
+    assert_eq!(h.frame(home, DT).0.grid.origin, Vec3::new(0.0, 2.0, 5.0));
+    // Back elsewhere in the same cell, looking the same way, so the view needs the same faces.
+    let away = [
+        cam(2.2, 1.6, 3.1, 30.0, -5.0),
+        cam(-2.1, 1.6, 1.9, -40.0, -5.0),
+    ];
+    let back = cam(0.35, 1.6, 4.7, 0.0, -12.0);
+    let colours = h.assert_recaptured_identically(home, &away, back, &[0, 1, 2, 3, 4, 5]);
+    assert!(colours > 200, "textures give many colours, found {colours}");
 }
 
 /// A one-pixel black-and-white checker of 1/16-unit squares seen from 1.5 units up: straight
@@ -99,12 +54,7 @@ fn far_texels_average_the_texture_instead_of_aliasing() {
         return;
     };
     let c = cam(0.0, 1.5, 0.0, 0.0, -20.0);
-    settle(&mut h, c);
-    let input = h.frame(c, DT).0;
-    let (n, faces) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, input.grid.slot)
-        .expect("read back");
+    let (_, n, faces) = h.grid_lit_faces(c);
     // The −Z face (index 5 in Face order: +X −X +Y −Y +Z −Z) looks toward the horizon; from
     // just below its middle row to 7/8 of the way down it sees floor from 24 to 2 units away,
     // where a texel spans two or more texture pixels.
@@ -155,12 +105,7 @@ fn texel_density_view_marks_one_to_one_green_and_minified_red() {
         .set_texture_density_view(true)
         .expect("density view");
     let c = cam(0.0, 1.5, 0.0, 0.0, -20.0);
-    settle(&mut h, c);
-    let input = h.frame(c, DT).0;
-    let (n, faces) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, input.grid.slot)
-        .expect("read back");
+    let (_, n, faces) = h.grid_lit_faces(c);
     let texel = |f: usize, x: u32, y: u32| {
         let i = ((y * n + x) * 4) as usize;
         [faces[f][i], faces[f][i + 1], faces[f][i + 2]]
@@ -178,12 +123,7 @@ fn texel_density_view_marks_one_to_one_green_and_minified_red() {
     h.session
         .set_texture_density_view(false)
         .expect("density view off");
-    settle(&mut h, c);
-    let input = h.frame(c, DT).0;
-    let (_, faces) = h
-        .renderer()
-        .read_lit_faces(&h.ctx, input.grid.slot)
-        .expect("read back");
+    let (_, _, faces) = h.grid_lit_faces(c);
     let i = ((n / 2 * n + n / 2) * 4) as usize;
     let v = faces[3][i];
     assert!(

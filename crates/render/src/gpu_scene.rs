@@ -242,8 +242,14 @@ impl DrawRange {
 
 /// Every range at level 0 (terrains at full detail), neighbours merged.
 pub fn full_detail_runs(ranges: &[DrawRange]) -> Vec<(u32, u32)> {
+    merge_runs(ranges.iter().filter(|r| r.lod == 0))
+}
+
+/// Vertex runs `(first, count)` of `ranges` (in buffer order), contiguous ones merged into
+/// one draw.
+fn merge_runs<'a>(ranges: impl Iterator<Item = &'a DrawRange>) -> Vec<(u32, u32)> {
     let mut runs: Vec<(u32, u32)> = Vec::new();
-    for r in ranges.iter().filter(|r| r.lod == 0) {
+    for r in ranges {
         match runs.last_mut() {
             Some(last) if last.0 + last.1 == r.first => last.1 += r.count,
             _ => runs.push((r.first, r.count)),
@@ -280,21 +286,15 @@ pub enum LodFrom {
 /// The vertex runs of `ranges` that may be visible through `view_proj`, at the level `lod`
 /// picks for each chunk, neighbours merged.
 pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<(u32, u32)> {
-    let mut runs: Vec<(u32, u32)> = Vec::new();
     let wanted = |r: &DrawRange| match lod {
         LodFrom::Full => r.lod == 0,
         LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
     };
-    for r in ranges
-        .iter()
-        .filter(|r| wanted(r) && r.may_be_visible(view_proj))
-    {
-        match runs.last_mut() {
-            Some(last) if last.0 + last.1 == r.first => last.1 += r.count,
-            _ => runs.push((r.first, r.count)),
-        }
-    }
-    runs
+    merge_runs(
+        ranges
+            .iter()
+            .filter(|r| wanted(r) && r.may_be_visible(view_proj)),
+    )
 }
 
 /// The uploaded scene.
@@ -525,6 +525,20 @@ impl GpuScene {
                 wgpu::BufferUsages::STORAGE,
             ),
         })
+    }
+
+    /// What every scene raster (capture, G-buffer) binds after its own uniform, bindings
+    /// 1..=6 of `lib/raster.wgsl`'s includers: objects, the texture atlas, its records, the
+    /// surfaces, the terrains and their data ([`crate::passes::raster::scene_layout_entries`]).
+    pub fn raster_resources(&self) -> [wgpu::BindingResource<'_>; 6] {
+        [
+            self.objects.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&self.textures.view),
+            self.textures.infos_buffer.as_entire_binding(),
+            self.textures.surfaces.as_entire_binding(),
+            self.terrains.as_entire_binding(),
+            self.terrain_data.as_entire_binding(),
+        ]
     }
 
     /// The vertex layout of [`Vertex`].

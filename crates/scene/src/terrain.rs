@@ -372,52 +372,6 @@ impl Heightfield {
         m.pieces.sort_by_key(|p| p.first_triangle);
         m
     }
-
-    /// The terrain's mesh in object space (centred on the origin, heights up from 0), built
-    /// chunk by chunk of [`CHUNK_QUADS`]² quads; smooth normals from the height differences.
-    pub fn mesh(&self, size: Vec2) -> TriMesh {
-        let (w, d) = (self.width.max(2), self.depth.max(2));
-        let step = Vec2::new(size.x / (w - 1) as f32, size.y / (d - 1) as f32);
-        let pos = |x: u32, z: u32| {
-            Vec3::new(
-                -0.5 * size.x + x as f32 * step.x,
-                self.at(i64::from(x), i64::from(z)),
-                -0.5 * size.y + z as f32 * step.y,
-            )
-        };
-        let normal = |x: u32, z: u32| {
-            let (x, z) = (i64::from(x), i64::from(z));
-            let dx = (self.at(x + 1, z) - self.at(x - 1, z)) / (2.0 * step.x);
-            let dz = (self.at(x, z + 1) - self.at(x, z - 1)) / (2.0 * step.y);
-            Vec3::new(-dx, 1.0, -dz).normalize()
-        };
-        let mut m = TriMesh::default();
-        for cz in (0..d - 1).step_by(CHUNK_QUADS as usize) {
-            for cx in (0..w - 1).step_by(CHUNK_QUADS as usize) {
-                let (x1, z1) = ((cx + CHUNK_QUADS).min(w - 1), (cz + CHUNK_QUADS).min(d - 1));
-                let base = m.positions.len() as u32;
-                let cols = x1 - cx + 1;
-                for z in cz..=z1 {
-                    for x in cx..=x1 {
-                        let p = pos(x, z);
-                        m.positions.push(p);
-                        m.normals.push(normal(x, z));
-                        m.colors.push([1.0; 4]);
-                        m.uvs.push(Vec2::new(p.x, p.z));
-                    }
-                }
-                for z in 0..(z1 - cz) {
-                    for x in 0..(x1 - cx) {
-                        let a = base + z * cols + x;
-                        let (b, c, e) = (a + 1, a + cols, a + cols + 1);
-                        // Counter-clockwise seen from above (+Y).
-                        m.indices.extend_from_slice(&[a, c, b, b, c, e]);
-                    }
-                }
-            }
-        }
-        m
-    }
 }
 
 impl crate::components::Validate for Terrain {
@@ -536,21 +490,31 @@ mod tests {
             "the border is at sea level"
         );
         assert!(h.heights.iter().any(|v| *v > 1.0), "there are hills");
-        let m = h.mesh(t.size);
-        assert_eq!(m.triangle_count(), 64 * 64 * 2);
-        assert!(m.normals.iter().all(|n| n.y > 0.0));
-        for tri in m.indices.chunks_exact(3) {
+        let m = h.lod_mesh(t.size, 0.5);
+        // The first piece is the first chunk at full detail: 32×32 quads facing up, within
+        // the chunk, then its skirt.
+        let first = m.pieces[0];
+        assert_eq!((first.lod, first.first_triangle), (0, 0));
+        let surface = (CHUNK_QUADS * CHUNK_QUADS * 2) as usize;
+        let chunk = 64.0 / 64.0 * CHUNK_QUADS as f32;
+        for tri in m.indices[..surface * 3].chunks_exact(3) {
             let [a, b, c] = [0, 1, 2].map(|k| m.positions[tri[k] as usize]);
             assert!((b - a).cross(c - a).y > 0.0, "triangles face up");
-        }
-        // The first chunk's triangles stay within its 32×32 quads.
-        let chunk = 64.0 / 64.0 * CHUNK_QUADS as f32;
-        for tri in m.indices[..(CHUNK_QUADS * CHUNK_QUADS * 6) as usize].chunks_exact(3) {
-            for &i in tri {
-                let p = m.positions[i as usize];
+            for p in [a, b, c] {
                 assert!(p.x <= -32.0 + chunk + 1e-4 && p.z <= -32.0 + chunk + 1e-4);
             }
         }
+        let level0: u32 = m
+            .pieces
+            .iter()
+            .filter(|p| p.lod == 0)
+            .map(|p| p.triangles)
+            .sum();
+        assert_eq!(
+            level0 as usize,
+            4 * (surface + 4 * 32 * 2),
+            "surface and skirts"
+        );
         let round = Heightfield::from_u16(65, 65, &h.to_u16(8.0), 8.0);
         assert!(
             round

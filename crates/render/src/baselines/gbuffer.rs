@@ -11,7 +11,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, UVec2, Vec3};
 
 use crate::gpu_scene::GpuScene;
-use crate::passes::{ARRAY, FLOAT, entry, storage, texture, uniform};
+use crate::passes::{entry, uniform};
 use crate::shader;
 
 /// World position (xyz) and view-axis depth (w; `SKY_DEPTH` = sky).
@@ -153,14 +153,10 @@ impl GBufferPass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("baselines::gbuffer::layout"),
             entries: &[
-                entry(0, vf, uniform(false)),
-                entry(1, vf, storage(true)),
-                entry(2, vf, texture(FLOAT, ARRAY)),
-                entry(3, vf, storage(true)),
-                entry(4, vf, storage(true)),
-                entry(5, vf, storage(true)),
-                entry(6, vf, storage(true)),
-            ],
+                [entry(0, vf, uniform(false))].as_slice(),
+                &raster::scene_layout_entries(),
+            ]
+            .concat(),
         });
         let targets = [WORLD_FORMAT, NORMAL_FORMAT, ID_FORMAT];
         let pipeline = raster::pipeline(device, "baselines::gbuffer", &module, &layout, &targets);
@@ -203,15 +199,9 @@ impl GBufferPass {
             device,
             "baselines::gbuffer::bind",
             &self.layout,
-            &[
-                self.camera.as_entire_binding(),
-                scene.objects.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&scene.textures.view),
-                scene.textures.infos_buffer.as_entire_binding(),
-                scene.textures.surfaces.as_entire_binding(),
-                scene.terrains.as_entire_binding(),
-                scene.terrain_data.as_entire_binding(),
-            ],
+            &std::iter::once(self.camera.as_entire_binding())
+                .chain(scene.raster_resources())
+                .collect::<Vec<_>>(),
         );
         let clear = wgpu::Color::TRANSPARENT;
         let colour = [

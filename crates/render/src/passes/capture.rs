@@ -5,9 +5,7 @@ use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
 use super::raster::{self, RasterDraw, RasterTargets};
-use super::{
-    ARRAY, FLOAT, UNIFORM_STRIDE, bind_group, entry, storage, texture, uniform, uniform_buffer,
-};
+use super::{UNIFORM_STRIDE, bind_group, entry, uniform, uniform_buffer};
 use texel_probes::visibility::TexelRect;
 
 use crate::gpu_scene::GpuScene;
@@ -67,14 +65,10 @@ impl CapturePass {
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("capture::layout"),
             entries: &[
-                entry(0, vf, uniform(true)),
-                entry(1, vf, storage(true)),
-                entry(2, vf, texture(FLOAT, ARRAY)),
-                entry(3, vf, storage(true)),
-                entry(4, vf, storage(true)),
-                entry(5, vf, storage(true)),
-                entry(6, vf, storage(true)),
-            ],
+                [entry(0, vf, uniform(true))].as_slice(),
+                &raster::scene_layout_entries(),
+            ]
+            .concat(),
         });
         let targets = [GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT, SHADING_FORMAT];
         let pipeline = raster::pipeline(device, "capture", &module, &layout, &targets);
@@ -136,15 +130,9 @@ impl CapturePass {
             offset: 0,
             size: wgpu::BufferSize::new(size_of::<FaceParams>() as u64),
         });
-        let resources = [
-            face,
-            scene.objects.as_entire_binding(),
-            wgpu::BindingResource::TextureView(&scene.textures.view),
-            scene.textures.infos_buffer.as_entire_binding(),
-            scene.textures.surfaces.as_entire_binding(),
-            scene.terrains.as_entire_binding(),
-            scene.terrain_data.as_entire_binding(),
-        ];
+        let resources: Vec<_> = std::iter::once(face)
+            .chain(scene.raster_resources())
+            .collect();
         let bind = bind_group(device, "capture::bind", &self.layout, &resources);
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);

@@ -36,6 +36,21 @@ pub(crate) fn pipeline(
     )
 }
 
+/// Layout entries of what every scene raster binds after its own uniform (binding 0):
+/// [`GpuScene::raster_resources`], bindings 1..=6.
+pub(crate) fn scene_layout_entries() -> [wgpu::BindGroupLayoutEntry; 6] {
+    use super::{ARRAY, FLOAT, entry, storage, texture};
+    let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+    [
+        entry(1, vf, storage(true)),
+        entry(2, vf, texture(FLOAT, ARRAY)),
+        entry(3, vf, storage(true)),
+        entry(4, vf, storage(true)),
+        entry(5, vf, storage(true)),
+        entry(6, vf, storage(true)),
+    ]
+}
+
 /// Where one scene raster draws: colour targets with their clear values, and a depth view.
 pub(crate) struct RasterTargets<'a> {
     /// Colour targets, location 0 first, each cleared to its colour.
