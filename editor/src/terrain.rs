@@ -53,6 +53,7 @@ pub fn default_terrain() -> Terrain {
             stop(0.9, 0.92, 0.93, 0.96),
         ],
         displacement: None,
+        paint: None,
         pixel_density: 6.0,
         band_distance: 8.0,
         band_transition: 0.3,

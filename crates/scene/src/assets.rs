@@ -1,4 +1,5 @@
-//! Files a level refers to (glTF meshes, PNG or JPEG textures), found relative to the level file.
+//! Files a level refers to (glTF meshes, PNG or JPEG textures, terrain heightmaps and paint
+//! layers), found relative to the level file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -11,7 +12,7 @@ use crate::gltf_import::{GltfError, load_gltf_report};
 use crate::level::Level;
 use crate::mesh::TriMesh;
 use crate::terrain::{HeightSource, Heightfield, Terrain};
-use crate::texture::{TextureError, load_heightmap, load_texture};
+use crate::texture::{TextureError, load_heightmap, load_paint, load_texture};
 
 /// A file a level refers to could not be loaded.
 #[derive(Debug, thiserror::Error)]
@@ -83,6 +84,11 @@ impl AssetLibrary {
     /// The heights of `terrain`, if loaded (or baked).
     pub fn heightfield(&self, terrain: &Terrain) -> Option<&Arc<Heightfield>> {
         self.heightfields.get(&heightfield_key(terrain))
+    }
+
+    /// The paint layer of `terrain`, if it has one and it is loaded.
+    pub fn paint(&self, terrain: &Terrain) -> Option<&Arc<Image>> {
+        self.textures.get(&terrain.paint.as_ref()?.path)
     }
 
     /// Sets the heights of `terrain` (a sculpted or imported field).
@@ -246,6 +252,13 @@ pub fn load_assets(
                     load_texture(&resolve(level_path, path)).map_err(|e| error(path, e.into()))?;
                 lib.textures.insert(path.to_owned(), Arc::new(image));
             }
+        }
+        if let Some(p) = row.terrain.as_ref().and_then(|t| t.paint.as_ref())
+            && !lib.textures.contains_key(&p.path)
+        {
+            let image =
+                load_paint(&resolve(level_path, &p.path)).map_err(|e| error(&p.path, e.into()))?;
+            lib.textures.insert(p.path.clone(), Arc::new(image));
         }
     }
     Ok(lib)

@@ -76,6 +76,18 @@ pub struct Displacement {
     pub tile_size: f32,
 }
 
+/// A colour layer painted over the gradient: an RGBA8 PNG beside the level covering the
+/// terrain's extent (any size up to the texture limit). Pixel (i, j) covers the cell of the
+/// extent at ((i + 0.5) / w, (j + 0.5) / h) along X and Z (rows along Z, like the
+/// heightmap). Its colour is sRGB-encoded; alpha blends it over the gradient colour in linear
+/// RGB (0: the gradient, 255: the paint).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaintLayer {
+    /// PNG, path relative to the level.
+    pub path: String,
+}
+
 /// A heightmap terrain, centred on its transform's translation (rotation and scale are not
 /// applied: a terrain is laid out along the world's axes).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -95,6 +107,9 @@ pub struct Terrain {
     /// Optional displacement texture.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub displacement: Option<Displacement>,
+    /// Optional colour paint over the gradient.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub paint: Option<PaintLayer>,
     /// Terrain pixels per world unit in the nearest band.
     #[serde(with = "num::positive")]
     pub pixel_density: f32,
@@ -403,6 +418,11 @@ impl crate::components::Validate for Terrain {
         {
             return Err(("displacement", "displacement path is empty".to_owned()));
         }
+        if let Some(p) = &self.paint
+            && p.path.trim().is_empty()
+        {
+            return Err(("paint", "paint layer path is empty".to_owned()));
+        }
         Ok(())
     }
 }
@@ -450,6 +470,7 @@ mod tests {
                 colour: Vec3::ONE,
             }],
             displacement: None,
+            paint: None,
             pixel_density: 8.0,
             band_distance: 6.0,
             band_transition: 0.25,

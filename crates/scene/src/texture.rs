@@ -89,6 +89,28 @@ pub fn decode_texture(bytes: &[u8], name: &str) -> Result<Image, TextureError> {
     })
 }
 
+/// Decodes a terrain paint layer: a PNG (any colour type, converted to RGBA8; alpha is the
+/// paint's cover) of at most [`MAX_TEXTURE_SIZE`] pixels per edge. JPEG is refused: it has
+/// no alpha.
+pub fn decode_paint(bytes: &[u8], name: &str) -> Result<Image, TextureError> {
+    if image::guess_format(bytes).ok() != Some(image::ImageFormat::Png) {
+        return Err(TextureError::Decode {
+            name: name.to_owned(),
+            detail: "a paint layer must be a PNG image (RGBA, alpha = cover)".to_owned(),
+        });
+    }
+    decode_texture(bytes, name)
+}
+
+/// Reads and decodes the paint layer at `path` ([`decode_paint`]).
+pub fn load_paint(path: &Path) -> Result<Image, TextureError> {
+    let bytes = read_bounded(path, FileKind::Texture).map_err(|e| match e {
+        ReadError::Io { path, source, .. } => TextureError::Io { path, source },
+        other => TextureError::Read(other),
+    })?;
+    decode_paint(&bytes, &path.display().to_string())
+}
+
 /// Decodes a heightmap: a 16-bit greyscale PNG of 2..=4097 samples per edge, as
 /// `(width, height, samples)` rows top to bottom (rows run along +Z, columns along +X).
 pub fn decode_heightmap(bytes: &[u8], name: &str) -> Result<(u32, u32, Vec<u16>), TextureError> {
@@ -229,6 +251,28 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(e.contains("at least 2×2"), "{e}");
+    }
+
+    #[test]
+    fn paint_layers_are_pngs_within_the_texture_limit() {
+        let img = Image::solid("p", 5, 3, [200, 10, 20, 128]);
+        assert_eq!(decode_paint(&encode_png(&img), "p").unwrap(), img);
+        let e = decode_paint(&encode_jpeg(4, 4, [1, 2, 3]), "p.jpg")
+            .unwrap_err()
+            .to_string();
+        assert!(e.starts_with("p.jpg: a paint layer must be a PNG"), "{e}");
+        let big = Image::solid("t", MAX_TEXTURE_SIZE + 1, 1, [0; 4]);
+        let e = decode_paint(&encode_png(&big), "big.png")
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.starts_with("big.png:") && e.contains("larger than 2048"),
+            "{e}"
+        );
+        let e = load_paint(Path::new("/nonexistent/paint.png"))
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("/nonexistent/paint.png"), "{e}");
     }
 
     #[test]

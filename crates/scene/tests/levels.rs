@@ -425,3 +425,77 @@ fn bad_terrains_are_refused_with_their_line() {
         assert!(e.contains(words), "{to}: `{e}` should say `{words}`");
     }
 }
+
+/// A terrain's paint layer round-trips (written only when there is one), loads beside the
+/// level as RGBA8, and a missing, undecodable or oversized file is refused naming it.
+#[test]
+fn terrain_paint_layers_round_trip_and_bad_files_are_named() {
+    use texel_scene::assets::load_assets;
+    use texel_scene::terrain::PaintLayer;
+    use texel_scene::texture::{Image, encode_png};
+    let dir = tempfile::tempdir().unwrap();
+    let base = "(version: 3, entities: [\n(name: \"T\", terrain: (size: (64.0, 64.0), \
+                heightmap: Noise(seed: 1, resolution: 9, frequency: 0.05, octaves: 1), \
+                max_height: 8.0, gradient: [(at: 0.0, colour: (0.2, 0.5, 0.1))], \
+                pixel_density: 6.0, band_distance: 8.0, band_transition: 0.3))])";
+    let path = dir.path().join("t.ron");
+    let mut level = Level::from_ron_str(base, &path).unwrap();
+    let plain = level.to_ron_string(&path).unwrap();
+    assert!(!plain.contains("paint"), "no paint, no field: {plain}");
+    let t = level.entities[0].terrain.as_mut().unwrap();
+    assert_eq!(t.paint, None);
+    t.paint = Some(PaintLayer {
+        path: "t_T_paint.png".into(),
+    });
+    let text = level.to_ron_string(&path).unwrap();
+    assert!(text.contains("paint: (path: \"t_T_paint.png\")"), "{text}");
+    let back = Level::from_ron_str(&text, &path).unwrap();
+    assert_eq!(back, level);
+    assert_eq!(back.to_ron_string(&path).unwrap(), text);
+    assert_eq!(Scene::from_level(&back).to_level(), back);
+    // Without the field it is the same as before.
+    let mut cleared = back.clone();
+    cleared.entities[0].terrain.as_mut().unwrap().paint = None;
+    assert_eq!(cleared.to_ron_string(&path).unwrap(), plain);
+    let empty = text.replace("t_T_paint.png", " ");
+    let e = Level::from_ron_str(&empty, &path)
+        .unwrap()
+        .to_ron_string(&path)
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("paint layer path is empty"), "{e}");
+
+    // Missing: the error names the file and the line that names it.
+    let e = load_assets(&back, &path, Some(&text))
+        .unwrap_err()
+        .to_string();
+    let line = text
+        .lines()
+        .position(|l| l.contains("t_T_paint.png"))
+        .unwrap()
+        + 1;
+    assert!(
+        e.contains("t_T_paint.png") && e.contains(&format!("t.ron:{line}:")),
+        "{e}"
+    );
+    // Loaded: RGBA8, any size.
+    let mut img = Image::solid("p", 3, 2, [255, 0, 0, 255]);
+    img.pixels[4..8].copy_from_slice(&[0, 0, 255, 64]);
+    std::fs::write(dir.path().join("t_T_paint.png"), encode_png(&img)).unwrap();
+    let lib = load_assets(&back, &path, Some(&text)).unwrap();
+    let t = back.entities[0].terrain.as_ref().unwrap();
+    let loaded = lib.paint(t).expect("paint loaded");
+    assert_eq!((loaded.width, loaded.height), (3, 2));
+    assert_eq!(loaded.pixels, img.pixels);
+    // Undecodable and too large.
+    std::fs::write(dir.path().join("t_T_paint.png"), b"not a png").unwrap();
+    let e = load_assets(&back, &path, None).unwrap_err().to_string();
+    assert!(e.contains("t_T_paint.png") && e.contains("PNG"), "{e}");
+    let big = Image::solid("big", 4096, 1, [0; 4]);
+    std::fs::write(dir.path().join("t_T_paint.png"), encode_png(&big)).unwrap();
+    let e = load_assets(&back, &path, None).unwrap_err().to_string();
+    assert!(
+        e.contains("t_T_paint.png") && e.contains("larger than 2048"),
+        "{e}"
+    );
+}

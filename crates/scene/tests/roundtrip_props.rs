@@ -169,7 +169,7 @@ fn row() -> impl Strategy<Value = EntityRow> {
 }
 
 fn terrain() -> BoxedStrategy<texel_scene::terrain::Terrain> {
-    use texel_scene::terrain::{Displacement, GradientStop, HeightSource, Terrain};
+    use texel_scene::terrain::{Displacement, GradientStop, HeightSource, PaintLayer, Terrain};
     let source = prop_oneof![
         "[a-z_/.]{1,20}\\.png".prop_map(|path| HeightSource::File { path }),
         (
@@ -205,12 +205,13 @@ fn terrain() -> BoxedStrategy<texel_scene::terrain::Terrain> {
             },
         ),
     );
+    let paint = proptest::option::of("[a-z_/.]{1,20}\\.png".prop_map(|path| PaintLayer { path }));
     (
         (positive(), positive()),
         source,
         positive(),
         stops,
-        displacement,
+        (displacement, paint),
         (positive(), positive(), 0.0f32..=1.0),
         (any::<bool>(), any::<bool>()),
     )
@@ -220,7 +221,7 @@ fn terrain() -> BoxedStrategy<texel_scene::terrain::Terrain> {
                 heightmap,
                 max_height,
                 gradient,
-                displacement,
+                (displacement, paint),
                 (density, band, t),
                 (s, o),
             )| {
@@ -230,6 +231,7 @@ fn terrain() -> BoxedStrategy<texel_scene::terrain::Terrain> {
                     max_height,
                     gradient,
                     displacement,
+                    paint,
                     pixel_density: density,
                     band_distance: band,
                     band_transition: t,
