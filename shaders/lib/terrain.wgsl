@@ -105,9 +105,15 @@ fn terrain_gradient(t: Terrain, e: f32) -> vec3<f32> {
     return colour;
 }
 
-// The colour of terrain `t` at world point `p`, with bands measured from `origin` for a
+// One terrain pixel: its centre (relative to the corner, along X and Z) and edge length.
+struct TerrainPixel {
+    centre: vec2<f32>,
+    size: f32,
+}
+
+// The terrain pixel of `t` holding world point `p`, with bands measured from `origin` for a
 // probe of `n` texels per face edge (a huge `n`: no texel bound).
-fn terrain_colour(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> vec3<f32> {
+fn terrain_pixel(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> TerrainPixel {
     let q = p.xz - t.corner.xz;
     // The finest band whose own cell containing p is far enough to belong to it.
     var b = 0u;
@@ -136,12 +142,22 @@ fn terrain_colour(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> vec3<f
             cell = floor(q / s);
         }
     }
-    let centre = (cell + 0.5) * s;
-    var e = terrain_height(t, centre) / t.max_height;
+    return TerrainPixel((cell + 0.5) * s, s);
+}
+
+// A terrain pixel's colour: the gradient at its centre's height, perturbed by the
+// displacement texture at its centre.
+fn terrain_pixel_colour(t: Terrain, px: TerrainPixel) -> vec3<f32> {
+    var e = terrain_height(t, px.centre) / t.max_height;
     if t.displacement != NO_TEXTURE {
         let info = tex_infos[t.displacement];
-        let disp = tex_level(info, 0u, (centre + t.corner.xz) / t.tile_size).r;
+        let disp = tex_level(info, 0u, (px.centre + t.corner.xz) / t.tile_size).r;
         e += (disp - 0.5) * t.strength;
     }
     return terrain_gradient(t, clamp(e, 0.0, 1.0));
+}
+
+// The colour of terrain `t` at world point `p` (see `terrain_pixel`).
+fn terrain_colour(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> vec3<f32> {
+    return terrain_pixel_colour(t, terrain_pixel(t, p, origin, n));
 }
