@@ -1,0 +1,239 @@
+//! Terrain costs (issue 14), reported, never asserted:
+//!
+//! - `walk_1280x720`: one frame of the 1280×720 walk on `stone_circle` (its `walk_cells`
+//!   path) and on `terrain_hills` with its heights baked at 257×257 (`terrain_walk`), the
+//!   path played in a loop; the issue's target is that the terrain adds at most 20%.
+//! - `dab`: one brush dab (a cone raised or lowered by 0.5 within a radius of 3, 8 units ahead
+//!   of the camera) through `Session::update_level_region`, and the next frame drawn, with
+//!   the camera at rest and while walking, beside the same frames without a dab; the faces
+//!   a dab marks and the stable faces captured again are printed once.
+//!
+//! `cargo bench -p texel_runtime --bench terrain` measures (on whatever Vulkan driver the
+//! machine has); `cargo test --benches` runs each once as a smoke test.
+
+use std::path::PathBuf;
+use std::sync::Arc;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::{UVec2, Vec2, Vec3};
+use texel_probes::probe_set::Slot;
+use texel_render::context::GpuContext;
+use texel_render::input::{Camera, Schedule};
+use texel_runtime::load::{LoadedLevel, load_level};
+use texel_runtime::path::CameraPath;
+use texel_runtime::session::{FrameRequest, Session};
+use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
+
+const DT: f32 = 1.0 / 30.0;
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+fn level(name: &str) -> LoadedLevel {
+    load_level(&repo().join("assets/levels").join(name)).expect("bundled level loads")
+}
+
+fn path(name: &str) -> CameraPath {
+    CameraPath::load(&repo().join("assets/paths").join(name)).expect("bundled path loads")
+}
+
+/// The level's terrain entity and component.
+fn terrain_of(level: &LoadedLevel) -> (hecs::Entity, Terrain) {
+    let world = level.scene.world();
+    level
+        .scene
+        .entities()
+        .find_map(|e| world.get::<&Terrain>(e).ok().map(|t| (e, (*t).clone())))
+        .expect("a terrain")
+}
+
+/// `terrain_hills` with its noise baked at `resolution` samples per edge.
+fn terrain_hills(resolution: u32) -> LoadedLevel {
+    let mut level = level("terrain_hills.ron");
+    let (entity, mut terrain) = terrain_of(&level);
+    if let HeightSource::Noise { resolution: r, .. } = &mut terrain.heightmap {
+        *r = resolution;
+    }
+    let field = Heightfield::from_noise(&terrain.heightmap, terrain.size, terrain.max_height)
+        .expect("noise bakes");
+    level
+        .scene
+        .world_mut()
+        .insert_one(entity, terrain.clone())
+        .expect("terrain entity");
+    level.assets.insert_heightfield(&terrain, Arc::new(field));
+    level
+}
+
+fn request(camera: Camera, size: UVec2) -> FrameRequest {
+    FrameRequest {
+        camera,
+        dt: DT,
+        schedule: Schedule::Ours,
+        size,
+    }
+}
+
+/// A session on `level`, its probes settled at `camera`.
+fn settled(ctx: &GpuContext, level: &LoadedLevel, camera: Camera, size: UVec2) -> Session {
+    let mut session = Session::headless(ctx, level, size, camera.fov_y).expect("session");
+    for _ in 0..8 {
+        session
+            .draw_offscreen(ctx, &request(camera, size))
+            .expect("frame");
+    }
+    session
+}
+
+/// Raises (or lowers) a cone of height 0.5 and radius 3 around `at` (world X, Z); returns
+/// the box of what changed.
+fn dab(level: &mut LoadedLevel, at: Vec2, raise: bool) -> (Vec3, Vec3) {
+    let (_, terrain) = terrain_of(level);
+    let mut field = (**level.assets.heightfield(&terrain).expect("heights")).clone();
+    let corner = -0.5 * terrain.size;
+    let step = terrain.size / Vec2::new(field.width as f32 - 1.0, field.depth as f32 - 1.0);
+    let radius = 3.0;
+    let sign = if raise { 1.0 } else { -1.0 };
+    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
+    for z in 0..field.depth {
+        for x in 0..field.width {
+            let p = corner + Vec2::new(x as f32, z as f32) * step;
+            let r = p.distance(at);
+            if r < radius {
+                let i = (z * field.width + x) as usize;
+                let h = &mut field.heights[i];
+                lo = lo.min(*h);
+                *h = (*h + sign * 0.5 * (1.0 - r / radius)).clamp(0.0, terrain.max_height);
+                hi = hi.max(*h);
+                lo = lo.min(*h);
+            }
+        }
+    }
+    level.assets.insert_heightfield(&terrain, Arc::new(field));
+    (
+        Vec3::new(at.x - radius, lo, at.y - radius),
+        Vec3::new(at.x + radius, hi, at.y + radius),
+    )
+}
+
+/// A point on the ground 8 units ahead of `camera`.
+fn ahead(camera: &Camera) -> Vec2 {
+    let f = Vec2::new(camera.forward.x, camera.forward.z).normalize_or_zero();
+    Vec2::new(camera.position.x, camera.position.z) + 8.0 * f
+}
+
+fn walk(c: &mut Criterion) {
+    let Ok(ctx) = GpuContext::headless() else {
+        eprintln!("terrain bench: no GPU adapter, nothing measured");
+        return;
+    };
+    let size = UVec2::new(1280, 720);
+    let mut group = c.benchmark_group("walk_1280x720");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
+    for (name, level, path) in [
+        ("stone_circle", level("stone_circle.ron"), path("walk_cells.ron")),
+        ("terrain_hills_257", terrain_hills(257), path("terrain_walk.ron")),
+    ] {
+        let fov = path.fov_y(60f32.to_radians());
+        let mut session = settled(&ctx, &level, path.camera(0, fov), size);
+        let mut frame = 0;
+        group.bench_function(name, |b| {
+            b.iter_custom(|iters| {
+                let t = Instant::now();
+                for _ in 0..iters {
+                    let camera = path.camera(frame % path.frames, fov);
+                    frame += 1;
+                    session
+                        .draw_offscreen(&ctx, &request(camera, size))
+                        .expect("frame");
+                }
+                t.elapsed()
+            })
+        });
+    }
+    group.finish();
+}
+
+fn dabs(c: &mut Criterion) {
+    let Ok(ctx) = GpuContext::headless() else {
+        eprintln!("terrain bench: no GPU adapter, nothing measured");
+        return;
+    };
+    let size = UVec2::new(1280, 720);
+    let path = path("terrain_walk.ron");
+    let fov = path.fov_y(60f32.to_radians());
+    let mut group = c.benchmark_group("dab");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(20));
+    for moving in [false, true] {
+        let mut level = terrain_hills(257);
+        let mut session = settled(&ctx, &level, path.camera(0, fov), size);
+        let mut frame = 0u32;
+        let path = &path;
+        let mut next_camera = move || {
+            let camera = path.camera(if moving { frame % path.frames } else { 0 }, fov);
+            frame += 1;
+            camera
+        };
+        let label = if moving { "moving" } else { "at_rest" };
+        group.bench_function(format!("frame_{label}"), |b| {
+            b.iter_custom(|iters| {
+                let t = Instant::now();
+                for _ in 0..iters {
+                    session
+                        .draw_offscreen(&ctx, &request(next_camera(), size))
+                        .expect("frame");
+                }
+                t.elapsed()
+            })
+        });
+        let mut raise = true;
+        let mut reported = false;
+        group.bench_function(format!("dab_and_frame_{label}"), |b| {
+            b.iter_custom(|iters| {
+                let mut total = Duration::ZERO;
+                for _ in 0..iters {
+                    let camera = next_camera();
+                    let (min, max) = dab(&mut level, ahead(&camera), raise);
+                    raise = !raise;
+                    let t = Instant::now();
+                    let marked = session
+                        .update_level_region(&ctx, &level, min, max)
+                        .expect("update");
+                    let (drawn, _) = session
+                        .draw_offscreen(&ctx, &request(camera, size))
+                        .expect("frame");
+                    total += t.elapsed();
+                    if !reported {
+                        reported = true;
+                        let mut stable = count_stable(&drawn.input);
+                        for _ in 0..7 {
+                            let (drawn, _) = session
+                                .draw_offscreen(&ctx, &request(camera, size))
+                                .expect("frame");
+                            stable += count_stable(&drawn.input);
+                        }
+                        eprintln!(
+                            "dab {label}: {marked} faces marked, {stable} stable faces \
+                             captured over the next 8 frames"
+                        );
+                    }
+                }
+                total
+            })
+        });
+    }
+    group.finish();
+}
+
+fn count_stable(input: &texel_render::input::FrameInput) -> usize {
+    input.captures.iter().filter(|w| w.slot != Slot::Eye).count()
+}
+
+criterion_group!(benches, walk, dabs);
+criterion_main!(benches);
