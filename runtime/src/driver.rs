@@ -625,6 +625,7 @@ pub fn terrain_input(
             max_height: terrain.max_height,
             gradient: terrain.gradient.iter().map(|g| (g.at, g.colour)).collect(),
             displacement,
+            paint: assets.paint(terrain).cloned(),
             pixel_density: terrain.pixel_density,
             band_distance: terrain.band_distance,
             band_transition: terrain.band_transition,

@@ -2,7 +2,7 @@
 // technique): the terrain is cut into a world-anchored grid of square pixels whose size
 // doubles in distance bands (never below the probe texel), and each pixel takes one colour:
 // the elevation gradient at its centre's height, perturbed by the displacement texture at its
-// centre. Bands come from the distance to the band origin (the grid probe's origin in a
+// centre, with the paint layer's pixel holding that centre blended over it. Bands come from the distance to the band origin (the grid probe's origin in a
 // capture, also for the eye probe; the camera in a G-buffer), so a pixel's colour does not
 // change while the camera moves inside a cell. Between bands, fine pixels are promoted to the
 // coarser band's by a Bayer pattern. The includer includes lib/common.wgsl and
@@ -22,7 +22,9 @@ struct Terrain {
     pixel_density: f32,
     band_distance: f32,
     band_transition: f32,
-    _pad0: u32,
+    // Paint layer texture record (sRGB colour, alpha = cover; one level, nearest, clamped),
+    // or NO_TEXTURE.
+    paint: u32,
     _pad1: u32,
     _pad2: u32,
 }
@@ -146,7 +148,9 @@ fn terrain_pixel(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> Terrain
 }
 
 // A terrain pixel's colour: the gradient at its centre's height, perturbed by the
-// displacement texture at its centre.
+// displacement texture at its centre; then the paint layer's pixel that holds the centre
+// (pixel i of w covers i/w..(i+1)/w of the extent), blended over it by its alpha in linear
+// light.
 fn terrain_pixel_colour(t: Terrain, px: TerrainPixel) -> vec3<f32> {
     var e = terrain_height(t, px.centre) / t.max_height;
     if t.displacement != NO_TEXTURE {
@@ -154,7 +158,12 @@ fn terrain_pixel_colour(t: Terrain, px: TerrainPixel) -> vec3<f32> {
         let disp = tex_level(info, 0u, (px.centre + t.corner.xz) / t.tile_size).r;
         e += (disp - 0.5) * t.strength;
     }
-    return terrain_gradient(t, clamp(e, 0.0, 1.0));
+    let colour = terrain_gradient(t, clamp(e, 0.0, 1.0));
+    if t.paint == NO_TEXTURE {
+        return colour;
+    }
+    let paint = tex_level(tex_infos[t.paint], 0u, px.centre / t.size);
+    return mix(colour, paint.rgb, paint.a);
 }
 
 // The colour of terrain `t` at world point `p` (see `terrain_pixel`).

@@ -206,3 +206,87 @@ fn a_terrain_dab_recaptures_only_the_faces_that_see_it() {
         "{differ} pixels differ from a fresh session's frame"
     );
 }
+
+/// A flat terrain 200 units across with one grey gradient stop and a 2 × 2 paint layer:
+/// toward −Z the −X half is red, toward +Z the −X half is red at half cover; the +X half is
+/// unpainted. Every cell in the finest band, no outlines.
+fn painted_terrain_level(dir: &std::path::Path) -> std::path::PathBuf {
+    use texel_scene::texture::{Image, encode_heightmap, encode_png};
+    std::fs::write(dir.join("flat.png"), encode_heightmap(4, 4, &[0; 16])).unwrap();
+    let mut paint = Image::solid("paint", 2, 2, [0; 4]);
+    paint.pixels[0..4].copy_from_slice(&[255, 0, 0, 255]);
+    paint.pixels[8..12].copy_from_slice(&[255, 0, 0, 128]);
+    std::fs::write(dir.join("paint.png"), encode_png(&paint)).unwrap();
+    let text = "(version: 3, settings: (sky: (0.5, 0.6, 0.8), ambient: (0.0, 0.0, 0.0), \
+                bands: 256, pixel_scale: FaceResolution(64), cell_size: 1.0),\n entities: \
+                [(name: \"T\", terrain: (size: (200.0, 200.0), heightmap: File(path: \
+                \"flat.png\"), max_height: 1.0, gradient: [(at: 0.0, colour: (0.5, 0.5, \
+                0.5))], paint: (path: \"paint.png\"), pixel_density: 2.0, band_distance: \
+                1000.0, band_transition: 0.0, outlined: false)),\n (directional_light: \
+                (direction: (0.0, -1.0, 0.0), colour: (1.0, 1.0, 1.0), intensity: 1.0))])\n";
+    let path = dir.join("painted.ron");
+    std::fs::write(&path, text).unwrap();
+    path
+}
+
+/// The paint layer colours whole terrain cells: the grid probe's captured albedo below it is
+/// red exactly on the cells whose centres lie in the painted pixels, the gradient's grey on
+/// the others, and half-covered red blends with the grey in linear light.
+#[test]
+fn a_painted_half_of_a_flat_terrain_captures_red_albedo_on_exactly_its_cells() {
+    use texel_render::target::read_texture_layer;
+    let dir = tempfile::tempdir().unwrap();
+    let level = painted_terrain_level(dir.path());
+    let size = UVec2::new(128, 72);
+    let Some(mut h) = Harness::new(level.to_str().unwrap(), size, 64) else {
+        return;
+    };
+    let c = cam(0.3, 1.6, 0.2, 0.0, -30.0);
+    let (input, n, _) = h.grid_lit_faces(c);
+    let origin = input.grid.origin;
+    let face = texel_probes::cube::Face::ALL[3];
+    let slot = h.renderer().probes().slot(input.grid.slot);
+    let albedo = read_texture_layer(&h.ctx, &slot.albedo.texture, 3, 4).unwrap();
+    let density = 2.0;
+    // Linear 0.5 grey; red over it at cover 128/255.
+    let grey = 128u8;
+    let half = |v: f32| (v * 255.0).round() as u8;
+    let a = 128.0 / 255.0;
+    let blend = [
+        half(0.5 + 0.5 * a),
+        half(0.5 * (1.0 - a)),
+        half(0.5 * (1.0 - a)),
+    ];
+    let mut seen = [0usize; 3];
+    for y in 0..n {
+        for x in 0..n {
+            let texel = texel_probes::cube::Texel { face, x, y };
+            let d = texel_probes::cube::texel_center_direction(texel, n);
+            let p = origin + d * (origin.y / -d.y);
+            let (fx, fz) = ((p.x + 100.0) * density, (p.z + 100.0) * density);
+            if (fx - fx.round()).abs() < 1e-3 || (fz - fz.round()).abs() < 1e-3 {
+                continue;
+            }
+            // The cell's centre, relative to the terrain's corner: the paint pixel holding
+            // it is painted when it lies in the −X half.
+            let centre = ((fx.floor() + 0.5) / density, (fz.floor() + 0.5) / density);
+            let i = ((y * n + x) * 4) as usize;
+            let got = [albedo[i], albedo[i + 1], albedo[i + 2]];
+            let (want, kind) = match (centre.0 < 100.0, centre.1 < 100.0) {
+                (false, _) => ([grey; 3], 0),
+                (true, true) => ([255, 0, 0], 1),
+                (true, false) => (blend, 2),
+            };
+            let close = got.iter().zip(want).all(|(g, w)| g.abs_diff(w) <= 1);
+            assert!(
+                close,
+                "texel ({x}, {y}) over cell centre {centre:?}: albedo {got:?}, want {want:?}"
+            );
+            seen[kind] += 1;
+        }
+    }
+    assert!(
+        seen.iter().all(|&k| k > 300),
+        "texels unpainted, painted, half painted: {seen:?}"
+    );
+}

@@ -79,6 +79,10 @@ fn terrain_records(scene: &SceneInput, textures: &mut TextureSet) -> (Vec<GpuTer
             Some((tex, strength, tile)) => (textures.data_texture(tex), *strength, *tile),
             None => (crate::textures::NO_TEXTURE, 0.0, 1.0),
         };
+        let paint = t
+            .paint
+            .as_ref()
+            .map_or(crate::textures::NO_TEXTURE, |p| textures.paint_texture(p));
         records.push(GpuTerrain {
             corner: t.corner.to_array(),
             max_height: t.max_height,
@@ -93,7 +97,8 @@ fn terrain_records(scene: &SceneInput, textures: &mut TextureSet) -> (Vec<GpuTer
             pixel_density: t.pixel_density,
             band_distance: t.band_distance,
             band_transition: t.band_transition,
-            _pad: [0; 3],
+            paint,
+            _pad: [0; 2],
         });
     }
     if records.is_empty() {
@@ -192,8 +197,10 @@ pub struct GpuTerrain {
     pub band_distance: f32,
     /// Transition share of a band.
     pub band_transition: f32,
+    /// Paint layer texture record, or `textures::NO_TEXTURE`.
+    pub paint: u32,
     /// Padding.
-    pub _pad: [u32; 3],
+    pub _pad: [u32; 2],
 }
 
 /// Most triangles in one [`DrawRange`]: a terrain chunk of 32×32 quads.

@@ -59,6 +59,9 @@ pub struct TerrainInput {
     pub gradient: Vec<(f32, Vec3)>,
     /// Displacement texture (red channel), with its strength and world tile size.
     pub displacement: Option<(texel_geom::TextureRef, f32, f32)>,
+    /// Paint layer (RGBA8, sRGB colour, alpha = cover) over the extent, blended over the
+    /// gradient colour of each terrain pixel at the pixel's centre.
+    pub paint: Option<Arc<texel_geom::texture::Image>>,
     /// Terrain pixels per world unit in the nearest band.
     pub pixel_density: f32,
     /// Distance within which the nearest band applies.

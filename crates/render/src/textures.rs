@@ -94,7 +94,8 @@ pub fn block_size(w: u32, h: u32) -> (u32, u32) {
     (w + column_w, h.max(column_h))
 }
 
-fn srgb_to_linear(c: u8) -> f32 {
+/// An sRGB-encoded byte as linear light in 0..=1.
+pub fn srgb_to_linear(c: u8) -> f32 {
     let c = f32::from(c) / 255.0;
     if c <= 0.04045 {
         c / 12.92
@@ -103,7 +104,8 @@ fn srgb_to_linear(c: u8) -> f32 {
     }
 }
 
-fn linear_to_srgb(c: f32) -> u8 {
+/// Linear light (clamped to 0..=1) as an sRGB-encoded byte.
+pub fn linear_to_srgb(c: f32) -> u8 {
     let c = c.clamp(0.0, 1.0);
     let s = if c <= 0.003_130_8 {
         c * 12.92
@@ -267,14 +269,15 @@ fn try_pack(sizes: &[(u32, u32)], page: u32, max_layers: u32) -> Option<Vec<Plac
     Some(out)
 }
 
-/// A texture's identity in the atlas: the same image used as colour and as data is stored
-/// twice (its mips differ).
-type Key = (*const Image, bool);
+/// A texture's identity in the atlas: the image, whether it is sRGB colour and whether it
+/// keeps a mip chain. The same image used as colour and as data is stored twice (its mips
+/// differ), and once more when it is also read at one level only.
+type Key = (*const Image, bool, bool);
 
 /// The scene's textures, gathered and packed on the CPU.
 #[derive(Default)]
 pub struct TextureSet {
-    images: Vec<(Arc<Image>, bool, Filter, [Wrap; 2])>,
+    images: Vec<(Arc<Image>, Key, Filter, [Wrap; 2])>,
     index: HashMap<(Key, Filter, [Wrap; 2]), u32>,
     image_index: HashMap<Key, usize>,
     /// Distinct surfaces, deduplicated.
@@ -284,14 +287,17 @@ pub struct TextureSet {
 
 impl TextureSet {
     fn texture(&mut self, t: &TextureRef, srgb: bool) -> u32 {
-        let key: Key = (Arc::as_ptr(&t.image), srgb);
+        self.record(t, (Arc::as_ptr(&t.image), srgb, true))
+    }
+
+    fn record(&mut self, t: &TextureRef, key: Key) -> u32 {
         let full = (key, t.sampler.filter, t.sampler.wrap);
         if let Some(&i) = self.index.get(&full) {
             return i;
         }
         let i = self.images.len() as u32;
         self.images
-            .push((t.image.clone(), srgb, t.sampler.filter, t.sampler.wrap));
+            .push((t.image.clone(), key, t.sampler.filter, t.sampler.wrap));
         self.index.insert(full, i);
         i
     }
@@ -299,6 +305,20 @@ impl TextureSet {
     /// The record index of a data texture (linear, not sRGB: a displacement map).
     pub fn data_texture(&mut self, t: &TextureRef) -> u32 {
         self.texture(t, false)
+    }
+
+    /// The record index of a terrain paint layer: sRGB colour with alpha, read one pixel at
+    /// a time (nearest, clamped to the edge) at its full size only, so no mip chain is built
+    /// or stored.
+    pub fn paint_texture(&mut self, image: &Arc<Image>) -> u32 {
+        let t = TextureRef {
+            image: image.clone(),
+            sampler: texel_geom::texture::Sampler {
+                filter: Filter::Nearest,
+                wrap: [Wrap::ClampToEdge; 2],
+            },
+        };
+        self.record(&t, (Arc::as_ptr(image), true, false))
     }
 
     /// The surface index of `maps` (0 is "untextured", always present).
@@ -359,18 +379,20 @@ impl TextureSet {
             limits.max_texture_dimension_2d,
             limits.max_texture_array_layers,
         );
-        // One block per distinct (image, colour space); samplers only change the record.
-        let mut blocks: Vec<(Arc<Image>, bool)> = Vec::new();
-        for (image, srgb, _, _) in &self.images {
-            let key: Key = (Arc::as_ptr(image), *srgb);
-            if let std::collections::hash_map::Entry::Vacant(e) = self.image_index.entry(key) {
+        // One block per distinct (image, colour space, mips); samplers only change the record.
+        let mut blocks: Vec<(Arc<Image>, Key)> = Vec::new();
+        for (image, key, _, _) in &self.images {
+            if let std::collections::hash_map::Entry::Vacant(e) = self.image_index.entry(*key) {
                 e.insert(blocks.len());
-                blocks.push((image.clone(), *srgb));
+                blocks.push((image.clone(), *key));
             }
         }
         let sizes: Vec<(u32, u32)> = blocks
             .iter()
-            .map(|(i, _)| block_size(i.width, i.height))
+            .map(|(i, (_, _, mipped))| match mipped {
+                true => block_size(i.width, i.height),
+                false => (i.width, i.height),
+            })
             .collect();
         let (page, placed) = pack(&sizes, max_size, max_layers)?;
         let layers = placed.iter().map(|p| p.0 + 1).max().unwrap_or(1);
@@ -388,9 +410,13 @@ impl TextureSet {
             usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
             view_formats: &[],
         });
-        for ((image, srgb), &(layer, origin)) in blocks.iter().zip(&placed) {
+        for ((image, (_, srgb, mipped)), &(layer, origin)) in blocks.iter().zip(&placed) {
             let mut at = [origin[0], origin[1]];
-            for (k, (pixels, w, h)) in mip_chain(image, *srgb).into_iter().enumerate() {
+            let levels = match mipped {
+                true => mip_chain(image, *srgb),
+                false => vec![(image.pixels.clone(), image.width, image.height)],
+            };
+            for (k, (pixels, w, h)) in levels.into_iter().enumerate() {
                 if k == 1 {
                     at = [origin[0] + image.width, origin[1]];
                 }
@@ -425,8 +451,9 @@ impl TextureSet {
         let infos: Vec<GpuTexInfo> = self
             .images
             .iter()
-            .map(|(image, srgb, filter, wrap)| {
-                let (layer, origin) = placed[self.image_index[&(Arc::as_ptr(image), *srgb)]];
+            .map(|(image, key, filter, wrap)| {
+                let (layer, origin) = placed[self.image_index[key]];
+                let (_, srgb, mipped) = key;
                 let wrap_bits = |w: Wrap| match w {
                     Wrap::Repeat => 0,
                     Wrap::MirroredRepeat => 1,
@@ -436,7 +463,10 @@ impl TextureSet {
                     origin,
                     size: [image.width, image.height],
                     layer,
-                    mips: mip_sizes(image.width, image.height).len() as u32,
+                    mips: match mipped {
+                        true => mip_sizes(image.width, image.height).len() as u32,
+                        false => 1,
+                    },
                     flags: u32::from(*srgb) * flags::SRGB
                         + u32::from(*filter == Filter::Linear) * flags::LINEAR
                         + (wrap_bits(wrap[0]) << flags::WRAP_U_SHIFT)

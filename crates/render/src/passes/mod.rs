@@ -107,6 +107,11 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
             "Surface",
             size_of::<crate::textures::GpuSurface>(),
         ),
+        (
+            "capture.wgsl",
+            "Terrain",
+            size_of::<crate::gpu_scene::GpuTerrain>(),
+        ),
         ("shade.wgsl", "ShadeFace", shade::SHADE_FACE_SIZE),
         (
             "shade.wgsl",
