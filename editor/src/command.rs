@@ -10,6 +10,7 @@ use texel_scene::assets::AssetLibrary;
 use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 use texel_scene::{EntityRow, LevelSettings, Scene};
 
+use crate::paint::PaintChange;
 use crate::terrain::HeightChange;
 
 /// One undoable change to the scene.
@@ -57,6 +58,19 @@ pub enum Command {
         after: Box<EntityRow>,
         /// The heights changed.
         change: Arc<HeightChange>,
+    },
+    /// Changes the paint layer of the terrain of the entity at `index` (a paint stroke,
+    /// "Clear paint") and its components (a terrain painted the first time names the file
+    /// its layer is saved to; a cleared one names none).
+    SetPaint {
+        /// Position in the level order.
+        index: usize,
+        /// The components before.
+        before: Box<EntityRow>,
+        /// The components after.
+        after: Box<EntityRow>,
+        /// The pixels changed.
+        change: Arc<PaintChange>,
     },
 }
 
@@ -121,6 +135,7 @@ impl Command {
                 Ok(Focus::Keep)
             }
             Command::SetHeights { .. } => self.set_heights(scene, assets, true),
+            Command::SetPaint { .. } => self.set_paint(scene, assets, true),
         }
     }
 
@@ -133,6 +148,7 @@ impl Command {
         match self {
             // Without copying the heights an inverse would hold.
             Command::SetHeights { .. } => self.set_heights(scene, assets, false),
+            Command::SetPaint { .. } => self.set_paint(scene, assets, false),
             _ => self.inverse().execute(scene, assets),
         }
     }
@@ -180,6 +196,58 @@ impl Command {
         Ok(Focus::Entity(*index))
     }
 
+    /// Runs a [`Command::SetPaint`] forward (execute) or backward (revert): the paint of the
+    /// terrain it starts from (none, or its loaded layer), changed, becomes the layer of the
+    /// terrain it ends with.
+    fn set_paint(
+        &self,
+        scene: &mut Scene,
+        assets: &mut AssetLibrary,
+        forward: bool,
+    ) -> Result<Focus, CommandError> {
+        let Command::SetPaint {
+            index,
+            before,
+            after,
+            change,
+        } = self
+        else {
+            return Err(CommandError("not a paint change".into()));
+        };
+        let (from, to) = if forward {
+            (before, after)
+        } else {
+            (after, before)
+        };
+        let e = entity_at(scene, *index)?;
+        let (Some(tf), Some(tt)) = (from.terrain.as_ref(), to.terrain.as_ref()) else {
+            return Err(CommandError(format!("entity {index} has no terrain")));
+        };
+        let current = scene.row(e).and_then(|r| r.terrain);
+        if current.as_ref() != Some(tf) {
+            return Err(CommandError(format!(
+                "the terrain of entity {index} is not the one that was painted"
+            )));
+        }
+        let layer = match &tf.paint {
+            Some(_) => Some(assets.paint(tf).ok_or_else(|| {
+                CommandError(format!("the paint of entity {index} is not loaded"))
+            })?),
+            None => None,
+        };
+        let next = change
+            .apply(layer.map(|l| &**l), forward)
+            .map_err(CommandError)?;
+        if let (Some(p), Some(mut image)) = (&tt.paint, next) {
+            image.name = p.path.clone();
+            assets.insert_texture(&p.path, Arc::new(image));
+        }
+        scene
+            .set_row(e, (**to).clone())
+            .map_err(|_| CommandError(format!("entity {index} vanished")))?;
+        Ok(Focus::Entity(*index))
+    }
+
     /// The command that undoes this one.
     pub fn inverse(&self) -> Command {
         match self {
@@ -215,15 +283,26 @@ impl Command {
                 after: before.clone(),
                 change: Arc::new(change.reversed()),
             },
+            Command::SetPaint {
+                index,
+                before,
+                after,
+                change,
+            } => Command::SetPaint {
+                index: *index,
+                before: after.clone(),
+                after: before.clone(),
+                change: Arc::new(change.reversed()),
+            },
         }
     }
 
     /// The entity components the command holds (what it sets and what it restores).
     pub fn rows(&self) -> Vec<&EntityRow> {
         match self {
-            Command::SetRow { before, after, .. } | Command::SetHeights { before, after, .. } => {
-                vec![before, after]
-            }
+            Command::SetRow { before, after, .. }
+            | Command::SetHeights { before, after, .. }
+            | Command::SetPaint { before, after, .. } => vec![before, after],
             Command::Spawn { row, .. } | Command::Despawn { row, .. } => vec![row],
             Command::SetSettings { .. } => Vec::new(),
         }
@@ -260,6 +339,7 @@ impl Command {
             Command::Despawn { .. } => "delete",
             Command::SetSettings { .. } => "level settings",
             Command::SetHeights { change, .. } => change.describe(),
+            Command::SetPaint { change, .. } => change.describe(),
         }
     }
 }

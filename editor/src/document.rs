@@ -1,7 +1,7 @@
 //! The document being edited: a scene, the meshes, textures and terrain heights it refers
-//! to, and where it is saved. Terrain heights live in the asset library, where sculpting and
-//! imports change them; saving writes a terrain's heightmap file when its heights are not
-//! what the file holds.
+//! to, and where it is saved. Terrain heights and paint layers live in the asset library,
+//! where sculpting, painting and imports change them; saving writes a terrain's heightmap
+//! (or paint) file when what is in memory is not what the file holds.
 
 use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
@@ -9,7 +9,8 @@ use std::sync::Arc;
 
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_scene::assets::{AssetLibrary, load_assets, resolve, texture_paths};
-use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
+use texel_scene::terrain::{HeightSource, Heightfield, PaintLayer, Terrain};
+use texel_scene::texture::Image;
 use texel_scene::{EntityRow, Geometry, Scene};
 
 use crate::files;
@@ -25,6 +26,8 @@ pub struct Document {
     /// The heights each heightmap file (by level-relative path) held when it was last read or
     /// written: a terrain whose heights are still these is not written again on save.
     on_disk: BTreeMap<String, Arc<Heightfield>>,
+    /// The layer each paint file held when it was last read or written, likewise.
+    paint_on_disk: BTreeMap<String, Arc<Image>>,
     /// The last revision that changed anything but terrain heights in a known box.
     full_revision: u64,
     /// Revisions that only changed terrain heights, with the world box they changed.
@@ -43,6 +46,7 @@ impl Document {
             path: None,
             revision: 0,
             on_disk: BTreeMap::new(),
+            paint_on_disk: BTreeMap::new(),
             full_revision: 0,
             regions: Vec::new(),
         }
@@ -56,6 +60,7 @@ impl Document {
             path: Some(path.to_owned()),
             revision: 0,
             on_disk: BTreeMap::new(),
+            paint_on_disk: BTreeMap::new(),
             full_revision: 0,
             regions: Vec::new(),
         };
@@ -63,8 +68,8 @@ impl Document {
         Ok(doc)
     }
 
-    /// Records the heightmap files just read (the scene's file terrains whose heights `old`
-    /// lacked) as what is on disk.
+    /// Records the heightmap and paint files just read (the scene's terrains whose heights
+    /// or paint `old` lacked) as what is on disk.
     fn note_files_read(&mut self, old: &AssetLibrary) {
         for t in terrains(&self.level.scene) {
             if let HeightSource::File { path } = &t.heightmap
@@ -72,6 +77,12 @@ impl Document {
                 && let Some(f) = self.level.assets.heightfield(&t)
             {
                 self.on_disk.insert(path.clone(), f.clone());
+            }
+            if let Some(p) = &t.paint
+                && old.paint(&t).is_none()
+                && let Some(image) = self.level.assets.paint(&t)
+            {
+                self.paint_on_disk.insert(p.path.clone(), image.clone());
             }
         }
     }
@@ -121,10 +132,12 @@ impl Document {
     }
 
     /// Saves atomically to `path` and makes it the document's path. The heightmaps of
-    /// terrains sculpted or imported since they were last written (or missing beside `path`)
-    /// are written first, each atomically; a failure leaves the level file untouched.
+    /// terrains sculpted or imported since they were last written (or missing beside `path`),
+    /// and their paint layers likewise, are written first, each atomically; a failure leaves
+    /// the level file untouched.
     pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
         self.write_heightmaps(path)?;
+        self.write_paint_layers(path)?;
         self.level.scene.save(path).map_err(|e| e.to_string())?;
         self.path = Some(path.to_owned());
         self.level.path = path.to_owned();
@@ -135,11 +148,7 @@ impl Document {
     /// file held, or whose file is missing, beside the level file `level` (every one when the
     /// level moves to another folder).
     fn write_heightmaps(&mut self, level: &Path) -> Result<(), String> {
-        let dir = |p: &Path| {
-            let d = p.parent().unwrap_or(Path::new("")).to_owned();
-            std::fs::canonicalize(&d).unwrap_or(d)
-        };
-        let moved = self.path.is_none() || dir(&self.level.path) != dir(level);
+        let moved = self.moves_to(level);
         let mut done = BTreeSet::new();
         for t in terrains(&self.level.scene) {
             let HeightSource::File { path: rel } = &t.heightmap else {
@@ -165,10 +174,47 @@ impl Document {
         Ok(())
     }
 
+    /// Whether the level moves to `level` from another folder (or was never saved), so every
+    /// file it names beside it is written.
+    fn moves_to(&self, level: &Path) -> bool {
+        let dir = |p: &Path| {
+            let d = p.parent().unwrap_or(Path::new("")).to_owned();
+            std::fs::canonicalize(&d).unwrap_or(d)
+        };
+        self.path.is_none() || dir(&self.level.path) != dir(level)
+    }
+
+    /// Writes the RGBA paint layer of every terrain whose layer differs from what its file
+    /// held, or whose file is missing, beside the level file `level` (every one when the
+    /// level moves to another folder).
+    fn write_paint_layers(&mut self, level: &Path) -> Result<(), String> {
+        let moved = self.moves_to(level);
+        let mut done = BTreeSet::new();
+        for t in terrains(&self.level.scene) {
+            let Some(PaintLayer { path: rel }) = &t.paint else {
+                continue;
+            };
+            if rel.trim().is_empty() || !done.insert(rel.clone()) {
+                continue;
+            }
+            let Some(image) = self.level.assets.paint(&t).cloned() else {
+                continue;
+            };
+            let file = resolve(level, rel);
+            let same = (self.paint_on_disk.get(rel)).is_some_and(|i| Arc::ptr_eq(i, &image));
+            if same && !moved && file.is_file() {
+                continue;
+            }
+            crate::paint::write_paint(&file, &image)?;
+            self.paint_on_disk.insert(rel.clone(), image);
+        }
+        Ok(())
+    }
+
     /// Writes an autosave of the document to `file` (atomically, creating its folder). A
     /// file terrain whose heights are not saved (sculpted, imported) has them written first
     /// beside `file` as `name.autosave.png` ([`files::autosave_heightmap`]), which the
-    /// autosave names instead. Returns those heightmap files.
+    /// autosave names instead; so has a paint layer that is not saved. Returns those files.
     pub fn write_autosave(&self, file: &Path) -> Result<Vec<PathBuf>, String> {
         if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
@@ -202,12 +248,36 @@ impl Document {
             }
             t.heightmap = HeightSource::File { path: auto };
         }
+        for row in &mut level.entities {
+            let Some(t) = &mut row.terrain else {
+                continue;
+            };
+            let Some(image) = self.level.assets.paint(t) else {
+                continue;
+            };
+            let Some(p) = &mut t.paint else {
+                continue;
+            };
+            let saved = self.path.is_some()
+                && (self.paint_on_disk.get(&p.path)).is_some_and(|i| Arc::ptr_eq(i, image))
+                && resolve(&self.level.path, &p.path).is_file();
+            if saved {
+                continue;
+            }
+            let auto = files::autosave_heightmap(&p.path);
+            let png = resolve(file, &auto);
+            if !written.contains(&png) {
+                crate::paint::write_paint(&png, image)?;
+                written.push(png);
+            }
+            p.path = auto;
+        }
         level.save(file).map_err(|e| e.to_string())?;
         Ok(written)
     }
 
     /// After opening an autosave: terrains reading a `name.autosave.png` name `name.png`
-    /// again and keep the heights read (written to `name.png` on the next save).
+    /// again and keep the heights (or paint) read (written to `name.png` on the next save).
     pub fn adopt_autosaved_heights(&mut self) {
         let scene = &mut self.level.scene;
         let entities: Vec<_> = scene.entities().collect();
@@ -218,31 +288,47 @@ impl Document {
             let Some(t) = &mut row.terrain else {
                 continue;
             };
-            let HeightSource::File { path } = &t.heightmap else {
-                continue;
-            };
-            let Some(original) = files::autosaved_heightmap_of(path) else {
-                continue;
-            };
-            let field = self.level.assets.heightfield(t).cloned();
-            self.on_disk.remove(path);
-            t.heightmap = HeightSource::File { path: original };
-            if let Some(f) = field {
-                self.level.assets.insert_heightfield(t, f);
+            let mut changed = false;
+            if let Some(p) = &mut t.paint
+                && let Some(original) = files::autosaved_heightmap_of(&p.path)
+            {
+                let image = self.level.assets.texture(&p.path).cloned();
+                self.paint_on_disk.remove(&p.path);
+                if let Some(image) = image {
+                    self.level.assets.insert_texture(&original, image);
+                }
+                p.path = original;
+                changed = true;
             }
-            let _ = scene.set_row(e, row);
+            if let HeightSource::File { path } = &t.heightmap
+                && let Some(original) = files::autosaved_heightmap_of(path)
+            {
+                let field = self.level.assets.heightfield(t).cloned();
+                self.on_disk.remove(path);
+                t.heightmap = HeightSource::File { path: original };
+                if let Some(f) = field {
+                    self.level.assets.insert_heightfield(t, f);
+                }
+                changed = true;
+            }
+            if changed {
+                let _ = scene.set_row(e, row);
+            }
         }
         self.touch();
     }
 
-    /// Whether a heightmap file name (relative to the level) is used: named by a terrain of
-    /// the scene, or a file beside the level this document did not write or read.
+    /// Whether a heightmap (or paint) file name (relative to the level) is used: named by a
+    /// terrain of the scene, or a file beside the level this document did not write or read.
     pub fn heightmap_taken(&self, rel: &str) -> bool {
-        let named = terrains(&self.level.scene)
-            .any(|t| matches!(&t.heightmap, HeightSource::File { path } if path == rel));
+        let named = terrains(&self.level.scene).any(|t| {
+            matches!(&t.heightmap, HeightSource::File { path } if path == rel)
+                || t.paint.as_ref().is_some_and(|p| p.path == rel)
+        });
         let foreign = self.path.is_some()
             && resolve(&self.level.path, rel).exists()
-            && !self.on_disk.contains_key(rel);
+            && !self.on_disk.contains_key(rel)
+            && !self.paint_on_disk.contains_key(rel);
         named || foreign
     }
 
@@ -268,14 +354,15 @@ impl Document {
 
     /// Reloads every mesh and texture the scene refers to (after a mesh was added or a path
     /// changed). Paths still empty (a texture or mesh just added in the inspector, not yet
-    /// typed) are skipped. Terrain heights already in memory are kept (they may be sculpted
-    /// and not saved yet). On failure the library is left as it was.
+    /// typed) are skipped. Terrain heights and paint layers already in memory are kept (they
+    /// may be sculpted or painted and not saved yet). On failure the library is left as it
+    /// was.
     pub fn reload_assets(&mut self) -> Result<(), String> {
         self.reload_assets_keeping(&[])
     }
 
-    /// [`Document::reload_assets`], also keeping the heights in memory of `more` terrains
-    /// (those the history can bring back).
+    /// [`Document::reload_assets`], also keeping the heights and paint in memory of `more`
+    /// terrains (those the history can bring back).
     pub fn reload_assets_keeping(&mut self, more: &[Terrain]) -> Result<(), String> {
         let old = &self.level.assets;
         let mut level = self.level.scene.to_level();
@@ -286,6 +373,11 @@ impl Document {
                     .is_some_and(|d| d.path.trim().is_empty())
                 {
                     t.displacement = None;
+                }
+                if (t.paint.as_ref())
+                    .is_some_and(|p| p.path.trim().is_empty() || old.texture(&p.path).is_some())
+                {
+                    t.paint = None;
                 }
                 let empty =
                     matches!(&t.heightmap, HeightSource::File { path } if path.trim().is_empty());
@@ -319,6 +411,11 @@ impl Document {
             if let Some(f) = old.heightfield(&t) {
                 assets.insert_heightfield(&t, f.clone());
             }
+            if let Some(p) = &t.paint
+                && let Some(image) = old.texture(&p.path)
+            {
+                assets.insert_texture(&p.path, image.clone());
+            }
         }
         let old = std::mem::replace(&mut self.level.assets, assets);
         self.note_files_read(&old);
@@ -349,6 +446,12 @@ pub fn unloaded_paths(row: &EntityRow, assets: &AssetLibrary) -> Vec<String> {
             && assets.texture(&d.path).is_none()
         {
             out.push(d.path.clone());
+        }
+        if let Some(p) = &t.paint
+            && !p.path.trim().is_empty()
+            && assets.texture(&p.path).is_none()
+        {
+            out.push(p.path.clone());
         }
     }
     if let Some(Geometry::Mesh { path }) = &row.geometry

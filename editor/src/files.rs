@@ -155,8 +155,8 @@ pub fn autosaved_heightmap_of(rel: &str) -> Option<String> {
 /// What autosaved heightmap names end with.
 pub const AUTOSAVE_HEIGHTMAP: &str = ".autosave.png";
 
-/// The heightmap files the autosave `auto` names ([`autosave_heightmap`]); none when it is
-/// missing or unreadable.
+/// The heightmap and paint files the autosave `auto` names ([`autosave_heightmap`]); none
+/// when it is missing or unreadable.
 pub fn autosave_heightmaps(auto: &Path) -> Vec<PathBuf> {
     let Ok(level) = texel_scene::Level::load(auto) else {
         return Vec::new();
@@ -164,12 +164,16 @@ pub fn autosave_heightmaps(auto: &Path) -> Vec<PathBuf> {
     level
         .entities
         .iter()
-        .filter_map(|r| match &r.terrain.as_ref()?.heightmap {
-            texel_scene::terrain::HeightSource::File { path } => {
-                autosaved_heightmap_of(path).map(|_| texel_scene::assets::resolve(auto, path))
-            }
-            texel_scene::terrain::HeightSource::Noise { .. } => None,
+        .filter_map(|r| r.terrain.as_ref())
+        .flat_map(|t| {
+            let heights = match &t.heightmap {
+                texel_scene::terrain::HeightSource::File { path } => Some(path),
+                texel_scene::terrain::HeightSource::Noise { .. } => None,
+            };
+            heights.into_iter().chain(t.paint.as_ref().map(|p| &p.path))
         })
+        .filter(|path| autosaved_heightmap_of(path).is_some())
+        .map(|path| texel_scene::assets::resolve(auto, path))
         .collect()
 }
 

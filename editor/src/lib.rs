@@ -10,6 +10,7 @@ pub mod command;
 pub mod document;
 pub mod files;
 pub mod history;
+pub mod paint;
 pub mod pixel;
 pub mod state;
 pub mod terrain;

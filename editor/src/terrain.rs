@@ -215,17 +215,21 @@ pub enum BrushKind {
     SetHeight,
     /// Adds value noise (Ctrl subtracts it).
     Noise,
+    /// Paints the terrain's colour layer (Ctrl erases it); the heights stay
+    /// ([`crate::paint`]).
+    Paint,
 }
 
 impl BrushKind {
     /// Every brush, in the order the tool lists them.
-    pub const ALL: [BrushKind; 6] = [
+    pub const ALL: [BrushKind; 7] = [
         BrushKind::Raise,
         BrushKind::Lower,
         BrushKind::Smooth,
         BrushKind::Flatten,
         BrushKind::SetHeight,
         BrushKind::Noise,
+        BrushKind::Paint,
     ];
 
     /// The brush's name in the tool.
@@ -237,6 +241,7 @@ impl BrushKind {
             BrushKind::Flatten => "Flatten",
             BrushKind::SetHeight => "Set height",
             BrushKind::Noise => "Noise",
+            BrushKind::Paint => "Paint",
         }
     }
 }
@@ -255,6 +260,8 @@ pub struct Brush {
     /// The height [`BrushKind::SetHeight`] pulls toward, world units above the terrain's
     /// origin.
     pub height: f32,
+    /// The colour [`BrushKind::Paint`] lays down, sRGB (its strength is the paint's opacity).
+    pub colour: [u8; 3],
 }
 
 impl Default for Brush {
@@ -265,6 +272,7 @@ impl Default for Brush {
             strength: 0.5,
             falloff: 0.5,
             height: 2.0,
+            colour: [196, 72, 48],
         }
     }
 }
@@ -368,9 +376,11 @@ fn paste_region(field: &mut Heightfield, region: Region, values: &[f32]) {
 }
 
 /// Applies one dab of `brush` to `field` (placed at `place`) and returns the samples it
-/// changed, `None` when the brush covers no sample. Heights stay within `0..=max_height`.
+/// changed, `None` when the brush covers no sample (or paints, which leaves the heights).
+/// Heights stay within `0..=max_height`.
 pub fn dab(field: &mut Heightfield, place: &Placement, brush: &Brush, dab: &Dab) -> Option<Region> {
-    if field.width != place.width
+    if brush.kind == BrushKind::Paint
+        || field.width != place.width
         || field.depth != place.depth
         || brush.radius.is_nan()
         || brush.radius <= 0.0
@@ -434,6 +444,7 @@ pub fn dab(field: &mut Heightfield, place: &Placement, brush: &Brush, dab: &Dab)
                     let n = value_noise(p.x / noise_scale, p.z / noise_scale);
                     h + sign * n * strength * max * NOISE_RATE * weight * dt
                 }
+                BrushKind::Paint => h,
             };
             let next = next.clamp(0.0, max);
             if next.is_finite() {
@@ -629,6 +640,18 @@ pub fn heightmap_file_name(
     index: usize,
     taken: impl Fn(&str) -> bool,
 ) -> String {
+    level_file_name(level, entity, index, "", taken)
+}
+
+/// A PNG file beside the level for an entity's data: `<level stem>_<entity name or
+/// index><suffix>.png`, with `_2`, `_3`… appended while `taken` says a name is used.
+pub fn level_file_name(
+    level: &Path,
+    entity: Option<&str>,
+    index: usize,
+    suffix: &str,
+    taken: impl Fn(&str) -> bool,
+) -> String {
     let stem = level
         .file_stem()
         .map(|s| file_safe(&s.to_string_lossy()))
@@ -638,7 +661,7 @@ pub fn heightmap_file_name(
         .map(file_safe)
         .filter(|s| !s.is_empty())
         .unwrap_or_else(|| index.to_string());
-    let base = format!("{stem}_{name}");
+    let base = format!("{stem}_{name}{suffix}");
     let first = format!("{base}.png");
     if !taken(&first) {
         return first;

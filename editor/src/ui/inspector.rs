@@ -31,7 +31,12 @@ pub fn entity(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> 
     let mut row = before.clone();
     let terrain = TerrainInfo::of(state, index, &before);
     edit_row(ui, &mut row, &terrain);
-    if row != before {
+    let cleared = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_none());
+    let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
+    if painted(&before) && cleared(&row) {
+        // "Clear paint": the layer goes with the undo step, so undo brings it back.
+        crate::paint::clear_paint(state, index, row)?;
+    } else if row != before {
         let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Row { index, widget });
         state.set_row(index, row, key)?;
     }
@@ -39,10 +44,11 @@ pub fn entity(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> 
 }
 
 /// What the terrain section shows beside the component: the file a noise source switched to
-/// File starts with, and the size of the loaded heights.
+/// File starts with, the size of the loaded heights and of the paint layer.
 struct TerrainInfo {
     file_name: String,
     samples: Option<(u32, u32)>,
+    paint: Option<(u32, u32)>,
 }
 
 impl TerrainInfo {
@@ -51,6 +57,7 @@ impl TerrainInfo {
             return TerrainInfo {
                 file_name: String::new(),
                 samples: None,
+                paint: None,
             };
         };
         let file_name = match &crate::terrain::file_backed(state, index, row).terrain {
@@ -60,8 +67,14 @@ impl TerrainInfo {
             }) => path.clone(),
             _ => String::new(),
         };
-        let samples = (state.document.level.assets.heightfield(t)).map(|f| (f.width, f.depth));
-        TerrainInfo { file_name, samples }
+        let assets = &state.document.level.assets;
+        let samples = assets.heightfield(t).map(|f| (f.width, f.depth));
+        let paint = assets.paint(t).map(|p| (p.width, p.height));
+        TerrainInfo {
+            file_name,
+            samples,
+            paint,
+        }
     }
 }
 
@@ -338,6 +351,22 @@ fn terrain(ui: &mut Ui, t: &mut Terrain, info: &TerrainInfo) {
         ui.label(format!("{w}×{d} height samples"));
     }
     gradient(ui, &mut t.gradient);
+    match &t.paint {
+        Some(p) => {
+            let size = info
+                .paint
+                .map_or(String::new(), |(w, h)| format!(" ({w}×{h})"));
+            ui.label(format!("Paint layer: {}{size}", p.path))
+                .on_hover_text("Colour painted over the gradient (the terrain tool's Paint brush)");
+            if ui.button("Clear paint").clicked() {
+                t.paint = None;
+            }
+        }
+        None => {
+            ui.label("No paint layer")
+                .on_hover_text("The terrain tool's Paint brush adds one");
+        }
+    }
     let mut displaced = t.displacement.is_some();
     ui.checkbox(&mut displaced, "Displacement");
     match (displaced, &t.displacement) {

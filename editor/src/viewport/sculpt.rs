@@ -1,13 +1,15 @@
-//! The terrain tool: while it is on and a terrain is selected, the primary button sculpts the
-//! terrain under the pointer with the chosen brush (Ctrl inverts), and a circle on the
-//! surface shows the brush. The hit is found by marching the view ray over the heights on
-//! the CPU ([`crate::terrain::ray_hit`]).
+//! The terrain tool: while it is on and a terrain is selected, the primary button sculpts
+//! (or paints) the terrain under the pointer with the chosen brush (Ctrl inverts, or
+//! erases paint), and a circle on the surface shows the brush. The hit is found by marching
+//! the view ray over the heights on the CPU ([`crate::terrain::ray_hit`]).
 //!
-//! A stroke (press to release) works on a copy of the heights, shown by putting the copy in
-//! the asset library and marking the document changed at most every [`REFRESH_EVERY`] (the
-//! session rebuilds the level then); on release the heights before the stroke go back and
-//! the stroke lands as one [`Command::SetHeights`] holding the touched samples before and
-//! after.
+//! A stroke (press to release) works on a copy of the heights (or of the paint layer),
+//! shown by putting the copy in the asset library and marking the region it touched changed
+//! at most every [`REFRESH_EVERY`] (the session updates what sees it then); on release the
+//! heights (or paint) before the stroke go back and the stroke lands as one
+//! [`Command::SetHeights`] (or [`Command::SetPaint`]) holding the touched samples (or
+//! pixels) before and after. A terrain painted for the first time names its new layer
+//! during the stroke, so the view shows it; the command then makes that change too.
 
 use std::sync::Arc;
 use std::time::{Duration, Instant};
@@ -18,11 +20,12 @@ use texel_scene::EntityRow;
 use texel_scene::terrain::{Heightfield, Terrain};
 
 use crate::camera::Projector;
-use crate::command::{Command, CommandError};
+use crate::command::{Command, CommandError, entity_at};
+use crate::paint::{PaintPlace, PaintStroke, paint_backed, stroke_start};
 use crate::state::EditorState;
 use crate::terrain::{
-    Brush, BrushKind, Dab, HeightChange, Placement, Region, copy_region, dab, file_backed, ray_hit,
-    selected_terrain,
+    Brush, BrushKind, Dab, HeightChange, Placement, Region, TerrainTarget, copy_region, dab,
+    file_backed, ray_hit, selected_terrain,
 };
 
 /// Shortest time between two refreshes of the view during a stroke (each rebuilds the
@@ -49,6 +52,29 @@ pub struct TerrainTool {
     /// The terrain surface point under the pointer in the last frame.
     pub hover: Option<Vec3>,
     stroke: Option<Stroke>,
+    painting: Option<Painting>,
+}
+
+/// A paint stroke in progress.
+#[derive(Debug)]
+struct Painting {
+    index: usize,
+    /// The entity's components before the stroke.
+    row: EntityRow,
+    /// Its components with the layer the stroke paints (`row` unless the terrain had no
+    /// layer of its own; then the scene holds these during the stroke).
+    after: EntityRow,
+    /// The layer's path.
+    path: String,
+    place: PaintPlace,
+    /// Where the terrain's heights lie (the height range of a refreshed region).
+    heights: Placement,
+    stroke: PaintStroke,
+    refreshed: Option<Instant>,
+    /// Whether the stroke has pixels the view does not show yet.
+    pending: bool,
+    /// The pixels painted since the last refresh.
+    fresh: Option<Region>,
 }
 
 /// A stroke in progress.
@@ -73,7 +99,7 @@ struct Stroke {
 impl TerrainTool {
     /// Whether a stroke is in progress.
     pub fn stroking(&self) -> bool {
-        self.stroke.is_some()
+        self.stroke.is_some() || self.painting.is_some()
     }
 
     /// Switches the tool on or off (a stroke in progress lands first).
@@ -104,10 +130,11 @@ impl TerrainTool {
             self.hover = None;
             return Ok(false);
         };
-        if self
-            .stroke
-            .as_ref()
-            .is_some_and(|s| s.index != target.index)
+        let other = |i: usize| i != target.index;
+        if self.stroke.as_ref().is_some_and(|s| other(s.index))
+            || self.painting.as_ref().is_some_and(|p| other(p.index))
+            || (self.stroke.is_some() && self.brush.kind == BrushKind::Paint)
+            || (self.painting.is_some() && self.brush.kind != BrushKind::Paint)
         {
             self.finish(state)?;
         }
@@ -128,7 +155,10 @@ impl TerrainTool {
             ray_hit(&place, field, o, d)
         });
         self.hover = hit;
-        if down && response.is_pointer_button_down_on() {
+        if down && response.is_pointer_button_down_on() && self.brush.kind == BrushKind::Paint {
+            self.paint(state, &target, hit, invert, refresh)?;
+            ui.ctx().request_repaint();
+        } else if down && response.is_pointer_button_down_on() {
             if self.stroke.is_none()
                 && let Some(h) = hit
             {
@@ -184,11 +214,127 @@ impl TerrainTool {
             };
             draw_brush(painter, proj, &place, field, centre, &self.brush, invert);
         }
-        Ok(self.stroke.is_some() || self.hover.is_some())
+        Ok(self.stroking() || self.hover.is_some())
+    }
+
+    /// One frame of a paint stroke: starts it on a hit (a terrain without a layer of its
+    /// own gets one), stamps the brush at the hit, and shows what is painted at most every
+    /// `refresh`.
+    fn paint(
+        &mut self,
+        state: &mut EditorState,
+        target: &TerrainTarget,
+        hit: Option<Vec3>,
+        erase: bool,
+        refresh: Duration,
+    ) -> Result<(), CommandError> {
+        if self.painting.is_none()
+            && hit.is_some()
+            && let Some(start) = stroke_start(state, &target.terrain, &target.field)
+        {
+            let after = paint_backed(state, target.index, &target.row);
+            let Some(path) = (after.terrain.as_ref())
+                .and_then(|t| t.paint.as_ref())
+                .map(|p| p.path.clone())
+            else {
+                return Ok(());
+            };
+            if after != target.row {
+                // The new layer shows from the first refresh: the scene names it already.
+                let mut image = (*start).clone();
+                image.name = path.clone();
+                state
+                    .document
+                    .level
+                    .assets
+                    .insert_texture(&path, Arc::new(image));
+                let e = entity_at(state.scene(), target.index)?;
+                (state.document.scene_mut().set_row(e, after.clone()))
+                    .map_err(|_| CommandError(format!("entity {} vanished", target.index)))?;
+            }
+            self.painting = Some(Painting {
+                index: target.index,
+                row: target.row.clone(),
+                after,
+                path,
+                place: PaintPlace::new(target.place.origin, target.terrain.size, &start),
+                heights: target.place,
+                stroke: PaintStroke::new(start, self.brush.colour, erase),
+                refreshed: None,
+                pending: false,
+                fresh: None,
+            });
+        }
+        let Some(p) = &mut self.painting else {
+            return Ok(());
+        };
+        let b = &self.brush;
+        if let Some(h) = hit
+            && let Some(r) = p.stroke.dab(&p.place, h, b.radius, b.strength, b.falloff)
+        {
+            p.fresh = Some(p.fresh.map_or(r, |f| f.union(r)));
+            p.pending = true;
+        }
+        if p.pending && p.refreshed.is_none_or(|t| t.elapsed() >= refresh) {
+            let mut image = p.stroke.image().clone();
+            image.name = p.path.clone();
+            let assets = &mut state.document.level.assets;
+            assets.insert_texture(&p.path, Arc::new(image));
+            // Only the probe faces that see the pixels painted since the last refresh are
+            // captured again.
+            if let Some(r) = p.fresh.take() {
+                let (lo, hi) = p.place.bounds(r);
+                let (y0, y1) = (p.heights.origin.y, p.heights.max_height);
+                state.document.touch_region(
+                    Vec3::new(lo.x, y0 - 1.0, lo.y),
+                    Vec3::new(hi.x, y0 + y1 + 1.0, hi.y),
+                );
+            }
+            p.refreshed = Some(Instant::now());
+            p.pending = false;
+        }
+        Ok(())
+    }
+
+    /// Lands the paint stroke in progress, if any, as one undo step.
+    fn finish_paint(&mut self, state: &mut EditorState) -> Result<(), CommandError> {
+        let Some(p) = self.painting.take() else {
+            return Ok(());
+        };
+        // The library and the scene show the stroke; the command starts from before it.
+        if p.after != p.row && state.row_at(p.index).as_ref() == Some(&p.after) {
+            let e = entity_at(state.scene(), p.index)?;
+            (state.document.scene_mut().set_row(e, p.row.clone()))
+                .map_err(|_| CommandError(format!("entity {} vanished", p.index)))?;
+        }
+        if p.after == p.row {
+            let mut image = (**p.stroke.start()).clone();
+            image.name = p.path.clone();
+            let assets = &mut state.document.level.assets;
+            assets.insert_texture(&p.path, Arc::new(image));
+        }
+        state.document.touch();
+        // Something else changed the entity meanwhile (an undo): the stroke is dropped.
+        if state.row_at(p.index).as_ref() != Some(&p.row) {
+            return Ok(());
+        }
+        let Some(change) = p.stroke.change() else {
+            return Ok(());
+        };
+        let cmd = Command::SetPaint {
+            index: p.index,
+            before: Box::new(p.row),
+            after: Box::new(p.after),
+            change: Arc::new(change),
+        };
+        state.apply(cmd, None)?;
+        state.history.seal();
+        Ok(())
     }
 
     /// Lands the stroke in progress, if any, as one undo step.
     pub fn finish(&mut self, state: &mut EditorState) -> Result<(), CommandError> {
+        self.finish_paint(state)?;
         let Some(s) = self.stroke.take() else {
             return Ok(());
         };
@@ -218,8 +364,9 @@ impl TerrainTool {
         Ok(())
     }
 
-    /// The tool's window over the viewport: the brushes, their size, strength and falloff,
-    /// the height Set height pulls to; or what to select.
+    /// The tool's window over the viewport: the brushes, their size, strength (opacity for
+    /// paint) and falloff, the height Set height pulls to, the paint colour; or what to
+    /// select.
     pub fn panel(&mut self, ctx: &egui::Context, rect: egui::Rect, state: &mut EditorState) {
         let target = selected_terrain(state);
         let mut done = false;
@@ -240,17 +387,32 @@ impl TerrainTool {
                         }
                     });
                     let b = &mut self.brush;
+                    let painting = b.kind == BrushKind::Paint;
+                    if painting {
+                        ui.horizontal(|ui| {
+                            ui.label("Paint colour");
+                            egui::color_picker::color_edit_button_srgb(ui, &mut b.colour)
+                                .accessible_name("Paint colour");
+                        });
+                    }
                     slider(ui, "Brush size", &mut b.radius, 0.25..=64.0, " units");
-                    slider(ui, "Brush strength", &mut b.strength, 0.01..=1.0, "");
+                    let strength = if painting {
+                        "Brush opacity"
+                    } else {
+                        "Brush strength"
+                    };
+                    slider(ui, strength, &mut b.strength, 0.01..=1.0, "");
                     slider(ui, "Brush falloff", &mut b.falloff, 0.0..=1.0, "");
                     if b.kind == BrushKind::SetHeight {
                         let top = target.terrain.max_height;
                         slider(ui, "Target height", &mut b.height, 0.0..=top, " units");
                     }
-                    ui.label(
-                        egui::RichText::new("Drag on the terrain · Ctrl inverts · T to finish")
-                            .small(),
-                    );
+                    let hint = if painting {
+                        "Drag on the terrain · Ctrl erases · T to finish"
+                    } else {
+                        "Drag on the terrain · Ctrl inverts · T to finish"
+                    };
+                    ui.label(egui::RichText::new(hint).small());
                     done = ui.button("Done (T)").clicked();
                 });
             });
@@ -288,6 +450,11 @@ fn draw_brush(
     invert: bool,
 ) {
     let colour = match (brush.kind, invert) {
+        (BrushKind::Paint, false) => {
+            let [r, g, b] = brush.colour;
+            Color32::from_rgb(r, g, b)
+        }
+        (BrushKind::Paint, true) => Color32::from_gray(200),
         (BrushKind::Raise, false) | (BrushKind::Lower, true) => Color32::from_rgb(255, 200, 60),
         (BrushKind::Raise | BrushKind::Lower, _) => Color32::from_rgb(90, 170, 255),
         (BrushKind::Smooth, _) => Color32::from_rgb(240, 240, 240),
