@@ -290,3 +290,65 @@ fn a_painted_half_of_a_flat_terrain_captures_red_albedo_on_exactly_its_cells() {
         "texels unpainted, painted, half painted: {seen:?}"
     );
 }
+
+/// The G-buffer methods colour terrain through the same function as the captures: the raster
+/// baseline of the painted terrain, seen from above, shows one colour on the unpainted
+/// cells, another on the painted ones (red), a third on the half-covered ones (a paler red),
+/// each exactly on the cells whose centres the paint layer's pixels hold.
+#[test]
+fn the_raster_baseline_shows_the_same_paint_on_the_same_cells() {
+    use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
+    let dir = tempfile::tempdir().unwrap();
+    let level = painted_terrain_level(dir.path());
+    let size = UVec2::new(160, 90);
+    let Some(h) = Harness::new(level.to_str().unwrap(), size, 64) else {
+        return;
+    };
+    let loaded = texel_runtime::load::load_level(&level).expect("level loads");
+    let look = texel_runtime::driver::level_look(&loaded.scene);
+    let mut r = BaselineRenderer::new(&h.ctx).expect("baseline pipelines");
+    r.set_scene(&h.ctx, h.session.scene()).expect("scene");
+    let camera = cam(0.3, 5.0, 0.2, 0.0, -80.0);
+    let view = BaselineView {
+        camera,
+        size,
+        face_res: 64,
+        look,
+    };
+    let frame = r.render(&h.ctx, Baseline::Raster, &view).expect("raster");
+    let g = r
+        .reference_gbuffer(&h.ctx, &camera, size)
+        .expect("G-buffer");
+    let density = 2.0;
+    let mut colours: [std::collections::BTreeSet<[u8; 3]>; 3] = Default::default();
+    for (i, (&id, w)) in g.id.iter().zip(&g.world).enumerate() {
+        if id == 0 {
+            continue;
+        }
+        let (fx, fz) = ((w[0] + 100.0) * density, (w[2] + 100.0) * density);
+        if (fx - fx.round()).abs() < 0.05 || (fz - fz.round()).abs() < 0.05 {
+            continue;
+        }
+        let centre = ((fx.floor() + 0.5) / density, (fz.floor() + 0.5) / density);
+        let kind = match (centre.0 < 100.0, centre.1 < 100.0) {
+            (false, _) => 0,
+            (true, true) => 1,
+            (true, false) => 2,
+        };
+        let p = &frame.pixels[4 * i..4 * i + 3];
+        colours[kind].insert([p[0], p[1], p[2]]);
+    }
+    let [grey, red, pale] = colours.map(|c| {
+        assert_eq!(c.len(), 1, "one colour per region: {c:?}");
+        c.into_iter().next().unwrap_or_default()
+    });
+    assert!(
+        grey[0] == grey[1] && grey[1] == grey[2],
+        "unpainted {grey:?}"
+    );
+    assert!(red[0] > 3 * red[1].max(red[2]), "painted {red:?}");
+    assert!(
+        pale[0] > pale[1] && pale[1] > red[1] && pale != grey,
+        "half covered {pale:?}"
+    );
+}
