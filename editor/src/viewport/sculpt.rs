@@ -308,10 +308,8 @@ impl TerrainTool {
                 .map_err(|_| CommandError(format!("entity {} vanished", p.index)))?;
         }
         if p.after == p.row {
-            let mut image = (**p.stroke.start()).clone();
-            image.name = p.path.clone();
             let assets = &mut state.document.level.assets;
-            assets.insert_texture(&p.path, Arc::new(image));
+            assets.insert_texture(&p.path, p.stroke.start().clone());
         }
         state.document.touch();
         // Something else changed the entity meanwhile (an undo): the stroke is dropped.
