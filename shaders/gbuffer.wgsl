@@ -7,6 +7,7 @@
 #include "lib/texture.wgsl"
 #include "lib/terrain.wgsl"
 #include "lib/raster.wgsl"
+#include "lib/motion.wgsl"
 
 struct Camera {
     view_proj: mat4x4<f32>,
@@ -22,10 +23,22 @@ struct Camera {
 
 @group(0) @binding(0) var<uniform> camera: Camera;
 @group(0) @binding(1) var<storage, read> objects: array<Object>;
+@group(0) @binding(7) var<storage, read> motions: array<Motion>;
 
 @vertex
 fn vs(v: SceneVertex) -> VsOut {
-    return raster_vertex(v, camera.view_proj);
+    // Animated objects where they are this frame (their UV gradients are covectors: the
+    // normal matrix carries them too).
+    var w = v;
+    let flags = objects[v.object].flags;
+    if is_animated(flags) {
+        let m = motions[flags >> 8u];
+        w.position = (m.to_now * vec4(v.position, 1.0)).xyz;
+        w.normal = (m.normal_now * vec4(v.normal, 0.0)).xyz;
+        w.grad_u = (m.normal_now * vec4(v.grad_u, 0.0)).xyz;
+        w.grad_v = (m.normal_now * vec4(v.grad_v, 0.0)).xyz;
+    }
+    return raster_vertex(w, camera.view_proj);
 }
 
 struct FsOut {

@@ -305,6 +305,7 @@ impl FrameDriver {
             captures,
             schedule,
             grid_complete: plan.readiness().grid,
+            poses: Vec::new(),
         };
         if let Some(p) = &mut self.probes {
             p.advance_fade(plan.readiness());

@@ -14,6 +14,7 @@ use crate::passes::capture::{CaptureMode, CapturePass};
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::lines::LinesPass;
 use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
+use crate::passes::moving::MovingPass;
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
@@ -127,6 +128,7 @@ pub struct Renderer {
     pub(crate) cull: CullPass,
     splat: SplatPass,
     background: BackgroundPass,
+    moving: MovingPass,
     /// Built on the first marched frame: splatting never pays for its pipeline.
     march: Option<MarchPass>,
     pub(crate) lines: LinesPass,
@@ -169,6 +171,7 @@ impl Renderer {
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
+            moving: MovingPass::new(d, colour.remove_srgb_suffix())?,
             march: None,
             lines: LinesPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
@@ -291,6 +294,7 @@ impl Renderer {
         for c in &input.captures {
             self.store.ensure(ctx, c.slot, c.face_resolution);
         }
+        scene.set_poses(&ctx.queue, &input.poses);
         let slot_n = Slot::ALL.map(|s| self.store.slot(s).n);
         let globals = ViewGlobals::new(input, slot_n);
         ctx.queue
@@ -315,6 +319,7 @@ impl Renderer {
 
         let store = &self.store;
         let mut stages = Stages::new(ctx, self.queries.as_ref());
+        let moving = (self.moving).prepare(ctx, &self.view, scene, &input.look);
         let rects = capture_rects(input, &globals, store);
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.grid.origin;
@@ -351,6 +356,12 @@ impl Renderer {
                     let mut pass = begin_draw(enc, draw_target, screen, true);
                     self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
                 });
+                if let Some(binds) = &moving {
+                    stages.run("moving", |enc| {
+                        let mut pass = begin_draw(enc, draw_target, screen, false);
+                        self.moving.draw(&mut pass, binds, scene);
+                    });
+                }
                 stages.run("background", |enc| {
                     let mut pass = begin_draw(enc, draw_target, screen, false);
                     self.background.draw(&mut pass, &bg_bind);
@@ -371,6 +382,9 @@ impl Renderer {
                     march.clear(enc);
                     let mut pass = begin_draw(enc, draw_target, screen, true);
                     march.draw(&mut pass, &binds);
+                    if let Some(binds) = &moving {
+                        self.moving.draw(&mut pass, binds, scene);
+                    }
                     self.lines.draw(ctx, &mut pass, &self.view);
                 });
                 copies.push((&march.counters, COUNTERS_BYTES));

@@ -165,6 +165,57 @@ pub const FLAG_OUTLINED: u32 = 1;
 pub const FLAG_EMISSIVE: u32 = 2;
 /// Object flag: coloured as the terrain whose index is `flags >> 8`.
 pub const FLAG_TERRAIN: u32 = 4;
+/// Object flag: animated (drawn by the moving pass, never captured); its motion record's
+/// index is in bits 8..32.
+pub const FLAG_ANIMATED: u32 = 8;
+
+/// One animated object's pose this frame (272 bytes; WGSL `Motion` in `shaders/moving.wgsl`,
+/// also read by `gbuffer.wgsl`).
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuMotion {
+    /// Base-pose world → world now.
+    pub to_now: [[f32; 4]; 4],
+    /// Its normal matrix (upper 3×3).
+    pub normal_now: [[f32; 4]; 4],
+    /// Base-pose world → the object's rigid frame.
+    pub frame: [[f32; 4]; 4],
+    /// The rigid frame → base-pose world.
+    pub frame_inv: [[f32; 4]; 4],
+    /// Bounds centre in base-pose world (xyz).
+    pub centre: [f32; 4],
+}
+
+/// An animated object as uploaded: where its vertices are and how its poses map onto them.
+#[derive(Debug, Clone, PartialEq)]
+pub struct AnimatedObject {
+    /// Index into the scene's objects.
+    pub object: usize,
+    /// Its base transform (object → world), the pose its vertices were uploaded at.
+    pub base: glam::Mat4,
+    /// Base-pose world → its rigid frame (the base transform's rotation and translation,
+    /// inverted; scale is left in the world units the cells are measured in).
+    pub frame: glam::Mat4,
+    /// Bounds centre, base-pose world.
+    pub centre: Vec3,
+    /// Vertex runs `(first, count)`.
+    pub runs: Vec<(u32, u32)>,
+}
+
+impl AnimatedObject {
+    /// Its motion record for `transform` (object → world now).
+    pub fn motion(&self, transform: glam::Mat4) -> GpuMotion {
+        let to_now = transform * self.base.inverse();
+        let normal = glam::Mat4::from_mat3(Mat3::from_mat4(to_now).inverse().transpose());
+        GpuMotion {
+            to_now: to_now.to_cols_array_2d(),
+            normal_now: normal.to_cols_array_2d(),
+            frame: self.frame.to_cols_array_2d(),
+            frame_inv: self.frame.inverse().to_cols_array_2d(),
+            centre: self.centre.extend(1.0).to_array(),
+        }
+    }
+}
 
 /// One terrain's colouring (80 bytes; WGSL `Terrain` in `lib/terrain.wgsl`); its heights and
 /// gradient live in the shared `terrain_data` buffer.
@@ -331,6 +382,10 @@ pub struct GpuScene {
     /// Consecutive runs of at most [`RANGE_TRIANGLES`] triangles of one object with their
     /// world bounds: a raster draws only the ranges its frustum meets.
     pub ranges: Vec<DrawRange>,
+    /// Animated objects' motion records, one per [`GpuScene::animated`] (at least one).
+    pub motions: wgpu::Buffer,
+    /// The animated objects, in motion record order.
+    pub animated: Vec<AnimatedObject>,
     /// Terrain records (at least one).
     pub terrains: wgpu::Buffer,
     /// Terrain heights and gradient stops (at least one word).
@@ -351,6 +406,24 @@ impl GpuScene {
         let mut textures = TextureSet::default();
         let mut objects = Vec::with_capacity(scene.objects.len().max(1));
         let mut casters: Vec<[Vec3; 3]> = Vec::new();
+        // Motion record index of each animated object (terrains never move).
+        let mut animated_index: Vec<Option<u32>> = vec![None; scene.objects.len()];
+        let mut animated: Vec<AnimatedObject> = Vec::new();
+        for &i in &scene.animated {
+            let terrain = scene.objects.get(i).and_then(|o| o.material.terrain);
+            if i < scene.objects.len() && terrain.is_none() && animated_index[i].is_none() {
+                animated_index[i] = Some(animated.len() as u32);
+                let o = &scene.objects[i];
+                let (_, rotation, translation) = o.transform.to_scale_rotation_translation();
+                animated.push(AnimatedObject {
+                    object: i,
+                    base: o.transform,
+                    frame: glam::Mat4::from_rotation_translation(rotation, translation).inverse(),
+                    centre: translation,
+                    runs: Vec::new(),
+                });
+            }
+        }
         for (index, o) in scene.objects.iter().enumerate() {
             let normal_m = Mat3::from_mat4(o.transform).inverse().transpose();
             let flip = o.transform.determinant() < 0.0;
@@ -360,11 +433,15 @@ impl GpuScene {
                 .terrain
                 .filter(|&t| t < scene.terrains.len())
                 .map_or(0, |t| FLAG_TERRAIN | ((t as u32) << 8));
+            let moving = animated_index[index].filter(|_| terrain == 0);
+            let animated_flag = moving.map_or(0, |i| FLAG_ANIMATED | (i << 8));
+            let ranges_before = ranges.len();
             objects.push(GpuObject {
                 albedo: m.albedo.to_array(),
                 flags: u32::from(m.outlined) * FLAG_OUTLINED
                     + u32::from(emissive) * FLAG_EMISSIVE
-                    + terrain,
+                    + terrain
+                    + animated_flag,
                 emissive: m.emissive.to_array(),
                 id: o.id,
             });
@@ -453,11 +530,30 @@ impl GpuScene {
                         grad_v: gv.to_array(),
                     });
                 }
-                if m.casts_shadows && level0 {
+                if m.casts_shadows && level0 && moving.is_none() {
                     casters.push(world);
                 }
             }
+            // An animated object's ranges are drawn by the moving pass (and the G-buffer),
+            // never by a capture.
+            if let Some(i) = moving {
+                let own: Vec<DrawRange> = ranges.drain(ranges_before..).collect();
+                let a = &mut animated[i as usize];
+                let (lo, hi) = own.iter().fold(
+                    (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+                    |(lo, hi), r| (lo.min(r.min), hi.max(r.max)),
+                );
+                if lo.cmple(hi).all() {
+                    a.centre = 0.5 * (lo + hi);
+                }
+                a.runs = merge_runs(own.iter());
+            }
         }
+        let motions: Vec<GpuMotion> = if animated.is_empty() {
+            vec![GpuMotion::zeroed()]
+        } else {
+            animated.iter().map(|a| a.motion(a.base)).collect()
+        };
         if objects.is_empty() {
             objects.push(GpuObject::zeroed());
         }
@@ -521,6 +617,12 @@ impl GpuScene {
             object_ids: scene.objects.iter().map(|o| o.id).collect(),
             textures,
             ranges,
+            motions: storage(
+                "scene::motions",
+                bytemuck::cast_slice(&motions),
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            ),
+            animated,
             terrains: storage(
                 "scene::terrains",
                 bytemuck::cast_slice(&gpu_terrains),
@@ -532,6 +634,31 @@ impl GpuScene {
                 wgpu::BufferUsages::STORAGE,
             ),
         })
+    }
+
+    /// Moves the animated objects to `poses` (the others to their base transforms).
+    pub fn set_poses(&self, queue: &wgpu::Queue, poses: &[crate::input::Pose]) {
+        if self.animated.is_empty() {
+            return;
+        }
+        let records: Vec<GpuMotion> = self
+            .animated
+            .iter()
+            .map(|a| {
+                let pose = poses.iter().rev().find(|p| p.object == a.object);
+                let transform = pose
+                    .map(|p| p.transform)
+                    .filter(|m| m.is_finite() && m.determinant().abs() > 1e-12)
+                    .unwrap_or(a.base);
+                a.motion(transform)
+            })
+            .collect();
+        queue.write_buffer(&self.motions, 0, bytemuck::cast_slice(&records));
+    }
+
+    /// Every animated object's vertex runs.
+    pub fn animated_runs(&self) -> impl Iterator<Item = (u32, u32)> + '_ {
+        self.animated.iter().flat_map(|a| a.runs.iter().copied())
     }
 
     /// What every scene raster (capture, G-buffer) binds after its own uniform, bindings

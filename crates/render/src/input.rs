@@ -114,6 +114,11 @@ pub struct SceneInput {
     pub points: Vec<PointLightInput>,
     /// Terrains the objects' materials refer to.
     pub terrains: Vec<TerrainInput>,
+    /// Indices into `objects` of the objects that move (an animator drives them). They are
+    /// never captured into the probes nor cast shadows from the static BVH; the moving pass
+    /// draws them each frame at [`FrameInput::poses`], their pixels cut on a grid fixed to
+    /// the object. Their `transform` is the base pose the poses start from.
+    pub animated: Vec<usize>,
 }
 
 /// A perspective camera.
@@ -296,6 +301,19 @@ pub struct FrameInput {
     /// Whether the grid probe has every face it needs; while it does not, the previous
     /// probe keeps the pixels whose grid face is missing during a crossfade.
     pub grid_complete: bool,
+    /// Where the animated objects ([`SceneInput::animated`]) are this frame: object index
+    /// and object → world transform. An animated object without a pose stays at its base
+    /// transform.
+    pub poses: Vec<Pose>,
+}
+
+/// An animated object's transform this frame.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Pose {
+    /// Index into [`SceneInput::objects`].
+    pub object: usize,
+    /// Object → world.
+    pub transform: Mat4,
 }
 
 /// Internal pixels per texel at the view centre that the splat pass draws at (the reference's

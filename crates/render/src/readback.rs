@@ -115,6 +115,9 @@ impl Renderer {
         if key == 0 {
             return Ok(None);
         }
+        if let Some(object) = moving_object(key) {
+            return Ok(scene.object_ids.get(object as usize).copied());
+        }
         let max_n = Slot::ALL
             .map(|s| self.store.slot(s).n)
             .into_iter()
@@ -126,6 +129,25 @@ impl Renderer {
         let (slot, face) = (Slot::ALL[(layer / 6) as usize % 3], layer % 6);
         let ids = &self.store.slot(slot).ids.texture;
         let object = read_texel_u32(ctx, ids, face, glam::UVec2::new(x, y))?;
+        Ok(object
+            .checked_sub(1)
+            .and_then(|i| scene.object_ids.get(i as usize).copied()))
+    }
+
+    /// The entity id (`ObjectInput::id`) that texel `texel` of face `face` of `slot` holds,
+    /// or `None` for sky.
+    pub fn probe_texel_entity(
+        &self,
+        ctx: &GpuContext,
+        slot: Slot,
+        face: u32,
+        texel: glam::UVec2,
+    ) -> Result<Option<u32>, GpuError> {
+        let Some(scene) = self.scene.as_ref() else {
+            return Ok(None);
+        };
+        let ids = &self.store.slot(slot).ids.texture;
+        let object = read_texel_u32(ctx, ids, face, texel)?;
         Ok(object
             .checked_sub(1)
             .and_then(|i| scene.object_ids.get(i as usize).copied()))
@@ -155,6 +177,12 @@ impl Renderer {
             let key = u32::from_le_bytes([k[0], k[1], k[2], k[3]]);
             if key == 0 {
                 out.entity.push(0);
+                out.from_eye.push(false);
+                continue;
+            }
+            if let Some(object) = moving_object(key) {
+                out.entity
+                    .push(scene.object_ids.get(object as usize).copied().unwrap_or(0));
                 out.from_eye.push(false);
                 continue;
             }
@@ -295,6 +323,15 @@ fn read_texel_u32(
     ctx.queue.submit([enc.finish()]);
     let bytes = read_buffer(ctx, &buffer)?;
     Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
+}
+
+/// The key a moving-pass pixel holds: this bit and the object's index (`shaders/moving.wgsl`);
+/// texel keys stay below it.
+pub const MOVING_KEY: u32 = 0x8000_0000;
+
+/// The object index a moving-pass pixel's `key` names, if it is one.
+pub fn moving_object(key: u32) -> Option<u32> {
+    (key & MOVING_KEY != 0).then_some(key & !MOVING_KEY)
 }
 
 #[cfg(test)]

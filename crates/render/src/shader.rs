@@ -46,7 +46,12 @@ pub const SOURCES: &[(&str, &str)] = &[
         "lib/fullscreen.wgsl",
         include_str!("../../../shaders/lib/fullscreen.wgsl"),
     ),
+    (
+        "lib/motion.wgsl",
+        include_str!("../../../shaders/lib/motion.wgsl"),
+    ),
     ("runs.wgsl", include_str!("../../../shaders/runs.wgsl")),
+    ("moving.wgsl", include_str!("../../../shaders/moving.wgsl")),
     ("lines.wgsl", include_str!("../../../shaders/lines.wgsl")),
     (
         "background.wgsl",

@@ -50,6 +50,7 @@ fn room() -> SceneInput {
         suns: vec![],
         points: vec![],
         terrains: Vec::new(),
+        animated: Vec::new(),
     }
 }
 

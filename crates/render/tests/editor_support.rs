@@ -67,6 +67,7 @@ fn one_box() -> SceneInput {
         suns: vec![],
         points: vec![],
         terrains: Vec::new(),
+        animated: Vec::new(),
     }
 }
 

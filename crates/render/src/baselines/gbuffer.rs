@@ -155,6 +155,11 @@ impl GBufferPass {
             entries: &[
                 [entry(0, vf, uniform(false))].as_slice(),
                 &raster::scene_layout_entries(),
+                &[entry(
+                    7,
+                    wgpu::ShaderStages::VERTEX,
+                    crate::passes::storage(true),
+                )],
             ]
             .concat(),
         });
@@ -201,6 +206,7 @@ impl GBufferPass {
             &self.layout,
             &std::iter::once(self.camera.as_entire_binding())
                 .chain(scene.raster_resources())
+                .chain([scene.motions.as_entire_binding()])
                 .collect::<Vec<_>>(),
         );
         let clear = wgpu::Color::TRANSPARENT;
@@ -214,7 +220,9 @@ impl GBufferPass {
             depth: &targets.depth.view,
         };
         // Terrains at full detail, no culling (a G-buffer is one view, drawn once).
-        let runs = crate::gpu_scene::full_detail_runs(&scene.ranges);
+        // Animated objects too, where their motion records put them.
+        let mut runs = crate::gpu_scene::full_detail_runs(&scene.ranges);
+        runs.extend(scene.animated_runs());
         let draw = RasterDraw {
             pipeline: &self.pipeline,
             bind: &bind,

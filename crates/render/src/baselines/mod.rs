@@ -250,6 +250,14 @@ impl BaselineRenderer {
         }
     }
 
+    /// Moves the scene's animated objects to `poses` for the following renders and
+    /// reference G-buffers (the others stay at their base transforms).
+    pub fn set_poses(&self, ctx: &GpuContext, poses: &[crate::input::Pose]) {
+        if let Some(scene) = &self.scene {
+            scene.set_poses(&ctx.queue, poses);
+        }
+    }
+
     /// Renders `view` with `method` and reads the image and the per-pixel ids back.
     pub fn render(
         &mut self,

@@ -6,6 +6,7 @@ pub mod capture;
 pub mod cull;
 pub mod lines;
 pub mod march;
+pub mod moving;
 pub mod present;
 pub mod raster;
 pub mod runs;
@@ -145,6 +146,16 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         ("cull.wgsl", "Splat", cull::SPLAT_BYTES as usize),
         ("present.wgsl", "Sizes", present::SIZES_SIZE),
         ("runs.wgsl", "RunsFaces", runs::RUNS_FACES_SIZE),
+        (
+            "moving.wgsl",
+            "Motion",
+            size_of::<crate::gpu_scene::GpuMotion>(),
+        ),
+        (
+            "moving.wgsl",
+            "LightGlobals",
+            size_of::<moving::LightGlobals>(),
+        ),
     ]
 }
 

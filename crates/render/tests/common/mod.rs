@@ -55,6 +55,7 @@ pub fn boxes_scene() -> SceneInput {
         }],
         points: vec![],
         terrains: Vec::new(),
+        animated: Vec::new(),
     }
 }
 
@@ -104,6 +105,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         captures,
         schedule,
         grid_complete: true,
+        poses: Vec::new(),
     }
 }
 
