@@ -38,7 +38,7 @@ pub struct Level {
     #[serde(default)]
     pub settings: LevelSettings,
     /// One row per entity, in a stable order.
-    #[serde(default)]
+    #[serde(default, deserialize_with = "de_entities")]
     pub entities: Vec<EntityRow>,
 }
 
@@ -83,6 +83,9 @@ pub struct EntityRow {
     /// Heightmap terrain.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub terrain: Option<crate::terrain::Terrain>,
+    /// Motion over time (needs a transform; not on a terrain).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub animator: Option<crate::animator::Animator>,
 }
 
 /// The names of the components an entity row may hold, in file order.
@@ -96,6 +99,7 @@ pub const COMPONENT_NAMES: &[&str] = &[
     "probe_grid_override",
     "player_start",
     "terrain",
+    "animator",
 ];
 
 /// What is wrong with a level, for callers that react to the kind.
@@ -298,7 +302,7 @@ impl Level {
             .validate()
             .map_err(|e| invalid("settings".into(), "level", "settings", e))?;
         for (i, row) in self.entities.iter().enumerate() {
-            let name = row.name.as_ref().map_or("unnamed", |n| n.0.as_str());
+            let name = row.display_name();
             row.validate()
                 .map_err(|(c, e)| invalid(i.to_string(), name, c, e))?;
         }
@@ -330,8 +334,45 @@ impl EntityRow {
             self.probe_grid_override.as_ref().map(|v| v as _),
         )?;
         check("player_start", self.player_start.as_ref().map(|v| v as _))?;
-        check("terrain", self.terrain.as_ref().map(|v| v as _))
+        check("terrain", self.terrain.as_ref().map(|v| v as _))?;
+        check("animator", self.animator.as_ref().map(|v| v as _))?;
+        crate::animator::check_row(self).map_err(|e| ("animator", e))
     }
+
+    /// The entity's name, or `unnamed`.
+    fn display_name(&self) -> &str {
+        self.name.as_ref().map_or("unnamed", |n| n.0.as_str())
+    }
+}
+
+/// Reads the entity rows, checking each row's components against each other as it ends
+/// (an animator needs a transform, …), so the error points at the row.
+fn de_entities<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<EntityRow>, D::Error> {
+    struct Rows;
+    impl<'de> serde::de::Visitor<'de> for Rows {
+        type Value = Vec<EntityRow>;
+        fn expecting(&self, f: &mut std::fmt::Formatter) -> std::fmt::Result {
+            f.write_str("a sequence")
+        }
+        fn visit_seq<A: serde::de::SeqAccess<'de>>(
+            self,
+            mut seq: A,
+        ) -> Result<Self::Value, A::Error> {
+            let mut rows = Vec::new();
+            while let Some(row) = seq.next_element::<EntityRow>()? {
+                if let Err((_, message)) = crate::animator::check_row(&row) {
+                    return Err(serde::de::Error::custom(format!(
+                        "entity {} ({}): {message}",
+                        rows.len(),
+                        row.display_name()
+                    )));
+                }
+                rows.push(row);
+            }
+            Ok(rows)
+        }
+    }
+    d.deserialize_seq(Rows)
 }
 
 fn parse_error(path: &Path, line: usize, column: usize, kind: ErrorKind, msg: &str) -> LevelError {

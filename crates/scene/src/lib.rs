@@ -4,6 +4,7 @@
 //! the primitives; and glTF import. It knows nothing of the GPU, so the renderer, the
 //! runtime, the editor and the tests all share one definition of a level.
 
+pub mod animator;
 pub mod assets;
 pub mod components;
 pub mod density;

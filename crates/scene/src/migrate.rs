@@ -11,6 +11,7 @@
 //! | 2 | `transform.rotation` is Euler angles in degrees (readable, editable by hand) |
 //! | 3 | materials may name a `texture` (with sampling, density, UV scale) and a `normal_map`; a version 2 file is a version 3 file without them |
 //! | 3 | (later, still 3) entities may hold a `terrain`; files without one are unchanged |
+//! | 3 | (later, still 3) entities may hold an `animator`; files without one are unchanged |
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
@@ -125,6 +126,7 @@ impl From<LevelV1> for Level {
                     probe_grid_override: e.probe_grid_override,
                     player_start: e.player_start,
                     terrain: None,
+                    animator: None,
                 })
                 .collect(),
         }

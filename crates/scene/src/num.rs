@@ -346,3 +346,46 @@ f32_with!(
     unit,
     check_unit
 );
+
+/// Checks a length of time in seconds (a loop's period): finite, > 0, at most `MAX_COORD`.
+pub fn check_period(v: f32) -> Result<f32, String> {
+    check_positive(v, "period")
+}
+
+f32_with!(
+    /// A period in seconds, > 0.
+    period,
+    check_period
+);
+
+/// Checks a turning speed in degrees per second: finite, not zero, within `±MAX_COORD`.
+pub fn check_speed(v: f32) -> Result<f32, String> {
+    let v = check_coord(v)?;
+    if v == 0.0 {
+        Err("speed must not be zero (degrees per second)".to_owned())
+    } else {
+        Ok(v)
+    }
+}
+
+f32_with!(
+    /// A turning speed in degrees per second, not zero.
+    speed,
+    check_speed
+);
+
+/// Checks an axis of rotation: finite and not (near) zero.
+pub fn check_axis(v: Vec3) -> Result<Vec3, String> {
+    let v = check_vec3(v)?;
+    if v.length_squared() < 1e-12 {
+        Err("axis must not be zero".to_owned())
+    } else {
+        Ok(v)
+    }
+}
+
+vec3_with!(
+    /// An axis of rotation, normalised on use.
+    axis,
+    check_axis
+);

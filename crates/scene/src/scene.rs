@@ -8,6 +8,7 @@ use std::path::Path;
 
 use hecs::{Entity, EntityBuilder, World};
 
+use crate::animator::Animator;
 use crate::components::{
     DirectionalLight, Geometry, LevelSettings, Material, Name, PlayerStart, PointLight,
     ProbeGridOverride, Transform,
@@ -131,6 +132,7 @@ impl Scene {
             probe_grid_override: r.get::<&ProbeGridOverride>().map(|c| *c),
             player_start: r.get::<&PlayerStart>().map(|c| *c),
             terrain: r.get::<&Terrain>().map(|c| (*c).clone()),
+            animator: r.get::<&Animator>().map(|c| (*c).clone()),
         })
     }
 
@@ -157,6 +159,7 @@ fn remove_each(world: &mut World, e: Entity) {
     let _ = world.remove_one::<ProbeGridOverride>(e);
     let _ = world.remove_one::<PlayerStart>(e);
     let _ = world.remove_one::<Terrain>(e);
+    let _ = world.remove_one::<Animator>(e);
 }
 
 fn build(row: EntityRow) -> EntityBuilder {
@@ -186,6 +189,9 @@ fn build(row: EntityRow) -> EntityBuilder {
         b.add(c);
     }
     if let Some(c) = row.player_start {
+        b.add(c);
+    }
+    if let Some(c) = row.animator {
         b.add(c);
     }
     b

@@ -29,7 +29,12 @@ fn every_bundled_level_saves_back_byte_identical() {
         .iter()
         .filter_map(|p| p.file_name()?.to_str().map(str::to_owned))
         .collect();
-    for want in ["colonnade.ron", "sandbox.ron", "stone_circle.ron"] {
+    for want in [
+        "colonnade.ron",
+        "moving_parts.ron",
+        "sandbox.ron",
+        "stone_circle.ron",
+    ] {
         assert!(names.iter().any(|n| n == want), "{want} is bundled");
     }
     for path in levels {
@@ -52,6 +57,72 @@ fn stone_circle_has_what_the_issue_asks_for() {
         (k.directional_lights, k.point_lights, k.player_starts),
         (1, 1, 1)
     );
+}
+
+/// moving_parts is stone_circle plus a windmill (hub and two crossed blade boxes turning
+/// together), a sliding door and a moving platform, one of each motion.
+#[test]
+fn moving_parts_is_the_stone_circle_with_three_motions() {
+    use texel_scene::animator::{Easing, Motion, poses};
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels");
+    let circle = Level::load(&dir.join("stone_circle.ron")).unwrap();
+    let level = Level::load(&dir.join("moving_parts.ron")).unwrap();
+    assert_eq!(
+        level.entities[..circle.entities.len()],
+        circle.entities[..],
+        "everything of stone_circle is kept"
+    );
+    assert_eq!(level.settings, circle.settings);
+    let animated: Vec<_> = level
+        .entities
+        .iter()
+        .filter_map(|r| {
+            Some((
+                r.name.as_ref()?.0.as_str(),
+                r.animator.as_ref()?,
+                r.transform?,
+            ))
+        })
+        .collect();
+    let names: Vec<_> = animated.iter().map(|a| a.0).collect();
+    assert_eq!(
+        names,
+        [
+            "Windmill hub",
+            "Windmill blades A",
+            "Windmill blades B",
+            "Sliding door",
+            "Moving platform"
+        ]
+    );
+    let (_, blades_a, at_a) = animated[1];
+    let (_, blades_b, at_b) = animated[2];
+    assert_eq!(
+        (blades_a, at_a),
+        (blades_b, at_b),
+        "the blades turn together"
+    );
+    assert!(matches!(
+        blades_a.motion,
+        Motion::Rotate { speed: 40.0, .. }
+    ));
+    let Motion::PingPong { to, period, easing } = &animated[3].1.motion else {
+        panic!("the door ping-pongs")
+    };
+    assert_eq!((*period, *easing), (4.0, Easing::Smooth));
+    assert_eq!((to.translation - animated[3].2.translation).length(), 2.0);
+    let Motion::Path { keys, period } = &animated[4].1.motion else {
+        panic!("the platform follows a path")
+    };
+    assert_eq!((keys.len(), *period), (4, 8.0));
+    let heights: Vec<f32> = keys.iter().map(|k| k.translation.y).collect();
+    assert_eq!(heights, [0.2, 1.2, 1.2, 0.2]);
+    // The platform starts where its path does, so the rest pose the editor shows is the
+    // first key.
+    let scene = Scene::from_level(&level);
+    let first = poses(&scene, 0.0);
+    assert_eq!(first.len(), 5);
+    assert_eq!(first[4].1, animated[4].2);
 }
 
 /// (file, kind, line, column, words the message must contain)
@@ -217,6 +288,20 @@ const CATALOGUE: &[(&str, Option<ErrorKind>, usize, usize, &str)] = &[
         34,
         45,
         "pitch must be within ±89",
+    ),
+    (
+        "zero_speed.ron",
+        Some(ErrorKind::InvalidValue),
+        21,
+        69,
+        "speed must not be zero",
+    ),
+    (
+        "animator_without_transform.ron",
+        Some(ErrorKind::InvalidValue),
+        31,
+        11,
+        "entity 3 (Sun): an animator moves its entity's transform, and this entity has none",
     ),
     (
         "negative_colour.ron",
@@ -496,6 +581,244 @@ fn terrain_paint_layers_round_trip_and_bad_files_are_named() {
     let e = load_assets(&back, &path, None).unwrap_err().to_string();
     assert!(
         e.contains("t_T_paint.png") && e.contains("larger than 2048"),
+        "{e}"
+    );
+}
+
+/// A level with the three motions round-trips byte-identically, through the ECS too;
+/// defaults (no phase, linear easing, unrotated path keys) are not written.
+#[test]
+fn animators_round_trip_and_write_no_defaults() {
+    use texel_scene::animator::{Animator, Easing, Motion, PathKey, poses};
+    use texel_scene::{EntityRow, Transform};
+    let path = Path::new("a.ron");
+    let at = |x: f32, y: f32, z: f32| Transform::from_translation(Vec3::new(x, y, z));
+    let key = |time, y| PathKey {
+        time,
+        translation: Vec3::new(0.0, y, 0.0),
+        rotation: Vec3::ZERO,
+    };
+    let row = |name: &str, motion, phase| EntityRow {
+        name: Some(texel_scene::Name(name.into())),
+        transform: Some(at(0.0, 1.0, 0.0)),
+        animator: Some(Animator { motion, phase }),
+        ..EntityRow::default()
+    };
+    let level = Level {
+        entities: vec![
+            row(
+                "Spinner",
+                Motion::Rotate {
+                    axis: Vec3::Z,
+                    speed: 40.0,
+                },
+                0.0,
+            ),
+            row(
+                "Door",
+                Motion::PingPong {
+                    to: at(2.0, 1.0, 0.0),
+                    period: 4.0,
+                    easing: Easing::Linear,
+                },
+                0.5,
+            ),
+            row(
+                "Lift",
+                Motion::Path {
+                    keys: vec![key(0.0, 0.2), key(2.0, 1.2)],
+                    period: 8.0,
+                },
+                0.0,
+            ),
+        ],
+        ..Level::default()
+    };
+    let text = level.to_ron_string(path).unwrap();
+    for want in [
+        "animator: (motion: Rotate(axis: (0.0, 0.0, 1.0), speed: 40.0))",
+        "animator: (motion: PingPong(to: (translation: (2.0, 1.0, 0.0), rotation: (0.0, 0.0, 0.0), \
+         scale: (1.0, 1.0, 1.0)), period: 4.0), phase: 0.5)",
+        "animator: (motion: Path(keys: [(time: 0.0, translation: (0.0, 0.2, 0.0)), \
+         (time: 2.0, translation: (0.0, 1.2, 0.0))], period: 8.0))",
+    ] {
+        assert!(text.contains(want), "`{want}` in {text}");
+    }
+    let back = Level::from_ron_str(&text, path).unwrap();
+    assert_eq!(back, level);
+    assert_eq!(back.to_ron_string(path).unwrap(), text);
+    let scene = Scene::from_level(&back);
+    assert_eq!(scene.to_level(), level);
+    // Written when not the default.
+    let mut eased = level.clone();
+    let Some(Animator {
+        motion: Motion::PingPong { easing, .. },
+        ..
+    }) = &mut eased.entities[1].animator
+    else {
+        unreachable!()
+    };
+    *easing = Easing::Smooth;
+    let Some(Animator {
+        motion: Motion::Path { keys, .. },
+        ..
+    }) = &mut eased.entities[2].animator
+    else {
+        unreachable!()
+    };
+    keys[1].rotation = Vec3::new(0.0, 90.0, 0.0);
+    let text = eased.to_ron_string(path).unwrap();
+    assert!(text.contains("period: 4.0, easing: Smooth)"), "{text}");
+    assert!(text.contains("rotation: (0.0, 90.0, 0.0))"), "{text}");
+    assert_eq!(Level::from_ron_str(&text, path).unwrap(), eased);
+    // Every animated entity, in level order, at its pose.
+    let p = poses(&scene, 1.0);
+    let names: Vec<_> = p
+        .iter()
+        .map(|(e, _)| scene.row(*e).unwrap().name.unwrap().0)
+        .collect();
+    assert_eq!(names, ["Spinner", "Door", "Lift"]);
+    // The door's phase of 0.5 s puts it 1.5 s in: three quarters of the way there.
+    assert!((p[1].1.translation.x - 1.5).abs() < 1e-6, "{:?}", p[1].1);
+    assert!((p[2].1.translation.y - 0.7).abs() < 1e-6, "{:?}", p[2].1);
+}
+
+/// Bad animators are refused with the file, line and column and what is wrong; an animator
+/// on an entity without a transform, or on a terrain, names the entity at its row's end.
+#[test]
+fn bad_animators_are_refused_with_their_line() {
+    let base = "(version: 3, entities: [\n(name: \"Mill\", transform: (translation: (0.0, 1.0, 0.0), \
+                rotation: (0.0, 0.0, 0.0), scale: (1.0, 1.0, 1.0)), \
+                animator: (motion: Rotate(axis: (0.0, 0.0, 1.0), speed: 40.0))),\n\
+                (name: \"Door\", transform: (translation: (0.0, 1.0, 0.0), \
+                rotation: (0.0, 0.0, 0.0), scale: (1.0, 1.0, 1.0)), \
+                animator: (motion: PingPong(to: (translation: (2.0, 1.0, 0.0), \
+                rotation: (0.0, 0.0, 0.0), scale: (1.0, 1.0, 1.0)), period: 4.0, easing: Smooth))),\n\
+                (name: \"Lift\", transform: (translation: (0.0, 1.0, 0.0), \
+                rotation: (0.0, 0.0, 0.0), scale: (1.0, 1.0, 1.0)), \
+                animator: (motion: Path(keys: [(time: 0.0, translation: (0.0, 0.2, 0.0)), \
+                (time: 2.0, translation: (0.0, 1.2, 0.0))], period: 8.0), phase: 1.0)),\n])";
+    let path = Path::new("a.ron");
+    Level::from_ron_str(base, path).expect("the base animators are valid");
+    let col = |line: &str, needle: &str| line.find(needle).unwrap() + needle.len() + 1;
+    let lines: Vec<&str> = base.lines().collect();
+    let cases = [
+        // (from, to, line, words)
+        ("speed: 40.0", "speed: 0.0", 2, "speed must not be zero"),
+        ("speed: 40.0", "speed: NaN", 2, "NaN or infinite"),
+        ("speed: 40.0", "speed: inf", 2, "NaN or infinite"),
+        (
+            "axis: (0.0, 0.0, 1.0)",
+            "axis: (0.0, 0.0, 0.0)",
+            2,
+            "axis must not be zero",
+        ),
+        ("period: 4.0", "period: 0.0", 3, "period must be positive"),
+        ("period: 4.0", "period: -4.0", 3, "period must be positive"),
+        ("period: 4.0", "period: inf", 3, "NaN or infinite"),
+        (
+            "easing: Smooth",
+            "easing: Bouncy",
+            3,
+            "unknown kind `Bouncy`",
+        ),
+        ("phase: 1.0", "phase: NaN", 4, "NaN or infinite"),
+        (
+            "[(time: 0.0, translation: (0.0, 0.2, 0.0)), ",
+            "[",
+            4,
+            "a path needs at least 2 keys, got 1",
+        ),
+        (
+            "(time: 2.0, translation",
+            "(time: 0.0, translation",
+            4,
+            "path key times must increase: key 1 at 0.0 s does not come after key 0 at 0.0 s",
+        ),
+        (
+            "(time: 0.0, translation: (0.0, 0.2",
+            "(time: 0.5, translation: (0.0, 0.2",
+            4,
+            "the first path key must be at time 0, got 0.5",
+        ),
+        (
+            "period: 8.0",
+            "period: 2.0",
+            4,
+            "the path's period (2.0 s) must be longer than its last key's time (2.0 s)",
+        ),
+        (
+            "period: 8.0",
+            "period: 1.5",
+            4,
+            "must be longer than its last key's time",
+        ),
+    ];
+    for (from, to, line, words) in cases {
+        let text = base.replacen(from, to, 1);
+        assert_ne!(text, base, "{from}");
+        let e = Level::from_ron_str(&text, path).expect_err(to);
+        let kind = if to.contains("Bouncy") {
+            ErrorKind::UnknownField
+        } else {
+            ErrorKind::InvalidValue
+        };
+        assert_eq!(e.kind(), Some(kind), "{to}: {e}");
+        let e = e.to_string();
+        assert!(e.starts_with(&format!("a.ron:{line}:")), "{to}: {e}");
+        assert!(e.contains(words), "{to}: `{e}` should say `{words}`");
+    }
+    // Columns: at the bad value for a single number, at the motion's end for the period
+    // against the keys.
+    let e = Level::from_ron_str(&base.replace("speed: 40.0", "speed: 0.0"), path)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.starts_with(&format!("a.ron:2:{}:", col(lines[1], "speed: "))),
+        "{e}"
+    );
+    let short = base.replace("period: 8.0", "period: 2.0");
+    let e = Level::from_ron_str(&short, path).unwrap_err().to_string();
+    let line4 = short.lines().nth(3).unwrap();
+    // At the motion's closing parenthesis.
+    let end = col(line4, "period: 2.0)") - 1;
+    assert!(e.starts_with(&format!("a.ron:4:{end}:")), "{e}");
+
+    // Cross-row: no transform, or a terrain.
+    let no_transform = base.replacen(
+        "(name: \"Door\", transform: (translation: (0.0, 1.0, 0.0), \
+         rotation: (0.0, 0.0, 0.0), scale: (1.0, 1.0, 1.0)), ",
+        "(name: \"Door\", ",
+        1,
+    );
+    assert_ne!(no_transform, base);
+    let e = Level::from_ron_str(&no_transform, path).unwrap_err();
+    assert_eq!(e.kind(), Some(ErrorKind::InvalidValue));
+    let e = e.to_string();
+    assert!(
+        e.starts_with("a.ron:3:")
+            && e.contains("entity 1 (Door): an animator moves its entity's transform"),
+        "{e}"
+    );
+    let terrain = base.replacen(
+        "(name: \"Mill\", ",
+        "(name: \"Mill\", terrain: (size: (64.0, 64.0), \
+         heightmap: Noise(seed: 1, resolution: 9, frequency: 0.05, octaves: 1), \
+         max_height: 8.0, gradient: [(at: 0.0, colour: (0.2, 0.5, 0.1))], \
+         pixel_density: 6.0, band_distance: 8.0, band_transition: 0.3), ",
+        1,
+    );
+    let e = Level::from_ron_str(&terrain, path).unwrap_err().to_string();
+    assert!(
+        e.starts_with("a.ron:2:") && e.contains("entity 0 (Mill): terrains do not move"),
+        "{e}"
+    );
+    // The same rules hold for levels built in code, before a save.
+    let mut level = Level::from_ron_str(base, path).unwrap();
+    level.entities[1].transform = None;
+    let e = level.to_ron_string(path).unwrap_err().to_string();
+    assert!(
+        e.contains("entity 1 (Door): animator.transform: an animator moves"),
         "{e}"
     );
 }

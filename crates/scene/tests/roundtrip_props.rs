@@ -152,20 +152,85 @@ fn row() -> impl Strategy<Value = EntityRow> {
             },
         )),
         proptest::option::of(terrain().boxed()),
+        proptest::option::of(animator()),
     )
         .prop_map(
-            |(name, transform, geometry, material, sun, point, grid, start, terrain)| EntityRow {
-                name,
-                transform,
-                geometry,
-                material,
-                directional_light: sun,
-                point_light: point,
-                probe_grid_override: grid,
-                player_start: start,
-                terrain,
+            |(name, transform, geometry, material, sun, point, grid, start, terrain, animator)| {
+                // An animator needs a transform and no terrain.
+                let animator = animator.filter(|_| transform.is_some() && terrain.is_none());
+                EntityRow {
+                    name,
+                    transform,
+                    geometry,
+                    material,
+                    directional_light: sun,
+                    point_light: point,
+                    probe_grid_override: grid,
+                    player_start: start,
+                    terrain,
+                    animator,
+                }
             },
         )
+}
+
+fn animator() -> BoxedStrategy<texel_scene::animator::Animator> {
+    use texel_scene::animator::{Animator, Easing, Motion, PathKey};
+    let speed = coord().prop_filter("non-zero", |s| *s != 0.0);
+    // Boxed: unboxed, these nested strategies need more stack than a test thread has.
+    let key = || {
+        (
+            v3(coord()),
+            prop_oneof![Just(Vec3::ZERO), v3(-720.0f32..720.0)],
+        )
+            .boxed()
+    };
+    let path = (
+        proptest::collection::vec((0.001f32..100.0, key()), 1..6),
+        key(),
+        0.001f32..100.0,
+    )
+        .prop_map(|(steps, (translation, rotation), extra)| {
+            // Times: 0, then running sums of positive steps; the period a step past the last.
+            let mut keys = vec![PathKey {
+                time: 0.0,
+                translation,
+                rotation,
+            }];
+            for (step, (translation, rotation)) in steps {
+                let time = keys.last().map_or(0.0, |k| k.time) + step;
+                keys.push(PathKey {
+                    time,
+                    translation,
+                    rotation,
+                });
+            }
+            let period = keys.last().map_or(0.0, |k| k.time) + extra;
+            Motion::Path { keys, period }
+        })
+        .boxed();
+    let motion = prop_oneof![
+        (direction(), speed)
+            .prop_map(|(axis, speed)| Motion::Rotate { axis, speed })
+            .boxed(),
+        (transform(), positive(), any::<bool>())
+            .prop_map(|(to, period, smooth)| {
+                Motion::PingPong {
+                    to,
+                    period,
+                    easing: if smooth {
+                        Easing::Smooth
+                    } else {
+                        Easing::Linear
+                    },
+                }
+            })
+            .boxed(),
+        path,
+    ];
+    (motion, prop_oneof![Just(0.0f32), coord()])
+        .prop_map(|(motion, phase)| Animator { motion, phase })
+        .boxed()
 }
 
 fn terrain() -> BoxedStrategy<texel_scene::terrain::Terrain> {
