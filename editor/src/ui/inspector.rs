@@ -115,6 +115,7 @@ fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo) {
         crate::terrain::default_terrain,
         |ui, t| terrain(ui, t, info),
     );
+    crate::ui::animator::section(ui, row);
 }
 
 /// A collapsible component with a remove button, or an add button when absent.

@@ -1,5 +1,6 @@
 //! The editor's panels. Each is a function that borrows the part of the state it shows.
 
+pub mod animator;
 pub mod dialogs;
 pub mod hierarchy;
 pub mod inspector;
