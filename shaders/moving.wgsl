@@ -34,6 +34,7 @@ struct LightGlobals {
 @group(1) @binding(2) var<storage, read> motions: array<Motion>;
 @group(2) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(2) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
+@group(2) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
 
 @vertex
 fn vs(v: SceneVertex) -> VsOut {

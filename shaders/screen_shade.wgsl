@@ -34,6 +34,7 @@ struct ScreenGlobals {
 @group(0) @binding(6) var<storage, read> points: array<PointLight>;
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
+@group(1) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
 
 const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
 

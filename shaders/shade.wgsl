@@ -86,6 +86,7 @@ const WORK_QUEUE: u32 = 64u;
 @group(2) @binding(6) var<uniform> view: ViewGlobals;
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
+@group(1) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
 
 // Offsets of the four neighbours, in the order of the similar bits: left, right, up, down.
 const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));

@@ -306,6 +306,7 @@ impl FrameDriver {
             schedule,
             grid_complete: plan.readiness().grid,
             poses: Vec::new(),
+            relight: Vec::new(),
         };
         if let Some(p) = &mut self.probes {
             p.advance_fade(plan.readiness());

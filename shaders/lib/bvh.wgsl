@@ -7,8 +7,12 @@
 //
 //   @group(G) @binding(B0) var<storage, read> bvh_nodes: array<BvhNode>;
 //   @group(G) @binding(B1) var<storage, read> bvh_triangles: array<BvhTriangle>;
+//   @group(G) @binding(B2) var<storage, read> bvh_instances: array<BvhInstance>;
 //
-// filled from `GpuBvh::upload` (buffers `bvh::nodes` and `bvh::triangles`).
+// filled from `GpuBvh::upload` (buffers `bvh::nodes` and `bvh::triangles`) and
+// `GpuScene::bvh_instances`. The static scene's tree has its root at node 0; each animated
+// object's tree follows it, built in the object's base pose, and its instance record carries
+// rays from where the object is now into that pose.
 
 // Traversal stack entries. The builder merges subtrees deeper than this into leaves, so
 // the stack cannot overflow; if it ever did, the ray counts as hit (shadowed).
@@ -19,6 +23,20 @@ const BVH_INNER: u32 = 0xffffffffu;
 const BVH_T_MIN: f32 = 1e-4;
 // Smaller direction components are replaced by this before inverting (no 0 * inf).
 const BVH_DIR_EPS: f32 = 1e-20;
+
+// 112 bytes (crates/render/src/gpu_scene.rs `GpuBvhInstance`).
+struct BvhInstance {
+    // World now → base-pose world.
+    from_now: mat4x4<f32>,
+    // World bounds now.
+    min: vec4<f32>,
+    max: vec4<f32>,
+    // Root node of its tree; 0xffffffff: casts no shadow.
+    root: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+}
 
 // 32 bytes. Inner node: children at `first` and `first + 1`, `count` = BVH_INNER.
 // Leaf: triangles `first .. first + count`.
@@ -81,12 +99,39 @@ fn bvh_leaf_hit(node: BvhNode, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) ->
     return false;
 }
 
-// Whether the ray `origin + t * dir` hits any triangle at t in (1e-4, t_max). `dir` need
-// not be unit length (t is in units of it); `t_max` must be finite (1e30 for "no limit").
+// Whether the ray `origin + t * dir` hits any triangle at t in (1e-4, t_max): the static
+// scene's or an animated object's where it is now. `dir` need not be unit length (t is in
+// units of it); `t_max` must be finite (1e30 for "no limit").
 fn bvh_any_hit(origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    if bvh_tree_hit(0u, origin, dir, t_max) {
+        return true;
+    }
     let safe = select(dir, vec3<f32>(BVH_DIR_EPS), abs(dir) < vec3<f32>(BVH_DIR_EPS));
     let inv_dir = 1.0 / safe;
-    let root = bvh_nodes[0];
+    for (var i = 0u; i < arrayLength(&bvh_instances); i++) {
+        let inst = bvh_instances[i];
+        if inst.root == 0xffffffffu {
+            continue;
+        }
+        let bounds = BvhNode(inst.min.xyz, 0u, inst.max.xyz, 0u);
+        if bvh_box_entry(bounds, origin, inv_dir, t_max) < 0.0 {
+            continue;
+        }
+        // An affine map keeps the ray's parameter: t means the same point in both poses.
+        let o = (inst.from_now * vec4(origin, 1.0)).xyz;
+        let d = (inst.from_now * vec4(dir, 0.0)).xyz;
+        if bvh_tree_hit(inst.root, o, d, t_max) {
+            return true;
+        }
+    }
+    return false;
+}
+
+// Whether the ray hits a triangle of the tree whose root is node `root`.
+fn bvh_tree_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    let safe = select(dir, vec3<f32>(BVH_DIR_EPS), abs(dir) < vec3<f32>(BVH_DIR_EPS));
+    let inv_dir = 1.0 / safe;
+    let root = bvh_nodes[root_index];
     if bvh_box_entry(root, origin, inv_dir, t_max) < 0.0 {
         return false;
     }

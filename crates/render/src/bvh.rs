@@ -194,6 +194,19 @@ impl GpuBvh {
         }
     }
 
+    /// Appends `other`'s tree after this one's (its node and triangle indices moved past
+    /// ours) and returns the index of its root: a tree traversal started there sees only
+    /// `other`'s triangles. How animated objects keep their own trees in the scene's buffers.
+    pub fn append(&mut self, other: &GpuBvh) -> u32 {
+        let (node_off, tri_off) = (self.nodes.len() as u32, self.triangles.len() as u32);
+        self.nodes.extend(other.nodes.iter().map(|n| BvhNode {
+            first: n.first + if n.is_leaf() { tri_off } else { node_off },
+            ..*n
+        }));
+        self.triangles.extend_from_slice(&other.triangles);
+        node_off
+    }
+
     /// Levels below the root (0 for a lone leaf). Inner nodes are shallower than
     /// [`STACK_SIZE`], so this is at most `STACK_SIZE`.
     pub fn depth(&self) -> usize {
@@ -382,13 +395,20 @@ fn leaf_hit(bvh: &GpuBvh, node: &BvhNode, origin: Vec3, dir: Vec3, t_max: f32) -
 /// Whether the ray `origin + t * dir` hits a triangle at `t` in `(T_MIN, t_max)`: the
 /// traversal of `bvh_any_hit` in `shaders/lib/bvh.wgsl`, on the CPU.
 pub fn any_hit_cpu(bvh: &GpuBvh, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
+    any_hit_cpu_from(bvh, 0, origin, dir, t_max)
+}
+
+/// [`any_hit_cpu`] in the tree whose root is node `root` (one [`GpuBvh::append`] returned).
+pub fn any_hit_cpu_from(bvh: &GpuBvh, root: u32, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
     let safe = Vec3::select(
         dir.abs().cmplt(Vec3::splat(DIR_EPS)),
         Vec3::splat(DIR_EPS),
         dir,
     );
     let inv_dir = safe.recip();
-    let root = &bvh.nodes[0];
+    let Some(root) = bvh.nodes.get(root as usize) else {
+        return false;
+    };
     if box_entry(root, origin, inv_dir, t_max).is_none() {
         return false;
     }

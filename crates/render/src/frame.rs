@@ -537,6 +537,29 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
             rect: *rect,
         })
         .collect();
+    // Faces lit again for a moving object's shadow: whole, unless captured anyway (stable
+    // slots only: the eye's texels are lit as the view needs them).
+    for &(slot, face) in input.relight.iter().filter(|(s, _)| *s != Slot::Eye) {
+        let captured = (input.captures.iter()).any(|c| c.slot == slot && c.face == face);
+        let Some(p) = probes.iter().find(|p| p.slot == slot) else {
+            continue;
+        };
+        if captured
+            || !p.valid.contains(face)
+            || jobs.iter().any(|j| j.slot == slot && j.face == face)
+        {
+            continue;
+        }
+        jobs.push(ShadeJob {
+            slot,
+            face,
+            origin: p.origin,
+            valid: p.valid,
+            border: false,
+            view_cull: false,
+            rect: None,
+        });
+    }
     for p in &probes {
         let captured: Vec<Face> = input
             .captures
@@ -546,7 +569,8 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
             .collect();
         for face in p.valid.iter() {
             let touched = captured.iter().any(|c| *c != face && c.opposite() != face);
-            if touched && !captured.contains(&face) {
+            let relit = (input.relight.iter()).any(|&(s, f)| s == p.slot && f == face);
+            if touched && !captured.contains(&face) && !relit {
                 jobs.push(ShadeJob {
                     slot: p.slot,
                     face,

@@ -186,6 +186,36 @@ pub struct GpuMotion {
     pub centre: [f32; 4],
 }
 
+/// An animated object's shadow-casting tree where the object is now (112 bytes; WGSL
+/// `BvhInstance` in `shaders/lib/bvh.wgsl`): shadow rays in world space are carried into the
+/// base pose and traverse the tree built there, so a moving object's shadow moves without a
+/// rebuild.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, Pod, Zeroable)]
+pub struct GpuBvhInstance {
+    /// World now → base-pose world.
+    pub from_now: [[f32; 4]; 4],
+    /// World bounds now (xyz).
+    pub min: [f32; 4],
+    /// World bounds now (xyz).
+    pub max: [f32; 4],
+    /// Root node of its tree in the scene's BVH buffers; `u32::MAX`: casts no shadow.
+    pub root: u32,
+    /// Padding.
+    pub _pad: [u32; 3],
+}
+
+impl GpuBvhInstance {
+    /// The record of no tree (every ray misses it).
+    pub const NONE: GpuBvhInstance = GpuBvhInstance {
+        from_now: [[0.0; 4]; 4],
+        min: [0.0; 4],
+        max: [0.0; 4],
+        root: u32::MAX,
+        _pad: [0; 3],
+    };
+}
+
 /// An animated object as uploaded: where its vertices are and how its poses map onto them.
 #[derive(Debug, Clone, PartialEq)]
 pub struct AnimatedObject {
@@ -198,11 +228,33 @@ pub struct AnimatedObject {
     pub frame: glam::Mat4,
     /// Bounds centre, base-pose world.
     pub centre: Vec3,
+    /// Bounds, base-pose world.
+    pub min: Vec3,
+    /// Bounds, base-pose world.
+    pub max: Vec3,
+    /// Root of its shadow tree in the scene's BVH buffers (`u32::MAX`: casts no shadow).
+    pub bvh_root: u32,
     /// Vertex runs `(first, count)`.
     pub runs: Vec<(u32, u32)>,
 }
 
 impl AnimatedObject {
+    /// Its shadow tree's record for `transform` (object → world now).
+    pub fn instance(&self, transform: glam::Mat4) -> GpuBvhInstance {
+        if self.bvh_root == u32::MAX {
+            return GpuBvhInstance::NONE;
+        }
+        let to_now = transform * self.base.inverse();
+        let (min, max) = transform_bounds(to_now, self.min, self.max);
+        GpuBvhInstance {
+            from_now: to_now.inverse().to_cols_array_2d(),
+            min: min.extend(0.0).to_array(),
+            max: max.extend(0.0).to_array(),
+            root: self.bvh_root,
+            _pad: [0; 3],
+        }
+    }
+
     /// Its motion record for `transform` (object → world now).
     pub fn motion(&self, transform: glam::Mat4) -> GpuMotion {
         let to_now = transform * self.base.inverse();
@@ -382,6 +434,8 @@ pub struct GpuScene {
     /// Consecutive runs of at most [`RANGE_TRIANGLES`] triangles of one object with their
     /// world bounds: a raster draws only the ranges its frustum meets.
     pub ranges: Vec<DrawRange>,
+    /// Animated objects' shadow trees where they are now (at least one record).
+    pub bvh_instances: wgpu::Buffer,
     /// Animated objects' motion records, one per [`GpuScene::animated`] (at least one).
     pub motions: wgpu::Buffer,
     /// The animated objects, in motion record order.
@@ -409,6 +463,7 @@ impl GpuScene {
         // Motion record index of each animated object (terrains never move).
         let mut animated_index: Vec<Option<u32>> = vec![None; scene.objects.len()];
         let mut animated: Vec<AnimatedObject> = Vec::new();
+        let mut animated_casters: Vec<(usize, Vec<[Vec3; 3]>)> = Vec::new();
         for &i in &scene.animated {
             let terrain = scene.objects.get(i).and_then(|o| o.material.terrain);
             if i < scene.objects.len() && terrain.is_none() && animated_index[i].is_none() {
@@ -420,6 +475,9 @@ impl GpuScene {
                     base: o.transform,
                     frame: glam::Mat4::from_rotation_translation(rotation, translation).inverse(),
                     centre: translation,
+                    min: translation,
+                    max: translation,
+                    bvh_root: u32::MAX,
                     runs: Vec::new(),
                 });
             }
@@ -436,6 +494,7 @@ impl GpuScene {
             let moving = animated_index[index].filter(|_| terrain == 0);
             let animated_flag = moving.map_or(0, |i| FLAG_ANIMATED | (i << 8));
             let ranges_before = ranges.len();
+            let mut own_casters: Vec<[Vec3; 3]> = Vec::new();
             objects.push(GpuObject {
                 albedo: m.albedo.to_array(),
                 flags: u32::from(m.outlined) * FLAG_OUTLINED
@@ -530,8 +589,11 @@ impl GpuScene {
                         grad_v: gv.to_array(),
                     });
                 }
-                if m.casts_shadows && level0 && moving.is_none() {
-                    casters.push(world);
+                if m.casts_shadows && level0 {
+                    match moving {
+                        None => casters.push(world),
+                        Some(_) => own_casters.push(world),
+                    }
                 }
             }
             // An animated object's ranges are drawn by the moving pass (and the G-buffer),
@@ -545,8 +607,12 @@ impl GpuScene {
                 );
                 if lo.cmple(hi).all() {
                     a.centre = 0.5 * (lo + hi);
+                    (a.min, a.max) = (lo, hi);
                 }
                 a.runs = merge_runs(own.iter());
+                if !own_casters.is_empty() {
+                    animated_casters.push((i as usize, own_casters));
+                }
             }
         }
         let motions: Vec<GpuMotion> = if animated.is_empty() {
@@ -582,7 +648,16 @@ impl GpuScene {
             .collect();
         let (gpu_terrains, terrain_data) = terrain_records(scene, &mut textures);
         let textures = textures.upload(ctx)?;
-        let bvh: GpuBvh = build_bvh(&casters);
+        let mut bvh: GpuBvh = build_bvh(&casters);
+        // Each animated caster's own tree, in its base pose, after the static one.
+        for (i, tris) in &animated_casters {
+            animated[*i].bvh_root = bvh.append(&build_bvh(tris));
+        }
+        let instances: Vec<GpuBvhInstance> = if animated.is_empty() {
+            vec![GpuBvhInstance::NONE]
+        } else {
+            animated.iter().map(|a| a.instance(a.base)).collect()
+        };
         let (bvh_nodes, bvh_triangles) = bvh.upload(&ctx.device);
         let storage = |label, contents: &[u8], usage| {
             ctx.device
@@ -617,6 +692,11 @@ impl GpuScene {
             object_ids: scene.objects.iter().map(|o| o.id).collect(),
             textures,
             ranges,
+            bvh_instances: storage(
+                "scene::bvh_instances",
+                bytemuck::cast_slice(&instances),
+                wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+            ),
             motions: storage(
                 "scene::motions",
                 bytemuck::cast_slice(&motions),
@@ -636,24 +716,38 @@ impl GpuScene {
         })
     }
 
+    /// What the shadow BVH group binds ([`crate::passes::bvh_layout`]).
+    pub fn bvh_resources(&self) -> [wgpu::BindingResource<'_>; 3] {
+        [
+            self.bvh_nodes.as_entire_binding(),
+            self.bvh_triangles.as_entire_binding(),
+            self.bvh_instances.as_entire_binding(),
+        ]
+    }
+
     /// Moves the animated objects to `poses` (the others to their base transforms).
     pub fn set_poses(&self, queue: &wgpu::Queue, poses: &[crate::input::Pose]) {
         if self.animated.is_empty() {
             return;
         }
-        let records: Vec<GpuMotion> = self
+        let transforms: Vec<glam::Mat4> = self
             .animated
             .iter()
             .map(|a| {
                 let pose = poses.iter().rev().find(|p| p.object == a.object);
-                let transform = pose
-                    .map(|p| p.transform)
+                pose.map(|p| p.transform)
                     .filter(|m| m.is_finite() && m.determinant().abs() > 1e-12)
-                    .unwrap_or(a.base);
-                a.motion(transform)
+                    .unwrap_or(a.base)
             })
             .collect();
+        let records: Vec<GpuMotion> = (self.animated.iter().zip(&transforms))
+            .map(|(a, &m)| a.motion(m))
+            .collect();
         queue.write_buffer(&self.motions, 0, bytemuck::cast_slice(&records));
+        let instances: Vec<GpuBvhInstance> = (self.animated.iter().zip(&transforms))
+            .map(|(a, &m)| a.instance(m))
+            .collect();
+        queue.write_buffer(&self.bvh_instances, 0, bytemuck::cast_slice(&instances));
     }
 
     /// Every animated object's vertex runs.

@@ -305,6 +305,10 @@ pub struct FrameInput {
     /// and object → world transform. An animated object without a pose stays at its base
     /// transform.
     pub poses: Vec<Pose>,
+    /// Stable-probe faces to light again without capturing them (a moving object's shadow
+    /// may have come or gone there); faces captured this frame are lit anyway, and eye faces
+    /// are lit as the view needs them.
+    pub relight: Vec<(Slot, Face)>,
 }
 
 /// An animated object's transform this frame.

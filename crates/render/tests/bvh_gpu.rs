@@ -33,6 +33,7 @@ struct Ray {
 @group(0) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(0) @binding(2) var<storage, read> rays: array<Ray>;
 @group(0) @binding(3) var<storage, read_write> out: array<u32>;
+@group(0) @binding(4) var<storage, read> bvh_instances: array<BvhInstance>;
 
 @compute @workgroup_size(64)
 fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -339,6 +340,7 @@ fn run(
             entry_layout(1, true),
             entry_layout(2, true),
             entry_layout(3, false),
+            entry_layout(4, true),
         ],
     });
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -370,10 +372,17 @@ fn run(
         usage: wgpu::BufferUsages::MAP_READ | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     });
+    // No animated objects: one record of no tree.
+    let instances = storage(
+        ctx,
+        "bvh_gpu::instances",
+        bytemuck::bytes_of(&texel_render::gpu_scene::GpuBvhInstance::NONE),
+        usage,
+    );
     let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("bvh_gpu::bind"),
         layout: &layout,
-        entries: &[&nodes, &triangles, &rays, &out]
+        entries: &[&nodes, &triangles, &rays, &out, &instances]
             .iter()
             .enumerate()
             .map(|(i, b)| wgpu::BindGroupEntry {

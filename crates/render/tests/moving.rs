@@ -185,3 +185,56 @@ fn the_pose_places_the_object() {
         "moved box at x {left}, was {centred}"
     );
 }
+
+/// A moving object casts its shadow where it is now: the grid probe's floor texels under the
+/// box are dark, and after the box moves 3 units along X and the floor's faces are lit again
+/// (no capture), the dark patch has moved with it.
+#[test]
+fn a_moving_objects_shadow_moves_on_the_cached_floor() {
+    let Some(ctx) = test_context() else { return };
+    let mut r = Renderer::headless(&ctx).unwrap();
+    let mut scene = one_moving_box(true);
+    scene.objects[0].material.maps = SurfaceMaps::default();
+    scene.suns[0].direction = Vec3::new(0.0, -1.0, 0.0);
+    r.set_scene(&ctx, &scene).expect("scene");
+    let size = UVec2::new(96, 54);
+    let grid = Vec3::new(0.0, 6.0, -4.0);
+    let cam = Camera::looking(Vec3::new(0.0, 6.0, -1.0), Vec3::new(0.0, -1.0, -0.4));
+    let at = |x: f32| pose(Mat4::from_translation(Vec3::new(x, 1.5, -4.0)));
+    let mut input = common::frame(cam, grid, 64, size, Schedule::Ours);
+    input.poses = at(-1.5);
+    r.render_offscreen(&ctx, &input).unwrap();
+    let (n, before) = r
+        .read_lit_faces(&ctx, texel_probes::probe_set::Slot::StableA)
+        .unwrap();
+    // Face −Y (3) looks down on the floor: luminance of the texels under x = −1.5 and +1.5.
+    let texel_at = |x: f32| {
+        let d = Vec3::new(x, 0.0, -4.0) - grid;
+        let t = texel_probes::cube::texel_from_direction(d, n).expect("a texel");
+        assert_eq!(t.face.index(), 3);
+        ((t.y * n + t.x) * 4) as usize
+    };
+    let lum = |face: &[u8], x: f32| {
+        let i = texel_at(x);
+        face[i] as u32 + face[i + 1] as u32 + face[i + 2] as u32
+    };
+    let (left, right) = (lum(&before[3], -1.5), lum(&before[3], 1.5));
+    assert!(
+        left + 60 < right,
+        "shadow under the box: {left} vs lit floor {right}"
+    );
+    // Moved; no capture this frame, the grid probe's faces lit again.
+    input.poses = at(1.5);
+    input.captures.clear();
+    input.relight = texel_probes::cube::Face::ALL
+        .map(|f| (texel_probes::probe_set::Slot::StableA, f))
+        .to_vec();
+    let (stats, _) = r.render_offscreen(&ctx, &input).unwrap();
+    assert_eq!(stats.counters.faces_captured, 0);
+    let (_, after) = r
+        .read_lit_faces(&ctx, texel_probes::probe_set::Slot::StableA)
+        .unwrap();
+    let (left2, right2) = (lum(&after[3], -1.5), lum(&after[3], 1.5));
+    assert_eq!(left2, right, "the old shadow is lit again");
+    assert_eq!(right2, left, "the shadow fell where the box went");
+}

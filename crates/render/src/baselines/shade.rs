@@ -75,10 +75,7 @@ impl ScreenShadePass {
                 entry(6, c, storage(true)),
             ],
         });
-        let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("baselines::shade::bvh_layout"),
-            entries: &[entry(0, c, storage(true)), entry(1, c, storage(true))],
-        });
+        let bvh_layout = crate::passes::bvh_layout(device, "baselines::shade::bvh_layout", c);
         let layouts = [&layout, &bvh_layout];
         let pipeline = compute_pipeline(device, "baselines::shade", &module, "main", &layouts);
         let globals = uniform_buffer(
@@ -145,10 +142,7 @@ impl ScreenShadePass {
             device,
             "baselines::shade::bvh",
             &self.bvh_layout,
-            &[
-                scene.bvh_nodes.as_entire_binding(),
-                scene.bvh_triangles.as_entire_binding(),
-            ],
+            &scene.bvh_resources(),
         );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("baselines::shade::pass"),

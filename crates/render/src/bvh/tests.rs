@@ -251,3 +251,28 @@ fn bvh_build_time_for_ten_thousand_triangles() {
     eprintln!("bvh: 10k triangles, {nodes} nodes, depth {depth}, {took:?} ({profile})");
     check_tree(&bvh, tris.len());
 }
+
+/// Trees appended after another keep their own triangles: a traversal from the returned
+/// root agrees with brute force over that tree's input alone, and the first tree is unchanged.
+#[test]
+fn appended_trees_are_traversed_from_their_own_roots() {
+    let mut rng = Rng(7);
+    let a = random_scene(&mut rng, 300, 10.0, 1.0);
+    let b = random_scene(&mut rng, 200, 10.0, 1.0);
+    let mut both = build_bvh(&a);
+    let alone = both.clone();
+    let root = both.append(&build_bvh(&b));
+    assert_eq!(root as usize, alone.nodes.len());
+    let mut hits = [0usize; 2];
+    for _ in 0..400 {
+        let origin = rng.vec(-12.0, 12.0);
+        for (k, tris) in [&a, &b].into_iter().enumerate() {
+            let (o, d, t) = ray(&mut rng, tris, origin);
+            let r = if k == 0 { 0 } else { root };
+            let got = any_hit_cpu_from(&both, r, o, d, t);
+            assert_eq!(got, any_hit_brute(tris, o, d, t), "tree {k}");
+            hits[k] += got as usize;
+        }
+    }
+    assert!(hits[0] > 50 && hits[1] > 50, "{hits:?}");
+}

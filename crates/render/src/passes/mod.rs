@@ -132,6 +132,11 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         ("shade.wgsl", "BvhNode", size_of::<crate::bvh::BvhNode>()),
         (
             "shade.wgsl",
+            "BvhInstance",
+            size_of::<crate::gpu_scene::GpuBvhInstance>(),
+        ),
+        (
+            "shade.wgsl",
             "BvhTriangle",
             size_of::<crate::bvh::BvhTriangle>(),
         ),
@@ -301,5 +306,19 @@ pub(crate) fn bind_group(
         label: Some(label),
         layout,
         entries: &entries,
+    })
+}
+
+/// The layout of the shadow BVH group every ray-tracing pass binds (`lib/bvh.wgsl`: nodes,
+/// triangles, animated instances; [`crate::gpu_scene::GpuScene::bvh_resources`]), visible to
+/// `stages`.
+pub(crate) fn bvh_layout(
+    device: &wgpu::Device,
+    label: &str,
+    stages: wgpu::ShaderStages,
+) -> wgpu::BindGroupLayout {
+    device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+        label: Some(label),
+        entries: &[0, 1, 2].map(|b| entry(b, stages, storage(true))),
     })
 }

@@ -69,10 +69,7 @@ impl MovingPass {
                 entry(2, vf, storage(true)),
             ],
         });
-        let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("moving::bvh_layout"),
-            entries: &[entry(0, frag, storage(true)), entry(1, frag, storage(true))],
-        });
+        let bvh_layout = crate::passes::bvh_layout(device, "moving::bvh_layout", frag);
         let vertex_buffers = [Some(GpuScene::vertex_layout())];
         let pipeline = render_pipeline(
             device,
@@ -144,10 +141,7 @@ impl MovingPass {
             device,
             "moving::bvh",
             &self.bvh_layout,
-            &[
-                scene.bvh_nodes.as_entire_binding(),
-                scene.bvh_triangles.as_entire_binding(),
-            ],
+            &scene.bvh_resources(),
         );
         Some(MovingBinds {
             scene: scene_bind,

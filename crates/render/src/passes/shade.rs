@@ -171,10 +171,7 @@ impl ShadePass {
                 entry(11, c, texture(UINT, ARRAY)),
             ],
         });
-        let bvh_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("shade::bvh_layout"),
-            entries: &[entry(0, c, storage(true)), entry(1, c, storage(true))],
-        });
+        let bvh_layout = crate::passes::bvh_layout(device, "shade::bvh_layout", c);
         let mut stable_entries: Vec<_> = (0..6)
             .map(|b| {
                 let sample = if b % 3 == 1 { UINT } else { FLOAT };
@@ -330,10 +327,7 @@ impl ShadePass {
             device,
             "shade::bvh",
             &self.bvh_layout,
-            &[
-                scene.bvh_nodes.as_entire_binding(),
-                scene.bvh_triangles.as_entire_binding(),
-            ],
+            &scene.bvh_resources(),
         );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("shade::pass"),

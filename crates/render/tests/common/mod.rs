@@ -106,6 +106,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         schedule,
         grid_complete: true,
         poses: Vec::new(),
+        relight: Vec::new(),
     }
 }
 
