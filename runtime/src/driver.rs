@@ -81,14 +81,29 @@ pub struct PreparedLevel {
     start: Camera,
     /// The renderer's view of the scene, and ray queries against it for probe placement.
     rays: SceneRays,
+    /// What drives each animated object (in `SceneInput::animated` order).
+    animators: Vec<Animated>,
+}
+
+/// An animated object: its animator and base transform, and its mesh's bounds.
+#[derive(Debug, Clone)]
+struct Animated {
+    object: usize,
+    animator: texel_scene::animator::Animator,
+    base: Transform,
+    local_min: Vec3,
+    local_max: Vec3,
 }
 
 impl PreparedLevel {
     /// Extracts what frames of `level` need.
     pub fn new(level: &LoadedLevel) -> Self {
         let s = &level.scene.settings;
+        let scene = scene_input(level);
+        let animators = animated_objects(level, &scene);
         PreparedLevel {
-            rays: SceneRays::new(scene_input(level)),
+            animators,
+            rays: SceneRays::new(scene),
             look: level_look(&level.scene),
             pixel_scale: s.pixel_scale,
             cell_size: s.cell_size,
@@ -109,6 +124,31 @@ impl PreparedLevel {
             face_resolution: face_resolution(self.pixel_scale, viewport),
         }
     }
+}
+
+/// The animated objects of `scene` (extracted from `level` by [`scene_input`]): entities with
+/// geometry and an animator, matched to their objects by entity id.
+fn animated_objects(level: &LoadedLevel, scene: &SceneInput) -> Vec<Animated> {
+    let w = level.scene.world();
+    let entities: Vec<hecs::Entity> = level.scene.entities().collect();
+    scene
+        .animated
+        .iter()
+        .filter_map(|&object| {
+            let o = &scene.objects[object];
+            let e = *entities.get(o.id.checked_sub(1)? as usize)?;
+            let animator = w.get::<&texel_scene::animator::Animator>(e).ok()?;
+            let base = w.get::<&Transform>(e).map(|t| *t).ok()?;
+            let (local_min, local_max) = o.mesh.bounds()?;
+            Some(Animated {
+                object,
+                animator: (*animator).clone(),
+                base,
+                local_min,
+                local_max,
+            })
+        })
+        .collect()
 }
 
 /// The level's look: sky, ambient light, bands and haze (what every method draws with).
@@ -139,6 +179,11 @@ pub struct FrameDriver {
     /// Camera position last frame and the smoothed velocity, for prefetching.
     last_position: Option<Vec3>,
     velocity: Vec3,
+    /// Animation time, seconds: the sum of the frames' `dt` (so a replayed path poses
+    /// every frame as it did).
+    time: f64,
+    /// Each animated object's transform last frame, for the faces its shadow left.
+    last_poses: Vec<glam::Mat4>,
 }
 
 impl FrameDriver {
@@ -179,6 +224,8 @@ impl FrameDriver {
             fade_frame: 0,
             last_position: None,
             velocity: Vec3::ZERO,
+            time: 0.0,
+            last_poses: Vec::new(),
         })
     }
 
@@ -289,7 +336,7 @@ impl FrameDriver {
         let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
         let n = plan.grid.probe.face_resolution;
         let internal = internal_size(self.size, n, camera.fov_y);
-        let input = FrameInput {
+        let mut input = FrameInput {
             camera: pixel_snapped(camera, internal),
             size: self.size,
             internal_size: internal,
@@ -308,12 +355,83 @@ impl FrameDriver {
             poses: Vec::new(),
             relight: Vec::new(),
         };
+        self.animate(&mut input, dt);
         if let Some(p) = &mut self.probes {
             p.advance_fade(plan.readiness());
         }
         self.frame_index += 1;
         self.fade_frame += 1;
         Ok(input)
+    }
+
+    /// Animation time of the next frame, seconds.
+    pub fn time(&self) -> f64 {
+        self.time
+    }
+
+    /// Poses the animated objects at this frame's time (then advances it by `dt`), and lists
+    /// the stable faces to light again where a moved object's shadow may have come or gone:
+    /// those that may see its old or new bounds, pushed along each sun to the ground, or the
+    /// reach of a point light the object is within.
+    fn animate(&mut self, input: &mut FrameInput, dt: f32) {
+        let animators = &self.level.animators;
+        if animators.is_empty() {
+            return;
+        }
+        let poses: Vec<glam::Mat4> = animators
+            .iter()
+            .map(|a| a.animator.pose_at(&a.base, self.time).matrix())
+            .collect();
+        if dt.is_finite() && dt > 0.0 {
+            self.time += f64::from(dt.min(1.0));
+        }
+        let scene = self.level.scene();
+        let mut moved: Option<(Vec3, Vec3)> = None;
+        for (k, a) in animators.iter().enumerate() {
+            let now = poses[k];
+            let before = self.last_poses.get(k).copied().unwrap_or(now);
+            if before == now && !self.last_poses.is_empty() {
+                continue;
+            }
+            for m in [before, now] {
+                let (lo, hi) = bounds_under(m, a.local_min, a.local_max);
+                moved = Some(match moved {
+                    Some((a, b)) => (a.min(lo), b.max(hi)),
+                    None => (lo, hi),
+                });
+            }
+        }
+        self.last_poses = poses.clone();
+        input.poses = (animators.iter().zip(&poses))
+            .map(|(a, &transform)| texel_render::input::Pose {
+                object: a.object,
+                transform,
+            })
+            .collect();
+        let Some((lo, hi)) = moved else {
+            return;
+        };
+        let (mut lo, mut hi) = crate::session::shadow_extended(scene, lo, hi);
+        for p in &scene.points {
+            let nearest = p.position.clamp(lo, hi);
+            if nearest.distance(p.position) < p.radius {
+                lo = lo.min(p.position - Vec3::splat(p.radius));
+                hi = hi.max(p.position + Vec3::splat(p.radius));
+            }
+        }
+        let stable = [
+            Some(&input.grid),
+            input.previous.as_ref(),
+            input.prefetch.as_ref(),
+        ];
+        for p in stable.into_iter().flatten() {
+            for face in p.valid.iter() {
+                let far = CAPTURE_FAR;
+                if texel_probes::schedule::face_may_see_box(face, p.origin, lo, hi, far) {
+                    input.relight.push((p.slot, face));
+                }
+            }
+        }
     }
 
     /// The grid probe of the cell at `position`, placed where it can see.
@@ -548,6 +666,9 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
                 .map(|m| (*m).clone())
                 .unwrap_or_default();
             if let Some(mesh) = mesh {
+                if w.get::<&texel_scene::animator::Animator>(e).is_ok() {
+                    out.animated.push(out.objects.len());
+                }
                 out.objects.push(ObjectInput {
                     mesh,
                     transform: t.matrix(),
@@ -656,6 +777,22 @@ fn skirt_depth(field: &texel_scene::terrain::Heightfield) -> f32 {
     (step * texel_scene::terrain::CHUNK_QUADS as f32 * 0.5)
         .min(hi - lo)
         .max(0.05)
+}
+
+/// World bounds of the object-space box `min..max` under `m`.
+fn bounds_under(m: glam::Mat4, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
+    (0..8).fold(
+        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
+        |(lo, hi), i| {
+            let c = Vec3::new(
+                if i & 1 == 0 { min.x } else { max.x },
+                if i & 2 == 0 { min.y } else { max.y },
+                if i & 4 == 0 { min.z } else { max.z },
+            );
+            let p = m.transform_point3(c);
+            (lo.min(p), hi.max(p))
+        },
+    )
 }
 
 #[cfg(test)]

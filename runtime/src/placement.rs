@@ -39,7 +39,11 @@ impl SceneRays {
 fn build(scene: &SceneInput) -> GpuBvh {
     {
         let mut triangles = Vec::new();
-        for object in &scene.objects {
+        // Moving objects are left out: a probe's place is a function of the static scene.
+        let still = (scene.objects.iter().enumerate())
+            .filter(|(i, _)| !scene.animated.contains(i))
+            .map(|(_, o)| o);
+        for object in still {
             let m = object.transform;
             // A mirroring transform turns counter-clockwise into clockwise: swap back.
             let flip = m.determinant() < 0.0;
