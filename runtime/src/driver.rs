@@ -81,8 +81,58 @@ pub struct PreparedLevel {
     start: Camera,
     /// The renderer's view of the scene, and ray queries against it for probe placement.
     rays: SceneRays,
-    /// What drives each animated object (in `SceneInput::animated` order).
-    animators: Vec<Animated>,
+    /// What drives each animated object.
+    pub animation: Animation,
+}
+
+/// The level's animated objects and what drives them: poses as a function of time, the same
+/// wherever a frame is drawn (play, `texel-run render`, the evaluator's methods and its
+/// reference).
+#[derive(Debug, Clone, Default)]
+pub struct Animation {
+    objects: Vec<Animated>,
+}
+
+impl Animation {
+    /// The animated objects of `scene` (extracted from `level` by [`scene_input`]).
+    pub fn new(level: &LoadedLevel, scene: &SceneInput) -> Self {
+        Animation {
+            objects: animated_objects(level, scene),
+        }
+    }
+
+    /// Whether nothing moves.
+    pub fn is_empty(&self) -> bool {
+        self.objects.is_empty()
+    }
+
+    /// Every animated object's pose at `t` seconds.
+    pub fn poses(&self, t: f64) -> Vec<texel_render::input::Pose> {
+        (self.objects.iter())
+            .map(|a| texel_render::input::Pose {
+                object: a.object,
+                transform: a.animator.pose_at(&a.base, t).matrix(),
+            })
+            .collect()
+    }
+
+    /// The time of the frame after one at `t`, `dt` seconds later: how every frame source
+    /// advances, so they all pose frame `i` alike (a `dt` that is not a positive number does
+    /// not advance; one above a second counts as a second).
+    pub fn next_time(t: f64, dt: f32) -> f64 {
+        if dt.is_finite() && dt > 0.0 {
+            t + f64::from(dt.min(1.0))
+        } else {
+            t
+        }
+    }
+
+    /// World bounds of the animated object `k` (in [`Animation::poses`] order) under
+    /// `transform`.
+    fn bounds(&self, k: usize, transform: glam::Mat4) -> (Vec3, Vec3) {
+        let a = &self.objects[k];
+        bounds_under(transform, a.local_min, a.local_max)
+    }
 }
 
 /// An animated object: its animator and base transform, and its mesh's bounds.
@@ -100,9 +150,9 @@ impl PreparedLevel {
     pub fn new(level: &LoadedLevel) -> Self {
         let s = &level.scene.settings;
         let scene = scene_input(level);
-        let animators = animated_objects(level, &scene);
+        let animation = Animation::new(level, &scene);
         PreparedLevel {
-            animators,
+            animation,
             rays: SceneRays::new(scene),
             look: level_look(&level.scene),
             pixel_scale: s.pixel_scale,
@@ -374,40 +424,30 @@ impl FrameDriver {
     /// those that may see its old or new bounds, pushed along each sun to the ground, or the
     /// reach of a point light the object is within.
     fn animate(&mut self, input: &mut FrameInput, dt: f32) {
-        let animators = &self.level.animators;
-        if animators.is_empty() {
+        let animation = &self.level.animation;
+        if animation.is_empty() {
             return;
         }
-        let poses: Vec<glam::Mat4> = animators
-            .iter()
-            .map(|a| a.animator.pose_at(&a.base, self.time).matrix())
-            .collect();
-        if dt.is_finite() && dt > 0.0 {
-            self.time += f64::from(dt.min(1.0));
-        }
+        let poses = animation.poses(self.time);
+        self.time = Animation::next_time(self.time, dt);
         let scene = self.level.scene();
         let mut moved: Option<(Vec3, Vec3)> = None;
-        for (k, a) in animators.iter().enumerate() {
-            let now = poses[k];
+        for (k, pose) in poses.iter().enumerate() {
+            let now = pose.transform;
             let before = self.last_poses.get(k).copied().unwrap_or(now);
             if before == now && !self.last_poses.is_empty() {
                 continue;
             }
             for m in [before, now] {
-                let (lo, hi) = bounds_under(m, a.local_min, a.local_max);
+                let (lo, hi) = animation.bounds(k, m);
                 moved = Some(match moved {
                     Some((a, b)) => (a.min(lo), b.max(hi)),
                     None => (lo, hi),
                 });
             }
         }
-        self.last_poses = poses.clone();
-        input.poses = (animators.iter().zip(&poses))
-            .map(|(a, &transform)| texel_render::input::Pose {
-                object: a.object,
-                transform,
-            })
-            .collect();
+        self.last_poses = poses.iter().map(|p| p.transform).collect();
+        input.poses = poses;
         let Some((lo, hi)) = moved else {
             return;
         };

@@ -33,10 +33,15 @@ enum Command {
         /// Camera-path file (RON).
         #[arg(long)]
         path: PathBuf,
+        /// Take the level's animators off first: what moves stands still as ordinary
+        /// geometry (the still-world baseline of a path with motion in view).
+        #[arg(long)]
+        freeze: bool,
         #[command(flatten)]
         common: Common,
     },
-    /// Runs every bundled path on its level (stone_circle, colonnade) with every method.
+    /// Runs every bundled path on its level (stone_circle, colonnade, textured, terrain_hills,
+    /// moving_parts) with every method.
     Suite {
         /// The assets folder holding levels/ and paths/.
         #[arg(long, default_value = "assets")]
@@ -92,6 +97,7 @@ pub fn main() -> Result<()> {
         Command::Run {
             level,
             path,
+            freeze,
             common,
         } => {
             let plan = RunPlan {
@@ -100,6 +106,7 @@ pub fn main() -> Result<()> {
                 methods: parse_methods(&common.methods)?,
                 face_res: parse_list(&common.face_res, "--face-res")?,
                 size: parse_size(&common.size)?,
+                freeze,
             };
             execute(&[plan], &common, command_line)
         }

@@ -14,7 +14,7 @@ use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
 use glam::UVec2;
 use serde::{Deserialize, Serialize};
 use texel_render::context::GpuContext;
-use texel_runtime::driver::scene_input;
+use texel_runtime::driver::{Animation, scene_input};
 use texel_runtime::load::load_level;
 
 use crate::gpu::{level_look, set_face_res};
@@ -163,9 +163,10 @@ pub fn run_compare(
     }
     let fov_y = path.fov_y(DEFAULT_FOV_DEG.to_radians());
     let scene = scene_input(&level);
+    let animation = Animation::new(&level, &scene);
     let refs = path_references(
         ctx,
-        &scene,
+        (&scene, &animation),
         &path,
         fov_y,
         plan.size,
@@ -182,7 +183,7 @@ pub fn run_compare(
     };
     let mut methods = Vec::with_capacity(plan.methods.len());
     for &method in &plan.methods {
-        let mut source = method_source(ctx, &level, &scene, method, &view)?;
+        let mut source = method_source(ctx, &level, (&scene, &animation), method, &view)?;
         let mut frames = Vec::with_capacity(path.frames as usize);
         let outcome = run_path_observed(
             &path,

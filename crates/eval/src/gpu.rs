@@ -5,7 +5,8 @@
 use glam::UVec2;
 use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
 use texel_render::context::GpuContext;
-use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
+use texel_render::input::{Camera, Display, Look, Pose, SceneInput, Schedule};
+use texel_runtime::driver::Animation;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, set_face_resolution};
 
@@ -94,13 +95,17 @@ pub struct BaselineSource<'a> {
     size: UVec2,
     face_res: u32,
     look: Look,
+    /// The moving objects and the time of the next frame.
+    animation: Animation,
+    time: f64,
 }
 
 impl<'a> BaselineSource<'a> {
-    /// A baseline renderer for `scene`, comparing against splats of `face_res`.
+    /// A baseline renderer for `scene` (its moving objects posed by `animation`), comparing
+    /// against splats of `face_res`.
     pub fn new(
         ctx: &'a GpuContext,
-        scene: &SceneInput,
+        (scene, animation): (&SceneInput, &Animation),
         method: Baseline,
         size: UVec2,
         face_res: u32,
@@ -116,14 +121,20 @@ impl<'a> BaselineSource<'a> {
             size,
             face_res,
             look,
+            animation: animation.clone(),
+            time: 0.0,
         };
         me.render(0, warm_up, 0.0)?;
+        me.time = 0.0;
         Ok(me)
     }
 }
 
 impl FrameSource for BaselineSource<'_> {
-    fn render(&mut self, _i: u32, camera: &Camera, _dt: f32) -> Result<RenderedFrame, EvalError> {
+    fn render(&mut self, _i: u32, camera: &Camera, dt: f32) -> Result<RenderedFrame, EvalError> {
+        let poses = self.animation.poses(self.time);
+        self.renderer.set_poses(self.ctx, &poses);
+        self.time = Animation::next_time(self.time, dt);
         let view = BaselineView {
             camera: *camera,
             size: self.size,
@@ -170,7 +181,13 @@ impl<'a> GpuReference<'a> {
 }
 
 impl ReferenceSource for GpuReference<'_> {
-    fn reference(&mut self, camera: &Camera, size: UVec2) -> Result<Reference, EvalError> {
+    fn reference(
+        &mut self,
+        camera: &Camera,
+        size: UVec2,
+        poses: &[Pose],
+    ) -> Result<Reference, EvalError> {
+        self.renderer.set_poses(self.ctx, poses);
         let g = self
             .renderer
             .reference_gbuffer(self.ctx, camera, size)
@@ -179,12 +196,25 @@ impl ReferenceSource for GpuReference<'_> {
             size: g.size,
             world: g.world,
             id: g.id,
+            poses: Vec::new(),
         })
     }
 }
 
 impl ReferenceSource for CpuScene {
-    fn reference(&mut self, camera: &Camera, size: UVec2) -> Result<Reference, EvalError> {
+    fn reference(
+        &mut self,
+        camera: &Camera,
+        size: UVec2,
+        poses: &[Pose],
+    ) -> Result<Reference, EvalError> {
+        if !poses.is_empty() {
+            return Err(EvalError::Input(
+                "the CPU reference draws still scenes only; this level has moving objects \
+                 (use --reference gpu)"
+                    .into(),
+            ));
+        }
         Ok(self.gbuffer(camera, size))
     }
 }

@@ -55,6 +55,11 @@ pub struct Scores {
     /// Of all flickering pixels of the run, the share taken from the eye probe (None: no
     /// probes, or nothing flickered).
     pub eye_flicker_share: Option<f64>,
+    /// Mean over frames of the flicker fraction of moving objects' pixels, followed with
+    /// their objects (None: no moving object was seen).
+    pub moving_shimmer: Option<f64>,
+    /// The same over the still world's pixels of the same frames (None: nothing moved).
+    pub still_shimmer: Option<f64>,
 }
 
 /// Frame-by-frame accumulator of a run's metrics.
@@ -114,6 +119,23 @@ impl PathMeter {
             eye_fraction: self.has_eye.then(|| mean(|c| c.eye)),
             eye_flicker_share: (self.has_eye && flicker > 0)
                 .then(|| flicker_eye as f64 / flicker as f64),
+            moving_shimmer: mean_of(
+                self.flicker
+                    .iter()
+                    .filter_map(FlickerCount::moving_fraction),
+            ),
+            still_shimmer: self
+                .flicker
+                .iter()
+                .any(|c| c.tested_moving > 0)
+                .then(|| mean_of(self.flicker.iter().filter_map(FlickerCount::still_fraction)))
+                .flatten(),
         }
     }
+}
+
+/// The mean of `values`, `None` when there are none.
+fn mean_of(values: impl Iterator<Item = f64>) -> Option<f64> {
+    let (sum, n) = values.fold((0.0, 0usize), |(s, n), v| (s + v, n + 1));
+    (n > 0).then(|| sum / n as f64)
 }

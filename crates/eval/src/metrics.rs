@@ -28,6 +28,9 @@ pub struct Reference {
     pub world: Vec<[f32; 3]>,
     /// Object id per pixel (0 = sky or nothing).
     pub id: Vec<u32>,
+    /// The moving objects at this frame: entity id and object → world transform. A pixel of
+    /// one is followed to where that point of the object was in the previous frame.
+    pub poses: Vec<(u32, glam::Mat4)>,
 }
 
 /// One frame of a method together with its reference.
@@ -84,17 +87,34 @@ pub struct FlickerCount {
     pub flicker: u64,
     /// Of the flickering pixels, those the method took from the eye probe at t.
     pub flicker_eye: u64,
+    /// Of the tested pixels, those showing a moving object.
+    pub tested_moving: u64,
+    /// Of those, pixels whose colour changed.
+    pub flicker_moving: u64,
 }
 
 impl FlickerCount {
     /// The flicker fraction, 0 when nothing could be tested.
     pub fn fraction(&self) -> f64 {
-        if self.tested == 0 {
-            0.0
-        } else {
-            self.flicker as f64 / self.tested as f64
-        }
+        ratio(self.flicker, self.tested).unwrap_or(0.0)
     }
+
+    /// The flicker fraction of the moving objects' pixels, `None` when none was tested.
+    pub fn moving_fraction(&self) -> Option<f64> {
+        ratio(self.flicker_moving, self.tested_moving)
+    }
+
+    /// The flicker fraction of the still world's pixels, `None` when none was tested.
+    pub fn still_fraction(&self) -> Option<f64> {
+        ratio(
+            self.flicker - self.flicker_moving,
+            self.tested - self.tested_moving,
+        )
+    }
+}
+
+fn ratio(a: u64, b: u64) -> Option<f64> {
+    (b > 0).then(|| a as f64 / b as f64)
 }
 
 /// sRGB8 → OKLab (L, a, b).
@@ -194,6 +214,15 @@ pub fn flicker(
         return Err(MetricError::SizeChanged);
     }
     let vp = view_proj(&prev.camera, size);
+    // Per moving object: world now → world at t−1 (objects absent from t−1 are still).
+    let moving_to_prev: Vec<(u32, glam::Mat4)> = (cur.reference.poses.iter())
+        .map(|&(id, now)| {
+            let before = (prev.reference.poses.iter())
+                .find(|(p, _)| *p == id)
+                .map_or(now, |(_, m)| *m);
+            (id, before * now.inverse())
+        })
+        .collect();
     let (w, h) = (size.x, size.y);
     let rgb = |c: &[u8], i: usize| [c[i * 4], c[i * 4 + 1], c[i * 4 + 2]];
     let mut out = FlickerCount::default();
@@ -204,7 +233,15 @@ pub fn flicker(
             if id == 0 || !interior(&cur.reference.id, size, x, y, id) {
                 continue;
             }
-            let p = Vec3::from(cur.reference.world[i]);
+            // A moving object's point: where it was on the object in t−1.
+            let moving = moving_to_prev
+                .iter()
+                .find(|(m, _)| *m == id)
+                .map(|(_, m)| *m);
+            let p = match moving {
+                Some(m) => m.transform_point3(Vec3::from(cur.reference.world[i])),
+                None => Vec3::from(cur.reference.world[i]),
+            };
             let Some(q) = project(&vp, size, p) else {
                 continue;
             };
@@ -228,6 +265,7 @@ pub fn flicker(
                 continue;
             }
             out.tested += 1;
+            out.tested_moving += u64::from(moving.is_some());
             let c = oklab_from_srgb8(rgb(cur.colour, i));
             let changed = [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|(dx, dy)| {
                 let k = ((y0 + dy) * w + x0 + dx) as usize;
@@ -235,6 +273,7 @@ pub fn flicker(
             });
             if changed {
                 out.flicker += 1;
+                out.flicker_moving += u64::from(moving.is_some());
                 if cur.from_eye.is_some_and(|e| e[i]) {
                     out.flicker_eye += 1;
                 }

@@ -87,6 +87,7 @@ impl CpuScene {
             size,
             world: vec![[0.0; 3]; n],
             id: vec![0; n],
+            poses: Vec::new(),
         };
         for y in 0..size.y {
             for x in 0..size.x {

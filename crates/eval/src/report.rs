@@ -27,7 +27,10 @@
 //!     "eye_fraction": number|null, // mean fraction of pixels from the eye probe (splat only)
 //!     "eye_flicker_share": number|null, // share of flickering pixels from the eye probe
 //!     "steps_per_pixel": number|null,   // march steps per pixel (march only)
-//!     "fallback_fraction": number|null  // marched pixels their first probe could not resolve
+//!     "fallback_fraction": number|null, // marched pixels their first probe could not resolve
+//!     "moving_shimmer": number|null,    // mean flicker of moving objects' pixels, followed
+//!                                       // with their objects (levels with animators)
+//!     "still_shimmer": number|null      // the same over the still world's pixels
 //!   } ]
 //! }
 //! ```
@@ -103,6 +106,12 @@ pub struct RunRecord {
     /// another probe, the eye probe or the sky answered (march only).
     #[serde(default)]
     pub fallback_fraction: Option<f64>,
+    /// Mean flicker fraction of moving objects' pixels (levels with animators).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub moving_shimmer: Option<f64>,
+    /// Mean flicker fraction of the still world's pixels on the same frames.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub still_shimmer: Option<f64>,
 }
 
 impl RunRecord {
@@ -204,6 +213,8 @@ impl Report {
                 ("eye_fraction", r.eye_fraction.unwrap_or(0.0)),
                 ("eye_flicker_share", r.eye_flicker_share.unwrap_or(0.0)),
                 ("fallback_fraction", r.fallback_fraction.unwrap_or(0.0)),
+                ("moving_shimmer", r.moving_shimmer.unwrap_or(0.0)),
+                ("still_shimmer", r.still_shimmer.unwrap_or(0.0)),
             ]
             .into_iter()
             .chain(

@@ -6,8 +6,9 @@
 use std::collections::BTreeMap;
 
 use glam::UVec2;
-use texel_render::input::Camera;
+use texel_render::input::{Camera, Pose, SceneInput};
 use texel_render::stats::FrameStats;
+use texel_runtime::driver::Animation;
 use texel_runtime::path::CameraPath;
 
 use crate::meter::{OwnedFrame, PathMeter, Scores};
@@ -112,8 +113,13 @@ pub trait FrameSource {
 
 /// Something that produces reference G-buffers.
 pub trait ReferenceSource {
-    /// The reference G-buffer at `camera` for a `size` frame.
-    fn reference(&mut self, camera: &Camera, size: UVec2) -> Result<Reference, EvalError>;
+    /// The reference G-buffer at `camera` for a `size` frame, the moving objects at `poses`.
+    fn reference(
+        &mut self,
+        camera: &Camera,
+        size: UVec2,
+        poses: &[Pose],
+    ) -> Result<Reference, EvalError>;
 }
 
 /// References computed once and replayed (the reference does not depend on the method).
@@ -124,16 +130,26 @@ pub struct CachedReferences {
 }
 
 impl CachedReferences {
-    /// Computes the references of every frame of `path`.
+    /// Computes the references of every frame of `path`, the moving objects of `scene` posed
+    /// by `animation` at each frame's time (as every frame source poses them).
     pub fn compute(
         source: &mut dyn ReferenceSource,
         path: &CameraPath,
         fov_y: f32,
         size: UVec2,
+        (scene, animation): (&SceneInput, &Animation),
     ) -> Result<Self, EvalError> {
-        let frames = (0..path.frames)
-            .map(|i| source.reference(&path.camera(i, fov_y), size))
-            .collect::<Result<_, _>>()?;
+        let mut t = 0.0;
+        let mut frames = Vec::with_capacity(path.frames as usize);
+        for i in 0..path.frames {
+            let poses = animation.poses(t);
+            let mut r = source.reference(&path.camera(i, fov_y), size, &poses)?;
+            r.poses = (poses.iter())
+                .filter_map(|p| Some((scene.objects.get(p.object)?.id, p.transform)))
+                .collect();
+            frames.push(r);
+            t = Animation::next_time(t, path.dt);
+        }
         Ok(CachedReferences { frames })
     }
 }
@@ -280,7 +296,12 @@ mod tests {
     struct Wall;
 
     impl ReferenceSource for Wall {
-        fn reference(&mut self, c: &Camera, size: UVec2) -> Result<Reference, EvalError> {
+        fn reference(
+            &mut self,
+            c: &Camera,
+            size: UVec2,
+            _poses: &[Pose],
+        ) -> Result<Reference, EvalError> {
             // A wall facing the camera 5 units ahead, id 1 everywhere.
             let inv = crate::metrics::view_proj(c, size).inverse();
             let world = (0..size.x * size.y)
@@ -295,7 +316,12 @@ mod tests {
                 })
                 .collect();
             let id = vec![1; (size.x * size.y) as usize];
-            Ok(Reference { size, world, id })
+            Ok(Reference {
+                size,
+                world,
+                id,
+                poses: Vec::new(),
+            })
         }
     }
 
@@ -308,7 +334,14 @@ mod tests {
             pitch: 0.0,
         };
         let path = CameraPath::still(k, 5);
-        let refs = CachedReferences::compute(&mut Wall, &path, 1.0, size).expect("refs");
+        let refs = CachedReferences::compute(
+            &mut Wall,
+            &path,
+            1.0,
+            size,
+            (&SceneInput::default(), &Animation::default()),
+        )
+        .expect("refs");
         let mut ticks = 0;
         let mut run = |flip| {
             let mut m = Flat { size, flip };

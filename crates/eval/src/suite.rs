@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::UVec2;
 use texel_render::context::GpuContext;
 use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
-use texel_runtime::driver::scene_input;
+use texel_runtime::driver::{Animation, scene_input};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::{CameraPath, Projection};
 
@@ -58,10 +58,13 @@ pub struct RunPlan {
     pub face_res: Vec<u32>,
     /// Output size.
     pub size: UVec2,
+    /// Whether the level's animators are taken off first: its moving objects then stand at
+    /// their transforms as still geometry (the still-world baseline of a path with motion).
+    pub freeze: bool,
 }
 
 /// Which paths the suite flies on which bundled level.
-pub const SUITE_PATHS: [(&str, &str); 16] = [
+pub const SUITE_PATHS: [(&str, &str); 19] = [
     ("stone_circle", "yaw"),
     ("stone_circle", "strafe_in_cell"),
     ("stone_circle", "walk_cells"),
@@ -78,6 +81,9 @@ pub const SUITE_PATHS: [(&str, &str); 16] = [
     ("textured", "textured_walk"),
     ("terrain_hills", "terrain_walk"),
     ("terrain_hills", "terrain_descent"),
+    ("moving_parts", "moving_still"),
+    ("moving_parts", "moving_walk"),
+    ("moving_parts", "moving_orbit"),
 ];
 
 /// The suite: every bundled path on its level, every method, at `face_res` and `size`.
@@ -95,6 +101,7 @@ pub fn suite_plans(
             methods: methods.to_vec(),
             face_res: face_res.to_vec(),
             size,
+            freeze: false,
         })
         .collect()
 }
@@ -131,15 +138,20 @@ pub fn run_plan(
         ));
     }
     let mut level = load_level(&plan.level).map_err(|e| EvalError::Input(e.to_string()))?;
+    if plan.freeze {
+        freeze(&mut level);
+    }
     let path = load_path(&plan.path)?;
     let fov_y = path.fov_y(DEFAULT_FOV_DEG.to_radians());
     let scene = scene_input(&level);
+    let animation = Animation::new(&level, &scene);
     let stem = |p: &Path| {
         p.file_stem()
             .map_or(String::new(), |s| s.to_string_lossy().into())
     };
     let name = format!("{} / {}", stem(&plan.level), stem(&plan.path));
-    let refs = path_references(ctx, &scene, &path, fov_y, plan.size, reference, &mut || {
+    let moving = (&scene, &animation);
+    let refs = path_references(ctx, moving, &path, fov_y, plan.size, reference, &mut || {
         tick(&format!("{name}: reference"))
     })?;
     let warm_up = path.camera(0, fov_y);
@@ -159,7 +171,7 @@ pub fn run_plan(
                 look,
                 warm_up,
             };
-            let mut source = method_source(ctx, &level, &scene, method, &view)?;
+            let mut source = method_source(ctx, &level, moving, method, &view)?;
             let label = format!("{name}: {} @{n}", method.name());
             let params = MetricParams::default();
             let outcome = run_path(&path, fov_y, source.as_mut(), &refs, params, &mut || {
@@ -183,6 +195,8 @@ pub fn run_plan(
                 hole_rate: outcome.scores.hole_rate,
                 eye_fraction: outcome.scores.eye_fraction,
                 eye_flicker_share: outcome.scores.eye_flicker_share,
+                moving_shimmer: outcome.scores.moving_shimmer,
+                still_shimmer: outcome.scores.still_shimmer,
                 steps_per_pixel,
                 fallback_fraction,
             });
@@ -191,10 +205,19 @@ pub fn run_plan(
     Ok(records)
 }
 
+/// Takes every animator off `level`: what moved stands still at its transform.
+pub fn freeze(level: &mut LoadedLevel) {
+    let entities: Vec<hecs::Entity> = level.scene.entities().collect();
+    let world = level.scene.world_mut();
+    for e in entities {
+        let _ = world.remove_one::<texel_scene::animator::Animator>(e);
+    }
+}
+
 /// The reference G-buffer of every frame of `path`; `tick` is called after each.
 pub fn path_references(
     ctx: &GpuContext,
-    scene: &SceneInput,
+    (scene, animation): (&SceneInput, &Animation),
     path: &CameraPath,
     fov_y: f32,
     size: UVec2,
@@ -208,7 +231,7 @@ pub fn path_references(
         },
         tick: &mut |()| tick(),
     };
-    CachedReferences::compute(&mut counted, path, fov_y, size)
+    CachedReferences::compute(&mut counted, path, fov_y, size, (scene, animation))
 }
 
 /// What a method's frame source renders: the output, the grid, the camera's lens.
@@ -230,14 +253,14 @@ pub struct SourceView {
 pub fn method_source<'a>(
     ctx: &'a GpuContext,
     level: &LoadedLevel,
-    scene: &SceneInput,
+    (scene, animation): (&SceneInput, &Animation),
     method: Method,
     view: &SourceView,
 ) -> Result<Box<dyn FrameSource + 'a>, EvalError> {
     Ok(match baseline_of(method) {
         Some(b) => Box::new(BaselineSource::new(
             ctx,
-            scene,
+            (scene, animation),
             b,
             view.size,
             view.face_res,
@@ -283,8 +306,9 @@ impl ReferenceSource for CountingReference<'_> {
         &mut self,
         camera: &texel_render::input::Camera,
         size: UVec2,
+        poses: &[texel_render::input::Pose],
     ) -> Result<crate::metrics::Reference, EvalError> {
-        let r = self.inner.reference(camera, size)?;
+        let r = self.inner.reference(camera, size, poses)?;
         (self.tick)(());
         Ok(r)
     }
@@ -324,6 +348,7 @@ mod tests {
             methods: vec![Method::Raster, Method::Cubemap, Method::Splat],
             face_res: vec![32, 64],
             size: UVec2::new(16, 9),
+            freeze: false,
         };
         // yaw: reference + raster once + (cubemap, splat) × 2 = 6 passes over 30 frames.
         assert_eq!(

@@ -85,6 +85,7 @@ fn compare_writes_a_gif_of_every_frame_with_runs_numbers() {
             methods: vec![Method::Naive, Method::Snap, Method::Splat],
             face_res: vec![32],
             size: UVec2::new(64, 36),
+            freeze: false,
         },
         ReferenceKind::Gpu,
         &mut |_| {},

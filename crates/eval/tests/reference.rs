@@ -25,7 +25,7 @@ fn gpu_and_cpu_references_agree_off_silhouettes() {
     let size = UVec2::new(160, 90);
     let gpu = GpuReference::new(&ctx, &scene)
         .expect("reference renderer")
-        .reference(&camera, size)
+        .reference(&camera, size, &[])
         .expect("gpu reference");
     let cpu = CpuScene::new(&scene).gbuffer(&camera, size);
     let n = gpu.id.len();

@@ -130,6 +130,7 @@ fn coverage_counts_wrong_ids_and_holes() {
         size: UVec2::new(4, 1),
         world: vec![[0.0; 3]; 4],
         id: vec![0, 1, 1, 2],
+        poses: Vec::new(),
     };
     let colour = vec![0; 16];
     let ids = [0, 1, 0, 1];
@@ -158,4 +159,44 @@ fn summaries_use_nearest_rank() {
     assert_eq!((s.mean, s.p95, s.max), (50.5, 95.0, 100.0));
     assert_eq!(Summary::of(&[]), Summary::default());
     assert_eq!(percentile(&[3.0], 0.5), 3.0);
+}
+
+/// A moving object's pixels are followed with it: a pattern fixed to a box that moved does
+/// not flicker once the references carry the box's poses, and does when they do not (the
+/// box then looks like a still surface whose colours slid); its pixels are counted apart.
+#[test]
+fn moving_pixels_are_followed_with_their_object() {
+    let cam = Camera::looking(Vec3::ZERO, -Vec3::Z);
+    let at = |x: f32| glam::Mat4::from_translation(Vec3::new(x, 0.0, -3.0));
+    let frame = |x: f32| {
+        let mut scene = scene();
+        scene.objects[1].transform = at(x);
+        let r = CpuScene::new(&scene).gbuffer(&cam, SIZE);
+        // Stripes a quarter unit wide on the box, fixed to it; the wall grey.
+        let colour: Vec<u8> = (r.id.iter().zip(&r.world))
+            .flat_map(|(&id, w)| {
+                let v = if id == 2 && ((w[0] - x) * 4.0).floor() as i32 % 2 == 0 {
+                    220
+                } else if id == 2 {
+                    40
+                } else {
+                    120
+                };
+                [v, v, v, 255]
+            })
+            .collect();
+        (r, colour)
+    };
+    let p = MetricParams::default();
+    let ((mut a, ca), (mut b, cb)) = (frame(0.0), frame(0.13));
+    let still = flicker(&view(cam, &a, &ca), &view(cam, &b, &cb), &p).expect("sizes");
+    assert!(still.flicker > 20, "a sliding pattern flickers: {still:?}");
+    assert_eq!(still.tested_moving, 0);
+    a.poses = vec![(2, at(0.0))];
+    b.poses = vec![(2, at(0.13))];
+    let moved = flicker(&view(cam, &a, &ca), &view(cam, &b, &cb), &p).expect("sizes");
+    assert!(moved.tested_moving > 30, "{moved:?}");
+    assert_eq!(moved.flicker_moving, 0, "{moved:?}");
+    assert_eq!(moved.moving_fraction(), Some(0.0));
+    assert_eq!(moved.still_fraction(), Some(0.0));
 }
