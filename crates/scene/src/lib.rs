@@ -16,6 +16,7 @@ pub mod primitives;
 pub mod read;
 pub mod save;
 pub mod scene;
+pub mod sculpt;
 pub mod terrain;
 pub mod texture;
 

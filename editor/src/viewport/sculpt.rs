@@ -1,7 +1,7 @@
 //! The terrain tool: while it is on and a terrain is selected, the primary button sculpts
 //! (or paints) the terrain under the pointer with the chosen brush (Ctrl inverts, or
 //! erases paint), and a circle on the surface shows the brush. The hit is found by marching
-//! the view ray over the heights on the CPU ([`crate::terrain::ray_hit`]).
+//! the view ray over the heights on the CPU ([`texel_scene::sculpt::ray_hit`]).
 //!
 //! A stroke (press to release) works on a copy of the heights (or of the paint layer),
 //! shown by putting the copy in the asset library and marking the region it touched changed
@@ -17,16 +17,14 @@ use std::time::{Duration, Instant};
 use egui::{Color32, Painter, Response, Stroke as Line, Ui};
 use glam::Vec3;
 use texel_scene::EntityRow;
+use texel_scene::sculpt::{Brush, BrushKind, Dab, Placement, Region, copy_region, dab, ray_hit};
 use texel_scene::terrain::{Heightfield, Terrain};
 
 use crate::camera::Projector;
 use crate::command::{Command, CommandError, entity_at};
 use crate::paint::{PaintPlace, PaintStroke, paint_backed, stroke_start};
 use crate::state::EditorState;
-use crate::terrain::{
-    Brush, BrushKind, Dab, HeightChange, Placement, Region, TerrainTarget, copy_region, dab,
-    file_backed, ray_hit, selected_terrain,
-};
+use crate::terrain::{HeightChange, TerrainTarget, file_backed, selected_terrain};
 
 /// Shortest time between two refreshes of the view during a stroke (each rebuilds the
 /// session's level); longer when the last rebuild was slow ([`refresh_interval`]).
@@ -194,7 +192,7 @@ impl TerrainTool {
                     // Only the probe faces that see the stroke so far are captured again.
                     match s.touched {
                         Some(r) => {
-                            let (min, max) = region_bounds(&s.place, r);
+                            let (min, max) = s.place.region_bounds(r);
                             state.document.touch_region(min, max);
                         }
                         None => state.document.touch(),
@@ -485,24 +483,4 @@ fn draw_brush(
     if let Some(c) = proj.project(centre) {
         painter.circle_filled(c, 3.0, colour);
     }
-}
-
-/// The world box of the samples `r` of a terrain placed at `place`, over its whole height
-/// range (a region's heights may have moved anywhere in it), one sample wider each side.
-fn region_bounds(
-    place: &crate::terrain::Placement,
-    r: crate::terrain::Region,
-) -> (glam::Vec3, glam::Vec3) {
-    let step = glam::Vec2::new(
-        place.size.x / (place.width.max(2) - 1) as f32,
-        place.size.y / (place.depth.max(2) - 1) as f32,
-    );
-    let corner = place.origin - glam::Vec3::new(0.5 * place.size.x, 0.0, 0.5 * place.size.y);
-    let at = |x: u32, z: u32| corner + glam::Vec3::new(x as f32 * step.x, 0.0, z as f32 * step.y);
-    let lo = at(r.x0.saturating_sub(1), r.z0.saturating_sub(1));
-    let hi = at(r.x1 + 1, r.z1 + 1);
-    (
-        glam::Vec3::new(lo.x, place.origin.y - 1.0, lo.z),
-        glam::Vec3::new(hi.x, place.origin.y + place.max_height + 1.0, hi.z),
-    )
 }
