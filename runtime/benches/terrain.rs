@@ -3,10 +3,11 @@
 //! - `walk_1280x720`: one frame of the 1280×720 walk on `stone_circle` (its `walk_cells`
 //!   path) and on `terrain_hills` with its heights baked at 257×257 (`terrain_walk`), the
 //!   path played in a loop; the target is that the terrain adds at most 20%.
-//! - `dab`: one brush dab (a cone raised or lowered by 0.5 within a radius of 3, 8 units ahead
-//!   of the camera) through `Session::update_level_region`, and the next frame drawn, with
-//!   the camera at rest and while walking, beside the same frames without a dab; the faces
-//!   a dab marks and the stable faces captured again are printed once.
+//! - `dab`: one brush dab (`texel-run play`'s: raise or lower, radius 3, a tenth of a second,
+//!   8 units ahead of the camera) through `Session::update_level_region` with the box the
+//!   dab may change, and the next frame drawn, with the camera at rest and while walking,
+//!   beside the same frames without a dab; the faces a dab marks and the stable faces
+//!   captured again are printed once.
 //!
 //! `cargo bench -p texel_runtime --bench terrain` measures (on whatever Vulkan driver the
 //! machine has); `cargo test --benches` runs each once as a smoke test.
@@ -22,7 +23,10 @@ use texel_render::context::GpuContext;
 use texel_render::input::{Camera, Schedule};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::CameraPath;
+use texel_runtime::sculpt::{DABS_PER_SECOND, brush};
 use texel_runtime::session::{FrameRequest, Session};
+use texel_scene::Transform;
+use texel_scene::sculpt::{self, Dab, Placement};
 use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 
 const DT: f32 = 1.0 / 30.0;
@@ -87,35 +91,24 @@ fn settled(ctx: &GpuContext, level: &LoadedLevel, camera: Camera, size: UVec2) -
     session
 }
 
-/// Raises (or lowers) a cone of height 0.5 and radius 3 around `at` (world X, Z); returns
-/// the box of what changed.
+/// One dab of `texel-run play`'s raise (or lower) brush ([`texel_runtime::sculpt::brush`]:
+/// radius 3, a tenth of a second) at `at` (world X, Z); returns the box it may change
+/// ([`Placement::region_bounds`]).
 fn dab(level: &mut LoadedLevel, at: Vec2, raise: bool) -> (Vec3, Vec3) {
-    let (_, terrain) = terrain_of(level);
+    let (entity, terrain) = terrain_of(level);
+    let origin =
+        (level.scene.world().get::<&Transform>(entity)).map_or(Vec3::ZERO, |t| t.translation);
     let mut field = (**level.assets.heightfield(&terrain).expect("heights")).clone();
-    let corner = -0.5 * terrain.size;
-    let step = terrain.size / Vec2::new(field.width as f32 - 1.0, field.depth as f32 - 1.0);
-    let radius = 3.0;
-    let sign = if raise { 1.0 } else { -1.0 };
-    let (mut lo, mut hi) = (f32::MAX, f32::MIN);
-    for z in 0..field.depth {
-        for x in 0..field.width {
-            let p = corner + Vec2::new(x as f32, z as f32) * step;
-            let r = p.distance(at);
-            if r < radius {
-                let i = (z * field.width + x) as usize;
-                let h = &mut field.heights[i];
-                lo = lo.min(*h);
-                *h = (*h + sign * 0.5 * (1.0 - r / radius)).clamp(0.0, terrain.max_height);
-                hi = hi.max(*h);
-                lo = lo.min(*h);
-            }
-        }
-    }
+    let place = Placement::new(&terrain, origin, &field);
+    let d = Dab {
+        centre: Vec3::new(at.x, 0.0, at.y),
+        dt: 1.0 / DABS_PER_SECOND,
+        invert: false,
+        target: 0.0,
+    };
+    let region = sculpt::dab(&mut field, &place, &brush(raise), &d).expect("a dab on the terrain");
     level.assets.insert_heightfield(&terrain, Arc::new(field));
-    (
-        Vec3::new(at.x - radius, lo, at.y - radius),
-        Vec3::new(at.x + radius, hi, at.y + radius),
-    )
+    place.region_bounds(region)
 }
 
 /// A point on the ground 8 units ahead of `camera`.
@@ -135,8 +128,16 @@ fn walk(c: &mut Criterion) {
         .sample_size(10)
         .measurement_time(Duration::from_secs(20));
     for (name, level, path) in [
-        ("stone_circle", level("stone_circle.ron"), path("walk_cells.ron")),
-        ("terrain_hills_257", terrain_hills(257), path("terrain_walk.ron")),
+        (
+            "stone_circle",
+            level("stone_circle.ron"),
+            path("walk_cells.ron"),
+        ),
+        (
+            "terrain_hills_257",
+            terrain_hills(257),
+            path("terrain_walk.ron"),
+        ),
     ] {
         let fov = path.fov_y(60f32.to_radians());
         let mut session = settled(&ctx, &level, path.camera(0, fov), size);
@@ -232,7 +233,11 @@ fn dabs(c: &mut Criterion) {
 }
 
 fn count_stable(input: &texel_render::input::FrameInput) -> usize {
-    input.captures.iter().filter(|w| w.slot != Slot::Eye).count()
+    input
+        .captures
+        .iter()
+        .filter(|w| w.slot != Slot::Eye)
+        .count()
 }
 
 criterion_group!(benches, walk, dabs);

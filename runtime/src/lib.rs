@@ -13,5 +13,6 @@ pub mod load;
 pub mod path;
 pub mod placement;
 pub mod play;
+pub mod sculpt;
 pub mod session;
 pub mod soak;

@@ -3,8 +3,9 @@
 //!
 //! The frame is drawn by a [`Session`], the overlay by `overlay`. Controls: click to capture the mouse, WASD to
 //! move, Shift to run, Space/E and Ctrl/Q to rise and sink in fly mode, F to toggle flying,
-//! Tab to switch the schedule, F3 to hide the overlay, Esc to release the mouse and Esc
-//! again (or closing the window) to quit.
+//! Tab to switch the schedule, F3 to hide the overlay, R and G to raise and lower the terrain
+//! under the crosshair (`crate::sculpt`), Esc to release the mouse and Esc again (or closing
+//! the window) to quit.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -24,10 +25,11 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 
 use crate::camera::{InputState, WalkCamera};
 use crate::load::{LoadedLevel, load_level};
+use crate::sculpt::{SculptKeys, dab_at_centre};
 use crate::session::{FrameRequest, Session};
 
 mod overlay;
-use overlay::{FpsMeter, Overlay, overlay_lines};
+use overlay::{FpsMeter, Overlay, dab_line, overlay_lines};
 
 /// Vertical field of view of the play camera, degrees.
 pub const FOV_Y_DEG: f32 = 60.0;
@@ -143,6 +145,8 @@ impl MoveKey {
 enum KeyAction {
     /// Sets one movement flag while held.
     Move(MoveKey),
+    /// Raises (`true`) or lowers the terrain under the crosshair while held.
+    Sculpt(bool),
     ToggleFly,
     ToggleSchedule,
     ToggleOverlay,
@@ -160,6 +164,8 @@ fn key_action(code: KeyCode) -> Option<KeyAction> {
         KeyCode::ControlLeft | KeyCode::ControlRight | KeyCode::KeyQ => Move(MoveKey::Down),
         KeyCode::ShiftLeft | KeyCode::ShiftRight => Move(MoveKey::Run),
         KeyCode::KeyF => ToggleFly,
+        KeyCode::KeyR => Sculpt(true),
+        KeyCode::KeyG => Sculpt(false),
         KeyCode::Tab => ToggleSchedule,
         KeyCode::F3 => ToggleOverlay,
         KeyCode::Escape => Escape,
@@ -189,7 +195,8 @@ impl Running {
 }
 
 struct App {
-    level: Arc<LoadedLevel>,
+    /// The level played (sculpting changes its heights in memory only).
+    level: LoadedLevel,
     options: PlayOptions,
     running: Option<Running>,
     error: Option<anyhow::Error>,
@@ -204,13 +211,16 @@ struct App {
     frames: u32,
     last_frame: Option<Instant>,
     fps: FpsMeter,
+    sculpt: SculptKeys,
+    /// Probe faces the last dab marked for capture.
+    dab_marked: Option<u32>,
 }
 
 impl App {
     fn new(level: LoadedLevel, options: PlayOptions) -> Self {
         App {
             camera: WalkCamera::from_scene(&level.scene),
-            level: Arc::new(level),
+            level,
             options,
             running: None,
             error: None,
@@ -223,6 +233,8 @@ impl App {
             frames: 0,
             last_frame: None,
             fps: FpsMeter::default(),
+            sculpt: SculptKeys::default(),
+            dab_marked: None,
         }
     }
 
@@ -309,9 +321,16 @@ impl App {
         let Some(action) = key_action(code) else {
             return;
         };
-        if let KeyAction::Move(key) = action {
-            *key.flag(&mut self.input) = pressed;
-            return;
+        match action {
+            KeyAction::Move(key) => {
+                *key.flag(&mut self.input) = pressed;
+                return;
+            }
+            KeyAction::Sculpt(raise) => {
+                self.sculpt.set(raise, pressed);
+                return;
+            }
+            _ => {}
         }
         if !pressed || event.repeat {
             return;
@@ -327,7 +346,7 @@ impl App {
             KeyAction::ToggleOverlay => self.overlay = !self.overlay,
             KeyAction::Escape if self.grabbed => self.set_grab(event_loop, false),
             KeyAction::Escape => event_loop.exit(),
-            KeyAction::Move(_) => {}
+            KeyAction::Move(_) | KeyAction::Sculpt(_) => {}
         }
     }
 
@@ -348,6 +367,11 @@ impl App {
         let inner = r.window.inner_size();
         if inner.width == 0 || inner.height == 0 {
             return Ok(false);
+        }
+        let camera = self.camera.camera(FOV_Y_DEG.to_radians());
+        if let Some((raise, n)) = self.sculpt.due(dt) {
+            let done = dab_at_centre(&r.ctx, &mut r.session, &mut self.level, &camera, raise, n)?;
+            self.dab_marked = done.map(|d| d.faces_marked).or(self.dab_marked);
         }
         let (frame, suboptimal) = match r.surface.get_current_texture() {
             wgpu::CurrentSurfaceTexture::Success(f) => (f, false),
@@ -371,15 +395,17 @@ impl App {
         });
         let size = UVec2::new(frame.texture.width(), frame.texture.height());
         let request = FrameRequest {
-            camera: self.camera.camera(FOV_Y_DEG.to_radians()),
+            camera,
             dt,
             schedule: self.schedule,
             size,
         };
         let stats = r.session.draw(&r.ctx, &request, &target)?.stats;
-        let lines = self
-            .overlay
-            .then(|| overlay_lines(&stats, fps, self.schedule, &self.camera));
+        let lines = self.overlay.then(|| {
+            let mut lines = overlay_lines(&stats, fps, self.schedule, &self.camera);
+            lines.extend(dab_line(self.dab_marked));
+            lines
+        });
         (r.overlay).paint(&r.ctx, &r.window, lines.as_deref(), &overlay, size);
         r.window.pre_present_notify();
         r.ctx.queue.present(frame);
@@ -476,6 +502,7 @@ impl ApplicationHandler for App {
             }
             WindowEvent::Focused(false) => {
                 self.input = InputState::default();
+                self.sculpt.release();
                 if self.grabbed {
                     self.set_grab(event_loop, false);
                 }

@@ -1,5 +1,5 @@
-//! The play window's overlay: frame rate, per-pass times, counters, modes and the controls,
-//! drawn with egui over the frame.
+//! The play window's overlay: frame rate, per-pass times, counters, modes, the controls and
+//! the faces the last terrain dab marked, drawn with egui over the frame, and the crosshair.
 
 use glam::UVec2;
 use texel_render::context::GpuContext;
@@ -14,9 +14,10 @@ use crate::headless::schedule_name;
 /// Seconds over which the overlay averages frames per second.
 pub const FPS_WINDOW: f32 = 0.5;
 /// The controls, as the overlay lists them.
-pub const KEY_HELP: [&str; 2] = [
+pub const KEY_HELP: [&str; 3] = [
     "click: mouse look · WASD: move · Shift: run · Space/E, Ctrl/Q: up, down (fly)",
     "F: walk/fly · Tab: schedule · F3: overlay · Esc: release mouse, again to quit",
+    "R/G (hold): raise/lower the ground under the crosshair",
 ];
 
 /// Frames per second averaged over [`FPS_WINDOW`] seconds.
@@ -82,6 +83,29 @@ pub(super) fn overlay_lines(
     lines
 }
 
+/// The overlay's line on sculpting: how many probe faces the last dab marked for capture.
+pub(super) fn dab_line(marked: Option<u32>) -> Option<String> {
+    marked.map(|n| format!("last dab marked {n} probe faces"))
+}
+
+/// A small cross at the centre of the window, where the view's centre ray (which the
+/// sculpting keys dab at) meets the scene.
+fn draw_crosshair(ctx: &egui::Context) {
+    let c = ctx.content_rect().center();
+    let painter = ctx.layer_painter(egui::LayerId::new(
+        egui::Order::Foreground,
+        egui::Id::unique("play::crosshair"),
+    ));
+    for (width, colour) in [
+        (3.0, egui::Color32::from_black_alpha(160)),
+        (1.0, egui::Color32::WHITE),
+    ] {
+        let stroke = egui::Stroke::new(width, colour);
+        painter.line_segment([c - egui::vec2(6.0, 0.0), c + egui::vec2(6.0, 0.0)], stroke);
+        painter.line_segment([c - egui::vec2(0.0, 6.0), c + egui::vec2(0.0, 6.0)], stroke);
+    }
+}
+
 fn draw_overlay(ctx: &egui::Context, lines: &[String]) {
     egui::Area::new(egui::Id::unique("play::overlay"))
         .anchor(egui::Align2::LEFT_TOP, egui::vec2(8.0, 8.0))
@@ -131,8 +155,8 @@ impl Overlay {
         let _ = self.state.on_window_event(window, event);
     }
 
-    /// Runs egui for the overlay (or for nothing, so its textures stay in step) and paints
-    /// it over `target`.
+    /// Runs egui for the overlay (or for nothing but the crosshair, so its textures stay in
+    /// step) and paints it over `target`.
     pub(super) fn paint(
         &mut self,
         ctx: &GpuContext,
@@ -148,6 +172,7 @@ impl Overlay {
             if let Some(lines) = lines {
                 draw_overlay(ctx, lines);
             }
+            draw_crosshair(ctx);
         });
         let (device, queue) = (&ctx.device, &ctx.queue);
         for (id, deltas) in &out.textures_delta.set {

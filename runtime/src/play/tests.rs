@@ -39,6 +39,8 @@ fn keys_map_to_actions() {
     assert_eq!(key_action(KeyCode::Tab), Some(KeyAction::ToggleSchedule));
     assert_eq!(key_action(KeyCode::F3), Some(KeyAction::ToggleOverlay));
     assert_eq!(key_action(KeyCode::Escape), Some(KeyAction::Escape));
+    assert_eq!(key_action(KeyCode::KeyR), Some(KeyAction::Sculpt(true)));
+    assert_eq!(key_action(KeyCode::KeyG), Some(KeyAction::Sculpt(false)));
     assert_eq!(key_action(KeyCode::KeyZ), None);
 }
 
@@ -94,6 +96,7 @@ fn overlay_lists_passes_counters_and_modes() {
         "visible texels 77",
         KEY_HELP[0],
         KEY_HELP[1],
+        KEY_HELP[2],
     ] {
         assert!(text.contains(want), "missing `{want}` in\n{text}");
     }
@@ -102,5 +105,10 @@ fn overlay_lists_passes_counters_and_modes() {
     assert!(
         walk.contains("schedule: ours") && walk.contains("walk"),
         "{walk}"
+    );
+    assert_eq!(dab_line(None), None, "no line before the first dab");
+    assert_eq!(
+        dab_line(Some(7)).as_deref(),
+        Some("last dab marked 7 probe faces")
     );
 }
