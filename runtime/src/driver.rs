@@ -24,7 +24,8 @@ use texel_probes::placement::Placements;
 use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
 use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
 use texel_probes::visibility::{
-    CameraView, REFERENCE_EYE_FACE_DEG, REFERENCE_STABLE_FACE_DEG, frustum, reference_faces,
+    CameraView, REFERENCE_EYE_FACE_DEG, REFERENCE_STABLE_FACE_DEG, TexelRect, face_box_rect,
+    frustum, reference_faces,
 };
 use texel_render::input::{
     Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
@@ -431,44 +432,49 @@ impl FrameDriver {
         let poses = animation.poses(self.time);
         self.time = Animation::next_time(self.time, dt);
         let scene = self.level.scene();
-        let mut moved: Option<(Vec3, Vec3)> = None;
+        // Where each moved object's shadows may have come or gone: its old and new bounds
+        // and their shadows, along each sun to the ground and away from each point light
+        // whose reach it is in, out to that reach.
+        let mut regions: Vec<(Vec3, Vec3)> = Vec::new();
         for (k, pose) in poses.iter().enumerate() {
             let now = pose.transform;
             let before = self.last_poses.get(k).copied().unwrap_or(now);
             if before == now && !self.last_poses.is_empty() {
                 continue;
             }
-            for m in [before, now] {
-                let (lo, hi) = animation.bounds(k, m);
-                moved = Some(match moved {
-                    Some((a, b)) => (a.min(lo), b.max(hi)),
-                    None => (lo, hi),
-                });
+            let (a, b) = (animation.bounds(k, before), animation.bounds(k, now));
+            let (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
+            let (mut lo2, mut hi2) = crate::session::shadow_extended(scene, lo, hi);
+            for p in &scene.points {
+                if let Some((plo, phi)) = point_shadow_bounds(p.position, p.radius, lo, hi) {
+                    lo2 = lo2.min(plo);
+                    hi2 = hi2.max(phi);
+                }
             }
+            regions.push((lo2, hi2));
         }
         self.last_poses = poses.iter().map(|p| p.transform).collect();
         input.poses = poses;
-        let Some((lo, hi)) = moved else {
-            return;
-        };
-        let (mut lo, mut hi) = crate::session::shadow_extended(scene, lo, hi);
-        for p in &scene.points {
-            let nearest = p.position.clamp(lo, hi);
-            if nearest.distance(p.position) < p.radius {
-                lo = lo.min(p.position - Vec3::splat(p.radius));
-                hi = hi.max(p.position + Vec3::splat(p.radius));
-            }
-        }
+        // The texels of each stable face that may see a region: one rectangle per face.
         let stable = [
             Some(&input.grid),
             input.previous.as_ref(),
             input.prefetch.as_ref(),
         ];
         for p in stable.into_iter().flatten() {
+            let n = p.face_resolution;
             for face in p.valid.iter() {
-                let far = CAPTURE_FAR;
-                if texel_probes::schedule::face_may_see_box(face, p.origin, lo, hi, far) {
-                    input.relight.push((p.slot, face));
+                let rect = (regions.iter())
+                    .filter_map(|&r| face_box_rect(face, p.origin, r, n, 1))
+                    .reduce(|a, b| TexelRect {
+                        x0: a.x0.min(b.x0),
+                        y0: a.y0.min(b.y0),
+                        x1: a.x1.max(b.x1),
+                        y1: a.y1.max(b.y1),
+                    });
+                if let Some(rect) = rect.filter(|r| r.area() > 0) {
+                    let slot = p.slot;
+                    (input.relight).push(texel_render::input::Relight { slot, face, rect });
                 }
             }
         }
@@ -817,6 +823,30 @@ fn skirt_depth(field: &texel_scene::terrain::Heightfield) -> f32 {
     (step * texel_scene::terrain::CHUNK_QUADS as f32 * 0.5)
         .min(hi - lo)
         .max(0.05)
+}
+
+/// Bounds of the shadow a box `min..max` can cast from a point light at `light` that reaches
+/// `radius`: the box and its corners pushed away from the light out to the reach; `None` when
+/// the light does not reach the box. A light inside the box: its whole reach.
+fn point_shadow_bounds(light: Vec3, radius: f32, min: Vec3, max: Vec3) -> Option<(Vec3, Vec3)> {
+    if light.clamp(min, max).distance(light) >= radius {
+        return None;
+    }
+    if light.cmpge(min).all() && light.cmple(max).all() {
+        return Some((light - Vec3::splat(radius), light + Vec3::splat(radius)));
+    }
+    let (mut lo, mut hi) = (min, max);
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        );
+        let far = light + (c - light).normalize_or_zero() * radius;
+        lo = lo.min(far);
+        hi = hi.max(far);
+    }
+    Some((lo, hi))
 }
 
 /// World bounds of the object-space box `min..max` under `m`.

@@ -330,6 +330,66 @@ impl TexelRect {
     }
 }
 
+/// The texels of `face` (`n` per edge) of a probe at `origin` through which the box
+/// `min..max` may be seen, grown by `margin` texels; `None` when none. Exact for a box in
+/// front of the face (the corners' projections bound the box's, which is convex); a box that
+/// reaches the face's plane through the origin gets the whole face.
+pub fn face_box_rect(
+    face: Face,
+    origin: Vec3,
+    (min, max): (Vec3, Vec3),
+    n: u32,
+    margin: u32,
+) -> Option<TexelRect> {
+    if n == 0 || !(min.is_finite() && max.is_finite()) {
+        return None;
+    }
+    let whole = TexelRect {
+        x0: 0,
+        y0: 0,
+        x1: n,
+        y1: n,
+    };
+    let (a, u, v) = (face.axis(), face.u_axis(), face.v_axis());
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    let mut behind = 0;
+    for i in 0..8 {
+        let c = Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        ) - origin;
+        let depth = c.dot(a);
+        if depth <= 1e-4 * c.length().max(1e-6) {
+            behind += 1;
+            continue;
+        }
+        let p = glam::Vec2::new(c.dot(u), c.dot(v)) / depth;
+        lo = lo.min(p);
+        hi = hi.max(p);
+    }
+    match behind {
+        8 => return None,
+        0 => {}
+        _ => return Some(whole),
+    }
+    if lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
+        return None;
+    }
+    let to_texel = |c: f32| ((c.clamp(-1.0, 1.0) + 1.0) * 0.5 * n as f32).floor() as i64;
+    let m = i64::from(margin);
+    let clamp = |i: i64| i.clamp(0, i64::from(n)) as u32;
+    Some(TexelRect {
+        x0: clamp(to_texel(lo.x) - m),
+        y0: clamp(to_texel(lo.y) - m),
+        x1: clamp(to_texel(hi.x) + 1 + m),
+        y1: clamp(to_texel(hi.y) + 1 + m),
+    })
+}
+
 /// The texels of `face` (`n` per edge) whose directions can come within `margin` radians of
 /// the cone bounded by planes through the probe origin with inward unit `normals` (the side
 /// planes of a camera at the probe: the eye probe); `None` when none can. The cone, widened
@@ -588,5 +648,55 @@ mod tests {
             let wider = face_cone_rect(&normals, Face::NegZ, n, 0.05).unwrap();
             assert!(wider.y1 > front.y1 && wider.y0 < front.y0, "{wider:?}");
         }
+    }
+
+    #[test]
+    fn a_box_ahead_covers_its_projection_and_one_behind_none() {
+        use super::face_box_rect;
+        let n = 64;
+        let o = Vec3::ZERO;
+        // A unit box 4 ahead on +Z around the axis: its near face spans u, v of ±0.5/3.5.
+        let b = (Vec3::new(-0.5, -0.5, 3.5), Vec3::new(0.5, 0.5, 4.5));
+        let r = face_box_rect(Face::PosZ, o, b, n, 0).expect("in view");
+        let half = 0.5 / 3.5 * 32.0;
+        assert!(
+            r.x0 <= (32.0 - half) as u32 && r.x1 >= (32.0 + half) as u32,
+            "{r:?}"
+        );
+        assert!(r.area() < 12 * 12, "{r:?}");
+        // Every texel whose centre ray meets the box is inside the rectangle.
+        for y in 0..n {
+            for x in 0..n {
+                let d = crate::cube::texel_center_direction(
+                    crate::cube::Texel {
+                        face: Face::PosZ,
+                        x,
+                        y,
+                    },
+                    n,
+                );
+                let p = d * 4.0;
+                if p.x.abs() <= 0.5 && p.y.abs() <= 0.5 {
+                    assert!(
+                        x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1,
+                        "({x}, {y}) outside {r:?}"
+                    );
+                }
+            }
+        }
+        assert_eq!(
+            face_box_rect(Face::NegZ, o, b, n, 0),
+            None,
+            "behind the face"
+        );
+        // A box around the origin reaches every face.
+        let around = (Vec3::splat(-1.0), Vec3::splat(1.0));
+        assert_eq!(
+            face_box_rect(Face::PosX, o, around, n, 0).map(|r| r.area()),
+            Some(64 * 64)
+        );
+        // The margin grows the rectangle, within the face.
+        let grown = face_box_rect(Face::PosZ, o, b, n, 2).expect("in view");
+        assert_eq!((grown.x0, grown.x1), (r.x0 - 2, r.x1 + 2));
     }
 }

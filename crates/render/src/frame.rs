@@ -539,7 +539,8 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
         .collect();
     // Faces lit again for a moving object's shadow: whole, unless captured anyway (stable
     // slots only: the eye's texels are lit as the view needs them).
-    for &(slot, face) in input.relight.iter().filter(|(s, _)| *s != Slot::Eye) {
+    for r in input.relight.iter().filter(|r| r.slot != Slot::Eye) {
+        let (slot, face) = (r.slot, r.face);
         let captured = (input.captures.iter()).any(|c| c.slot == slot && c.face == face);
         let Some(p) = probes.iter().find(|p| p.slot == slot) else {
             continue;
@@ -557,7 +558,7 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
             valid: p.valid,
             border: false,
             view_cull: false,
-            rect: None,
+            rect: Some(r.rect),
         });
     }
     for p in &probes {
@@ -569,7 +570,7 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
             .collect();
         for face in p.valid.iter() {
             let touched = captured.iter().any(|c| *c != face && c.opposite() != face);
-            let relit = (input.relight.iter()).any(|&(s, f)| s == p.slot && f == face);
+            let relit = (input.relight.iter()).any(|r| r.slot == p.slot && r.face == face);
             if touched && !captured.contains(&face) && !relit {
                 jobs.push(ShadeJob {
                     slot: p.slot,

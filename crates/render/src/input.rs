@@ -308,7 +308,18 @@ pub struct FrameInput {
     /// Stable-probe faces to light again without capturing them (a moving object's shadow
     /// may have come or gone there); faces captured this frame are lit anyway, and eye faces
     /// are lit as the view needs them.
-    pub relight: Vec<(Slot, Face)>,
+    pub relight: Vec<Relight>,
+}
+
+/// Texels of a stable probe's face to light again (see [`FrameInput::relight`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Relight {
+    /// The probe's slot.
+    pub slot: Slot,
+    /// The face.
+    pub face: Face,
+    /// The texels.
+    pub rect: texel_probes::visibility::TexelRect,
 }
 
 /// An animated object's transform this frame.

@@ -227,7 +227,16 @@ fn a_moving_objects_shadow_moves_on_the_cached_floor() {
     input.poses = at(1.5);
     input.captures.clear();
     input.relight = texel_probes::cube::Face::ALL
-        .map(|f| (texel_probes::probe_set::Slot::StableA, f))
+        .map(|face| texel_render::input::Relight {
+            slot: texel_probes::probe_set::Slot::StableA,
+            face,
+            rect: texel_probes::visibility::TexelRect {
+                x0: 0,
+                y0: 0,
+                x1: n,
+                y1: n,
+            },
+        })
         .to_vec();
     let (stats, _) = r.render_offscreen(&ctx, &input).unwrap();
     assert_eq!(stats.counters.faces_captured, 0);

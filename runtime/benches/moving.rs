@@ -1,0 +1,121 @@
+//! The cost of moving objects (issue 15), reported, never asserted: one frame of the 1280×720
+//! walk on `stone_circle` (its `walk_cells` path, played in a loop) with 1, 10 and 100 boxes
+//! turning inside the circle, beside the same level with those boxes frozen (ordinary still
+//! geometry, captured into the probes). Printed once per case: the texels lit per frame (the
+//! stable faces lit again where the boxes' shadows came or went show up here) and the quads.
+//!
+//! `cargo bench -p texel_runtime --bench moving` measures (on whatever Vulkan driver the
+//! machine has); `cargo test --benches` runs one small case once as a smoke test.
+
+use std::path::PathBuf;
+use std::time::{Duration, Instant};
+
+use criterion::{Criterion, criterion_group, criterion_main};
+use glam::{UVec2, Vec3};
+use texel_render::context::GpuContext;
+use texel_render::input::Schedule;
+use texel_runtime::load::{LoadedLevel, load_level};
+use texel_runtime::path::CameraPath;
+use texel_runtime::session::{FrameRequest, Session};
+use texel_scene::animator::{Animator, Motion};
+use texel_scene::{EntityRow, Geometry, Material, Name, Transform};
+
+fn repo() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("..")
+}
+
+/// `stone_circle` with `n` boxes of 0.4 on a spiral inside the circle, each turning about Y
+/// (or standing still when `frozen`).
+fn level_with_boxes(n: usize, frozen: bool) -> LoadedLevel {
+    let mut level =
+        load_level(&repo().join("assets/levels/stone_circle.ron")).expect("bundled level loads");
+    for i in 0..n {
+        let a = i as f32 * 2.399;
+        let r = 1.0 + 4.0 * ((i as f32 + 0.5) / n as f32).sqrt();
+        let row = EntityRow {
+            name: Some(Name(format!("Box {i}"))),
+            transform: Some(Transform {
+                translation: Vec3::new(r * a.cos(), 0.6 + 0.3 * (i % 3) as f32, r * a.sin()),
+                ..Transform::default()
+            }),
+            geometry: Some(Geometry::Box {
+                size: Vec3::splat(0.4),
+            }),
+            material: Some(Material::default()),
+            animator: (!frozen).then_some(Animator {
+                motion: Motion::Rotate {
+                    axis: Vec3::Y,
+                    speed: 30.0 + (i % 7) as f32 * 10.0,
+                },
+                phase: 0.0,
+            }),
+            ..EntityRow::default()
+        };
+        level.scene.spawn(row);
+    }
+    level
+}
+
+fn walk(c: &mut Criterion) {
+    let Ok(ctx) = GpuContext::headless() else {
+        eprintln!("moving bench: no GPU adapter, nothing measured");
+        return;
+    };
+    // `cargo test --benches` runs each case once to see it works: there the frames are
+    // small, a few, and only one box.
+    let measuring = std::env::args().any(|a| a == "--bench");
+    let size = if measuring {
+        UVec2::new(1280, 720)
+    } else {
+        UVec2::new(160, 90)
+    };
+    let counts: &[usize] = if measuring { &[1, 10, 100] } else { &[1] };
+    let path = CameraPath::load(&repo().join("assets/paths/walk_cells.ron")).expect("bundled path");
+    let fov = path.fov_y(60f32.to_radians());
+    let mut group = c.benchmark_group("moving_walk_1280x720");
+    group
+        .sample_size(10)
+        .measurement_time(Duration::from_secs(15));
+    for &n in counts {
+        for frozen in [false, true] {
+            let level = level_with_boxes(n, frozen);
+            let mut session = Session::headless(&ctx, &level, size, fov).expect("session");
+            let request = |i: u32| FrameRequest {
+                camera: path.camera(i % path.frames, fov),
+                dt: path.dt,
+                schedule: Schedule::Ours,
+                size,
+            };
+            // One pass along the path: probes settled, and the work per frame counted.
+            let (mut texels, mut quads) = (0u64, 0u64);
+            let frames = if measuring { path.frames } else { 4 };
+            for i in 0..frames {
+                let (frame, _) = session.draw_offscreen(&ctx, &request(i)).expect("frame");
+                texels += frame.stats.counters.texels_shaded;
+                quads += frame.stats.counters.quads_splatted;
+            }
+            let label = format!("{n}_{}", if frozen { "frozen" } else { "moving" });
+            let frames = u64::from(frames.max(1));
+            eprintln!(
+                "{label}: {} texels lit, {} quads per frame",
+                texels / frames,
+                quads / frames
+            );
+            let mut i = 0;
+            group.bench_function(&label, |b| {
+                b.iter_custom(|iters| {
+                    let t = Instant::now();
+                    for _ in 0..iters {
+                        session.draw_offscreen(&ctx, &request(i)).expect("frame");
+                        i += 1;
+                    }
+                    t.elapsed()
+                })
+            });
+        }
+    }
+    group.finish();
+}
+
+criterion_group!(benches, walk);
+criterion_main!(benches);
