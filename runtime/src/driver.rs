@@ -235,6 +235,8 @@ pub struct FrameDriver {
     time: f64,
     /// Each animated object's transform last frame, for the faces its shadow left.
     last_poses: Vec<glam::Mat4>,
+    /// Whether the animation time stands still (the editor outside Play).
+    paused: bool,
 }
 
 impl FrameDriver {
@@ -277,6 +279,7 @@ impl FrameDriver {
             velocity: Vec3::ZERO,
             time: 0.0,
             last_poses: Vec::new(),
+            paused: false,
         })
     }
 
@@ -420,6 +423,27 @@ impl FrameDriver {
         self.time
     }
 
+    /// Sets the animation time of the next frame (seconds; a time that is not a finite,
+    /// non-negative number is ignored).
+    pub fn set_time(&mut self, t: f64) {
+        if t.is_finite() && t >= 0.0 {
+            self.time = t;
+        }
+    }
+
+    /// Stops (or restarts) the animation clock: paused, every frame poses the animated
+    /// objects at the same time.
+    pub fn set_paused(&mut self, paused: bool) {
+        self.paused = paused;
+    }
+
+    /// Takes over `other`'s animation clock (its time and whether it is paused): a driver
+    /// planned afresh for a new viewport or level does not restart the animations.
+    pub fn keep_clock(&mut self, other: &FrameDriver) {
+        self.time = other.time;
+        self.paused = other.paused;
+    }
+
     /// Poses the animated objects at this frame's time (then advances it by `dt`), and lists
     /// the stable faces to light again where a moved object's shadow may have come or gone:
     /// those that may see its old or new bounds, pushed along each sun to the ground, or the
@@ -430,7 +454,9 @@ impl FrameDriver {
             return;
         }
         let poses = animation.poses(self.time);
-        self.time = Animation::next_time(self.time, dt);
+        if !self.paused {
+            self.time = Animation::next_time(self.time, dt);
+        }
         let scene = self.level.scene();
         // Where each moved object's shadows may have come or gone: its old and new bounds
         // and their shadows, along each sun to the ground and away from each point light
@@ -906,6 +932,51 @@ mod tests {
             stable, 0,
             "the crossing at frame {frame} still captured {stable} faces"
         );
+    }
+
+    /// The animation clock: each frame poses the moving objects at the time the frames'
+    /// `dt` add up to (the same poses `Animation` gives), a paused clock stands still, and
+    /// the faces whose view a moved object's shadow may change are lit again, as rectangles.
+    #[test]
+    fn frames_pose_moving_objects_by_the_sum_of_their_dt() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let level = crate::load::load_level(&root.join("assets/levels/moving_parts.ron"))
+            .expect("level loads");
+        let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
+        let animation = driver.level.animation.clone();
+        assert_eq!(
+            animation.poses(0.0).len(),
+            5,
+            "windmill blades, hub, door, platform"
+        );
+        let camera = Camera::from_yaw_pitch(Vec3::new(-1.2, 2.0, 5.2), 8.0, -6.0);
+        let dt = 1.0 / 30.0;
+        let mut t = 0.0;
+        let mut relit = 0;
+        for _ in 0..12 {
+            let input = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+            assert_eq!(input.poses, animation.poses(t));
+            relit += input.relight.len();
+            for r in &input.relight {
+                assert!(r.rect.area() > 0 && r.rect.x1 <= 64 * 64, "{r:?}");
+            }
+            t = Animation::next_time(t, dt);
+        }
+        assert!((driver.time() - 12.0 * f64::from(dt)).abs() < 1e-9);
+        assert!(relit > 0, "moving shadows relight some faces");
+        driver.set_paused(true);
+        let a = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+        let b = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+        assert_eq!(a.poses, b.poses);
+        assert!(
+            b.relight.is_empty(),
+            "nothing moved: nothing to light again"
+        );
+        driver.set_time(2.0);
+        let c = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+        assert_eq!(c.poses, animation.poses(2.0));
+        driver.set_time(f64::NAN);
+        assert_eq!(driver.time(), 2.0);
     }
 
     /// The paper schedule does the reference's work: with the camera level, the eye and

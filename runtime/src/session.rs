@@ -103,7 +103,8 @@ impl Session {
         self.renderer.set_scene(ctx, level.scene())?;
         self.level = level;
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-        self.driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        let driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        self.replace_driver(driver);
         Ok(())
     }
 
@@ -133,7 +134,8 @@ impl Session {
     pub fn set_texture_density_view(&mut self, on: bool) -> Result<(), SessionError> {
         self.renderer.set_texture_density_view(on);
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-        self.driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        let driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        self.replace_driver(driver);
         Ok(())
     }
 
@@ -157,7 +159,8 @@ impl Session {
     fn plan(&mut self, request: &FrameRequest) -> Result<FrameInput, SessionError> {
         let fov_y = request.camera.fov_y;
         if (request.size, fov_y) != (self.driver.size(), self.driver.fov_y()) {
-            self.driver = FrameDriver::prepared(self.level.clone(), request.size, fov_y)?;
+            let driver = FrameDriver::prepared(self.level.clone(), request.size, fov_y)?;
+            self.replace_driver(driver);
         }
         Ok((self.driver).frame(request.camera, request.dt, request.schedule)?)
     }
@@ -183,6 +186,29 @@ impl Session {
         let input = self.plan(request)?;
         let (stats, pixels) = self.renderer.render_offscreen(ctx, &input)?;
         Ok((DrawnFrame { stats, input }, pixels))
+    }
+
+    /// Takes `driver` in place of the current one, keeping the animation clock.
+    fn replace_driver(&mut self, mut driver: FrameDriver) {
+        driver.keep_clock(&self.driver);
+        self.driver = driver;
+    }
+
+    /// Animation time of the next frame, seconds: where the animated objects will be drawn
+    /// (physics moves their colliders to the same poses).
+    pub fn animation_time(&self) -> f64 {
+        self.driver.time()
+    }
+
+    /// Sets the animation time of the next frame (see [`FrameDriver::set_time`]).
+    pub fn set_animation_time(&mut self, t: f64) {
+        self.driver.set_time(t);
+    }
+
+    /// Stops or restarts the animation clock (the editor keeps it stopped outside Play, so
+    /// objects stand at their transforms while being edited).
+    pub fn set_animation_paused(&mut self, paused: bool) {
+        self.driver.set_paused(paused);
     }
 
     /// The camera at the level's player start, with the session's field of view.
