@@ -107,13 +107,10 @@ fn fs(in: VsOut) -> FsOut {
     if (obj.flags & FLAG_EMISSIVE) != 0u {
         colour = obj.emissive;
     } else {
+        // The mesh's own normal (as the probes store it), normal-mapped, turned with the
+        // object.
         let n0 = surface_shading_normal(surface, surface_normal(in.normal), in.grad_u, in.grad_v, t);
-        var n_now = normalize((m.normal_now * vec4(n0, 0.0)).xyz);
-        // Both sides of a triangle are drawn: light the side the camera sees.
-        let plane_now = normalize((m.normal_now * vec4(plane, 0.0)).xyz);
-        if dot(plane_now, view.camera.xyz - c_now) < 0.0 {
-            n_now = -n_now;
-        }
+        let n_now = normalize((m.normal_now * vec4(n0, 0.0)).xyz);
         colour = albedo.rgb * lighting(c_now, n_now, max(SHADOW_OFFSET, 0.1 * s));
     }
     let lit = posterize(colour, globals.bands, 0.0);

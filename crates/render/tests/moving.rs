@@ -247,3 +247,46 @@ fn a_moving_objects_shadow_moves_on_the_cached_floor() {
     assert_eq!(left2, right, "the old shadow is lit again");
     assert_eq!(right2, left, "the shadow fell where the box went");
 }
+
+/// An animated object is lit like the same object standing still in the probes: the mean
+/// colour of its pixels from the moving pass is within a few levels of the captured one's.
+#[test]
+fn a_moving_object_is_lit_like_a_still_one() {
+    let Some(ctx) = test_context() else { return };
+    let size = UVec2::new(160, 90);
+    let cam = Camera::looking(Vec3::new(0.7, 1.9, 0.0), Vec3::new(-0.15, -0.2, -1.0));
+    let mut means = Vec::new();
+    for animated in [true, false] {
+        let mut scene = one_moving_box(true);
+        scene.objects[0].material.maps = SurfaceMaps::default();
+        scene.objects[0].material.albedo = Vec3::new(0.6, 0.4, 0.2);
+        if !animated {
+            scene.animated.clear();
+        }
+        let mut r = Renderer::headless(&ctx).unwrap();
+        r.set_scene(&ctx, &scene).expect("scene");
+        let mut input = common::frame(cam, Vec3::new(0.5, 1.5, 0.5), 64, size, Schedule::Ours);
+        input.poses = pose(Mat4::from_translation(Vec3::new(0.0, 1.0, -4.0)));
+        let (_, px) = r.render_offscreen(&ctx, &input).unwrap();
+        common::save_png(&format!("moving_lit_{animated}.png"), &px, size);
+        let ids = r.read_frame_ids(&ctx).unwrap();
+        let (mut sum, mut count) = ([0u64; 3], 0u64);
+        for (i, &e) in ids.entity.iter().enumerate() {
+            if e == 10 {
+                for c in 0..3 {
+                    sum[c] += u64::from(px[i * 4 + c]);
+                }
+                count += 1;
+            }
+        }
+        assert!(count > 300, "{count} box pixels");
+        means.push(sum.map(|s| s as f32 / count as f32));
+    }
+    let (moving, still) = (means[0], means[1]);
+    for c in 0..3 {
+        assert!(
+            (moving[c] - still[c]).abs() < 12.0,
+            "moving {moving:?} vs still {still:?}"
+        );
+    }
+}
