@@ -1,4 +1,4 @@
-//! The first-person camera: mouse look and WASD movement, walking on a plane or flying.
+//! The first-person camera: mouse look, and the movement the held keys ask for.
 //!
 //! Pure CPU and free of winit, so every rule is unit-tested here; `play` maps keys and mouse
 //! motion onto [`InputState`] and a pixel delta. Angles follow the level's player start and
@@ -6,15 +6,18 @@
 //! (counter-clockwise seen from above), positive pitch looks up, so the view direction is
 //! `(−sin yaw · cos pitch, sin pitch, −cos yaw · cos pitch)`.
 //!
-//! There is no gravity and no collision: walk mode keeps the feet at a constant height and
-//! moves them on the horizontal plane; fly mode moves the eye freely along the view.
+//! Walking, the camera does not move itself: [`WalkCamera::walk_direction`] gives the
+//! player's wish, and [`crate::walk::Walker`] puts the camera at the eye of a player that
+//! collides, falls and rides platforms. Flying, [`WalkCamera::update`] moves the eye freely
+//! along the view, through everything.
 
 use glam::{Vec2, Vec3};
 use texel_render::input::Camera;
 use texel_scene::{PlayerStart, Scene, Transform};
 
-/// Walking speed in world units per second (the reference's number).
-pub const WALK_SPEED: f32 = 2.5;
+/// Flying speed in world units per second (the reference's walking speed; walking speeds
+/// are the player's, `texel_physics::PlayerConfig`).
+pub const FLY_SPEED: f32 = 2.5;
 /// Speed multiplier while Shift is held (the reference's number).
 pub const RUN_MULTIPLIER: f32 = 3.0;
 /// Mouse-look sensitivity in degrees per pixel of mouse motion.
@@ -36,7 +39,7 @@ pub struct InputState {
     pub left: bool,
     /// Strafe right (D).
     pub right: bool,
-    /// Rise, fly mode only (Space or E).
+    /// Jump when walking, rise when flying (Space or E).
     pub up: bool,
     /// Sink, fly mode only (Ctrl or Q).
     pub down: bool,
@@ -50,7 +53,7 @@ impl InputState {
     }
 }
 
-/// A first-person camera that walks on a horizontal plane or flies.
+/// A first-person camera that walks (where a [`crate::walk::Walker`] puts it) or flies.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct WalkCamera {
     /// The feet in walk mode; the eye in fly mode (see [`WalkCamera::eye`]).
@@ -63,12 +66,9 @@ pub struct WalkCamera {
     pub eye_height: f32,
     /// Whether the camera flies (true) or walks (false).
     pub fly: bool,
-    /// Lowest height of the feet when leaving fly mode: the player start's height, taken as
-    /// the level's walking plane.
-    pub ground: f32,
     /// Mouse-look sensitivity, degrees per pixel.
     pub sensitivity: f32,
-    /// Movement speed, world units per second.
+    /// Flying speed, world units per second.
     pub speed: f32,
 }
 
@@ -81,9 +81,8 @@ impl WalkCamera {
             pitch_deg: start.pitch.clamp(-MAX_PITCH, MAX_PITCH),
             eye_height: start.eye_height,
             fly: false,
-            ground: position.y,
             sensitivity: LOOK_SENSITIVITY,
-            speed: WALK_SPEED,
+            speed: FLY_SPEED,
         }
     }
 
@@ -117,32 +116,73 @@ impl WalkCamera {
         }
     }
 
+    /// Puts the eye at `eye` (the walking player's), keeping the view's direction.
+    pub fn set_eye(&mut self, eye: Vec3) {
+        if !eye.is_finite() {
+            return;
+        }
+        self.position = if self.fly {
+            eye
+        } else {
+            eye - Vec3::Y * self.eye_height
+        };
+    }
+
     /// Applies one frame of input: `mouse_delta` in pixels (x right, y down) turns the view;
-    /// held keys move for `dt` seconds (at most [`MAX_DT`]).
+    /// when flying, held keys move the eye for `dt` seconds (at most [`MAX_DT`]) along the
+    /// view, Space/E and Ctrl/Q straight up and down. Walking, nothing moves here: see
+    /// [`WalkCamera::walk_direction`].
     pub fn update(&mut self, input: &InputState, mouse_delta: Vec2, dt: f32) {
         self.look(mouse_delta);
+        if !self.fly {
+            return;
+        }
         let dt = if dt.is_finite() {
             dt.clamp(0.0, MAX_DT)
         } else {
             0.0
         };
-        let (sin, cos) = self.yaw_deg.to_radians().sin_cos();
-        let ground_forward = Vec3::new(-sin, 0.0, -cos);
-        let right = Vec3::new(cos, 0.0, -sin);
-        let ahead = if self.fly {
-            self.forward()
-        } else {
-            ground_forward
-        };
-        let mut dir = ahead * InputState::axis(input.forward, input.back)
-            + right * InputState::axis(input.right, input.left);
-        if self.fly {
-            dir += Vec3::Y * InputState::axis(input.up, input.down);
-        }
+        let (_, right) = self.ground_axes();
+        let dir = self.forward() * InputState::axis(input.forward, input.back)
+            + right * InputState::axis(input.right, input.left)
+            + Vec3::Y * InputState::axis(input.up, input.down);
         // Normalised so that diagonals are no faster than straight lines.
         let dir = dir.normalize_or_zero();
         let speed = self.speed * if input.run { RUN_MULTIPLIER } else { 1.0 };
         self.position += dir * speed * dt;
+    }
+
+    /// The horizontal direction the held keys walk in (unit length, or zero when none or
+    /// opposite ones are held) and whether Shift asks to sprint: what
+    /// `texel_physics::PlayerConfig::wish` takes. W walks along the view's ground
+    /// projection, A and D strafe.
+    pub fn walk_direction(&self, input: &InputState) -> (Vec3, bool) {
+        let (ahead, right) = self.ground_axes();
+        let dir = ahead * InputState::axis(input.forward, input.back)
+            + right * InputState::axis(input.right, input.left);
+        (dir.normalize_or_zero(), input.run)
+    }
+
+    /// The view's horizontal forward and right directions.
+    fn ground_axes(&self) -> (Vec3, Vec3) {
+        let (sin, cos) = self.yaw_deg.to_radians().sin_cos();
+        (Vec3::new(-sin, 0.0, -cos), Vec3::new(cos, 0.0, -sin))
+    }
+
+    /// Turns the heading by `degrees` (positive toward −X, as yaw; a platform turning under
+    /// the player). Not finite: no turn.
+    pub fn turn(&mut self, degrees: f32) {
+        if degrees.is_finite() {
+            self.yaw_deg = wrap_degrees(self.yaw_deg + degrees);
+        }
+    }
+
+    /// Faces heading `yaw` and pitch `pitch`, degrees (a respawn at the level's start).
+    pub fn face(&mut self, yaw: f32, pitch: f32) {
+        if yaw.is_finite() && pitch.is_finite() {
+            self.yaw_deg = wrap_degrees(yaw);
+            self.pitch_deg = pitch.clamp(-MAX_PITCH, MAX_PITCH);
+        }
     }
 
     /// Turns the view by a mouse motion in pixels: right turns right, down looks down.
@@ -155,14 +195,13 @@ impl WalkCamera {
             (self.pitch_deg - mouse_delta.y * self.sensitivity).clamp(-MAX_PITCH, MAX_PITCH);
     }
 
-    /// Switches between walking and flying without moving the eye. Landing puts the feet
-    /// `eye_height` below the eye, but never below [`WalkCamera::ground`]; with no gravity
-    /// the walk then continues at that height, so a walk → fly → walk round trip with no
-    /// movement in between leaves the camera exactly where it was.
+    /// Switches between walking and flying without moving the eye: landing puts the feet
+    /// `eye_height` below it (where [`crate::walk::Walker::toggle_fly`] puts the player, who
+    /// then falls to the ground), so a walk → fly → walk round trip with no movement in
+    /// between leaves the camera exactly where it was.
     pub fn toggle_fly(&mut self) {
         if self.fly {
-            let feet = self.position.y - self.eye_height;
-            self.position.y = feet.max(self.ground);
+            self.position.y -= self.eye_height;
         } else {
             self.position = self.eye();
         }
@@ -258,57 +297,71 @@ mod tests {
         assert!(cam.forward().y < 0.0);
     }
 
+    fn flying(yaw: f32, pitch: f32) -> WalkCamera {
+        let mut cam = start(yaw, pitch);
+        cam.toggle_fly();
+        cam
+    }
+
     #[test]
-    fn w_moves_along_the_ground_projection_of_the_view() {
-        let mut cam = start(30.0, -40.0);
-        let before = cam.position;
-        cam.update(&held(|i| i.forward = true), Vec2::ZERO, 0.1);
-        let moved = cam.position - before;
+    fn w_walks_along_the_ground_projection_of_the_view() {
+        let cam = start(30.0, -40.0);
+        let (dir, run) = cam.walk_direction(&held(|i| i.forward = true));
         let f = cam.forward();
-        let ground = Vec3::new(f.x, 0.0, f.z).normalize();
-        assert!(close(moved, ground * WALK_SPEED * 0.1), "{moved}");
-        assert_eq!(cam.position.y, before.y, "walking stays on the ground");
+        assert!(close(dir, Vec3::new(f.x, 0.0, f.z).normalize()), "{dir}");
+        assert!(!run);
     }
 
     #[test]
     fn strafing_and_backing_follow_the_yaw() {
-        let mut cam = start(0.0, 0.0);
-        cam.update(&held(|i| i.right = true), Vec2::ZERO, 0.1);
-        assert!(close(cam.position, Vec3::new(1.25, 0.5, 2.0)));
-        cam.update(&held(|i| i.back = true), Vec2::ZERO, 0.1);
-        assert!(close(cam.position, Vec3::new(1.25, 0.5, 2.25)));
+        let cam = start(0.0, 0.0);
+        assert!(close(
+            cam.walk_direction(&held(|i| i.right = true)).0,
+            Vec3::X
+        ));
+        assert!(close(
+            cam.walk_direction(&held(|i| i.back = true)).0,
+            Vec3::Z
+        ));
+        let cam = start(90.0, 0.0);
+        assert!(close(
+            cam.walk_direction(&held(|i| i.left = true)).0,
+            Vec3::Z
+        ));
+        let both = held(|i| {
+            i.forward = true;
+            i.back = true;
+        });
+        assert_eq!(cam.walk_direction(&both).0, Vec3::ZERO);
     }
 
     #[test]
     fn diagonals_are_no_faster() {
-        let mut cam = start(0.0, 0.0);
+        let keys = held(|i| {
+            i.forward = true;
+            i.left = true;
+        });
+        let (dir, _) = start(0.0, 0.0).walk_direction(&keys);
+        assert!((dir.length() - 1.0).abs() < EPS, "{dir}");
+        let mut cam = flying(0.0, 0.0);
         let before = cam.position;
-        cam.update(
-            &held(|i| {
-                i.forward = true;
-                i.left = true;
-            }),
-            Vec2::ZERO,
-            0.1,
-        );
-        assert!(((cam.position - before).length() - WALK_SPEED * 0.1).abs() < EPS);
+        cam.update(&keys, Vec2::ZERO, 0.1);
+        assert!(((cam.position - before).length() - FLY_SPEED * 0.1).abs() < EPS);
     }
 
     #[test]
-    fn shift_triples_the_distance() {
-        let (mut walk, mut run) = (start(45.0, 0.0), start(45.0, 0.0));
-        walk.update(&held(|i| i.forward = true), Vec2::ZERO, 0.05);
-        run.update(
-            &held(|i| {
-                i.forward = true;
-                i.run = true;
-            }),
-            Vec2::ZERO,
-            0.05,
-        );
-        let origin = start(45.0, 0.0).position;
+    fn shift_sprints_walking_and_triples_the_flying_distance() {
+        let keys = held(|i| {
+            i.forward = true;
+            i.run = true;
+        });
+        assert!(start(0.0, 0.0).walk_direction(&keys).1);
+        let (mut fly, mut run) = (flying(45.0, 0.0), flying(45.0, 0.0));
+        fly.update(&held(|i| i.forward = true), Vec2::ZERO, 0.05);
+        run.update(&keys, Vec2::ZERO, 0.05);
+        let origin = flying(45.0, 0.0).position;
         let (w, r) = (
-            (walk.position - origin).length(),
+            (fly.position - origin).length(),
             (run.position - origin).length(),
         );
         assert!((r - 3.0 * w).abs() < EPS, "{w} {r}");
@@ -334,10 +387,16 @@ mod tests {
     }
 
     #[test]
-    fn up_and_down_do_nothing_while_walking() {
+    fn a_walking_camera_does_not_move_itself() {
         let mut cam = start(0.0, 0.0);
         let before = cam.position;
-        cam.update(&held(|i| i.up = true), Vec2::ZERO, 0.1);
+        let all = held(|i| {
+            i.forward = true;
+            i.right = true;
+            i.up = true;
+            i.run = true;
+        });
+        cam.update(&all, Vec2::ZERO, 0.1);
         assert_eq!(cam.position, before);
     }
 
@@ -361,12 +420,12 @@ mod tests {
 
     #[test]
     fn dt_is_clamped() {
-        let (mut long, mut capped) = (start(0.0, 0.0), start(0.0, 0.0));
+        let (mut long, mut capped) = (flying(0.0, 0.0), flying(0.0, 0.0));
         let w = held(|i| i.forward = true);
         long.update(&w, Vec2::ZERO, 5.0);
         capped.update(&w, Vec2::ZERO, MAX_DT);
         assert_eq!(long.position, capped.position);
-        let mut cam = start(0.0, 0.0);
+        let mut cam = flying(0.0, 0.0);
         let before = cam.position;
         cam.update(&w, Vec2::ZERO, -1.0);
         cam.update(&w, Vec2::ZERO, f32::NAN);
@@ -383,22 +442,39 @@ mod tests {
         cam.toggle_fly();
         assert!(!cam.fly);
         assert!(close(cam.eye(), eye));
-        assert_eq!(cam, start(20.0, -10.0));
+        assert!(close(cam.position, start(20.0, -10.0).position));
     }
 
     #[test]
-    fn landing_never_goes_below_the_ground() {
-        let mut cam = start(0.0, 0.0);
+    fn landing_puts_the_feet_under_the_eye_and_set_eye_follows_the_mode() {
+        let mut cam = flying(0.0, 0.0);
+        cam.update(&held(|i| i.down = true), Vec2::ZERO, 1.0); // eye 2.1 → 1.85
         cam.toggle_fly();
-        cam.update(&held(|i| i.down = true), Vec2::ZERO, 0.1); // eye 2.1 → 1.85
+        assert!(
+            (cam.position.y - (1.85 - 1.6)).abs() < EPS,
+            "{}",
+            cam.position
+        );
+        cam.set_eye(Vec3::new(3.0, 4.0, 5.0));
+        assert!(close(cam.position, Vec3::new(3.0, 2.4, 5.0)));
         cam.toggle_fly();
-        assert_eq!(cam.position.y, cam.ground);
-        // Flying up and landing keeps the eye where it was.
-        cam.toggle_fly();
-        cam.update(&held(|i| i.up = true), Vec2::ZERO, 0.1);
-        let eye = cam.eye();
-        cam.toggle_fly();
-        assert!(close(cam.eye(), eye));
+        cam.set_eye(Vec3::new(3.0, 4.0, 5.0));
+        assert_eq!(cam.position, Vec3::new(3.0, 4.0, 5.0));
+        cam.set_eye(Vec3::NAN);
+        assert_eq!(cam.eye(), Vec3::new(3.0, 4.0, 5.0));
+    }
+
+    #[test]
+    fn turning_and_facing_wrap_and_ignore_nan() {
+        let mut cam = start(170.0, 0.0);
+        cam.turn(20.0);
+        assert!((cam.yaw_deg - -170.0).abs() < 1e-3, "{}", cam.yaw_deg);
+        cam.turn(f32::NAN);
+        assert!((cam.yaw_deg - -170.0).abs() < 1e-3);
+        cam.face(30.0, 120.0);
+        assert_eq!((cam.yaw_deg, cam.pitch_deg), (30.0, MAX_PITCH));
+        cam.face(f32::INFINITY, 0.0);
+        assert_eq!(cam.yaw_deg, 30.0);
     }
 
     #[test]

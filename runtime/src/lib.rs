@@ -16,3 +16,4 @@ pub mod play;
 pub mod sculpt;
 pub mod session;
 pub mod soak;
+pub mod walk;

@@ -1,11 +1,13 @@
 //! The windowed "play" shell: a winit window, a wgpu surface, the first-person camera and an
 //! egui overlay with frame times and work counters, on top of whatever draws the frame.
 //!
-//! The frame is drawn by a [`Session`], the overlay by `overlay`. Controls: click to capture the mouse, WASD to
-//! move, Shift to run, Space/E and Ctrl/Q to rise and sink in fly mode, F to toggle flying,
-//! Tab to switch the schedule, F3 to hide the overlay, R and G to raise and lower the terrain
-//! under the crosshair (`crate::sculpt`), Esc to release the mouse and Esc again (or closing
-//! the window) to quit.
+//! The frame is drawn by a [`Session`], the overlay by `overlay`; the player walks through
+//! the level's colliders ([`Walker`]), moving objects posed at the session's animation time.
+//! Controls: click to capture the mouse, WASD to walk, Shift to run, Space/E to jump, F to
+//! toggle flying (through everything; Space/E and Ctrl/Q rise and sink), Tab to switch the
+//! schedule, F3 to hide the overlay, R and G to raise and lower the terrain under the
+//! crosshair (`crate::sculpt`), Esc to release the mouse and Esc again (or closing the window)
+//! to quit.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -27,6 +29,7 @@ use crate::camera::{InputState, WalkCamera};
 use crate::load::{LoadedLevel, load_level};
 use crate::sculpt::{SculptKeys, dab_at_centre};
 use crate::session::{FrameRequest, Session};
+use crate::walk::Walker;
 
 mod overlay;
 use overlay::{FpsMeter, Overlay, dab_line, overlay_lines};
@@ -201,6 +204,9 @@ struct App {
     running: Option<Running>,
     error: Option<anyhow::Error>,
     camera: WalkCamera,
+    /// The level's colliders and the player; `None` when they could not be built (the
+    /// camera then only flies).
+    walker: Option<Walker>,
     input: InputState,
     mouse_delta: Vec2,
     schedule: Schedule,
@@ -218,8 +224,26 @@ struct App {
 
 impl App {
     fn new(level: LoadedLevel, options: PlayOptions) -> Self {
+        let mut camera = WalkCamera::from_scene(&level.scene);
+        let walker = match Walker::new(&level.scene, &level.assets) {
+            Ok(w) => {
+                for warning in w.warnings() {
+                    eprintln!("warning: {}: {warning}", level.path.display());
+                }
+                Some(w)
+            }
+            Err(e) => {
+                eprintln!(
+                    "warning: {}: no collision, flying only: {e}",
+                    level.path.display()
+                );
+                camera.toggle_fly();
+                None
+            }
+        };
         App {
-            camera: WalkCamera::from_scene(&level.scene),
+            camera,
+            walker,
             level,
             options,
             running: None,
@@ -336,7 +360,7 @@ impl App {
             return;
         }
         match action {
-            KeyAction::ToggleFly => self.camera.toggle_fly(),
+            KeyAction::ToggleFly => self.toggle_fly(),
             KeyAction::ToggleSchedule => {
                 self.schedule = match self.schedule {
                     Schedule::Ours => Schedule::Paper,
@@ -350,6 +374,34 @@ impl App {
         }
     }
 
+    /// F: flying on or off (landing puts the player under the camera); without colliders
+    /// the camera keeps flying.
+    fn toggle_fly(&mut self) {
+        if let Some(w) = &mut self.walker {
+            w.toggle_fly(&mut self.camera);
+        }
+    }
+
+    /// Moves the camera for a frame `dt` seconds long whose moving objects stand at animation
+    /// time `t`: the mouse turns it; walking, the player steps through the level and the
+    /// camera takes its eye; flying, the camera moves itself.
+    fn advance(&mut self, dt: f32, t: f64) {
+        let mouse = std::mem::take(&mut self.mouse_delta);
+        match &mut self.walker {
+            Some(w) => {
+                w.frame(
+                    &self.level.scene,
+                    t,
+                    &mut self.camera,
+                    &self.input,
+                    mouse,
+                    dt,
+                );
+            }
+            None => self.camera.update(&self.input, mouse, dt),
+        }
+    }
+
     /// Draws and presents one frame; returns whether one was presented.
     fn redraw(&mut self) -> anyhow::Result<bool> {
         let now = Instant::now();
@@ -357,8 +409,9 @@ impl App {
             .last_frame
             .map_or(0.0, |t| now.duration_since(t).as_secs_f32());
         self.last_frame = Some(now);
-        self.camera
-            .update(&self.input, std::mem::take(&mut self.mouse_delta), dt);
+        // The time the session will pose the moving objects at in this frame's draw.
+        let t = (self.running.as_ref()).map_or(0.0, |r| r.session.animation_time());
+        self.advance(dt, t);
         let fps = self.fps.tick(dt);
 
         let Some(r) = &mut self.running else {
@@ -371,6 +424,11 @@ impl App {
         let camera = self.camera.camera(FOV_Y_DEG.to_radians());
         if let Some((raise, n)) = self.sculpt.due(dt) {
             let done = dab_at_centre(&r.ctx, &mut r.session, &mut self.level, &camera, raise, n)?;
+            if let (Some(d), Some(w)) = (done, &mut self.walker)
+                && let Err(e) = w.update_heights(&self.level.scene, &self.level.assets, d.entity)
+            {
+                eprintln!("play: the ground's collision keeps its old heights: {e}");
+            }
             self.dab_marked = done.map(|d| d.faces_marked).or(self.dab_marked);
         }
         let (frame, suboptimal) = match r.surface.get_current_texture() {

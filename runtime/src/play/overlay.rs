@@ -15,8 +15,8 @@ use crate::headless::schedule_name;
 pub const FPS_WINDOW: f32 = 0.5;
 /// The controls, as the overlay lists them.
 pub const KEY_HELP: [&str; 3] = [
-    "click: mouse look · WASD: move · Shift: run · Space/E, Ctrl/Q: up, down (fly)",
-    "F: walk/fly · Tab: schedule · F3: overlay · Esc: release mouse, again to quit",
+    "click: mouse look · WASD: move · Shift: run · Space/E: jump (walk), up (fly) · Ctrl/Q: down",
+    "F: walk/fly (through walls) · Tab: schedule · F3: overlay · Esc: release mouse, again to quit",
     "R/G (hold): raise/lower the ground under the crosshair",
 ];
 

@@ -112,3 +112,114 @@ fn overlay_lists_passes_counters_and_modes() {
         Some("last dab marked 7 probe faces")
     );
 }
+
+/// Frames of play without a window: `level` under the name `name` in `assets/levels`, its
+/// player start moved to `start` facing `yaw`, stepped through the App's own per-frame
+/// movement.
+mod walking {
+    use std::sync::Arc;
+
+    use glam::{UVec2, Vec3, Vec3Swizzles as _};
+    use texel_scene::{Name, PlayerStart, Transform};
+
+    use super::*;
+    use crate::driver::{FrameDriver, PreparedLevel};
+
+    const DT: f32 = 1.0 / 60.0;
+
+    fn app(name: &str, start: Vec3, yaw: f32) -> App {
+        let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels");
+        let mut level = load_level(&root.join(format!("{name}.ron"))).expect("level");
+        let e = (level.scene.entities())
+            .find(|e| level.scene.world().get::<&PlayerStart>(*e).is_ok())
+            .expect("a player start");
+        let mut row = level.scene.row(e).expect("row");
+        row.transform = Some(Transform::from_translation(start));
+        row.player_start = Some(PlayerStart {
+            yaw,
+            pitch: 0.0,
+            eye_height: 1.6,
+        });
+        level.scene.set_row(e, row).expect("start moved");
+        let app = App::new(level, PlayOptions::default());
+        assert!(app.walker.is_some(), "colliders built");
+        app
+    }
+
+    /// `seconds` of frames with `input` held, the moving objects posed by the clock of a
+    /// frame driver (the renderer's: each frame is drawn at its time, then it advances).
+    fn run(app: &mut App, driver: &mut FrameDriver, input: InputState, seconds: f32) {
+        app.input = input;
+        for _ in 0..(seconds / DT).round() as u32 {
+            let t = driver.time();
+            app.advance(DT, t);
+            let camera = app.camera.camera(FOV_Y_DEG.to_radians());
+            driver.frame(camera, DT, Schedule::Ours).expect("frame");
+        }
+    }
+
+    fn driver(app: &App) -> FrameDriver {
+        let level = Arc::new(PreparedLevel::new(&app.level));
+        FrameDriver::prepared(level, UVec2::new(64, 36), FOV_Y_DEG.to_radians()).expect("driver")
+    }
+
+    #[test]
+    fn the_moving_platform_carries_a_player_standing_on_it_in_step_with_the_renderer() {
+        // Above the platform's top at t = 0, (-3.4, 0.35, 2.2).
+        let mut app = app("moving_parts", Vec3::new(-3.4, 0.6, 2.2), 0.0);
+        let mut driver = driver(&app);
+        run(&mut app, &mut driver, InputState::default(), 3.0);
+        assert!((driver.time() - 3.0).abs() < 1e-6, "{}", driver.time());
+        // Frame 180 (the last) was drawn at 2.983 s: the platform on its way from
+        // (-3.4, 1.2, 2.2) at 2 s to (-3.4, 1.2, 0.8) at 4 s, its top 0.15 above.
+        let t = 179.0 / 60.0;
+        let top = Vec3::new(-3.4, 1.35, 2.2 - 1.4 * (t - 2.0) / 2.0);
+        let eye = app.camera.eye() - Vec3::Y * 1.6;
+        // Where the renderer drew it to a hair (a frame off would be 0.0117 away); the feet
+        // ride the controller's 0.02 skin above its top.
+        assert!(
+            (eye.xz() - top.xz()).length() < 0.002 && (eye.y - top.y).abs() < 0.03,
+            "feet at {eye} on a platform whose top is at {top}"
+        );
+        let walker = app.walker.as_ref().expect("walker");
+        let platform = walker.player().ground_entity().expect("standing");
+        let world = app.level.scene.world();
+        assert_eq!(
+            world.get::<&Name>(platform).expect("name").0,
+            "Moving platform"
+        );
+    }
+
+    #[test]
+    fn a_stone_stops_the_walking_camera_and_flying_passes_through_it() {
+        // "Standing stone 1" of stone_circle: 0.469 thick, turned 43.451 deg about Y. Start
+        // 3 units in front of its broad face, looking at it, and hold W.
+        let stone = Vec3::new(4.596, 0.0, 3.857);
+        let yaw = 43.451f32;
+        let face = Vec3::new(yaw.to_radians().sin(), 0.0, yaw.to_radians().cos());
+        let mut app = app("stone_circle", stone + face * 3.0, yaw);
+        let mut driver = driver(&app);
+        let w = InputState {
+            forward: true,
+            ..InputState::default()
+        };
+        let along = |app: &App| (app.camera.eye() - stone).dot(face);
+        run(&mut app, &mut driver, w, 2.0);
+        assert!(!app.camera.fly);
+        assert!(
+            (0.5..0.62).contains(&along(&app)),
+            "stopped {} in front of the stone",
+            along(&app)
+        );
+        assert!(app.camera.eye().y - 1.6 < 0.03, "on the ground");
+
+        // Flying at 2.5 units a second goes through it and out the other side.
+        app.toggle_fly();
+        run(&mut app, &mut driver, w, 1.0);
+        assert!(along(&app) < -1.5, "flew to {}", along(&app));
+        // Landing puts the player under the camera, on the ground behind the stone.
+        app.toggle_fly();
+        run(&mut app, &mut driver, InputState::default(), 0.5);
+        assert!(along(&app) < -1.5 && app.camera.eye().y - 1.6 < 0.03);
+    }
+}
