@@ -1,6 +1,8 @@
 //! The level rendered by a `texel_runtime` session on eframe's own wgpu device, into a
 //! texture egui shows. The level is handed to the session again only when the document
-//! changed (the session re-plans by itself when the output size changes).
+//! changed (the session re-plans by itself when the output size changes). The session's
+//! animation clock stands still at 0 outside Play, so moving objects stay put while they are
+//! edited, and runs from 0 in Play.
 
 use std::sync::Arc;
 use std::time::Instant;
@@ -52,6 +54,8 @@ pub struct GpuView {
     /// Whether captures show texture density (kept for a session made later, and applied
     /// again whenever the session's level is replaced).
     density_view: bool,
+    /// Whether the animation clock runs (Play; kept for a session made later).
+    animating: bool,
     egui: Arc<RwLock<egui_wgpu::Renderer>>,
     target: Option<Target>,
     /// A box that every change since the session's revision fell in (terrain heights during
@@ -89,6 +93,7 @@ impl GpuView {
             session: None,
             lines: Vec::new(),
             density_view: false,
+            animating: false,
             egui: rs.renderer.clone(),
             target: None,
             region: None,
@@ -145,6 +150,7 @@ impl GpuView {
                 let mut session =
                     Session::new(&self.ctx, level, DRAW_FORMAT, size, fov_y).map_err(err)?;
                 session.renderer_mut().set_lines(&self.ctx, &self.lines);
+                session.set_animation_paused(!self.animating);
                 if self.density_view {
                     session.set_texture_density_view(true).map_err(err)?;
                 }
@@ -273,6 +279,22 @@ impl GpuView {
                 .map_err(|e| e.to_string())?;
         }
         Ok(())
+    }
+
+    /// Starts the animation clock from 0 (`true`, entering Play) or stops it at 0 (leaving
+    /// Play: the moving objects stand at their start while edited).
+    pub fn set_animating(&mut self, on: bool) {
+        self.animating = on;
+        if let Some((session, _)) = &mut self.session {
+            session.set_animation_time(0.0);
+            session.set_animation_paused(!on);
+        }
+    }
+
+    /// The animation time the next frame poses the moving objects at, once there is a
+    /// session (Play's physics moves their colliders to the same poses).
+    pub fn animation_time(&self) -> Option<f64> {
+        self.session.as_ref().map(|(s, _)| s.animation_time())
     }
 
     /// Whether the texel-density debug view is on.

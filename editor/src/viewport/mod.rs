@@ -1,6 +1,8 @@
 //! The viewport: the level rendered by `texel_render`, the editor camera, click-to-select
 //! through the renderer's id buffer, the transform gizmo and the overlay; and Play, which
-//! switches to the game's walking camera from the player start without touching the document.
+//! switches to the game's walking camera from the player start without touching the document:
+//! the player collides, falls and rides the moving objects ([`play::PlayPhysics`]), which
+//! move only in Play.
 //! Debug views of the probes ([`debug`]) paint over the render in both modes.
 
 pub mod debug;
@@ -29,6 +31,7 @@ use drag::Pointer;
 use gizmo::{Drag, Mode};
 use gpu::GpuView;
 use handles::FaceDrag;
+use play::PlayPhysics;
 use sculpt::TerrainTool;
 
 /// Internal resolution relative to the panel's physical pixels while the view is still, and
@@ -80,6 +83,8 @@ pub struct Viewport {
     pub edit_stall_ms: f64,
     /// The terrain tool.
     pub terrain: TerrainTool,
+    /// The colliders and the player while playing.
+    physics: Option<PlayPhysics>,
     /// Internal height of a still frame at the last draw: the face resolution a level's
     /// pixel size gives follows it.
     still_height: u32,
@@ -109,6 +114,7 @@ impl Default for Viewport {
             rect: None,
             edit_stall_ms: 0.0,
             terrain: TerrainTool::default(),
+            physics: None,
             still_height: DEFAULT_STILL_HEIGHT,
             drag: None,
             face_drag: None,
@@ -123,17 +129,32 @@ impl Default for Viewport {
 }
 
 impl Viewport {
-    /// Starts Play from the level's player start.
+    /// Starts Play from the level's player start: builds the colliders and the player,
+    /// and starts the moving objects from time 0.
     pub fn play(&mut self, state: &EditorState) {
-        self.mode = ViewMode::Play(WalkCamera::from_scene(state.scene()));
+        let mut camera = WalkCamera::from_scene(state.scene());
+        self.physics = Some(PlayPhysics::new(&state.document, &mut camera));
+        self.mode = ViewMode::Play(camera);
+        if let Some(gpu) = &mut self.gpu {
+            gpu.set_animating(true);
+        }
         self.settle = SETTLE_FRAMES;
         self.grab_lost = false;
     }
 
-    /// Stops Play.
+    /// Stops Play: drops the colliders and puts the moving objects back at time 0.
     pub fn stop(&mut self) {
         self.mode = ViewMode::Edit;
+        self.physics = None;
+        if let Some(gpu) = &mut self.gpu {
+            gpu.set_animating(false);
+        }
         self.settle = SETTLE_FRAMES;
+    }
+
+    /// Why some (or every) object has no collider in Play, when that is so.
+    pub fn play_note(&self) -> Option<&str> {
+        self.physics.as_ref().and_then(|p| p.note.as_deref())
     }
 
     /// Switches the render method (the view renders again).
@@ -197,13 +218,16 @@ impl Viewport {
     /// Draws the viewport into the remaining space of `ui`. A command of the gizmo or the
     /// face handles that fails is returned, for the caller to show.
     pub fn show(&mut self, ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
-        let dt = self.clock.map_or(0.0, |c| c.elapsed().as_secs_f32());
+        let wall = self.clock.map_or(0.0, |c| c.elapsed().as_secs_f32());
         self.clock = Some(Instant::now());
-        self.ui_frame_ms = dt * 1e3;
+        self.ui_frame_ms = wall * 1e3;
+        // egui's frame time: the wall clock's under eframe, the harness's fixed step in tests,
+        // so Play's physics and moving objects run alike in both.
+        let dt = ui.input(|i| i.unstable_dt);
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         self.rect = Some(rect);
         let typing = ui.ctx().egui_wants_keyboard_input();
-        self.handle_camera(ui, &response, dt, typing);
+        self.handle_camera(ui, &response, dt, typing, state);
         self.update_grab(ui.ctx(), &response);
         if !typing && !self.playing() {
             ui.input(|i| {
@@ -350,10 +374,19 @@ impl Viewport {
             } else {
                 "drag to look (click to capture the mouse)"
             };
+            let mode = match self.mode {
+                ViewMode::Play(w) if w.fly => "flying (F to walk)",
+                _ => "walking (F to fly)",
+            };
+            let mut banner =
+                format!("PLAYING, {mode} — WASD + {how}, Shift to run, Space to jump, Esc to stop");
+            if let Some(note) = self.play_note() {
+                banner = format!("{banner}\n{note}");
+            }
             painter.text(
                 rect.center_top() + egui::vec2(0.0, 8.0),
                 egui::Align2::CENTER_TOP,
-                format!("PLAYING — WASD + {how}, Shift to run, Esc to stop"),
+                banner,
                 egui::FontId::proportional(14.0),
                 Color32::WHITE,
             );
@@ -383,8 +416,15 @@ impl Viewport {
         Ok(())
     }
 
-    fn handle_camera(&mut self, ui: &Ui, response: &egui::Response, dt: f32, typing: bool) {
-        let (delta, keys, wheel, esc, raw) = ui.input(|i| {
+    fn handle_camera(
+        &mut self,
+        ui: &Ui,
+        response: &egui::Response,
+        dt: f32,
+        typing: bool,
+        state: &EditorState,
+    ) {
+        let (delta, keys, wheel, esc, raw, fly) = ui.input(|i| {
             let keys = InputState {
                 forward: i.key_down(Key::W),
                 back: i.key_down(Key::S),
@@ -400,6 +440,7 @@ impl Viewport {
                 i.smooth_scroll_delta.y,
                 i.key_pressed(Key::Escape),
                 play::raw_motion(i),
+                !typing && i.key_pressed(Key::F),
             )
         });
         let keys = if typing { InputState::default() } else { keys };
@@ -408,9 +449,19 @@ impl Viewport {
             ViewMode::Play(walk) => {
                 let drag = Vec2::new(delta.x, delta.y);
                 let look = play::look(self.grabbed, raw, response.dragged(), drag);
-                walk.update(&keys, look, dt);
+                // The time the session draws this frame's moving objects at.
+                let t = self.gpu.as_ref().and_then(GpuView::animation_time);
+                match &mut self.physics {
+                    Some(p) => {
+                        if fly {
+                            p.toggle_fly(walk);
+                        }
+                        p.frame(&state.document, t, walk, &keys, look, dt);
+                    }
+                    None => walk.update(&keys, look, dt),
+                }
                 if esc {
-                    self.mode = ViewMode::Edit;
+                    self.stop();
                 }
                 ui.ctx().request_repaint();
             }
