@@ -12,7 +12,9 @@
 // filled from `GpuBvh::upload` (buffers `bvh::nodes` and `bvh::triangles`) and
 // `GpuScene::bvh_instances`. The static scene's tree has its root at node 0; each animated
 // object's tree follows it, built in the object's base pose, and its instance record carries
-// rays from where the object is now into that pose.
+// rays from where the object is now into that pose; last, a top-level tree over the casters'
+// bounds now, rebuilt each frame, whose leaves name instance records (record 0 is a header
+// holding the top-level root).
 
 // Traversal stack entries. The builder merges subtrees deeper than this into leaves, so
 // the stack cannot overflow; if it ever did, the ray counts as hit (shadowed).
@@ -106,25 +108,82 @@ fn bvh_any_hit(origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
     if bvh_tree_hit(0u, origin, dir, t_max) {
         return true;
     }
-    let safe = select(dir, vec3<f32>(BVH_DIR_EPS), abs(dir) < vec3<f32>(BVH_DIR_EPS));
-    let inv_dir = 1.0 / safe;
-    for (var i = 0u; i < arrayLength(&bvh_instances); i++) {
-        let inst = bvh_instances[i];
-        if inst.root == 0xffffffffu {
-            continue;
-        }
-        let bounds = BvhNode(inst.min.xyz, 0u, inst.max.xyz, 0u);
-        if bvh_box_entry(bounds, origin, inv_dir, t_max) < 0.0 {
-            continue;
-        }
-        // An affine map keeps the ray's parameter: t means the same point in both poses.
-        let o = (inst.from_now * vec4(origin, 1.0)).xyz;
-        let d = (inst.from_now * vec4(dir, 0.0)).xyz;
-        if bvh_tree_hit(inst.root, o, d, t_max) {
+    // Record 0 is the header: its `root` is the top-level tree over the casters' bounds.
+    let top = bvh_instances[0].root;
+    return top != 0xffffffffu && bvh_top_hit(top, origin, dir, t_max);
+}
+
+// Whether the ray hits instance `i`'s tree, carried into the object's base pose (an affine
+// map keeps the ray's parameter: t means the same point in both poses).
+fn bvh_instance_hit(i: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    let inst = bvh_instances[i];
+    let o = (inst.from_now * vec4(origin, 1.0)).xyz;
+    let d = (inst.from_now * vec4(dir, 0.0)).xyz;
+    return bvh_tree_hit(inst.root, o, d, t_max);
+}
+
+fn bvh_top_leaf_hit(node: BvhNode, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    for (var i = node.first; i < node.first + node.count; i++) {
+        if bvh_instance_hit(i, origin, dir, t_max) {
             return true;
         }
     }
     return false;
+}
+
+// `bvh_tree_hit`'s walk over the top-level tree, whose leaves name instances (WGSL has no
+// recursion, so the walk is written twice rather than calling itself through a leaf).
+fn bvh_top_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    let safe = select(dir, vec3<f32>(BVH_DIR_EPS), abs(dir) < vec3<f32>(BVH_DIR_EPS));
+    let inv_dir = 1.0 / safe;
+    let root = bvh_nodes[root_index];
+    if bvh_box_entry(root, origin, inv_dir, t_max) < 0.0 {
+        return false;
+    }
+    if root.count != BVH_INNER {
+        return bvh_top_leaf_hit(root, origin, dir, t_max);
+    }
+    var stack: array<u32, BVH_STACK_SIZE>;
+    var sp = 0u;
+    var pair = root.first;
+    let steps = arrayLength(&bvh_nodes);
+    for (var step = 0u; step < steps; step++) {
+        let a = bvh_nodes[pair];
+        let b = bvh_nodes[pair + 1u];
+        var ta = bvh_box_entry(a, origin, inv_dir, t_max);
+        var tb = bvh_box_entry(b, origin, inv_dir, t_max);
+        if ta >= 0.0 && a.count != BVH_INNER {
+            if bvh_top_leaf_hit(a, origin, dir, t_max) {
+                return true;
+            }
+            ta = -1.0;
+        }
+        if tb >= 0.0 && b.count != BVH_INNER {
+            if bvh_top_leaf_hit(b, origin, dir, t_max) {
+                return true;
+            }
+            tb = -1.0;
+        }
+        if ta >= 0.0 && tb >= 0.0 {
+            if sp == BVH_STACK_SIZE {
+                return true;
+            }
+            stack[sp] = select(a.first, b.first, ta <= tb);
+            sp += 1u;
+            pair = select(b.first, a.first, ta <= tb);
+        } else if ta >= 0.0 {
+            pair = a.first;
+        } else if tb >= 0.0 {
+            pair = b.first;
+        } else {
+            if sp == 0u {
+                return false;
+            }
+            sp -= 1u;
+            pair = stack[sp];
+        }
+    }
+    return true;
 }
 
 // Whether the ray hits a triangle of the tree whose root is node `root`.

@@ -249,6 +249,78 @@ impl GpuBvh {
     }
 }
 
+/// A top-level tree over boxes (the animated objects' bounds where they are now), rebuilt
+/// every frame: nodes in [`BvhNode`]'s layout with absolute child indices (the root is
+/// `node_offset`, children pairs follow it), leaves naming at most two items as
+/// `first_item + position` in the returned order. Median split on the longest axis of the
+/// centres; empty input: no nodes.
+pub fn build_tlas(
+    bounds: &[(Vec3, Vec3)],
+    node_offset: u32,
+    first_item: u32,
+) -> (Vec<BvhNode>, Vec<u32>) {
+    let mut order: Vec<u32> = (0..bounds.len() as u32).collect();
+    if bounds.is_empty() {
+        return (Vec::new(), order);
+    }
+    let empty = BvhNode {
+        min: [0.0; 3],
+        first: 0,
+        max: [0.0; 3],
+        count: 0,
+    };
+    let mut nodes = vec![empty];
+    // (node, items lo..hi)
+    let mut todo = vec![(0usize, 0usize, bounds.len())];
+    while let Some((i, lo, hi)) = todo.pop() {
+        let items = &mut order[lo..hi];
+        let (mut min, mut max) = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+        let (mut cmin, mut cmax) = (min, max);
+        for &k in items.iter() {
+            let (a, b) = bounds[k as usize];
+            min = min.min(a);
+            max = max.max(b);
+            cmin = cmin.min(0.5 * (a + b));
+            cmax = cmax.max(0.5 * (a + b));
+        }
+        if hi - lo <= 2 {
+            nodes[i] = BvhNode {
+                min: min.to_array(),
+                first: first_item + lo as u32,
+                max: max.to_array(),
+                count: (hi - lo) as u32,
+            };
+            continue;
+        }
+        let extent = cmax - cmin;
+        let axis = if extent.x >= extent.y && extent.x >= extent.z {
+            0
+        } else if extent.y >= extent.z {
+            1
+        } else {
+            2
+        };
+        let centre = |k: &u32| {
+            let (a, b) = bounds[*k as usize];
+            0.5 * (a[axis] + b[axis])
+        };
+        items.sort_by(|x, y| centre(x).total_cmp(&centre(y)));
+        let mid = lo + (hi - lo) / 2;
+        let pair = nodes.len();
+        nodes.push(empty);
+        nodes.push(empty);
+        nodes[i] = BvhNode {
+            min: min.to_array(),
+            first: node_offset + pair as u32,
+            max: max.to_array(),
+            count: INNER,
+        };
+        todo.push((pair, lo, mid));
+        todo.push((pair + 1, mid, hi));
+    }
+    (nodes, order)
+}
+
 /// Builds the BVH of `triangles` (world-space vertices). Triangles with a NaN or infinite
 /// coordinate are skipped; no input makes it panic.
 pub fn build_bvh(triangles: &[[Vec3; 3]]) -> GpuBvh {

@@ -7,7 +7,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Vec3};
 use wgpu::util::DeviceExt;
 
-use crate::bvh::{GpuBvh, build_bvh};
+use crate::bvh::{BvhNode, GpuBvh, build_bvh};
 use crate::context::GpuContext;
 use crate::input::SceneInput;
 use crate::textures::{AtlasError, GpuTextures, TextureSet};
@@ -434,8 +434,11 @@ pub struct GpuScene {
     /// Consecutive runs of at most [`RANGE_TRIANGLES`] triangles of one object with their
     /// world bounds: a raster draws only the ranges its frustum meets.
     pub ranges: Vec<DrawRange>,
-    /// Animated objects' shadow trees where they are now (at least one record).
+    /// Animated objects' shadow trees where they are now: a header (its `root` the top-level
+    /// tree's root, or none), then one record per caster in the top-level tree's order.
     pub bvh_instances: wgpu::Buffer,
+    /// Where the top-level tree's nodes start in `bvh_nodes`.
+    pub tlas_root: u32,
     /// Animated objects' motion records, one per [`GpuScene::animated`] (at least one).
     pub motions: wgpu::Buffer,
     /// The animated objects, in motion record order.
@@ -653,11 +656,13 @@ impl GpuScene {
         for (i, tris) in &animated_casters {
             animated[*i].bvh_root = bvh.append(&build_bvh(tris));
         }
-        let instances: Vec<GpuBvhInstance> = if animated.is_empty() {
-            vec![GpuBvhInstance::NONE]
-        } else {
-            animated.iter().map(|a| a.instance(a.base)).collect()
-        };
+        // Room after the trees for the per-frame top-level tree over the casters' bounds
+        // (fewer than two nodes per caster), and the instance records behind a header.
+        let tlas_root = bvh.nodes.len() as u32;
+        let casters_n = animated_casters.len();
+        bvh.nodes
+            .extend(std::iter::repeat_n(BvhNode::zeroed(), 2 * casters_n));
+        let instances = vec![GpuBvhInstance::NONE; 1 + casters_n];
         let (bvh_nodes, bvh_triangles) = bvh.upload(&ctx.device);
         let storage = |label, contents: &[u8], usage| {
             ctx.device
@@ -667,7 +672,7 @@ impl GpuScene {
                     usage,
                 })
         };
-        Ok(GpuScene {
+        let scene = GpuScene {
             vertices: storage(
                 "scene::vertices",
                 bytemuck::cast_slice(&vertices),
@@ -703,6 +708,7 @@ impl GpuScene {
                 wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             ),
             animated,
+            tlas_root,
             terrains: storage(
                 "scene::terrains",
                 bytemuck::cast_slice(&gpu_terrains),
@@ -713,7 +719,10 @@ impl GpuScene {
                 bytemuck::cast_slice(&terrain_data),
                 wgpu::BufferUsages::STORAGE,
             ),
-        })
+        };
+        // The casters at their base poses until a frame says otherwise.
+        scene.set_poses(&ctx.queue, &[]);
+        Ok(scene)
     }
 
     /// What the shadow BVH group binds ([`crate::passes::bvh_layout`]).
@@ -744,10 +753,26 @@ impl GpuScene {
             .map(|(a, &m)| a.motion(m))
             .collect();
         queue.write_buffer(&self.motions, 0, bytemuck::cast_slice(&records));
-        let instances: Vec<GpuBvhInstance> = (self.animated.iter().zip(&transforms))
+        // The casters where they are now, under a top-level tree over their bounds (so a
+        // shadow ray tests the few whose boxes it meets, not every one), behind a header.
+        let casting: Vec<GpuBvhInstance> = (self.animated.iter().zip(&transforms))
             .map(|(a, &m)| a.instance(m))
+            .filter(|i| i.root != u32::MAX)
             .collect();
-        queue.write_buffer(&self.bvh_instances, 0, bytemuck::cast_slice(&instances));
+        let bounds: Vec<(Vec3, Vec3)> = (casting.iter())
+            .map(|i| (Vec3::from_slice(&i.min[..3]), Vec3::from_slice(&i.max[..3])))
+            .collect();
+        let (nodes, order) = crate::bvh::build_tlas(&bounds, self.tlas_root, 1);
+        let mut header = GpuBvhInstance::NONE;
+        if !nodes.is_empty() {
+            header.root = self.tlas_root;
+            let offset = u64::from(self.tlas_root) * size_of::<BvhNode>() as u64;
+            queue.write_buffer(&self.bvh_nodes, offset, bytemuck::cast_slice(&nodes));
+        }
+        let records: Vec<GpuBvhInstance> = std::iter::once(header)
+            .chain(order.iter().map(|&k| casting[k as usize]))
+            .collect();
+        queue.write_buffer(&self.bvh_instances, 0, bytemuck::cast_slice(&records));
     }
 
     /// Every animated object's vertex runs.

@@ -290,3 +290,48 @@ fn a_moving_object_is_lit_like_a_still_one() {
         );
     }
 }
+
+/// Many moving casters (found through the top-level tree over their bounds): the floor
+/// under each of seven boxes, posed along a row, is in shadow, and the floor between them lit.
+#[test]
+fn every_moving_caster_of_many_casts_its_shadow() {
+    let Some(ctx) = test_context() else { return };
+    let mut scene = one_moving_box(true);
+    scene.objects[0].material.maps = SurfaceMaps::default();
+    scene.suns[0].direction = Vec3::new(0.0, -1.0, 0.0);
+    let floor = scene.objects.pop().expect("floor");
+    let template = scene.objects[0].clone();
+    scene.objects.clear();
+    for i in 0..7u32 {
+        let mut b = template.clone();
+        b.id = 10 + i;
+        scene.objects.push(b);
+    }
+    scene.objects.push(floor);
+    scene.animated = (0..7).collect();
+    let mut r = Renderer::headless(&ctx).unwrap();
+    r.set_scene(&ctx, &scene).expect("scene");
+    let grid = Vec3::new(0.0, 8.0, -4.0);
+    let cam = Camera::looking(Vec3::new(0.0, 8.0, -1.0), Vec3::new(0.0, -1.0, -0.4));
+    let mut input = common::frame(cam, grid, 64, UVec2::new(96, 54), Schedule::Ours);
+    input.poses = (0..7)
+        .map(|i| Pose {
+            object: i,
+            transform: Mat4::from_translation(Vec3::new(i as f32 * 2.0 - 6.0, 1.5, -4.0)),
+        })
+        .collect();
+    r.render_offscreen(&ctx, &input).unwrap();
+    let (n, faces) = r.read_lit_faces(&ctx, texel_probes::probe_set::Slot::StableA).unwrap();
+    let lum = |x: f32| {
+        let d = Vec3::new(x, 0.0, -4.0) - grid;
+        let t = texel_probes::cube::texel_from_direction(d, n).expect("a texel");
+        assert_eq!(t.face.index(), 3);
+        let i = ((t.y * n + t.x) * 4) as usize;
+        faces[3][i] as u32 + faces[3][i + 1] as u32 + faces[3][i + 2] as u32
+    };
+    for i in 0..7 {
+        let x = i as f32 * 2.0 - 6.0;
+        let (under, between) = (lum(x), lum(x + 1.0));
+        assert!(under + 60 < between, "box {i}: floor under it {under}, beside it {between}");
+    }
+}

@@ -276,3 +276,42 @@ fn appended_trees_are_traversed_from_their_own_roots() {
     }
     assert!(hits[0] > 50 && hits[1] > 50, "{hits:?}");
 }
+
+/// The top-level tree over boxes: every box is in exactly one leaf, each node bounds its
+/// subtree, and children indices are absolute.
+#[test]
+fn a_top_level_tree_bounds_every_box_once() {
+    let mut rng = Rng(11);
+    let boxes: Vec<(Vec3, Vec3)> = (0..37)
+        .map(|_| {
+            let c = rng.vec(-20.0, 20.0);
+            (c - Vec3::splat(0.5), c + Vec3::splat(0.7))
+        })
+        .collect();
+    let offset = 100;
+    let (nodes, order) = build_tlas(&boxes, offset, 1);
+    let mut seen = vec![0; boxes.len()];
+    let mut todo = vec![0usize];
+    while let Some(i) = todo.pop() {
+        let n = nodes[i];
+        let (min, max) = (Vec3::from(n.min), Vec3::from(n.max));
+        if n.is_leaf() {
+            assert!(n.count >= 1 && n.count <= 2);
+            for slot in n.first..n.first + n.count {
+                let k = order[(slot - 1) as usize] as usize;
+                seen[k] += 1;
+                assert!(min.cmple(boxes[k].0).all() && max.cmpge(boxes[k].1).all());
+            }
+        } else {
+            let c = (n.first - offset) as usize;
+            for child in [c, c + 1] {
+                let m = nodes[child];
+                assert!(min.cmple(Vec3::from(m.min)).all() && max.cmpge(Vec3::from(m.max)).all());
+                todo.push(child);
+            }
+        }
+    }
+    assert!(seen.iter().all(|&s| s == 1), "{seen:?}");
+    assert!(nodes.len() < 2 * boxes.len());
+    assert!(build_tlas(&[], 0, 1).0.is_empty());
+}
