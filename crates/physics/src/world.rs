@@ -107,8 +107,8 @@ impl PhysicsWorld {
         for e in scene.entities() {
             world.insert_entity(scene, assets, e, &mut cache)?;
         }
-        world.spawn = find_spawn(scene);
         world.sync();
+        world.spawn = find_spawn(scene).map(|s| world.out_of_terrain(s));
         Ok(world)
     }
 
@@ -130,10 +130,10 @@ impl PhysicsWorld {
         entity: Entity,
     ) -> Result<(), PhysicsError> {
         self.remove_entity(entity);
-        self.spawn = find_spawn(scene);
         if scene.world().contains(entity) {
             self.insert_entity(scene, assets, entity, &mut HashMap::new())?;
         }
+        self.spawn = find_spawn(scene).map(|s| self.out_of_terrain(s));
         Ok(())
     }
 
@@ -309,6 +309,38 @@ impl PhysicsWorld {
             pitch: 0.0,
             eye_height: PlayerStart::default().eye_height,
         })
+    }
+
+    /// `spawn` with its feet lifted onto a terrain whose surface is above them (a player start
+    /// placed before the ground was raised, or under a hill): a start inside a terrain would
+    /// drop the player through it. Starts under anything else (a roof) stay.
+    fn out_of_terrain(&mut self, mut spawn: Spawn) -> Spawn {
+        let Some((_, top)) = self.bounds else {
+            return spawn;
+        };
+        let from = Vec3::new(spawn.feet.x, top.y + 1.0, spawn.feet.z);
+        let down = Vec3::NEG_Y;
+        let reach = from.y - spawn.feet.y;
+        // The first terrain surface the ray from above meets, skipping what lies on it.
+        let mut origin = from;
+        for _ in 0..16 {
+            let Some((t, collider)) = self.cast_ray(origin, down, from.y - origin.y + reach) else {
+                break;
+            };
+            let hit = origin + down * t;
+            if hit.y <= spawn.feet.y {
+                break;
+            }
+            let terrain = self
+                .entity_of(collider)
+                .is_some_and(|e| self.bodies.get(&e).is_some_and(|b| b.terrain.is_some()));
+            if terrain {
+                spawn.feet.y = hit.y;
+                break;
+            }
+            origin = hit + down * 1e-3;
+        }
+        spawn
     }
 
     /// The box holding every collider, `None` when there is none.

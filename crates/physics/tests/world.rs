@@ -334,6 +334,67 @@ fn a_player_dropped_on_terrain_hills_lands_on_the_heightfield() -> anyhow::Resul
     Ok(())
 }
 
+/// A player start buried under a hill is lifted onto the terrain's surface, and the player
+/// stands there instead of falling through the hill; a start on open ground stays where it
+/// is.
+#[test]
+fn a_start_under_a_terrain_is_lifted_onto_it() -> anyhow::Result<()> {
+    let (mut scene, assets) = load_level("terrain_hills")?;
+    // Bury terrain_hills' start 2.6 units under the ground.
+    let start = scene
+        .entities()
+        .find(|&e| scene.world().get::<&texel_scene::PlayerStart>(e).is_ok())
+        .expect("a player start");
+    scene
+        .world_mut()
+        .get::<&mut Transform>(start)
+        .expect("a transform")
+        .translation
+        .y = 2.6;
+    let mut w = PhysicsWorld::from_scene(&scene, &assets)?;
+    let (island, t, origin) = scene
+        .entities()
+        .find_map(|e| {
+            let world = scene.world();
+            let t = world.get::<&Terrain>(e).ok()?;
+            let origin = world.get::<&Transform>(e).ok()?.translation;
+            Some((e, (*t).clone(), origin))
+        })
+        .unwrap();
+    let field = assets.heightfield(&t).unwrap().clone();
+    let written = scene
+        .entities()
+        .find_map(|e| {
+            let world = scene.world();
+            world.get::<&texel_scene::PlayerStart>(e).ok()?;
+            Some(world.get::<&Transform>(e).ok()?.translation)
+        })
+        .expect("a player start");
+    let spawn = w.spawn();
+    let ground = surface(&field, t.size, origin, spawn.feet.x, spawn.feet.z);
+    assert!(
+        written.y < ground - 1.0,
+        "the written start is under the hill"
+    );
+    assert!(
+        (spawn.feet.y - ground).abs() < 0.05,
+        "lifted to {} (ground {ground})",
+        spawn.feet
+    );
+    let mut p = Player::new(PlayerConfig::default(), spawn.feet);
+    run(&mut p, &mut w, idle(), 1.0);
+    assert!(
+        p.is_grounded() && (p.feet().y - ground).abs() < 0.1,
+        "feet {}",
+        p.feet()
+    );
+    assert_eq!(p.ground_entity(), Some(island));
+    let (scene, assets) = load_level("stone_circle")?;
+    let w = PhysicsWorld::from_scene(&scene, &assets)?;
+    assert_eq!(w.spawn().feet, Vec3::new(0.0, 0.0, 13.0));
+    Ok(())
+}
+
 #[test]
 fn a_player_rides_the_animated_platform_of_moving_parts() -> anyhow::Result<()> {
     let (scene, assets) = load_level("moving_parts")?;
