@@ -1,5 +1,5 @@
 //! Files a level refers to (glTF meshes, PNG or JPEG textures, terrain heightmaps and paint
-//! layers), found relative to the level file.
+//! layers, sprite sheets and their maps), found relative to the level file.
 
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -11,6 +11,7 @@ use crate::components::{Geometry, Material, Sampling};
 use crate::gltf_import::{GltfError, load_gltf_report};
 use crate::level::Level;
 use crate::mesh::TriMesh;
+use crate::sprite::Sprite;
 use crate::terrain::{HeightSource, Heightfield, Terrain};
 use crate::texture::{TextureError, load_heightmap, load_paint, load_texture};
 
@@ -39,6 +40,15 @@ pub enum AssetFileError {
     /// A PNG or JPEG texture.
     #[error(transparent)]
     Texture(#[from] TextureError),
+    /// A sprite's sheet or map that does not fit the sprite (frames that do not divide it,
+    /// a map of another size, …).
+    #[error("{}: {message}", file.display())]
+    Sprite {
+        /// The image file.
+        file: PathBuf,
+        /// What is wrong.
+        message: String,
+    },
 }
 
 /// Meshes and textures loaded for a level, keyed by the path written in the level, and the
@@ -89,6 +99,26 @@ impl AssetLibrary {
     /// The paint layer of `terrain`, if it has one and it is loaded.
     pub fn paint(&self, terrain: &Terrain) -> Option<&Arc<Image>> {
         self.textures.get(&terrain.paint.as_ref()?.path)
+    }
+
+    /// The sheet of `sprite`, if loaded.
+    pub fn sprite_sheet(&self, sprite: &Sprite) -> Option<&Arc<Image>> {
+        self.textures.get(&sprite.sheet)
+    }
+
+    /// The normal map of `sprite`, if it has one and it is loaded.
+    pub fn sprite_normal_map(&self, sprite: &Sprite) -> Option<&Arc<Image>> {
+        self.textures.get(sprite.normal_map.as_ref()?)
+    }
+
+    /// The relief's depth map of `sprite`, if it has one and it is loaded.
+    pub fn sprite_depth_map(&self, sprite: &Sprite) -> Option<&Arc<Image>> {
+        self.textures.get(&sprite.relief.as_ref()?.depth_map)
+    }
+
+    /// The refraction's back depth map of `sprite`, if it has one and it is loaded.
+    pub fn sprite_back_depth(&self, sprite: &Sprite) -> Option<&Arc<Image>> {
+        self.textures.get(&sprite.refraction.as_ref()?.back_depth)
     }
 
     /// Sets the heights of `terrain` (a sculpted or imported field).
@@ -209,9 +239,9 @@ pub fn load_assets(
 ) -> Result<AssetLibrary, AssetError> {
     let mut lib = AssetLibrary::default();
     for (i, row) in level.entities.iter().enumerate() {
-        let error = |path: &str, source: AssetFileError| AssetError {
+        let error_at = |needles: &[String], source: AssetFileError| AssetError {
             level: level_path.to_owned(),
-            at: level_text.and_then(|t| locate(t, &format!("{path:?}"))),
+            at: level_text.and_then(|t| locate_in_row(t, i, needles)),
             entity: i,
             name: row
                 .name
@@ -219,6 +249,7 @@ pub fn load_assets(
                 .map_or_else(|| "unnamed".to_owned(), |n| n.0.clone()),
             source,
         };
+        let error = |path: &str, source: AssetFileError| error_at(&[format!("{path:?}")], source);
         if let Some(Geometry::Mesh { path }) = &row.geometry
             && !lib.meshes.contains_key(path)
         {
@@ -260,23 +291,243 @@ pub fn load_assets(
                 load_paint(&resolve(level_path, &p.path)).map_err(|e| error(&p.path, e.into()))?;
             lib.textures.insert(p.path.clone(), Arc::new(image));
         }
+        if let Some(sprite) = &row.sprite {
+            load_sprite(&mut lib, sprite, level_path).map_err(|(at, e)| error_at(&at, e))?;
+        }
     }
     Ok(lib)
 }
 
+/// Loads a sprite's sheet and maps into `lib` and checks them against the sprite: the
+/// frames fit the sheet and every map is the sheet's size. The error comes with what to
+/// look for in the sprite's row to point at the line (the file, or the field at fault).
+fn load_sprite(
+    lib: &mut AssetLibrary,
+    sprite: &Sprite,
+    level_path: &Path,
+) -> Result<(), (Vec<String>, AssetFileError)> {
+    for (_, path) in sprite.files() {
+        if !lib.textures.contains_key(path) {
+            let image = load_texture(&resolve(level_path, path))
+                .map_err(|e| (vec![format!("{path:?}")], e.into()))?;
+            lib.textures.insert(path.to_owned(), Arc::new(image));
+        }
+    }
+    let Some(sheet) = lib.textures.get(&sprite.sheet) else {
+        return Ok(());
+    };
+    sprite
+        .check_sheet(glam::UVec2::new(sheet.width, sheet.height))
+        .map_err(|e| {
+            let at = match e.animation {
+                Some(name) => vec!["animations".to_owned(), format!("{name:?}")],
+                None => vec![e.field.to_owned()],
+            };
+            let file = resolve(level_path, &sprite.sheet);
+            (
+                at,
+                AssetFileError::Sprite {
+                    file,
+                    message: e.message,
+                },
+            )
+        })?;
+    for (what, path) in sprite.files().skip(1) {
+        let Some(map) = lib.textures.get(path) else {
+            continue;
+        };
+        if (map.width, map.height) != (sheet.width, sheet.height) {
+            let message = format!(
+                "the {what} is {}×{} pixels, but the sheet {:?} is {}×{}: a sprite's maps must \
+                 be the size of its sheet",
+                map.width, map.height, sprite.sheet, sheet.width, sheet.height
+            );
+            let file = resolve(level_path, path);
+            return Err((
+                vec![format!("{path:?}")],
+                AssetFileError::Sprite { file, message },
+            ));
+        }
+    }
+    Ok(())
+}
+
+/// 1-based line and column of `needles` found one after the other inside entity row `row`
+/// of a level's text (see [`entity_rows`]): of the last needle, or of the row itself if
+/// they are not all there; without the row, of the first occurrence of the last needle in
+/// the whole text.
+fn locate_in_row(text: &str, row: usize, needles: &[String]) -> Option<(usize, usize)> {
+    let Some(span) = entity_rows(text).into_iter().nth(row) else {
+        return locate(text, needles.last()?);
+    };
+    let mut at = span.start;
+    for needle in needles {
+        match text[at..span.end].find(needle.as_str()) {
+            Some(offset) => at += offset,
+            None => return Some(line_col_at(text, span.start)),
+        }
+    }
+    Some(line_col_at(text, at))
+}
+
+/// Byte ranges of a level text's entity rows, in order: each from its `(` to its `)`. A
+/// small scanner over the text (strings, raw strings and comments skipped, brackets
+/// counted), for pointing errors found after parsing at the right row; a text it cannot
+/// follow gives fewer rows.
+fn entity_rows(text: &str) -> Vec<std::ops::Range<usize>> {
+    let b = text.as_bytes();
+    let ident = |c: Option<&u8>| c.is_some_and(|c| c.is_ascii_alphanumeric() || *c == b'_');
+    let mut rows = Vec::new();
+    let (mut depth, mut i) = (0usize, 0usize);
+    let (mut want_list, mut list, mut start) = (false, None, None);
+    while i < b.len() {
+        let c = b[i];
+        let next = b.get(i + 1).copied();
+        match c {
+            b'"' => {
+                i = skip_string(b, i + 1);
+                continue;
+            }
+            b'r' if matches!(next, Some(b'"' | b'#'))
+                && !ident(i.checked_sub(1).and_then(|p| b.get(p))) =>
+            {
+                i = skip_raw_string(b, i + 1);
+                continue;
+            }
+            b'/' if next == Some(b'/') => {
+                i = text[i..].find('\n').map_or(b.len(), |n| i + n);
+                continue;
+            }
+            b'/' if next == Some(b'*') => {
+                i = skip_block_comment(b, i + 2);
+                continue;
+            }
+            b'(' | b'[' | b'{' => {
+                if c == b'[' && want_list && list.is_none() {
+                    list = Some(depth + 1);
+                    want_list = false;
+                } else if c == b'(' && list == Some(depth) {
+                    start = Some(i);
+                }
+                depth += 1;
+            }
+            b')' | b']' | b'}' => {
+                depth = depth.saturating_sub(1);
+                if c == b')' && list == Some(depth) {
+                    rows.extend(start.take().map(|s| s..i + 1));
+                } else if list == Some(depth + 1) {
+                    return rows;
+                }
+            }
+            b'e' if depth == 1
+                && text[i..].starts_with("entities")
+                && !ident(i.checked_sub(1).and_then(|p| b.get(p)))
+                && !ident(b.get(i + 8)) =>
+            {
+                want_list = true;
+                i += 8;
+                continue;
+            }
+            _ => {}
+        }
+        i += 1;
+    }
+    rows
+}
+
+/// The index just after the string whose body starts at `i`.
+fn skip_string(b: &[u8], mut i: usize) -> usize {
+    while i < b.len() {
+        match b[i] {
+            b'\\' => i += 2,
+            b'"' => return i + 1,
+            _ => i += 1,
+        }
+    }
+    b.len()
+}
+
+/// The index just after the raw string whose `#`s (or opening quote) start at `i`.
+fn skip_raw_string(b: &[u8], mut i: usize) -> usize {
+    let hashes = b[i..].iter().take_while(|&&c| c == b'#').count();
+    i += hashes + 1;
+    while i < b.len() {
+        if b[i] == b'"'
+            && b[i + 1..]
+                .iter()
+                .take(hashes)
+                .filter(|&&c| c == b'#')
+                .count()
+                == hashes
+        {
+            return i + 1 + hashes;
+        }
+        i += 1;
+    }
+    b.len()
+}
+
+/// The index just after the (nested) block comment whose body starts at `i`.
+fn skip_block_comment(b: &[u8], mut i: usize) -> usize {
+    let mut open = 1;
+    while i < b.len() {
+        match (b[i], b.get(i + 1)) {
+            (b'*', Some(b'/')) => {
+                open -= 1;
+                i += 2;
+                if open == 0 {
+                    return i;
+                }
+            }
+            (b'/', Some(b'*')) => {
+                open += 1;
+                i += 2;
+            }
+            _ => i += 1,
+        }
+    }
+    b.len()
+}
+
 /// 1-based line and column of the first occurrence of `needle` in `text`.
 fn locate(text: &str, needle: &str) -> Option<(usize, usize)> {
-    let at = text.find(needle)?;
+    Some(line_col_at(text, text.find(needle)?))
+}
+
+/// 1-based line and column of byte `at` of `text`.
+fn line_col_at(text: &str, at: usize) -> (usize, usize) {
     let before = &text[..at];
     let line = before.matches('\n').count() + 1;
     let col = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
-    Some((line, col))
+    (line, col)
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
     use crate::level::EntityRow;
+
+    #[test]
+    fn entity_rows_skip_strings_comments_and_nested_brackets() {
+        let text = "// entities: [(x)]\n(version: 3, settings: (bands: 32),\n entities: [\n\
+                    (name: \"a ) ] \\\" (\", geometry: Box(size: (1.0, 1.0, 1.0))),\n\
+                    /* (not a row) /* nested ) */ */ (name: r#\"raw \" )\"#),\n\
+                    Entity(sprite: (sheet: \"s.png\", animations: [(name: \"w\")])),\n])";
+        let rows = entity_rows(text);
+        let rows: Vec<&str> = rows.iter().map(|r| &text[r.clone()]).collect();
+        assert_eq!(rows.len(), 3, "{rows:?}");
+        assert!(rows[0].starts_with("(name: \"a ) ]") && rows[0].ends_with("1.0)))"));
+        assert_eq!(rows[1], "(name: r#\"raw \" )\"#)");
+        assert!(rows[2].starts_with("(sprite:") && rows[2].ends_with("]))"));
+        // The third row's "w", not the first mention of it anywhere.
+        let at = locate_in_row(text, 2, &["animations".into(), "\"w\"".into()]);
+        assert_eq!(at, Some((6, 53)));
+        // A needle the row lacks: the row itself; a row past the end: the whole text.
+        assert_eq!(locate_in_row(text, 1, &["nothing".into()]), Some((5, 34)));
+        assert_eq!(locate_in_row(text, 9, &["\"s.png\"".into()]), Some((6, 24)));
+        assert!(entity_rows("(version: 3)").is_empty());
+        assert!(entity_rows("(entities: [(a: \"unterminated").is_empty());
+    }
 
     #[test]
     fn paths_are_relative_to_the_level() {

@@ -86,6 +86,13 @@ pub struct EntityRow {
     /// Motion over time (needs a transform; not on a terrain).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub animator: Option<crate::animator::Animator>,
+    /// A picture from a sprite sheet (needs a transform; no geometry, no terrain).
+    #[serde(
+        default,
+        skip_serializing_if = "Option::is_none",
+        deserialize_with = "crate::sprite::de_sprite"
+    )]
+    pub sprite: Option<crate::sprite::Sprite>,
 }
 
 /// The names of the components an entity row may hold, in file order.
@@ -100,6 +107,7 @@ pub const COMPONENT_NAMES: &[&str] = &[
     "player_start",
     "terrain",
     "animator",
+    "sprite",
 ];
 
 /// What is wrong with a level, for callers that react to the kind.
@@ -336,7 +344,9 @@ impl EntityRow {
         check("player_start", self.player_start.as_ref().map(|v| v as _))?;
         check("terrain", self.terrain.as_ref().map(|v| v as _))?;
         check("animator", self.animator.as_ref().map(|v| v as _))?;
-        crate::animator::check_row(self).map_err(|e| ("animator", e))
+        check("sprite", self.sprite.as_ref().map(|v| v as _))?;
+        crate::animator::check_row(self).map_err(|e| ("animator", e))?;
+        crate::sprite::check_row(self).map_err(|e| ("sprite", e))
     }
 
     /// The entity's name, or `unnamed`.
@@ -346,7 +356,7 @@ impl EntityRow {
 }
 
 /// Reads the entity rows, checking each row's components against each other as it ends
-/// (an animator needs a transform, …), so the error points at the row.
+/// (an animator or a sprite needs a transform, …), so the error points at the row.
 fn de_entities<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<EntityRow>, D::Error> {
     struct Rows;
     impl<'de> serde::de::Visitor<'de> for Rows {
@@ -360,7 +370,9 @@ fn de_entities<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<EntityRow>,
         ) -> Result<Self::Value, A::Error> {
             let mut rows = Vec::new();
             while let Some(row) = seq.next_element::<EntityRow>()? {
-                if let Err((_, message)) = crate::animator::check_row(&row) {
+                if let Err((_, message)) =
+                    crate::animator::check_row(&row).and_then(|()| crate::sprite::check_row(&row))
+                {
                     return Err(serde::de::Error::custom(format!(
                         "entity {} ({}): {message}",
                         rows.len(),

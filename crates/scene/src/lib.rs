@@ -17,6 +17,7 @@ pub mod read;
 pub mod save;
 pub mod scene;
 pub mod sculpt;
+pub mod sprite;
 pub mod terrain;
 pub mod texture;
 

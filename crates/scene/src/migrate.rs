@@ -12,6 +12,7 @@
 //! | 3 | materials may name a `texture` (with sampling, density, UV scale) and a `normal_map`; a version 2 file is a version 3 file without them |
 //! | 3 | (later, still 3) entities may hold a `terrain`; files without one are unchanged |
 //! | 3 | (later, still 3) entities may hold an `animator`; files without one are unchanged |
+//! | 3 | (later, still 3) entities may hold a `sprite`; files without one are unchanged |
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
@@ -127,6 +128,7 @@ impl From<LevelV1> for Level {
                     player_start: e.player_start,
                     terrain: None,
                     animator: None,
+                    sprite: None,
                 })
                 .collect(),
         }

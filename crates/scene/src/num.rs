@@ -389,3 +389,136 @@ vec3_with!(
     axis,
     check_axis
 );
+
+/// Checks a pair of fractions (a sprite's pivot): both within 0..=1.
+pub fn check_unit2(v: Vec2) -> Result<Vec2, String> {
+    Ok(Vec2::new(check_unit(v.x)?, check_unit(v.y)?))
+}
+
+/// A point inside a frame as fractions of it: both components within 0..=1.
+pub mod unit2 {
+    use super::*;
+    /// Writes `(x, y)`.
+    pub fn serialize<S: Serializer>(v: &Vec2, s: S) -> Result<S::Ok, S::Error> {
+        (v.x, v.y).serialize(s)
+    }
+    /// Reads `(x, y)` and checks both are within 0..=1.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec2, D::Error> {
+        let (x, y) = <(f32, f32)>::deserialize(d)?;
+        check_unit2(Vec2::new(x, y)).map_err(D::Error::custom)
+    }
+}
+
+/// Checks a sprite's frame size in pixels: each side within
+/// 1..=[`MAX_TEXTURE_SIZE`](texel_geom::texture::MAX_TEXTURE_SIZE).
+pub fn check_frame_size(v: glam::UVec2) -> Result<glam::UVec2, String> {
+    let max = texel_geom::texture::MAX_TEXTURE_SIZE;
+    if (1..=max).contains(&v.x) && (1..=max).contains(&v.y) {
+        Ok(v)
+    } else {
+        Err(format!(
+            "frame size must be in 1..={max} pixels per side, got ({}, {})",
+            v.x, v.y
+        ))
+    }
+}
+
+/// A sprite's frame size in pixels, `(width, height)`.
+pub mod frame_size {
+    use super::*;
+    /// Writes `(width, height)`.
+    pub fn serialize<S: Serializer>(v: &glam::UVec2, s: S) -> Result<S::Ok, S::Error> {
+        (v.x, v.y).serialize(s)
+    }
+    /// Reads `(width, height)` and checks both.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<glam::UVec2, D::Error> {
+        let (x, y) = <(u32, u32)>::deserialize(d)?;
+        check_frame_size(glam::UVec2::new(x, y)).map_err(D::Error::custom)
+    }
+}
+
+/// Checks an animation's frames per second: finite, > 0, at most
+/// [`MAX_FPS`](crate::sprite::MAX_FPS).
+pub fn check_fps(v: f32) -> Result<f32, String> {
+    let max = crate::sprite::MAX_FPS;
+    if !v.is_finite() {
+        Err(format!("NaN or infinite number ({v})"))
+    } else if v <= 0.0 || v > max {
+        Err(format!(
+            "fps must be positive and at most {max:?}, got {v:?}"
+        ))
+    } else {
+        Ok(v)
+    }
+}
+
+f32_with!(
+    /// Frames per second of a sprite animation, > 0.
+    fps,
+    check_fps
+);
+
+/// Checks a sprite's number of view directions: 1 or 8.
+pub fn check_directions(v: u32) -> Result<u32, String> {
+    if v == 1 || v == 8 {
+        Ok(v)
+    } else {
+        Err(format!("directions must be 1 or 8, got {v}"))
+    }
+}
+
+/// A sprite's number of view directions, 1 or 8.
+pub mod directions {
+    use super::*;
+    /// Writes the number.
+    pub fn serialize<S: Serializer>(v: &u32, s: S) -> Result<S::Ok, S::Error> {
+        v.serialize(s)
+    }
+    /// Reads the number and checks it is 1 or 8.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<u32, D::Error> {
+        check_directions(u32::deserialize(d)?).map_err(D::Error::custom)
+    }
+}
+
+/// Checks a relief's depth in world units: finite, > 0, at most
+/// [`MAX_RELIEF_DEPTH`](crate::sprite::MAX_RELIEF_DEPTH).
+pub fn check_relief_depth(v: f32) -> Result<f32, String> {
+    let max = crate::sprite::MAX_RELIEF_DEPTH;
+    let v = check_positive(v, "relief depth")?;
+    if v > max {
+        Err(format!(
+            "relief depth must be at most {max:?} world units, got {v:?}"
+        ))
+    } else {
+        Ok(v)
+    }
+}
+
+f32_with!(
+    /// A relief's depth in world units, in (0, `MAX_RELIEF_DEPTH`].
+    relief_depth,
+    check_relief_depth
+);
+
+/// Checks a ratio of refractive indices (outside over inside, as GLSL's `refract` takes it):
+/// finite and within [`INDEX_RATIOS`](crate::sprite::INDEX_RATIOS).
+pub fn check_index_ratio(v: f32) -> Result<f32, String> {
+    let range = crate::sprite::INDEX_RATIOS;
+    if !v.is_finite() {
+        Err(format!("NaN or infinite number ({v})"))
+    } else if !range.contains(&v) {
+        Err(format!(
+            "index ratio must be in {:?}..={:?}, got {v:?}",
+            range.start(),
+            range.end()
+        ))
+    } else {
+        Ok(v)
+    }
+}
+
+f32_with!(
+    /// A ratio of refractive indices, within `INDEX_RATIOS`.
+    index_ratio,
+    check_index_ratio
+);

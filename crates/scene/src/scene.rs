@@ -14,6 +14,7 @@ use crate::components::{
     ProbeGridOverride, Transform,
 };
 use crate::level::{EntityRow, Level, LevelError};
+use crate::sprite::Sprite;
 use crate::terrain::Terrain;
 
 /// A level loaded into a hecs world.
@@ -133,6 +134,7 @@ impl Scene {
             player_start: r.get::<&PlayerStart>().map(|c| *c),
             terrain: r.get::<&Terrain>().map(|c| (*c).clone()),
             animator: r.get::<&Animator>().map(|c| (*c).clone()),
+            sprite: r.get::<&Sprite>().map(|c| (*c).clone()),
         })
     }
 
@@ -160,6 +162,7 @@ fn remove_each(world: &mut World, e: Entity) {
     let _ = world.remove_one::<PlayerStart>(e);
     let _ = world.remove_one::<Terrain>(e);
     let _ = world.remove_one::<Animator>(e);
+    let _ = world.remove_one::<Sprite>(e);
 }
 
 fn build(row: EntityRow) -> EntityBuilder {
@@ -194,6 +197,9 @@ fn build(row: EntityRow) -> EntityBuilder {
     if let Some(c) = row.animator {
         b.add(c);
     }
+    if let Some(c) = row.sprite {
+        b.add(c);
+    }
     b
 }
 
@@ -216,6 +222,8 @@ pub struct KindCounts {
     pub player_starts: usize,
     /// Terrains.
     pub terrains: usize,
+    /// Sprites.
+    pub sprites: usize,
 }
 
 impl Scene {
@@ -237,6 +245,7 @@ impl Scene {
         k.probe_overrides = w.query::<&ProbeGridOverride>().iter().count();
         k.player_starts = w.query::<&PlayerStart>().iter().count();
         k.terrains = w.query::<&Terrain>().iter().count();
+        k.sprites = w.query::<&Sprite>().iter().count();
         k
     }
 }
@@ -246,7 +255,7 @@ impl std::fmt::Display for KindCounts {
         write!(
             f,
             "{} entities: {} primitives, {} meshes, {} directional lights, {} point lights, \
-             {} probe-grid overrides, {} player starts, {} terrains",
+             {} probe-grid overrides, {} player starts, {} terrains, {} sprites",
             self.entities,
             self.primitives,
             self.meshes,
@@ -254,7 +263,8 @@ impl std::fmt::Display for KindCounts {
             self.point_lights,
             self.probe_overrides,
             self.player_starts,
-            self.terrains
+            self.terrains,
+            self.sprites
         )
     }
 }

@@ -153,11 +153,26 @@ fn row() -> impl Strategy<Value = EntityRow> {
         )),
         proptest::option::of(terrain().boxed()),
         proptest::option::of(animator()),
+        proptest::option::of(sprite()),
     )
         .prop_map(
-            |(name, transform, geometry, material, sun, point, grid, start, terrain, animator)| {
-                // An animator needs a transform and no terrain.
+            |(
+                name,
+                transform,
+                geometry,
+                material,
+                sun,
+                point,
+                grid,
+                start,
+                terrain,
+                animator,
+                sprite,
+            )| {
+                // An animator needs a transform and no terrain; a sprite also no geometry.
                 let animator = animator.filter(|_| transform.is_some() && terrain.is_none());
+                let sprite = sprite
+                    .filter(|_| transform.is_some() && terrain.is_none() && geometry.is_none());
                 EntityRow {
                     name,
                     transform,
@@ -169,9 +184,81 @@ fn row() -> impl Strategy<Value = EntityRow> {
                     player_start: start,
                     terrain,
                     animator,
+                    sprite,
                 }
             },
         )
+}
+
+fn sprite() -> BoxedStrategy<texel_scene::sprite::Sprite> {
+    use texel_scene::sprite::{Billboard, Refraction, Relief, Sprite, SpriteAnimation, SpriteSize};
+    let path = || "[a-z_/.]{1,20}\\.png";
+    let animation = (
+        "[a-z]{1,8}",
+        proptest::collection::vec(any::<u32>(), 1..5),
+        prop_oneof![Just(8.0f32), 1.0e-6f32..=1000.0],
+    )
+        .prop_map(|(name, frames, fps)| SpriteAnimation { name, frames, fps });
+    // Names are unique within a sprite.
+    let animations = proptest::collection::vec(animation, 0..4).prop_map(|mut v| {
+        let mut seen = std::collections::BTreeSet::new();
+        v.retain(|a| seen.insert(a.name.clone()));
+        v
+    });
+    let size = prop_oneof![
+        Just(SpriteSize::Matched),
+        (positive(), positive()).prop_map(|(x, y)| SpriteSize::World(Vec2::new(x, y))),
+    ];
+    let billboard = prop_oneof![
+        Just(Billboard::Spherical),
+        Just(Billboard::Upright),
+        Just(Billboard::Fixed)
+    ];
+    let pivot = prop_oneof![
+        Just(Vec2::new(0.5, 1.0)),
+        (0.0f32..=1.0, 0.0f32..=1.0).prop_map(|(x, y)| Vec2::new(x, y)),
+    ];
+    let relief = proptest::option::of(
+        (path(), 1.0e-6f32..=100.0).prop_map(|(depth_map, depth)| Relief { depth_map, depth }),
+    );
+    let refraction = proptest::option::of((path(), 0.2f32..=5.0).prop_map(
+        |(back_depth, index_ratio)| Refraction {
+            back_depth,
+            index_ratio,
+        },
+    ));
+    (
+        (path(), (1u32..=2048, 1u32..=2048), animations, pivot),
+        (size, billboard, prop_oneof![Just(1u32), Just(8u32)]),
+        (proptest::option::of(path()), relief, refraction),
+        (any::<bool>(), any::<bool>()),
+    )
+        .prop_map(
+            |(
+                (sheet, (w, h), animations, pivot),
+                (size, billboard, directions),
+                (normal_map, relief, refraction),
+                (casts_shadows, outlined),
+            )| {
+                // A refraction needs a relief.
+                let refraction = refraction.filter(|_| relief.is_some());
+                Sprite {
+                    sheet,
+                    frame_size: glam::UVec2::new(w, h),
+                    animations,
+                    pivot,
+                    size,
+                    billboard,
+                    directions,
+                    normal_map,
+                    relief,
+                    refraction,
+                    casts_shadows,
+                    outlined,
+                }
+            },
+        )
+        .boxed()
 }
 
 fn animator() -> BoxedStrategy<texel_scene::animator::Animator> {
