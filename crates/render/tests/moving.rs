@@ -321,7 +321,9 @@ fn every_moving_caster_of_many_casts_its_shadow() {
         })
         .collect();
     r.render_offscreen(&ctx, &input).unwrap();
-    let (n, faces) = r.read_lit_faces(&ctx, texel_probes::probe_set::Slot::StableA).unwrap();
+    let (n, faces) = r
+        .read_lit_faces(&ctx, texel_probes::probe_set::Slot::StableA)
+        .unwrap();
     let lum = |x: f32| {
         let d = Vec3::new(x, 0.0, -4.0) - grid;
         let t = texel_probes::cube::texel_from_direction(d, n).expect("a texel");
@@ -332,6 +334,9 @@ fn every_moving_caster_of_many_casts_its_shadow() {
     for i in 0..7 {
         let x = i as f32 * 2.0 - 6.0;
         let (under, between) = (lum(x), lum(x + 1.0));
-        assert!(under + 60 < between, "box {i}: floor under it {under}, beside it {between}");
+        assert!(
+            under + 60 < between,
+            "box {i}: floor under it {under}, beside it {between}"
+        );
     }
 }
