@@ -170,28 +170,14 @@ impl Command {
         else {
             return Err(CommandError("not a height change".into()));
         };
-        let (from, to) = if forward {
-            (before, after)
-        } else {
-            (after, before)
-        };
-        let e = entity_at(scene, *index)?;
-        let (Some(tf), Some(tt)) = (from.terrain.as_ref(), to.terrain.as_ref()) else {
-            return Err(CommandError(format!("entity {index} has no terrain")));
-        };
-        let current = scene.row(e).and_then(|r| r.terrain);
-        if current.as_ref() != Some(tf) {
-            return Err(CommandError(format!(
-                "the terrain of entity {index} is not the one that was sculpted"
-            )));
-        }
+        let (e, to, tf, tt) = terrain_step(scene, *index, (before, after), forward, "sculpted")?;
         let field = assets
             .heightfield(tf)
             .ok_or_else(|| CommandError(format!("the heights of entity {index} are not loaded")))?;
         let next = change.apply(field, forward).map_err(CommandError)?;
         assets.insert_heightfield(tt, Arc::new(next));
         scene
-            .set_row(e, (**to).clone())
+            .set_row(e, to.clone())
             .map_err(|_| CommandError(format!("entity {index} vanished")))?;
         Ok(Focus::Entity(*index))
     }
@@ -214,21 +200,7 @@ impl Command {
         else {
             return Err(CommandError("not a paint change".into()));
         };
-        let (from, to) = if forward {
-            (before, after)
-        } else {
-            (after, before)
-        };
-        let e = entity_at(scene, *index)?;
-        let (Some(tf), Some(tt)) = (from.terrain.as_ref(), to.terrain.as_ref()) else {
-            return Err(CommandError(format!("entity {index} has no terrain")));
-        };
-        let current = scene.row(e).and_then(|r| r.terrain);
-        if current.as_ref() != Some(tf) {
-            return Err(CommandError(format!(
-                "the terrain of entity {index} is not the one that was painted"
-            )));
-        }
+        let (e, to, tf, tt) = terrain_step(scene, *index, (before, after), forward, "painted")?;
         let layer = match &tf.paint {
             Some(_) => Some(assets.paint(tf).ok_or_else(|| {
                 CommandError(format!("the paint of entity {index} is not loaded"))
@@ -243,7 +215,7 @@ impl Command {
             assets.insert_texture(&p.path, Arc::new(image));
         }
         scene
-            .set_row(e, (**to).clone())
+            .set_row(e, to.clone())
             .map_err(|_| CommandError(format!("entity {index} vanished")))?;
         Ok(Focus::Entity(*index))
     }
@@ -395,6 +367,32 @@ pub fn entity_at(scene: &Scene, index: usize) -> Result<hecs::Entity, CommandErr
         .ok_or_else(|| CommandError(format!("no entity at position {index}")))
 }
 
+/// The entity of a terrain change at `index`, the row it goes to (`forward`: before →
+/// after) and the terrains it goes from and to, once the entity's terrain is the one the
+/// change started from (`done` names what was done to it, for the message).
+fn terrain_step<'a>(
+    scene: &Scene,
+    index: usize,
+    (before, after): (&'a EntityRow, &'a EntityRow),
+    forward: bool,
+    done: &str,
+) -> Result<(hecs::Entity, &'a EntityRow, &'a Terrain, &'a Terrain), CommandError> {
+    let (from, to) = if forward {
+        (before, after)
+    } else {
+        (after, before)
+    };
+    let e = entity_at(scene, index)?;
+    let (Some(tf), Some(tt)) = (from.terrain.as_ref(), to.terrain.as_ref()) else {
+        return Err(CommandError(format!("entity {index} has no terrain")));
+    };
+    if scene.row(e).and_then(|r| r.terrain).as_ref() != Some(tf) {
+        return Err(CommandError(format!(
+            "the terrain of entity {index} is not the one that was {done}"
+        )));
+    }
+    Ok((e, to, tf, tt))
+}
 #[cfg(test)]
 mod tests {
     use super::*;
