@@ -4,59 +4,26 @@
 //! survives an asset reload, an autosave and its recovery; the inspector's "Clear paint" is
 //! one undo step that undo brings back.
 
-use std::path::{Path, PathBuf};
+use std::path::Path;
 use std::sync::Arc;
 
 use egui::{Key, Modifiers, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
-use glam::{Vec2, Vec3};
+use glam::Vec3;
 use texel_editor::app::EditorApp;
 use texel_editor::camera::{EditorCamera, Projector};
 use texel_editor::files::Recent;
-use texel_editor::terrain::{BrushKind, default_terrain};
-use texel_scene::terrain::{HeightSource, PaintLayer, Terrain};
-use texel_scene::texture::{Image, encode_heightmap};
-use texel_scene::{EntityRow, Name, Scene, Transform};
+use texel_editor::terrain::BrushKind;
+use texel_scene::Scene;
+use texel_scene::terrain::{PaintLayer, Terrain};
+use texel_scene::texture::Image;
 
-/// Height of the flat terrain and its max height.
-const FLAT: f32 = 2.0;
-const TOP: f32 = 8.0;
+mod flat_terrain;
+use flat_terrain::{FLAT, flat_level, harness};
+
 /// The brush's colour.
 const RED: [u8; 3] = [220, 30, 20];
-
-fn harness(app: EditorApp) -> Harness<'static, EditorApp> {
-    let mut h = Harness::builder()
-        .with_size([1200.0, 800.0])
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
-    h.run();
-    h
-}
-
-/// A level in `dir` with one terrain "Flat" 32 units across centred on the origin: 33 × 33
-/// samples at [`FLAT`], from `flat.png`; no paint.
-fn flat_level(dir: &Path) -> PathBuf {
-    let sample = (FLAT / TOP * 65535.0).round() as u16;
-    let png = encode_heightmap(33, 33, &vec![sample; 33 * 33]);
-    std::fs::write(dir.join("flat.png"), png).expect("write heightmap");
-    let mut scene = Scene::new();
-    scene.spawn(EntityRow {
-        name: Some(Name("Flat".into())),
-        transform: Some(Transform::default()),
-        terrain: Some(Terrain {
-            size: Vec2::splat(32.0),
-            heightmap: HeightSource::File {
-                path: "flat.png".into(),
-            },
-            max_height: TOP,
-            ..default_terrain()
-        }),
-        ..EntityRow::default()
-    });
-    let path = dir.join("flat.ron");
-    scene.save(&path).expect("save level");
-    path
-}
 
 /// Opens `path` with the terrain selected, the camera looking down at 45° at the terrain's
 /// centre, and the terrain tool on with the Paint brush (red, radius 4, full opacity, half

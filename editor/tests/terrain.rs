@@ -16,48 +16,14 @@ use glam::{Vec2, Vec3};
 use texel_editor::app::EditorApp;
 use texel_editor::camera::{EditorCamera, Projector};
 use texel_editor::files::Recent;
-use texel_editor::terrain::{BrushKind, default_terrain, selected_terrain};
+use texel_editor::terrain::{BrushKind, selected_terrain};
 use texel_editor::ui::menu::Action;
-use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
+use texel_scene::terrain::{HeightSource, Heightfield};
 use texel_scene::texture::{Image, encode_heightmap, encode_png};
-use texel_scene::{EntityRow, Name, Scene, Transform};
+use texel_scene::{EntityRow, Scene};
 
-/// Height of the flat terrain (about: it is read from 16 bits), and its max height.
-const FLAT: f32 = 2.0;
-const TOP: f32 = 8.0;
-
-fn harness(app: EditorApp) -> Harness<'static, EditorApp> {
-    let mut h = Harness::builder()
-        .with_size([1200.0, 800.0])
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
-    h.run();
-    h
-}
-
-/// A level in `dir` with one terrain 32 units across centred on the origin: 33 × 33 samples
-/// (one per unit) all at [`FLAT`], from `flat.png`.
-fn flat_level(dir: &Path) -> PathBuf {
-    let sample = (FLAT / TOP * 65535.0).round() as u16;
-    let png = encode_heightmap(33, 33, &vec![sample; 33 * 33]);
-    std::fs::write(dir.join("flat.png"), png).expect("write heightmap");
-    let mut scene = Scene::new();
-    scene.spawn(EntityRow {
-        name: Some(Name("Flat".into())),
-        transform: Some(Transform::default()),
-        terrain: Some(Terrain {
-            size: Vec2::splat(32.0),
-            heightmap: HeightSource::File {
-                path: "flat.png".into(),
-            },
-            max_height: TOP,
-            ..default_terrain()
-        }),
-        ..EntityRow::default()
-    });
-    let path = dir.join("flat.ron");
-    scene.save(&path).expect("save level");
-    path
-}
+mod flat_terrain;
+use flat_terrain::{FLAT, TOP, flat_level, harness};
 
 /// A level in `dir` holding only the default terrain (baked noise).
 fn noise_level(dir: &Path) -> PathBuf {
