@@ -29,36 +29,16 @@ into the same frames.
 """
 
 import math
-import struct
-import zlib
+import sys
 from pathlib import Path
 
 OUT = Path(__file__).resolve().parent
 CLEAR = (0, 0, 0, 0)
 FLAT = (128, 128, 255, 255)
 
-
-def png(path, w, h, pixels):
-    """pixels: list of rows, each a list of (r, g, b, a) tuples."""
-    raw = b"".join(b"\x00" + bytes(c for px in row for c in px) for row in pixels)
-
-    def chunk(kind, data):
-        body = kind + data
-        return struct.pack(">I", len(data)) + body + struct.pack(">I", zlib.crc32(body) & 0xFFFFFFFF)
-
-    data = (
-        b"\x89PNG\r\n\x1a\n"
-        + chunk(b"IHDR", struct.pack(">IIBBBBB", w, h, 8, 6, 0, 0, 0))
-        + chunk(b"IDAT", zlib.compress(raw, 9))
-        + chunk(b"IEND", b"")
-    )
-    path.write_bytes(data)
-
-
-def hash2(x, y, seed=0):
-    h = (x * 374761393 + y * 668265263 + seed * 2246822519) & 0xFFFFFFFF
-    h = ((h ^ (h >> 13)) * 1274126177) & 0xFFFFFFFF
-    return (h ^ (h >> 16)) / 0xFFFFFFFF
+# The PNG writer and the hash the textures are made with.
+sys.path.insert(0, str(OUT.parent / "textures"))
+from make_textures import hash2, png  # noqa: E402
 
 
 def encode_normal(n):
