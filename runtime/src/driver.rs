@@ -84,6 +84,8 @@ pub struct PreparedLevel {
     rays: SceneRays,
     /// What drives each animated object.
     pub animation: Animation,
+    /// The lowest point of the scene, where sun shadows end ([`scene_floor`]).
+    floor: f32,
 }
 
 /// The level's animated objects and what drives them: poses as a function of time, the same
@@ -154,6 +156,7 @@ impl PreparedLevel {
         let animation = Animation::new(level, &scene);
         PreparedLevel {
             animation,
+            floor: scene_floor(&scene),
             rays: SceneRays::new(scene),
             look: level_look(&level.scene),
             pixel_scale: s.pixel_scale,
@@ -166,6 +169,12 @@ impl PreparedLevel {
     /// The renderer's view of the scene.
     pub fn scene(&self) -> &SceneInput {
         self.rays.scene()
+    }
+
+    /// The box `min..max` grown by where its contents may cast sun shadows (see
+    /// [`shadow_extended`]), with the scene's lowest point found once, at load.
+    pub fn shadow_region(&self, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
+        sun_shadow_bounds(&self.scene().suns, self.floor, min, max)
     }
 
     /// The grid defaults on a viewport (the face resolution may follow its height).
@@ -470,7 +479,7 @@ impl FrameDriver {
             }
             let (a, b) = (animation.bounds(k, before), animation.bounds(k, now));
             let (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
-            let (mut lo2, mut hi2) = crate::session::shadow_extended(scene, lo, hi);
+            let (mut lo2, mut hi2) = self.level.shadow_region(lo, hi);
             for p in &scene.points {
                 if let Some((plo, phi)) = point_shadow_bounds(p.position, p.radius, lo, hi) {
                     lo2 = lo2.min(plo);
@@ -849,6 +858,50 @@ fn skirt_depth(field: &texel_scene::terrain::Heightfield) -> f32 {
     (step * texel_scene::terrain::CHUNK_QUADS as f32 * 0.5)
         .min(hi - lo)
         .max(0.05)
+}
+
+/// The box `min..max` grown by where its contents may cast shadows: each corner pushed along
+/// every sun's direction until it has dropped to the lowest point of the scene (at most 200
+/// units along the ray).
+pub fn shadow_extended(scene: &SceneInput, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
+    sun_shadow_bounds(&scene.suns, scene_floor(scene), min, max)
+}
+
+/// The lowest point of `scene`'s objects (infinity for none).
+fn scene_floor(scene: &SceneInput) -> f32 {
+    scene
+        .objects
+        .iter()
+        .filter_map(|o| {
+            o.mesh
+                .bounds()
+                .map(|(lo, hi)| bounds_under(o.transform, lo, hi).0.y)
+        })
+        .fold(f32::INFINITY, f32::min)
+}
+
+/// [`shadow_extended`] with the scene's lowest point `floor` given.
+fn sun_shadow_bounds(suns: &[SunInput], floor: f32, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
+    let floor = floor.min(min.y);
+    let (mut lo, mut hi) = (min, max);
+    for sun in suns {
+        let d = sun.direction.normalize_or_zero();
+        if d.y >= -1e-3 {
+            continue;
+        }
+        for i in 0..8 {
+            let c = Vec3::new(
+                if i & 1 == 0 { min.x } else { max.x },
+                if i & 2 == 0 { min.y } else { max.y },
+                if i & 4 == 0 { min.z } else { max.z },
+            );
+            let t = ((c.y - floor) / -d.y).min(200.0);
+            let p = c + d * t;
+            lo = lo.min(p);
+            hi = hi.max(p);
+        }
+    }
+    (lo, hi)
 }
 
 /// Bounds of the shadow a box `min..max` can cast from a point light at `light` that reaches

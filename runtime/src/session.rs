@@ -122,7 +122,7 @@ impl Session {
     ) -> Result<u32, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
         self.renderer.set_scene(ctx, level.scene())?;
-        let (lo, hi) = shadow_extended(level.scene(), min, max);
+        let (lo, hi) = level.shadow_region(min, max);
         let marked = self.driver.replace_level(level.clone(), lo, hi);
         self.level = level;
         Ok(marked)
@@ -232,40 +232,7 @@ impl Session {
     }
 }
 
-/// The box `min..max` grown by where its contents may cast shadows: each corner pushed along
-/// every sun's direction until it has dropped to the lowest point of the scene (at most 200
-/// units along the ray).
-pub fn shadow_extended(
-    scene: &texel_render::input::SceneInput,
-    min: glam::Vec3,
-    max: glam::Vec3,
-) -> (glam::Vec3, glam::Vec3) {
-    let floor = scene
-        .objects
-        .iter()
-        .filter_map(|o| o.mesh.bounds().map(|(lo, hi)| (o.transform, lo, hi)))
-        .map(|(m, lo, hi)| m.transform_point3(lo).y.min(m.transform_point3(hi).y))
-        .fold(min.y, f32::min);
-    let (mut lo, mut hi) = (min, max);
-    for sun in &scene.suns {
-        let d = sun.direction.normalize_or_zero();
-        if d.y >= -1e-3 {
-            continue;
-        }
-        for i in 0..8 {
-            let c = glam::Vec3::new(
-                if i & 1 == 0 { min.x } else { max.x },
-                if i & 2 == 0 { min.y } else { max.y },
-                if i & 4 == 0 { min.z } else { max.z },
-            );
-            let t = ((c.y - floor) / -d.y).min(200.0);
-            let p = c + d * t;
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    (lo, hi)
-}
+pub use crate::driver::shadow_extended;
 
 /// Makes `level` use faces of `n` texels (a command line's `--face-res`), checked against
 /// the engine's range.
