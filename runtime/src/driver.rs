@@ -94,6 +94,8 @@ pub struct PreparedLevel {
 #[derive(Debug, Clone, Default)]
 pub struct Animation {
     objects: Vec<Animated>,
+    /// Sprites whose frames play or whose entity an animator moves.
+    sprites: Vec<crate::sprites::SpriteClock>,
 }
 
 impl Animation {
@@ -101,12 +103,18 @@ impl Animation {
     pub fn new(level: &LoadedLevel, scene: &SceneInput) -> Self {
         Animation {
             objects: animated_objects(level, scene),
+            sprites: sprite_clocks(level, scene),
         }
     }
 
-    /// Whether nothing moves.
+    /// Whether nothing moves or plays.
     pub fn is_empty(&self) -> bool {
-        self.objects.is_empty()
+        self.objects.is_empty() && self.sprites.is_empty()
+    }
+
+    /// The state of every sprite that moves or plays, at `t` seconds.
+    pub fn sprite_states(&self, t: f64) -> Vec<texel_render::input::SpriteState> {
+        self.sprites.iter().map(|s| s.state(t)).collect()
     }
 
     /// Every animated object's pose at `t` seconds.
@@ -207,6 +215,21 @@ fn animated_objects(level: &LoadedLevel, scene: &SceneInput) -> Vec<Animated> {
                 local_min,
                 local_max,
             })
+        })
+        .collect()
+}
+
+fn sprite_clocks(level: &LoadedLevel, scene: &SceneInput) -> Vec<crate::sprites::SpriteClock> {
+    let w = level.scene.world();
+    let entities: Vec<hecs::Entity> = level.scene.entities().collect();
+    (scene.sprites.iter().enumerate())
+        .filter_map(|(index, input)| {
+            let e = *entities.get(input.id.checked_sub(1)? as usize)?;
+            let sprite = w.get::<&texel_scene::sprite::Sprite>(e).ok()?;
+            let base = w.get::<&Transform>(e).map(|t| *t).ok()?;
+            let animator =
+                (w.get::<&texel_scene::animator::Animator>(e).ok()).map(|a| (*a).clone());
+            crate::sprites::SpriteClock::new(index, &sprite, input, base, animator)
         })
         .collect()
 }
@@ -417,6 +440,7 @@ impl FrameDriver {
             grid_complete: plan.readiness().grid,
             poses: Vec::new(),
             relight: Vec::new(),
+            sprites: Vec::new(),
         };
         self.animate(&mut input, dt);
         if let Some(p) = &mut self.probes {
@@ -463,6 +487,7 @@ impl FrameDriver {
             return;
         }
         let poses = animation.poses(self.time);
+        input.sprites = animation.sprite_states(self.time);
         if !self.paused {
             self.time = Animation::next_time(self.time, dt);
         }
@@ -782,6 +807,12 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
                 id: entity_id(index),
             });
             out.terrains.push(input);
+        }
+        if let Ok(sprite) = w.get::<&texel_scene::sprite::Sprite>(e)
+            && let Some(input) =
+                crate::sprites::sprite_input(&sprite, &t, &level.assets, entity_id(index))
+        {
+            out.sprites.push(input);
         }
         if let Ok(sun) = w.get::<&DirectionalLight>(e) {
             out.suns.push(SunInput {

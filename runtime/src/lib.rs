@@ -16,4 +16,5 @@ pub mod play;
 pub mod sculpt;
 pub mod session;
 pub mod soak;
+pub mod sprites;
 pub mod walk;

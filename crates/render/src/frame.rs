@@ -19,6 +19,7 @@ use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
 use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
+use crate::passes::sprites::SpritePass;
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
@@ -129,6 +130,7 @@ pub struct Renderer {
     splat: SplatPass,
     background: BackgroundPass,
     moving: MovingPass,
+    sprites: SpritePass,
     /// Built on the first marched frame: splatting never pays for its pipeline.
     march: Option<MarchPass>,
     pub(crate) lines: LinesPass,
@@ -172,6 +174,7 @@ impl Renderer {
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
             moving: MovingPass::new(d, colour.remove_srgb_suffix())?,
+            sprites: SpritePass::new(d, colour.remove_srgb_suffix())?,
             march: None,
             lines: LinesPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
@@ -226,6 +229,12 @@ impl Renderer {
         } else {
             CaptureMode::Surface
         };
+    }
+
+    /// What sprites turn toward: the probes (the default, world-locked inside a cell) or
+    /// the camera (screen-space sprites, kept to compare against).
+    pub fn set_sprite_facing(&mut self, facing: crate::input::SpriteFacing) {
+        self.sprites.facing = facing;
     }
 
     /// How texels reach the pixels: splatted (the default) or marched.
@@ -284,6 +293,9 @@ impl Renderer {
         target: &wgpu::TextureView,
     ) -> Result<FrameStats, RenderError> {
         let started = Instant::now();
+        if let Some(sprites) = self.scene.as_mut().and_then(|s| s.sprites.as_mut()) {
+            sprites.update(ctx, &input.sprites);
+        }
         let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         for p in [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
             .into_iter()
@@ -320,6 +332,8 @@ impl Renderer {
         let store = &self.store;
         let mut stages = Stages::new(ctx, self.queries.as_ref());
         let moving = (self.moving).prepare(ctx, &self.view, scene, &input.look);
+        let fading = input.previous.is_some() && input.fade_t < 1.0;
+        let sprites = (self.sprites).prepare(ctx, &self.view, scene, store, &input.look, fading);
         let rects = capture_rects(input, &globals, store);
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.grid.origin;
@@ -362,6 +376,12 @@ impl Renderer {
                         self.moving.draw(&mut pass, binds, scene);
                     });
                 }
+                if let Some(binds) = &sprites {
+                    stages.run("sprites", |enc| {
+                        let mut pass = begin_draw(enc, draw_target, screen, false);
+                        self.sprites.draw(&mut pass, binds);
+                    });
+                }
                 stages.run("background", |enc| {
                     let mut pass = begin_draw(enc, draw_target, screen, false);
                     self.background.draw(&mut pass, &bg_bind);
@@ -384,6 +404,9 @@ impl Renderer {
                     march.draw(&mut pass, &binds);
                     if let Some(binds) = &moving {
                         self.moving.draw(&mut pass, binds, scene);
+                    }
+                    if let Some(binds) = &sprites {
+                        self.sprites.draw(&mut pass, binds);
                     }
                     self.lines.draw(ctx, &mut pass, &self.view);
                 });

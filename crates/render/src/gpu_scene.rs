@@ -407,6 +407,28 @@ pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) 
     )
 }
 
+/// Why a scene does not fit the device.
+#[derive(Debug, thiserror::Error)]
+pub enum UploadError {
+    /// The textures.
+    #[error(transparent)]
+    Atlas(#[from] AtlasError),
+    /// The sprites' sheets.
+    #[error(transparent)]
+    Sprites(#[from] crate::sprites::SpriteError),
+}
+
+/// The horizontal direction toward the first sun (sprites' shadow proxies face it), +Z
+/// without a sun or under a sun straight overhead.
+fn suns_toward(scene: &SceneInput) -> Vec3 {
+    scene
+        .suns
+        .first()
+        .map(|s| Vec3::new(-s.direction.x, 0.0, -s.direction.z))
+        .and_then(|v| v.try_normalize())
+        .unwrap_or(Vec3::Z)
+}
+
 /// The uploaded scene.
 pub struct GpuScene {
     /// Capture vertices.
@@ -445,6 +467,8 @@ pub struct GpuScene {
     pub animated: Vec<AnimatedObject>,
     /// Terrain records (at least one).
     pub terrains: wgpu::Buffer,
+    /// The sprites, if the scene has any.
+    pub sprites: Option<crate::sprites::GpuSprites>,
     /// Terrain heights and gradient stops (at least one word).
     pub terrain_data: wgpu::Buffer,
 }
@@ -457,7 +481,7 @@ fn pack_colour(c: [f32; 4]) -> u32 {
 impl GpuScene {
     /// Uploads `scene`: transforms every mesh to world space, packs the textures and builds
     /// the shadow BVH. Fails only when the textures do not fit the device's limits.
-    pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, AtlasError> {
+    pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, UploadError> {
         let mut vertices = Vec::new();
         let mut ranges: Vec<DrawRange> = Vec::new();
         let mut textures = TextureSet::default();
@@ -651,6 +675,12 @@ impl GpuScene {
             .collect();
         let (gpu_terrains, terrain_data) = terrain_records(scene, &mut textures);
         let textures = textures.upload(ctx)?;
+        // Shadow-casting sprites: frame 0's silhouette, standing toward the first sun.
+        let toward_sun = suns_toward(scene);
+        for sprite in scene.sprites.iter().filter(|s| s.casts_shadows) {
+            casters.extend(crate::sprites::shadow_triangles(sprite, toward_sun));
+        }
+        let sprites = crate::sprites::GpuSprites::upload(ctx, &scene.sprites)?;
         let mut bvh: GpuBvh = build_bvh(&casters);
         // Each animated caster's own tree, in its base pose, after the static one.
         for (i, tris) in &animated_casters {
@@ -694,7 +724,11 @@ impl GpuScene {
             bvh_nodes,
             bvh_triangles,
             shadow_triangles: casters.len(),
-            object_ids: scene.objects.iter().map(|o| o.id).collect(),
+            // Sprites after the objects: a sprite pixel's key names `key_base + index`.
+            object_ids: (scene.objects.iter().map(|o| o.id))
+                .chain(scene.sprites.iter().map(|s| s.id))
+                .collect(),
+            sprites,
             textures,
             ranges,
             bvh_instances: storage(
@@ -773,6 +807,11 @@ impl GpuScene {
             .chain(order.iter().map(|&k| casting[k as usize]))
             .collect();
         queue.write_buffer(&self.bvh_instances, 0, bytemuck::cast_slice(&records));
+    }
+
+    /// Where sprites' indices start in the keys of their pixels (after the objects).
+    pub fn sprite_key_base(&self) -> u32 {
+        (self.object_ids.len() - self.sprites.as_ref().map_or(0, |s| s.cpu.len())) as u32
     }
 
     /// Every animated object's vertex runs.

@@ -6,6 +6,7 @@ use std::sync::Arc;
 
 use glam::{Mat4, UVec2, Vec3};
 pub use texel_geom::TextureRef;
+pub use texel_geom::texture::Image;
 use texel_geom::{SurfaceMaps, TriMesh};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::{Role, Slot};
@@ -119,6 +120,81 @@ pub struct SceneInput {
     /// draws them each frame at [`FrameInput::poses`], their pixels cut on a grid fixed to
     /// the object. Their `transform` is the base pose the poses start from.
     pub animated: Vec<usize>,
+    /// Sprites: pictures drawn one instance each after the splats (`passes::sprites`),
+    /// never captured into the probes.
+    pub sprites: Vec<SpriteInput>,
+}
+
+/// How a sprite's quad turns toward its viewer (the grid probe's origin, or the camera in
+/// [`SpriteFacing::Camera`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SpriteBillboard {
+    /// Faces the viewer fully.
+    Spherical,
+    /// Turns about the world's Y axis only.
+    #[default]
+    Upright,
+    /// Does not turn: the rotation's XY plane, facing its +Z.
+    Fixed,
+}
+
+/// What sprites turn toward.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum SpriteFacing {
+    /// The grid probe's origin (the previous probe's during a crossfade, with the splats'
+    /// Bayer pattern), their anchors snapped to its texels: world-locked inside a cell.
+    #[default]
+    Probe,
+    /// The camera, as screen-space sprite renderers do (kept to compare against): the quad
+    /// lies in the view plane and turns with every camera move.
+    Camera,
+}
+
+/// One sprite: a sheet cut into frames, placed at a point, turned toward the viewer.
+#[derive(Debug, Clone)]
+pub struct SpriteInput {
+    /// Entity id (picking, the evaluator's ids).
+    pub id: u32,
+    /// World point of the pivot.
+    pub position: Vec3,
+    /// The fixed quad's orientation, and the front 8 directions are measured from.
+    pub rotation: glam::Quat,
+    /// World size of the quad; `None`: matched, one sprite pixel per probe texel at the
+    /// sprite's distance from the probe.
+    pub size: Option<glam::Vec2>,
+    /// The point the position places, in fractions of the frame (x right, y down).
+    pub pivot: glam::Vec2,
+    /// How the quad turns.
+    pub billboard: SpriteBillboard,
+    /// The sheet (RGBA8, alpha below one half is empty).
+    pub sheet: Arc<texel_geom::texture::Image>,
+    /// Frame size in pixels (divides the sheet).
+    pub frame_size: UVec2,
+    /// 8 directions: a frame's direction `d` version is `d` frame rows further down.
+    pub eight_directions: bool,
+    /// Tangent-space normal map, the sheet's size.
+    pub normal_map: Option<Arc<texel_geom::texture::Image>>,
+    /// Relief: depth map (red: 0 at the quad, 255 at the depth) and its depth in world units.
+    pub relief: Option<(Arc<texel_geom::texture::Image>, f32)>,
+    /// Refraction through the relief: back depth map and index ratio (outside / inside).
+    pub refraction: Option<(Arc<texel_geom::texture::Image>, f32)>,
+    /// Whether outlines are drawn at its alpha edges.
+    pub outlined: bool,
+    /// Whether it blocks shadow rays toward the world.
+    pub casts_shadows: bool,
+    /// The frame shown until a [`SpriteState`] says otherwise (direction 0's).
+    pub frame: u32,
+}
+
+/// A sprite's state this frame, for a sprite that moves or animates.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct SpriteState {
+    /// Index into [`SceneInput::sprites`].
+    pub sprite: usize,
+    /// World point of its pivot.
+    pub position: Vec3,
+    /// Frame (direction 0's; the renderer adds the direction its viewer sees).
+    pub frame: u32,
 }
 
 /// A perspective camera.
@@ -309,6 +385,8 @@ pub struct FrameInput {
     /// may have come or gone there); faces captured this frame are lit anyway, and eye faces
     /// are lit as the view needs them.
     pub relight: Vec<Relight>,
+    /// Sprites that moved or changed frame since the last frame (the others keep theirs).
+    pub sprites: Vec<SpriteState>,
 }
 
 /// Texels of a stable probe's face to light again (see [`FrameInput::relight`]).

@@ -52,6 +52,14 @@ pub const SOURCES: &[(&str, &str)] = &[
     ),
     ("runs.wgsl", include_str!("../../../shaders/runs.wgsl")),
     ("moving.wgsl", include_str!("../../../shaders/moving.wgsl")),
+    (
+        "lib/sprite.wgsl",
+        include_str!("../../../shaders/lib/sprite.wgsl"),
+    ),
+    (
+        "sprites.wgsl",
+        include_str!("../../../shaders/sprites.wgsl"),
+    ),
     ("lines.wgsl", include_str!("../../../shaders/lines.wgsl")),
     (
         "background.wgsl",

@@ -51,6 +51,7 @@ fn room() -> SceneInput {
         points: vec![],
         terrains: Vec::new(),
         animated: Vec::new(),
+        sprites: Vec::new(),
     }
 }
 

@@ -68,6 +68,7 @@ fn one_box() -> SceneInput {
         points: vec![],
         terrains: Vec::new(),
         animated: Vec::new(),
+        sprites: Vec::new(),
     }
 }
 

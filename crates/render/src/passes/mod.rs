@@ -12,6 +12,7 @@ pub mod raster;
 pub mod runs;
 pub mod shade;
 pub mod splat;
+pub mod sprites;
 pub mod visible;
 
 /// Stride of per-face uniform records addressed with dynamic offsets.
@@ -157,6 +158,16 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
             size_of::<crate::gpu_scene::GpuMotion>(),
         ),
         (
+            "sprites.wgsl",
+            "SpriteGlobals",
+            size_of::<sprites::SpriteGlobals>(),
+        ),
+        (
+            "sprites.wgsl",
+            "Sprite",
+            size_of::<crate::sprites::GpuSprite>(),
+        ),
+        (
             "moving.wgsl",
             "LightGlobals",
             size_of::<moving::LightGlobals>(),
@@ -203,6 +214,17 @@ pub(crate) fn pipeline_layout(
 pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wgpu::RenderPipeline {
     let writes = vec![(None, wgpu::ColorWrites::ALL); spec.targets.len()];
     pipeline_of(device, spec, &writes, wgpu::PrimitiveTopology::TriangleList)
+}
+
+/// The render pipeline of `spec` drawing 4-vertex triangle strips (one quad per instance).
+pub(crate) fn strip_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wgpu::RenderPipeline {
+    let writes = vec![(None, wgpu::ColorWrites::ALL); spec.targets.len()];
+    pipeline_of(
+        device,
+        spec,
+        &writes,
+        wgpu::PrimitiveTopology::TriangleStrip,
+    )
 }
 
 /// The render pipeline of `spec` drawing line lists, with each colour target's blend and

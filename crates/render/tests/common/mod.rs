@@ -56,6 +56,7 @@ pub fn boxes_scene() -> SceneInput {
         points: vec![],
         terrains: Vec::new(),
         animated: Vec::new(),
+        sprites: Vec::new(),
     }
 }
 
@@ -107,6 +108,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         grid_complete: true,
         poses: Vec::new(),
         relight: Vec::new(),
+        sprites: Vec::new(),
     }
 }
 
