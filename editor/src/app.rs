@@ -17,6 +17,7 @@ use crate::terrain;
 use crate::ui::dialogs::{Answer, Dialogs, Pending, Prompt, Purpose};
 use crate::ui::inspector::PixelCalc;
 use crate::ui::menu::{self, Action};
+use crate::ui::sprite::SpritePanel;
 use crate::ui::{hierarchy, inspector};
 use crate::viewport::Viewport;
 use crate::viewport::gpu::GpuView;
@@ -31,6 +32,8 @@ pub struct EditorApp {
     pub dialogs: Dialogs,
     /// Recently opened files.
     pub recent: Recent,
+    /// The inspector's sprite section between frames (its preview among it).
+    pub sprite_panel: SpritePanel,
     rename: Option<(usize, String)>,
     last_autosave: Instant,
     autosaved_id: u64,
@@ -61,6 +64,7 @@ impl EditorApp {
             viewport: Viewport::default(),
             dialogs: Dialogs::default(),
             recent,
+            sprite_panel: SpritePanel::default(),
             rename: None,
             last_autosave: Instant::now(),
             autosaved_id: 0,
@@ -151,7 +155,8 @@ impl EditorApp {
                     egui::ScrollArea::vertical()
                         .show(ui, |ui| {
                             ui.heading("Inspector");
-                            let entity = inspector::entity(ui, &mut self.state);
+                            let entity =
+                                inspector::entity(ui, &mut self.state, &mut self.sprite_panel);
                             let pixel = inspector::pixel_perfect(
                                 ui,
                                 &mut self.state,
@@ -324,6 +329,8 @@ impl EditorApp {
                 let added = self.state.add(terrain::terrain_row(at));
                 self.report("add a terrain", added);
             }
+            Action::AddSprite => self.ask(Purpose::Sprite),
+            Action::AddSpritePath(p) => self.add_sprite(&p),
             Action::ToggleTerrainTool => {
                 let toggled = self.viewport.terrain.toggle(&mut self.state);
                 self.report("sculpt", toggled);
@@ -400,6 +407,7 @@ impl EditorApp {
             Purpose::Open => files::pick_open(),
             Purpose::SaveAs => files::pick_save(self.state.document.path.as_deref()),
             Purpose::Mesh => files::pick_mesh(),
+            Purpose::Sprite => files::pick_sprite(),
             Purpose::ImportHeightmap => files::pick_heightmap(),
             Purpose::ExportHeightmap => files::pick_heightmap_save(&self.export_name()),
         };
@@ -428,6 +436,7 @@ impl EditorApp {
             Answer::Path(Purpose::Open, p) => self.proceed(Pending::Open(Some(p))),
             Answer::Path(Purpose::SaveAs, p) => self.save_to(&p),
             Answer::Path(Purpose::Mesh, p) => self.add_mesh(&p),
+            Answer::Path(Purpose::Sprite, p) => self.add_sprite(&p),
             Answer::Path(Purpose::ImportHeightmap, p) => self.import_heightmap(&p),
             Answer::Path(Purpose::ExportHeightmap, p) => self.export_heightmap(&p),
             Answer::Discard(pending) => self.proceed(pending),
@@ -493,6 +502,17 @@ impl EditorApp {
                 Ok(_) => e,
                 Err(u) => format!("{e} (and the mesh could not be taken out again: {u})"),
             });
+        }
+    }
+
+    /// Adds a sprite of the sheet `file` standing at the view's focus
+    /// ([`crate::sprite::add_sprite`]); a file that is not an image is shown in the error
+    /// dialog, and nothing is added.
+    pub fn add_sprite(&mut self, file: &Path) {
+        self.viewport.stop();
+        let at = self.viewport.ground_focus();
+        if let Err(e) = crate::sprite::add_sprite(&mut self.state, file, at) {
+            self.dialogs.error = Some(format!("cannot add the sprite: {e}"));
         }
     }
 

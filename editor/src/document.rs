@@ -431,7 +431,8 @@ fn terrains(scene: &Scene) -> impl Iterator<Item = Terrain> + '_ {
         .filter_map(|e| scene.world().get::<&Terrain>(e).ok().map(|t| (*t).clone()))
 }
 
-/// The non-empty mesh, texture and heightmap paths `row` names that `assets` has not loaded.
+/// The non-empty mesh, texture (sprite sheets and maps among them) and heightmap paths `row`
+/// names that `assets` has not loaded.
 pub fn unloaded_paths(row: &EntityRow, assets: &AssetLibrary) -> Vec<String> {
     let mut out = Vec::new();
     if let Some(t) = &row.terrain {
@@ -460,7 +461,13 @@ pub fn unloaded_paths(row: &EntityRow, assets: &AssetLibrary) -> Vec<String> {
     {
         out.push(path.clone());
     }
-    for p in row.material.iter().flat_map(texture_paths) {
+    let sprite_files = row.sprite.iter().flat_map(|s| s.files().map(|(_, p)| p));
+    for p in row
+        .material
+        .iter()
+        .flat_map(texture_paths)
+        .chain(sprite_files)
+    {
         if !p.trim().is_empty() && assets.texture(p).is_none() {
             out.push(p.to_owned());
         }

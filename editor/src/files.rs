@@ -54,6 +54,15 @@ pub fn pick_mesh() -> Picked {
     })
 }
 
+/// Asks for a sprite sheet.
+pub fn pick_sprite() -> Picked {
+    timed(|| {
+        rfd::FileDialog::new()
+            .add_filter("Sprite sheet (PNG)", &["png"])
+            .pick_file()
+    })
+}
+
 /// Asks for a 16-bit heightmap PNG to import.
 pub fn pick_heightmap() -> Picked {
     timed(|| {

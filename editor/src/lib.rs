@@ -12,6 +12,7 @@ pub mod files;
 pub mod history;
 pub mod paint;
 pub mod pixel;
+pub mod sprite;
 pub mod state;
 pub mod terrain;
 pub mod ui;

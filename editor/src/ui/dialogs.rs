@@ -14,6 +14,8 @@ pub enum Purpose {
     SaveAs,
     /// Add a glTF mesh.
     Mesh,
+    /// Add a sprite of a sheet.
+    Sprite,
     /// Import a heightmap into the selected terrain.
     ImportHeightmap,
     /// Export the selected terrain's heightmap.
@@ -95,6 +97,7 @@ impl Dialogs {
                 Purpose::Open => "Open level (path)",
                 Purpose::SaveAs => "Save level as (path)",
                 Purpose::Mesh => "Add glTF mesh (path)",
+                Purpose::Sprite => "Add sprite sheet (PNG path)",
                 Purpose::ImportHeightmap => "Import 16-bit heightmap (path)",
                 Purpose::ExportHeightmap => "Export 16-bit heightmap (path)",
             };

@@ -3,6 +3,7 @@
 
 use egui::Ui;
 use glam::{Vec2, Vec3};
+use texel_scene::assets::AssetLibrary;
 use texel_scene::terrain::{
     Displacement, GradientStop, HeightSource, MAX_GRADIENT_STOPS, MAX_HEIGHTMAP, Terrain,
 };
@@ -16,21 +17,32 @@ use crate::command::{Command, CommandError};
 use crate::history::MergeKey;
 use crate::pixel::{PixelInfo, face_resolution_for_one_to_one};
 use crate::state::EditorState;
+use crate::ui::sprite::SpritePanel;
 use crate::ui::widgets::{colour, integer, scalar, vec2, vec3};
 
 const BIG: f32 = 1.0e6;
 const MIN_SIZE: f32 = 0.001;
 
-/// The selected entity's components. A command that fails is returned, for the caller to
-/// show.
-pub fn entity(ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
+/// The selected entity's components (`sprites`: the sprite section's state between frames).
+/// A command that fails is returned, for the caller to show.
+pub fn entity(
+    ui: &mut Ui,
+    state: &mut EditorState,
+    sprites: &mut SpritePanel,
+) -> Result<(), CommandError> {
     let Some((index, before)) = state.selected_row() else {
         ui.label("Nothing selected");
         return Ok(());
     };
     let mut row = before.clone();
     let terrain = TerrainInfo::of(state, index, &before);
-    edit_row(ui, &mut row, &terrain);
+    let sprite = SpriteContext {
+        index,
+        assets: &state.document.level.assets,
+        panel: sprites,
+    };
+    edit_row(ui, &mut row, &terrain, sprite);
+    crate::ui::sprite::keep_row_valid(ui.ctx(), &before, &mut row, sprites);
     let cleared = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_none());
     let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
     if painted(&before) && cleared(&row) {
@@ -78,7 +90,15 @@ impl TerrainInfo {
     }
 }
 
-fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo) {
+/// What the sprite section needs beside the row: the entity's position, the loaded sheets
+/// and its own state.
+struct SpriteContext<'a> {
+    index: usize,
+    assets: &'a AssetLibrary,
+    panel: &'a mut SpritePanel,
+}
+
+fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo, sprite: SpriteContext<'_>) {
     let mut name = row.name.as_ref().map(|n| n.0.clone()).unwrap_or_default();
     ui.horizontal(|ui| {
         ui.label("Name");
@@ -91,6 +111,7 @@ fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo) {
         }
     });
     section(ui, "Transform", &mut row.transform, transform);
+    crate::ui::sprite::section(ui, sprite.index, row, sprite.assets, sprite.panel);
     section_with(
         ui,
         "Geometry",

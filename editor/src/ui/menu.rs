@@ -38,6 +38,10 @@ pub enum Action {
     AddMeshPath(PathBuf),
     /// Add a terrain at the view's focus.
     AddTerrain,
+    /// Add a sprite (asks for its sheet).
+    AddSprite,
+    /// Add a sprite of this sheet at the view's focus.
+    AddSpritePath(PathBuf),
     /// Switch the terrain tool on or off.
     ToggleTerrainTool,
     /// Replace the selected terrain's heights with a 16-bit heightmap (asks which).
@@ -203,6 +207,9 @@ pub fn show(
             }
             if ui.button("Terrain").clicked() {
                 out = Some(Action::AddTerrain);
+            }
+            if ui.button("Sprite…").clicked() {
+                out = Some(Action::AddSprite);
             }
         });
         ui.menu_button("Tools", |ui| {

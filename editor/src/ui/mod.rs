@@ -5,4 +5,5 @@ pub mod dialogs;
 pub mod hierarchy;
 pub mod inspector;
 pub mod menu;
+pub mod sprite;
 pub mod widgets;

@@ -87,6 +87,8 @@ pub fn kind_icon(row: &EntityRow) -> &'static str {
         "[probes]"
     } else if row.terrain.is_some() && row.geometry.is_none() {
         "[terrain]"
+    } else if row.sprite.is_some() {
+        "[sprite]"
     } else {
         match &row.geometry {
             Some(G::Box { .. }) => "[box]",
