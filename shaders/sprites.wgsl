@@ -158,8 +158,19 @@ fn fs(in: VsOut) -> FsOut {
         }
     }
     let q = quad_for(s, role);
-    // Everything at the centre of the quad texel this pixel lies in.
+    // Everything at the centre of the quad texel this pixel lies in. Toward the probes, a
+    // sprite texel is never smaller than a probe texel at the sprite (as terrain pixels):
+    // where the picture is finer, cells of k × k texels (k a power of two) take the texel at
+    // their centre, so a far sprite does not alias into the pixels.
     var t = sprite_texel_at(in.uv, s.frame_px);
+    var k = 1u;
+    if globals.facing == 0u {
+        let slot = view.slots[role_slot(role)];
+        let probe_texel = 2.0 * distance(sprite_point(q, vec2(0.5)), slot.origin) / f32(max(slot.n, 1u));
+        let texel = max(q.size.x / f32(s.frame_px.x), q.size.y / f32(s.frame_px.y));
+        k = u32(exp2(ceil(log2(clamp(probe_texel / max(texel, 1.0e-6), 1.0, 64.0)))));
+        t = min((t / k) * k + k / 2u, s.frame_px - 1u);
+    }
     let uv0 = (vec2<f32>(t) + 0.5) / vec2<f32>(s.frame_px);
     let p0 = sprite_point(q, uv0);
     let eye = eye_for(role);
@@ -245,8 +256,8 @@ fn fs(in: VsOut) -> FsOut {
     // Outlines at the picture's edges, as the probes' silhouettes: one band darker.
     var shift = 0.0;
     if (s.flags & SPRITE_OUTLINED) != 0u
-        && (empty_at(s, q, t, vec2(1, 0)) || empty_at(s, q, t, vec2(-1, 0))
-            || empty_at(s, q, t, vec2(0, 1)) || empty_at(s, q, t, vec2(0, -1))) {
+        && (empty_at(s, q, t, vec2(i32(k), 0)) || empty_at(s, q, t, vec2(-i32(k), 0))
+            || empty_at(s, q, t, vec2(0, i32(k))) || empty_at(s, q, t, vec2(0, -i32(k)))) {
         shift = -1.0;
     }
     let lit = posterize(colour, globals.bands, shift);

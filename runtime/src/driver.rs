@@ -347,6 +347,22 @@ impl FrameDriver {
         self.size
     }
 
+    /// The grid probe a camera at `camera` draws from once any crossfade is over: its origin
+    /// and face resolution (what sprites turn toward; the evaluator's reference turns them
+    /// so).
+    pub fn grid_probe(&mut self, camera: &Camera) -> Result<(Vec3, u32), DriverError> {
+        let choice = match camera.ortho_height {
+            Some(h) => {
+                let probe = ortho_probe(camera, h, self.defaults.face_resolution);
+                let mut c = self.resolve(probe.anchor)?;
+                c.key.face_resolution = probe.face_resolution;
+                c
+            }
+            None => self.resolve(camera.position)?,
+        };
+        Ok((choice.origin(), choice.key.face_resolution))
+    }
+
     /// Plans one frame for `camera`, `dt` seconds after the last.
     pub fn frame(
         &mut self,

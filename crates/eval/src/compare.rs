@@ -166,6 +166,7 @@ pub fn run_compare(
     let animation = Animation::new(&level, &scene);
     let refs = path_references(
         ctx,
+        &level,
         (&scene, &animation),
         &path,
         fov_y,

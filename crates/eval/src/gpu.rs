@@ -5,14 +5,14 @@
 use glam::UVec2;
 use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
 use texel_render::context::GpuContext;
-use texel_render::input::{Camera, Display, Look, Pose, SceneInput, Schedule};
+use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
 use texel_runtime::driver::Animation;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, set_face_resolution};
 
 use crate::metrics::Reference;
 use crate::reference::CpuScene;
-use crate::runner::{EvalError, FrameSource, Method, ReferenceSource, RenderedFrame};
+use crate::runner::{EvalError, FrameSource, Method, RefFrame, ReferenceSource, RenderedFrame};
 
 fn render_err(e: impl std::fmt::Display) -> EvalError {
     EvalError::Render(e.to_string())
@@ -62,6 +62,12 @@ impl<'a> SplatSource<'a> {
             size,
             schedule,
         })
+    }
+
+    /// Turns the sprites toward `facing` (the probes by default).
+    pub fn with_sprite_facing(mut self, facing: texel_render::input::SpriteFacing) -> Self {
+        self.session.renderer_mut().set_sprite_facing(facing);
+        self
     }
 }
 
@@ -134,6 +140,8 @@ impl FrameSource for BaselineSource<'_> {
     fn render(&mut self, _i: u32, camera: &Camera, dt: f32) -> Result<RenderedFrame, EvalError> {
         let poses = self.animation.poses(self.time);
         self.renderer.set_poses(self.ctx, &poses);
+        let sprites = self.animation.sprite_states(self.time);
+        self.renderer.set_sprites(self.ctx, &sprites);
         self.time = Animation::next_time(self.time, dt);
         let view = BaselineView {
             camera: *camera,
@@ -161,7 +169,7 @@ pub fn baseline_of(method: Method) -> Option<Baseline> {
         Method::Naive => Some(Baseline::Naive),
         Method::Snap => Some(Baseline::Snap),
         Method::Cubemap => Some(Baseline::Cubemap),
-        Method::SplatPaper | Method::Splat | Method::March => None,
+        Method::SplatPaper | Method::Splat | Method::March | Method::SplatFacing => None,
     }
 }
 
@@ -185,18 +193,20 @@ impl ReferenceSource for GpuReference<'_> {
         &mut self,
         camera: &Camera,
         size: UVec2,
-        poses: &[Pose],
+        frame: &RefFrame<'_>,
     ) -> Result<Reference, EvalError> {
-        self.renderer.set_poses(self.ctx, poses);
+        self.renderer.set_poses(self.ctx, frame.poses);
+        self.renderer.set_sprites(self.ctx, frame.sprites);
         let g = self
             .renderer
-            .reference_gbuffer(self.ctx, camera, size)
+            .reference_gbuffer(self.ctx, camera, size, frame.sprite_eye)
             .map_err(render_err)?;
         Ok(Reference {
             size: g.size,
             world: g.world,
             id: g.id,
             poses: Vec::new(),
+            sprites: Vec::new(),
         })
     }
 }
@@ -206,9 +216,15 @@ impl ReferenceSource for CpuScene {
         &mut self,
         camera: &Camera,
         size: UVec2,
-        poses: &[Pose],
+        frame: &RefFrame<'_>,
     ) -> Result<Reference, EvalError> {
-        if !poses.is_empty() {
+        if self.has_sprites() {
+            return Err(EvalError::Input(
+                "the CPU reference draws no sprites; this level has sprites (use --reference gpu)"
+                    .into(),
+            ));
+        }
+        if !frame.poses.is_empty() {
             return Err(EvalError::Input(
                 "the CPU reference draws still scenes only; this level has moving objects \
                  (use --reference gpu)"

@@ -60,6 +60,8 @@ pub struct Scores {
     pub moving_shimmer: Option<f64>,
     /// The same over the still world's pixels of the same frames (None: nothing moved).
     pub still_shimmer: Option<f64>,
+    /// Mean over frames of the flicker fraction of sprites' pixels (None: no sprite seen).
+    pub sprite_shimmer: Option<f64>,
 }
 
 /// Frame-by-frame accumulator of a run's metrics.
@@ -130,6 +132,11 @@ impl PathMeter {
                 .any(|c| c.tested_moving > 0)
                 .then(|| mean_of(self.flicker.iter().filter_map(FlickerCount::still_fraction)))
                 .flatten(),
+            sprite_shimmer: mean_of(
+                self.flicker
+                    .iter()
+                    .filter_map(FlickerCount::sprite_fraction),
+            ),
         }
     }
 }

@@ -31,6 +31,8 @@ pub struct Reference {
     /// The moving objects at this frame: entity id and object → world transform. A pixel of
     /// one is followed to where that point of the object was in the previous frame.
     pub poses: Vec<(u32, glam::Mat4)>,
+    /// Entity ids of the sprites: their pixels' shimmer is counted apart too.
+    pub sprites: Vec<u32>,
 }
 
 /// One frame of a method together with its reference.
@@ -91,6 +93,10 @@ pub struct FlickerCount {
     pub tested_moving: u64,
     /// Of those, pixels whose colour changed.
     pub flicker_moving: u64,
+    /// Of the tested pixels, those showing a sprite.
+    pub tested_sprite: u64,
+    /// Of those, pixels whose colour changed.
+    pub flicker_sprite: u64,
 }
 
 impl FlickerCount {
@@ -102,6 +108,11 @@ impl FlickerCount {
     /// The flicker fraction of the moving objects' pixels, `None` when none was tested.
     pub fn moving_fraction(&self) -> Option<f64> {
         ratio(self.flicker_moving, self.tested_moving)
+    }
+
+    /// The flicker fraction of sprites' pixels, `None` when none was tested.
+    pub fn sprite_fraction(&self) -> Option<f64> {
+        ratio(self.flicker_sprite, self.tested_sprite)
     }
 
     /// The flicker fraction of the still world's pixels, `None` when none was tested.
@@ -266,6 +277,8 @@ pub fn flicker(
             }
             out.tested += 1;
             out.tested_moving += u64::from(moving.is_some());
+            let sprite = cur.reference.sprites.contains(&id);
+            out.tested_sprite += u64::from(sprite);
             let c = oklab_from_srgb8(rgb(cur.colour, i));
             let changed = [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|(dx, dy)| {
                 let k = ((y0 + dy) * w + x0 + dx) as usize;
@@ -274,6 +287,7 @@ pub fn flicker(
             if changed {
                 out.flicker += 1;
                 out.flicker_moving += u64::from(moving.is_some());
+                out.flicker_sprite += u64::from(sprite);
                 if cur.from_eye.is_some_and(|e| e[i]) {
                     out.flicker_eye += 1;
                 }

@@ -11,6 +11,7 @@ use crate::metrics::{Reference, view_proj};
 #[derive(Debug, Clone, Default)]
 pub struct CpuScene {
     objects: Vec<CpuObject>,
+    sprites: usize,
 }
 
 #[derive(Debug, Clone)]
@@ -55,7 +56,15 @@ impl CpuScene {
                 })
             })
             .collect();
-        CpuScene { objects }
+        CpuScene {
+            objects,
+            sprites: scene.sprites.len(),
+        }
+    }
+
+    /// Whether the scene has sprites (which this reference does not draw).
+    pub fn has_sprites(&self) -> bool {
+        self.sprites > 0
     }
 
     /// The nearest hit along `origin + t·dir` for t in (0, t_max): distance and object id.
@@ -88,6 +97,7 @@ impl CpuScene {
             world: vec![[0.0; 3]; n],
             id: vec![0; n],
             poses: Vec::new(),
+            sprites: Vec::new(),
         };
         for y in 0..size.y {
             for x in 0..size.x {

@@ -28,6 +28,7 @@
 //!     "eye_flicker_share": number|null, // share of flickering pixels from the eye probe
 //!     "steps_per_pixel": number|null,   // march steps per pixel (march only)
 //!     "fallback_fraction": number|null, // marched pixels their first probe could not resolve
+//!     "sprite_shimmer": number|null,    // mean flicker of sprites' pixels (levels with sprites)
 //!     "moving_shimmer": number|null,    // mean flicker of moving objects' pixels, followed
 //!                                       // with their objects (levels with animators)
 //!     "still_shimmer": number|null      // the same over the still world's pixels
@@ -112,6 +113,9 @@ pub struct RunRecord {
     /// Mean flicker fraction of the still world's pixels on the same frames.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub still_shimmer: Option<f64>,
+    /// Mean flicker fraction of sprites' pixels (levels with sprites).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sprite_shimmer: Option<f64>,
 }
 
 impl RunRecord {
@@ -215,6 +219,7 @@ impl Report {
                 ("fallback_fraction", r.fallback_fraction.unwrap_or(0.0)),
                 ("moving_shimmer", r.moving_shimmer.unwrap_or(0.0)),
                 ("still_shimmer", r.still_shimmer.unwrap_or(0.0)),
+                ("sprite_shimmer", r.sprite_shimmer.unwrap_or(0.0)),
             ]
             .into_iter()
             .chain(

@@ -5,7 +5,7 @@
 
 use std::collections::BTreeMap;
 
-use glam::UVec2;
+use glam::{UVec2, Vec3};
 use texel_render::input::{Camera, Pose, SceneInput};
 use texel_render::stats::FrameStats;
 use texel_runtime::driver::Animation;
@@ -32,6 +32,10 @@ pub enum Method {
     Splat,
     /// Texel marching: our schedule's probes, each pixel's view ray marched through them.
     March,
+    /// Texel splatting with sprites turned toward the camera, as screen-space sprite
+    /// renderers do (not in [`Method::ALL`]: it differs from `splat` only on sprites, and is
+    /// kept to show what turning them toward the probes gains).
+    SplatFacing,
 }
 
 impl Method {
@@ -56,20 +60,23 @@ impl Method {
             Method::SplatPaper => "splat-paper",
             Method::Splat => "splat",
             Method::March => "march",
+            Method::SplatFacing => "splat-facing",
         }
     }
 
     /// The method called `name`.
     pub fn parse(name: &str) -> Result<Method, EvalError> {
-        Method::ALL
-            .into_iter()
+        (Method::ALL.into_iter().chain([Method::SplatFacing]))
             .find(|m| m.name() == name.trim())
             .ok_or_else(|| EvalError::UnknownMethod(name.to_owned()))
     }
 
     /// Whether the method draws probe texels (and so reports eye provenance).
     pub fn is_splat(self) -> bool {
-        matches!(self, Method::Splat | Method::SplatPaper | Method::March)
+        matches!(
+            self,
+            Method::Splat | Method::SplatPaper | Method::March | Method::SplatFacing
+        )
     }
 }
 
@@ -78,7 +85,8 @@ impl Method {
 pub enum EvalError {
     /// A method name nobody knows.
     #[error(
-        "unknown method `{0}` (expected raster, naive, snap, cubemap, splat-paper, splat or march)"
+        "unknown method `{0}` (expected raster, naive, snap, cubemap, splat-paper, splat, march \
+         or splat-facing)"
     )]
     UnknownMethod(String),
     /// The metrics could not compare the frames.
@@ -111,14 +119,26 @@ pub trait FrameSource {
     fn render(&mut self, index: u32, camera: &Camera, dt: f32) -> Result<RenderedFrame, EvalError>;
 }
 
+/// What changes from one reference frame to the next besides the camera.
+#[derive(Debug, Clone, Copy)]
+pub struct RefFrame<'a> {
+    /// The moving objects' poses.
+    pub poses: &'a [Pose],
+    /// The sprites that move or play, and their state.
+    pub sprites: &'a [texel_render::input::SpriteState],
+    /// The point sprites turn toward and the face resolution of matched sizes: the frame's
+    /// grid probe, where texel splatting turns them.
+    pub sprite_eye: (Vec3, u32),
+}
+
 /// Something that produces reference G-buffers.
 pub trait ReferenceSource {
-    /// The reference G-buffer at `camera` for a `size` frame, the moving objects at `poses`.
+    /// The reference G-buffer at `camera` for a `size` frame, with what moves at `frame`.
     fn reference(
         &mut self,
         camera: &Camera,
         size: UVec2,
-        poses: &[Pose],
+        frame: &RefFrame<'_>,
     ) -> Result<Reference, EvalError>;
 }
 
@@ -131,22 +151,38 @@ pub struct CachedReferences {
 
 impl CachedReferences {
     /// Computes the references of every frame of `path`, the moving objects of `scene` posed
-    /// by `animation` at each frame's time (as every frame source poses them).
+    /// by `animation` at each frame's time (as every frame source poses them), its sprites
+    /// turned toward `sprite_eye` of each frame's camera.
     pub fn compute(
         source: &mut dyn ReferenceSource,
         path: &CameraPath,
         fov_y: f32,
         size: UVec2,
         (scene, animation): (&SceneInput, &Animation),
+        sprite_eye: &mut dyn FnMut(&Camera) -> Result<(Vec3, u32), EvalError>,
     ) -> Result<Self, EvalError> {
         let mut t = 0.0;
         let mut frames = Vec::with_capacity(path.frames as usize);
         for i in 0..path.frames {
             let poses = animation.poses(t);
-            let mut r = source.reference(&path.camera(i, fov_y), size, &poses)?;
+            let sprites = animation.sprite_states(t);
+            let camera = path.camera(i, fov_y);
+            let frame = RefFrame {
+                poses: &poses,
+                sprites: &sprites,
+                sprite_eye: sprite_eye(&camera)?,
+            };
+            let mut r = source.reference(&camera, size, &frame)?;
             r.poses = (poses.iter())
                 .filter_map(|p| Some((scene.objects.get(p.object)?.id, p.transform)))
                 .collect();
+            // Sprites an animator moves are followed like moving objects (by translation).
+            r.poses.extend(sprites.iter().filter_map(|s| {
+                let base = scene.sprites.get(s.sprite)?;
+                (base.position != s.position)
+                    .then(|| (base.id, glam::Mat4::from_translation(s.position)))
+            }));
+            r.sprites = scene.sprites.iter().map(|s| s.id).collect();
             frames.push(r);
             t = Animation::next_time(t, path.dt);
         }
@@ -300,7 +336,7 @@ mod tests {
             &mut self,
             c: &Camera,
             size: UVec2,
-            _poses: &[Pose],
+            _frame: &RefFrame<'_>,
         ) -> Result<Reference, EvalError> {
             // A wall facing the camera 5 units ahead, id 1 everywhere.
             let inv = crate::metrics::view_proj(c, size).inverse();
@@ -321,6 +357,7 @@ mod tests {
                 world,
                 id,
                 poses: Vec::new(),
+                sprites: Vec::new(),
             })
         }
     }
@@ -340,6 +377,7 @@ mod tests {
             1.0,
             size,
             (&SceneInput::default(), &Animation::default()),
+            &mut |_| Ok((Vec3::ZERO, 64)),
         )
         .expect("refs");
         let mut ticks = 0;

@@ -64,7 +64,7 @@ pub struct RunPlan {
 }
 
 /// Which paths the suite flies on which bundled level.
-pub const SUITE_PATHS: [(&str, &str); 19] = [
+pub const SUITE_PATHS: [(&str, &str); 21] = [
     ("stone_circle", "yaw"),
     ("stone_circle", "strafe_in_cell"),
     ("stone_circle", "walk_cells"),
@@ -84,6 +84,8 @@ pub const SUITE_PATHS: [(&str, &str); 19] = [
     ("moving_parts", "moving_still"),
     ("moving_parts", "moving_walk"),
     ("moving_parts", "moving_orbit"),
+    ("sprites", "yaw"),
+    ("sprites", "strafe_in_cell"),
 ];
 
 /// The suite: every bundled path on its level, every method, at `face_res` and `size`.
@@ -151,9 +153,16 @@ pub fn run_plan(
     };
     let name = format!("{} / {}", stem(&plan.level), stem(&plan.path));
     let moving = (&scene, &animation);
-    let refs = path_references(ctx, moving, &path, fov_y, plan.size, reference, &mut || {
-        tick(&format!("{name}: reference"))
-    })?;
+    let refs = path_references(
+        ctx,
+        &level,
+        moving,
+        &path,
+        fov_y,
+        plan.size,
+        reference,
+        &mut || tick(&format!("{name}: reference")),
+    )?;
     let warm_up = path.camera(0, fov_y);
     let look = level_look(&level);
     let mut records = Vec::new();
@@ -197,6 +206,7 @@ pub fn run_plan(
                 eye_flicker_share: outcome.scores.eye_flicker_share,
                 moving_shimmer: outcome.scores.moving_shimmer,
                 still_shimmer: outcome.scores.still_shimmer,
+                sprite_shimmer: outcome.scores.sprite_shimmer,
                 steps_per_pixel,
                 fallback_fraction,
             });
@@ -205,18 +215,27 @@ pub fn run_plan(
     Ok(records)
 }
 
-/// Takes every animator off `level`: what moved stands still at its transform.
+/// Takes every animator off `level` and stops every sprite's frames: what moved stands
+/// still at its transform, a sprite shows its first animation's first frame.
 pub fn freeze(level: &mut LoadedLevel) {
     let entities: Vec<hecs::Entity> = level.scene.entities().collect();
     let world = level.scene.world_mut();
     for e in entities {
         let _ = world.remove_one::<texel_scene::animator::Animator>(e);
+        if let Ok(mut sprite) = world.get::<&mut texel_scene::sprite::Sprite>(e) {
+            for a in &mut sprite.animations {
+                a.frames.truncate(1);
+            }
+        }
     }
 }
 
-/// The reference G-buffer of every frame of `path`; `tick` is called after each.
+/// The reference G-buffer of every frame of `path` through `level`; `tick` is called after
+/// each.
+#[allow(clippy::too_many_arguments)]
 pub fn path_references(
     ctx: &GpuContext,
+    level: &LoadedLevel,
     (scene, animation): (&SceneInput, &Animation),
     path: &CameraPath,
     fov_y: f32,
@@ -231,7 +250,22 @@ pub fn path_references(
         },
         tick: &mut |()| tick(),
     };
-    CachedReferences::compute(&mut counted, path, fov_y, size, (scene, animation))
+    // Sprites turn toward each frame's grid probe, as texel splatting turns them.
+    let mut driver = texel_runtime::driver::FrameDriver::new(level, size, fov_y)
+        .map_err(|e| EvalError::Input(e.to_string()))?;
+    let mut eye = |c: &texel_render::input::Camera| {
+        driver
+            .grid_probe(c)
+            .map_err(|e| EvalError::Input(e.to_string()))
+    };
+    CachedReferences::compute(
+        &mut counted,
+        path,
+        fov_y,
+        size,
+        (scene, animation),
+        &mut eye,
+    )
 }
 
 /// What a method's frame source renders: the output, the grid, the camera's lens.
@@ -276,14 +310,21 @@ pub fn method_source<'a>(
                 Method::March => Display::March,
                 _ => Display::Splat,
             };
-            Box::new(SplatSource::new(
-                ctx,
-                level,
-                view.size,
-                view.fov_y,
-                (schedule, display),
-                &view.warm_up,
-            )?)
+            let facing = match method {
+                Method::SplatFacing => texel_render::input::SpriteFacing::Camera,
+                _ => texel_render::input::SpriteFacing::Probe,
+            };
+            Box::new(
+                SplatSource::new(
+                    ctx,
+                    level,
+                    view.size,
+                    view.fov_y,
+                    (schedule, display),
+                    &view.warm_up,
+                )?
+                .with_sprite_facing(facing),
+            )
         }
     })
 }
@@ -306,9 +347,9 @@ impl ReferenceSource for CountingReference<'_> {
         &mut self,
         camera: &texel_render::input::Camera,
         size: UVec2,
-        poses: &[texel_render::input::Pose],
+        frame: &crate::runner::RefFrame<'_>,
     ) -> Result<crate::metrics::Reference, EvalError> {
-        let r = self.inner.reference(camera, size, poses)?;
+        let r = self.inner.reference(camera, size, frame)?;
         (self.tick)(());
         Ok(r)
     }

@@ -8,7 +8,7 @@ use std::path::Path;
 use glam::{UVec2, Vec3};
 use texel_eval::gpu::GpuReference;
 use texel_eval::reference::CpuScene;
-use texel_eval::runner::ReferenceSource;
+use texel_eval::runner::{RefFrame, ReferenceSource};
 use texel_render::context::test_context;
 use texel_runtime::driver::{scene_input, start_camera};
 use texel_runtime::load::load_level;
@@ -25,7 +25,15 @@ fn gpu_and_cpu_references_agree_off_silhouettes() {
     let size = UVec2::new(160, 90);
     let gpu = GpuReference::new(&ctx, &scene)
         .expect("reference renderer")
-        .reference(&camera, size, &[])
+        .reference(
+            &camera,
+            size,
+            &RefFrame {
+                poses: &[],
+                sprites: &[],
+                sprite_eye: (camera.position, 64),
+            },
+        )
         .expect("gpu reference");
     let cpu = CpuScene::new(&scene).gbuffer(&camera, size);
     let n = gpu.id.len();

@@ -60,6 +60,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         "sprites.wgsl",
         include_str!("../../../shaders/sprites.wgsl"),
     ),
+    (
+        "gbuffer_sprites.wgsl",
+        include_str!("../../../shaders/gbuffer_sprites.wgsl"),
+    ),
     ("lines.wgsl", include_str!("../../../shaders/lines.wgsl")),
     (
         "background.wgsl",

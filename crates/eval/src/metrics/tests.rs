@@ -131,6 +131,7 @@ fn coverage_counts_wrong_ids_and_holes() {
         world: vec![[0.0; 3]; 4],
         id: vec![0, 1, 1, 2],
         poses: Vec::new(),
+        sprites: Vec::new(),
     };
     let colour = vec![0; 16];
     let ids = [0, 1, 0, 1];

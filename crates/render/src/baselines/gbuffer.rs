@@ -136,6 +136,27 @@ pub struct RasterCamera {
     pub eye: Vec3,
     /// Unit view axis.
     pub axis: Vec3,
+    /// The point sprites turn toward, and the face resolution their matched size and
+    /// snapping follow (the reference: the frame's grid probe; a baseline: its camera).
+    pub sprite_eye: (Vec3, u32),
+}
+
+/// `SpriteCamera` in `shaders/gbuffer_sprites.wgsl`.
+#[repr(C)]
+#[derive(Clone, Copy, Pod, Zeroable)]
+pub struct SpriteCamera {
+    view_proj: [[f32; 4]; 4],
+    axis: [f32; 4],
+    eye: [f32; 4],
+    key_base: u32,
+    _pad: [u32; 3],
+}
+
+/// The sprites' part of the G-buffer.
+struct SpriteRaster {
+    pipeline: wgpu::RenderPipeline,
+    layout: wgpu::BindGroupLayout,
+    camera: wgpu::Buffer,
 }
 
 /// The G-buffer pass.
@@ -143,6 +164,7 @@ pub struct GBufferPass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     camera: wgpu::Buffer,
+    sprites: SpriteRaster,
 }
 
 impl GBufferPass {
@@ -170,10 +192,12 @@ impl GBufferPass {
             "baselines::gbuffer::camera",
             size_of::<CameraUniform>() as u64,
         );
+        let sprites = SpriteRaster::new(device, &targets)?;
         Ok(GBufferPass {
             pipeline,
             layout,
             camera,
+            sprites,
         })
     }
 
@@ -191,6 +215,7 @@ impl GBufferPass {
             view_proj,
             eye,
             axis,
+            sprite_eye,
         } = *camera;
         let cam = CameraUniform {
             view_proj: view_proj.to_cols_array_2d(),
@@ -231,5 +256,101 @@ impl GBufferPass {
             runs: Some(&runs),
         };
         raster::record(encoder, "baselines::gbuffer::pass", &targets, scene, &draw);
+        let Some(sprites) = &scene.sprites else {
+            return;
+        };
+        let cam = SpriteCamera {
+            view_proj: view_proj.to_cols_array_2d(),
+            axis: axis.extend(axis.dot(eye)).to_array(),
+            eye: sprite_eye.0.extend(sprite_eye.1 as f32).to_array(),
+            key_base: scene.sprite_key_base(),
+            _pad: [0; 3],
+        };
+        let r = &self.sprites;
+        queue.write_buffer(&r.camera, 0, bytemuck::bytes_of(&cam));
+        let bind = bind_group(
+            device,
+            "baselines::gbuffer::sprites",
+            &r.layout,
+            &[
+                r.camera.as_entire_binding(),
+                sprites.records.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&sprites.frames_view),
+            ],
+        );
+        let load = |view| {
+            Some(wgpu::RenderPassColorAttachment {
+                view,
+                depth_slice: None,
+                resolve_target: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                },
+            })
+        };
+        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("baselines::gbuffer::sprites"),
+            color_attachments: &colour.map(|(v, _)| load(v)),
+            depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
+                view: targets.depth,
+                depth_ops: Some(wgpu::Operations {
+                    load: wgpu::LoadOp::Load,
+                    store: wgpu::StoreOp::Store,
+                }),
+                stencil_ops: None,
+            }),
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        pass.set_pipeline(&r.pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.draw(0..4, 0..sprites.len());
+    }
+}
+
+impl SpriteRaster {
+    fn new(
+        device: &wgpu::Device,
+        targets: &[wgpu::TextureFormat],
+    ) -> Result<Self, shader::ShaderError> {
+        let module = shader::module(device, "gbuffer_sprites.wgsl")?;
+        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("baselines::gbuffer::sprites_layout"),
+            entries: &[
+                entry(0, vf, uniform(false)),
+                entry(1, vf, crate::passes::storage(true)),
+                entry(
+                    2,
+                    wgpu::ShaderStages::FRAGMENT,
+                    crate::passes::texture(crate::passes::FLOAT, crate::passes::ARRAY),
+                ),
+            ],
+        });
+        let pipeline = crate::passes::strip_pipeline(
+            device,
+            crate::passes::RenderSpec {
+                owner: "baselines::gbuffer::sprites",
+                module: &module,
+                vertex: "vs",
+                layouts: &[&layout],
+                vertex_buffers: &[],
+                fragment: "fs",
+                targets,
+                depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
+            },
+        );
+        let camera = uniform_buffer(
+            device,
+            "baselines::gbuffer::sprite_camera",
+            size_of::<SpriteCamera>() as u64,
+        );
+        Ok(SpriteRaster {
+            pipeline,
+            layout,
+            camera,
+        })
     }
 }

@@ -250,6 +250,13 @@ impl BaselineRenderer {
         }
     }
 
+    /// Applies a frame's sprite changes (moves, animation frames).
+    pub fn set_sprites(&mut self, ctx: &GpuContext, states: &[crate::input::SpriteState]) {
+        if let Some(sprites) = self.scene.as_mut().and_then(|s| s.sprites.as_mut()) {
+            sprites.update(ctx, states);
+        }
+    }
+
     /// Moves the scene's animated objects to `poses` for the following renders and
     /// reference G-buffers (the others stay at their base transforms).
     pub fn set_poses(&self, ctx: &GpuContext, poses: &[crate::input::Pose]) {
@@ -332,6 +339,8 @@ impl BaselineRenderer {
             view_proj,
             eye: eye.position,
             axis: eye.axis,
+            // Screen-space methods turn sprites toward their camera.
+            sprite_eye: (eye.position, view.face_res),
         };
         let mut stages = Stages::new(ctx, self.queries.as_ref());
         stages.run("gbuffer", |enc| {
@@ -414,12 +423,15 @@ impl BaselineRenderer {
     }
 
     /// The reference G-buffer of `camera` at `size`: a plain full-resolution raster of world
-    /// position, entity id and view-axis depth, read back.
+    /// position, entity id and view-axis depth, read back; sprites turned toward
+    /// `sprite_eye` (a point and the face resolution of matched sizes: the frame's grid
+    /// probe, where texel splatting turns them).
     pub fn reference_gbuffer(
         &mut self,
         ctx: &GpuContext,
         camera: &Camera,
         size: UVec2,
+        sprite_eye: (glam::Vec3, u32),
     ) -> Result<GBuffer, RenderError> {
         crate::validate::view(camera, size)?;
         crate::validate::device_texture(&ctx.device.limits(), size)?;
@@ -431,6 +443,7 @@ impl BaselineRenderer {
             view_proj: vp,
             eye: camera.position,
             axis: camera.forward.normalize(),
+            sprite_eye,
         };
         self.gbuffer.record(ctx, &mut enc, &screen, scene, &camera);
         ctx.queue.submit([enc.finish()]);

@@ -163,6 +163,11 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
             size_of::<sprites::SpriteGlobals>(),
         ),
         (
+            "gbuffer_sprites.wgsl",
+            "SpriteCamera",
+            size_of::<crate::baselines::gbuffer::SpriteCamera>(),
+        ),
+        (
             "sprites.wgsl",
             "Sprite",
             size_of::<crate::sprites::GpuSprite>(),

@@ -101,7 +101,8 @@ pub(crate) fn record(
             view: targets.depth,
             depth_ops: Some(wgpu::Operations {
                 load: wgpu::LoadOp::Clear(1.0),
-                store: wgpu::StoreOp::Discard,
+                // Kept: the G-buffer draws its sprites against it in a second pass.
+                store: wgpu::StoreOp::Store,
             }),
             stencil_ops: None,
         }),
