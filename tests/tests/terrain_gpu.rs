@@ -317,7 +317,7 @@ fn the_raster_baseline_shows_the_same_paint_on_the_same_cells() {
     };
     let frame = r.render(&h.ctx, Baseline::Raster, &view).expect("raster");
     let g = r
-        .reference_gbuffer(&h.ctx, &camera, size)
+        .reference_gbuffer(&h.ctx, &camera, size, (camera.position, 64))
         .expect("G-buffer");
     let density = 2.0;
     let mut colours: [std::collections::BTreeSet<[u8; 3]>; 3] = Default::default();

@@ -119,6 +119,9 @@ pub trait FrameSource {
     fn render(&mut self, index: u32, camera: &Camera, dt: f32) -> Result<RenderedFrame, EvalError>;
 }
 
+/// Where a camera's sprites turn: a point and the face resolution of matched sizes.
+pub type SpriteEye<'a> = dyn FnMut(&Camera) -> Result<(Vec3, u32), EvalError> + 'a;
+
 /// What changes from one reference frame to the next besides the camera.
 #[derive(Debug, Clone, Copy)]
 pub struct RefFrame<'a> {
@@ -159,7 +162,7 @@ impl CachedReferences {
         fov_y: f32,
         size: UVec2,
         (scene, animation): (&SceneInput, &Animation),
-        sprite_eye: &mut dyn FnMut(&Camera) -> Result<(Vec3, u32), EvalError>,
+        sprite_eye: &mut SpriteEye<'_>,
     ) -> Result<Self, EvalError> {
         let mut t = 0.0;
         let mut frames = Vec::with_capacity(path.frames as usize);

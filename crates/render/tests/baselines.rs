@@ -123,7 +123,9 @@ fn reference_gbuffer_agrees_with_raster_and_reprojects() {
     let f = r
         .render(&ctx, Baseline::Raster, &view(cam, size, 32))
         .unwrap();
-    let g = r.reference_gbuffer(&ctx, &cam, size).unwrap();
+    let g = r
+        .reference_gbuffer(&ctx, &cam, size, (cam.position, 64))
+        .unwrap();
     assert_eq!(g.size, size);
     assert_eq!(g.id, f.ids, "G-buffer ids are Raster's ids");
     let vp = cam.projection(size.x as f32 / size.y as f32) * cam.view();
