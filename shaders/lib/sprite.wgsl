@@ -172,13 +172,14 @@ fn sprite_normal(s: Sprite, q: SpriteQuad, t: vec2<u32>) -> vec3<f32> {
     return normalize(n);
 }
 
-// Relief: depth behind the quad at texel `t` in world units; no surface (infinitely deep)
-// where the sheet is empty.
+// Relief: depth behind the quad at texel `t` in world units, the deepest (255) a hair less
+// than the relief's depth so that the march's last step, at exactly that depth, meets it
+// whatever the rounding; no surface (infinitely deep) where the sheet is empty.
 fn sprite_depth(s: Sprite, q: SpriteQuad, t: vec2<u32>) -> f32 {
     if sprite_texel(s.layers.x, q, t).a < 0.5 {
         return 1.0e30;
     }
-    return sprite_texel(s.layers.z, q, t).r * s.relief_depth;
+    return min(sprite_texel(s.layers.z, q, t).r, 0.999) * s.relief_depth;
 }
 
 // Where a ray meets a relief sprite's surface: frame coordinate, distance along the ray.

@@ -398,6 +398,130 @@ impl GpuSprites {
     }
 }
 
+/// The CPU twin of `snap_to_probe_texel` in `shaders/lib/sprite.wgsl`: `p` moved to the
+/// centre of the texel of a face of `n` texels around `origin` that holds it, at the same
+/// Chebyshev distance (where a sprite's anchor is drawn).
+pub fn snap_to_probe_texel(p: Vec3, origin: Vec3, n: u32) -> Vec3 {
+    let d = p - origin;
+    let a = d.abs();
+    let m = a.max_element();
+    if m < 1.0e-6 || n == 0 {
+        return p;
+    }
+    let nf = n as f32;
+    let q = d / m;
+    let c = (((q * 0.5 + 0.5) * nf).floor() + 0.5) / nf * 2.0 - 1.0;
+    let c = c.clamp(Vec3::splat(-1.0), Vec3::ONE);
+    let q = if a.x >= a.y && a.x >= a.z {
+        Vec3::new(q.x, c.y, c.z)
+    } else if a.y >= a.z {
+        Vec3::new(c.x, q.y, c.z)
+    } else {
+        Vec3::new(c.x, c.y, q.z)
+    };
+    origin + q * m
+}
+
+/// The CPU twin of `shaders/lib/sprite.wgsl`'s relief march and self-shadow, step for step,
+/// for tests: a relief sprite's quad (unit axes, world size) over a depth map (`depth(t)`:
+/// world units behind the quad at texel `t`, infinite where the sheet is empty).
+pub struct ReliefQuad<'a> {
+    /// Unit right, up and front (toward the viewer) axes.
+    pub axes: [Vec3; 3],
+    /// World size of the frame.
+    pub size: glam::Vec2,
+    /// Frame size in pixels.
+    pub frame_px: UVec2,
+    /// Deepest relief, world units.
+    pub relief_depth: f32,
+    /// Depth behind the quad at a texel.
+    pub depth: &'a dyn Fn(UVec2) -> f32,
+}
+
+impl ReliefQuad<'_> {
+    /// The depth the march meets at `t`: the deepest a hair above the relief's floor (as
+    /// `sprite_depth` in the shader).
+    fn floor_depth(&self, t: UVec2) -> f32 {
+        (self.depth)(t).min(0.999 * self.relief_depth)
+    }
+}
+
+impl ReliefQuad<'_> {
+    fn texel_at(&self, uv: glam::Vec2) -> UVec2 {
+        let t = (uv * self.frame_px.as_vec2()).floor().max(glam::Vec2::ZERO);
+        t.as_uvec2().min(self.frame_px - UVec2::ONE)
+    }
+
+    fn steps(&self) -> u32 {
+        self.frame_px.max_element().clamp(8, 64)
+    }
+
+    /// Where the ray from frame coordinate `uv0` along unit `dir` meets the relief: its
+    /// frame coordinate and its depth behind the quad, `None` when it leaves the frame.
+    pub fn hit(&self, uv0: glam::Vec2, dir: Vec3) -> Option<(glam::Vec2, f32)> {
+        let [right, up, front] = self.axes;
+        let dc = -dir.dot(front);
+        if dc <= 1.0e-4 {
+            return None;
+        }
+        let duv = glam::Vec2::new(dir.dot(right) / self.size.x, -dir.dot(up) / self.size.y);
+        let t_max = self.relief_depth / dc;
+        let steps = self.steps();
+        let (mut lo, mut hi) = (0.0f32, -1.0f32);
+        for i in 0..=steps {
+            let t = t_max * i as f32 / steps as f32;
+            let uv = uv0 + duv * t;
+            if uv.cmplt(glam::Vec2::ZERO).any() || uv.cmpge(glam::Vec2::ONE).any() {
+                return None;
+            }
+            if dc * t >= self.floor_depth(self.texel_at(uv)) {
+                hi = t;
+                break;
+            }
+            lo = t;
+        }
+        if hi < 0.0 {
+            return None;
+        }
+        for _ in 0..6 {
+            let mid = 0.5 * (lo + hi);
+            if dc * mid >= self.floor_depth(self.texel_at(uv0 + duv * mid)) {
+                hi = mid;
+            } else {
+                lo = mid;
+            }
+        }
+        let uv = (uv0 + duv * hi).clamp(glam::Vec2::ZERO, glam::Vec2::splat(0.999_999));
+        Some((uv, dc * hi))
+    }
+
+    /// Whether the relief blocks unit direction `l` (toward a light) from the surface point
+    /// at `uv`, `c` deep; a light behind the quad is blocked.
+    pub fn shadowed(&self, uv: glam::Vec2, c: f32, l: Vec3) -> bool {
+        let [right, up, front] = self.axes;
+        let lc = -l.dot(front);
+        if lc >= -1.0e-4 {
+            return true;
+        }
+        let duv = glam::Vec2::new(l.dot(right) / self.size.x, -l.dot(up) / self.size.y);
+        let t_max = c / -lc;
+        let steps = self.steps();
+        for i in 1..steps {
+            let t = t_max * (i as f32 + 0.5) / steps as f32;
+            let p = uv + duv * t;
+            if p.cmplt(glam::Vec2::ZERO).any() || p.cmpge(glam::Vec2::ONE).any() {
+                return false;
+            }
+            let depth = c + lc * t;
+            let d = (self.depth)(self.texel_at(p));
+            if d.is_finite() && depth > d + 1.0e-4 {
+                return true;
+            }
+        }
+        false
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
