@@ -85,7 +85,7 @@ fn sprites_are_drawn_and_named_by_the_pass_and_the_reference() {
     let mut baselines = BaselineRenderer::new(&ctx).expect("baselines");
     baselines.set_scene(&ctx, &scene).expect("scene");
     let g = baselines
-        .reference_gbuffer(&ctx, &camera, size, (camera.position, 64))
+        .reference_gbuffer(&ctx, &camera, size, (camera.position, 128))
         .expect("gbuffer");
     assert_eq!(g.id[centre], SPRITE_ID, "the reference names its sprite");
     let hit = Vec3::from(g.world[centre]);
@@ -97,8 +97,9 @@ fn sprites_are_drawn_and_named_by_the_pass_and_the_reference() {
     let either = (0..ids.len())
         .filter(|&i| ids[i] == SPRITE_ID || g.id[i] == SPRITE_ID)
         .count();
-    // Measured 288 of 304: the two rasters round the quad's edges apart.
-    assert!(both as f64 > 0.9 * either as f64, "{both} of {either}");
+    // The same quad, snapped to the same probe texels: only the rasters' edge rules differ.
+    eprintln!("{both} of {either} pixels are the sprite in both");
+    assert!(both as f64 > 0.95 * either as f64, "{both} of {either}");
 }
 
 /// The pixel of a `size` frame from `camera` where world point `p` lands.
