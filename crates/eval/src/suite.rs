@@ -88,7 +88,9 @@ pub const SUITE_PATHS: [(&str, &str); 21] = [
     ("sprites", "strafe_in_cell"),
 ];
 
-/// The suite: every bundled path on its level, every method, at `face_res` and `size`.
+/// The suite: every bundled path on its level, every method, at `face_res` and `size`. On
+/// the sprites level, `splat` brings `splat-facing` along (the same frames with the sprites
+/// turned toward the camera), so the chart shows what turning them toward the probes gains.
 pub fn suite_plans(
     assets: &Path,
     methods: &[Method],
@@ -100,12 +102,20 @@ pub fn suite_plans(
         .map(|(level, path)| RunPlan {
             level: assets.join("levels").join(format!("{level}.ron")),
             path: assets.join("paths").join(format!("{path}.ron")),
-            methods: methods.to_vec(),
+            methods: with_facing(level, methods),
             face_res: face_res.to_vec(),
             size,
             freeze: false,
         })
         .collect()
+}
+
+fn with_facing(level: &str, methods: &[Method]) -> Vec<Method> {
+    let mut out = methods.to_vec();
+    if *level == *"sprites" && out.contains(&Method::Splat) && !out.contains(&Method::SplatFacing) {
+        out.push(Method::SplatFacing);
+    }
+    out
 }
 
 /// Frames `plans` render in all (each path's references count once), for a progress bar.
@@ -375,6 +385,11 @@ mod tests {
         // 12 paths × (1 method × 1 resolution + the reference) × their frames.
         let total = total_frames(&plans).expect("loads");
         assert!(total > 12 * 2 * 20, "{total}");
+        // The sprites level compares both facings; the others run what was asked.
+        for p in &plans {
+            let sprites = p.level.ends_with("sprites.ron");
+            assert_eq!(p.methods.contains(&Method::SplatFacing), sprites);
+        }
     }
 
     #[test]
