@@ -16,7 +16,7 @@ use crate::report::Report;
 #[error("chart {0}: {1}")]
 pub struct ChartError(String, String);
 
-const METHODS: [&str; 7] = [
+const METHODS: [&str; 8] = [
     "raster",
     "naive",
     "snap",
@@ -24,8 +24,9 @@ const METHODS: [&str; 7] = [
     "splat-paper",
     "splat",
     "march",
+    "splat-facing",
 ];
-const COLOURS: [RGBColor; 7] = [
+const COLOURS: [RGBColor; 8] = [
     RGBColor(120, 120, 120),
     RGBColor(214, 96, 77),
     RGBColor(244, 165, 60),
@@ -33,7 +34,11 @@ const COLOURS: [RGBColor; 7] = [
     RGBColor(117, 112, 179),
     RGBColor(31, 120, 180),
     RGBColor(231, 41, 138),
+    RGBColor(166, 206, 227),
 ];
+/// Methods run on a few paths only (a variant to compare there): in the per-path bars, not
+/// in the scatter plots, whose points average over every path.
+const BARS_ONLY: [&str; 1] = ["splat-facing"];
 const FONT: &str = "sans-serif";
 const SHIMMER_FLOOR: f64 = 1e-4;
 
@@ -62,7 +67,11 @@ pub struct Point {
 /// The scatter points of `report`: one per method × face resolution, averaged over paths.
 pub fn points(report: &Report) -> Vec<Point> {
     let mut groups: BTreeMap<(usize, u32, String), Vec<[f64; 3]>> = BTreeMap::new();
-    for r in &report.runs {
+    for r in report
+        .runs
+        .iter()
+        .filter(|r| !BARS_ONLY.contains(&r.method.as_str()))
+    {
         let order = METHODS.iter().position(|m| *m == r.method).unwrap_or(99);
         // Raster does not depend on the face resolution: one point.
         let face_res = if r.method == "raster" { 0 } else { r.face_res };
@@ -184,26 +193,41 @@ fn scatter<DB: DrawingBackend>(
 
 fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, report: &Report) -> DrawResult<DB> {
     let face_res = report.runs.iter().map(|r| r.face_res).max().unwrap_or(0);
-    let mut paths: Vec<&str> = Vec::new();
+    // One panel per level and path (the same path may fly through two levels).
+    let mut paths: Vec<(&str, &str)> = Vec::new();
     for r in &report.runs {
-        if !paths.contains(&r.path_name()) {
-            paths.push(r.path_name());
+        let key = (r.level_name(), r.path_name());
+        if !paths.contains(&key) {
+            paths.push(key);
         }
     }
+    let first_level = |path: &str| paths.iter().find(|(_, p)| *p == path).map(|(l, _)| *l);
     let cols = 3;
     let rows = paths.len().div_ceil(cols).max(1);
-    let title = format!("Shimmer by method and path (face resolution {face_res})");
+    let title = format!(
+        "Shimmer by method and path (face resolution {face_res}; outlined: sprite pixels alone)"
+    );
     let area = area.titled(&title, (FONT, 20))?;
     let cells = area.split_evenly((rows, cols));
-    for (cell, path) in cells.iter().zip(&paths) {
+    for (cell, &(level, path)) in cells.iter().zip(&paths) {
         let runs: Vec<_> = report
             .runs
             .iter()
-            .filter(|r| r.path_name() == *path && (r.face_res == face_res || r.method == "raster"))
+            .filter(|r| r.level_name() == level && r.path_name() == path)
+            .filter(|r| r.face_res == face_res || r.method == "raster")
             .collect();
-        let y_max = runs.iter().map(|r| r.shimmer.mean).fold(0.01, f64::max) * 1.15;
+        // A path's first level names it alone; another level's runs say which.
+        let caption = if first_level(path) == Some(level) {
+            path.to_owned()
+        } else {
+            format!("{path} ({level})")
+        };
+        let y_max = (runs.iter())
+            .map(|r| r.shimmer.mean.max(r.sprite_shimmer.unwrap_or(0.0)))
+            .fold(0.01, f64::max)
+            * 1.15;
         let mut chart = ChartBuilder::on(cell)
-            .caption(*path, (FONT, 15))
+            .caption(caption, (FONT, 15))
             .margin(6)
             .x_label_area_size(22)
             .y_label_area_size(48)
@@ -229,6 +253,14 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, report: &Report) -> D
             Some(Rectangle::new(
                 [(i + 0.15, 0.0), (i + 0.85, r.shimmer.mean)],
                 colour(&r.method).filled(),
+            ))
+        }))?;
+        // Sprite pixels apart, as an outlined bar beside the whole image's.
+        chart.draw_series(runs.iter().filter_map(|r| {
+            let i = METHODS.iter().position(|m| *m == r.method)? as f64;
+            Some(Rectangle::new(
+                [(i + 0.55, 0.0), (i + 0.95, r.sprite_shimmer?)],
+                BLACK.stroke_width(1),
             ))
         }))?;
     }

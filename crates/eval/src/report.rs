@@ -260,22 +260,24 @@ impl Report {
     pub fn summary_table(&self) -> String {
         let top = self.runs.iter().map(|r| r.face_res).max().unwrap_or(0);
         let mut methods: Vec<&str> = Vec::new();
-        let mut paths: Vec<&str> = Vec::new();
+        // One row per level and path (the same path may fly through two levels).
+        let mut paths: Vec<(&str, &str)> = Vec::new();
         for r in &self.runs {
             if !methods.contains(&r.method.as_str()) {
                 methods.push(&r.method);
             }
-            if !paths.contains(&r.path_name()) {
-                paths.push(r.path_name());
+            let key = (r.level_name(), r.path_name());
+            if !paths.contains(&key) {
+                paths.push(key);
             }
         }
-        let pick = |path: Option<&str>, method: &str| -> Vec<&RunRecord> {
+        let pick = |path: Option<(&str, &str)>, method: &str| -> Vec<&RunRecord> {
             self.runs
                 .iter()
                 .filter(|r| {
                     r.method == method
                         && (r.face_res == top || method == "raster")
-                        && path.is_none_or(|p| r.path_name() == p)
+                        && path.is_none_or(|(l, p)| r.level_name() == l && r.path_name() == p)
                 })
                 .collect()
         };
@@ -290,10 +292,17 @@ impl Report {
             0 => "–".to_owned(),
             n => format!("{:.digits$}", v.iter().sum::<f64>() / n as f64),
         };
-        for p in &paths {
-            let _ = write!(out, "| {p} |");
+        for &(level, path) in &paths {
+            // A path's first level names it alone; another level's row says which.
+            if paths.iter().find(|(_, p)| *p == path).map(|(l, _)| *l) == Some(level) {
+                let _ = write!(out, "| {path} |");
+            } else {
+                let _ = write!(out, "| {path} ({level}) |");
+            }
             for m in &methods {
-                let v: Vec<f64> = pick(Some(p), m).iter().map(|r| r.shimmer.mean).collect();
+                let v: Vec<f64> = (pick(Some((level, path)), m).iter())
+                    .map(|r| r.shimmer.mean)
+                    .collect();
                 let _ = write!(out, " {} |", cell(&v, 4));
             }
             out.push('\n');
@@ -354,6 +363,25 @@ impl Report {
                 }
             }
             out.push('\n');
+        }
+        // Sprite pixels apart, where a level has sprites.
+        let sprites: Vec<&RunRecord> = (self.runs.iter())
+            .filter(|r| r.sprite_shimmer.is_some())
+            .collect();
+        if !sprites.is_empty() {
+            out.push_str("\n| level | path | method | face res | sprite-pixel shimmer |\n");
+            out.push_str("|---|---|---|---:|---:|\n");
+            for r in sprites {
+                let _ = writeln!(
+                    out,
+                    "| {} | {} | {} | {} | {:.5} |",
+                    r.level_name(),
+                    r.path_name(),
+                    r.method,
+                    r.face_res,
+                    r.sprite_shimmer.unwrap_or(0.0)
+                );
+            }
         }
         out
     }
