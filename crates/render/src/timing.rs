@@ -10,7 +10,7 @@ use crate::stats::PassTime;
 use crate::target::read_buffer;
 
 /// Most timed stages of one frame.
-pub(crate) const MAX_STAGES: u32 = 8;
+pub(crate) const MAX_STAGES: u32 = 12;
 
 /// The timestamp query set a renderer keeps for [`Stages`], when the adapter has timestamps.
 pub(crate) fn query_set(ctx: &GpuContext, label: &str) -> Option<wgpu::QuerySet> {
