@@ -121,6 +121,13 @@ struct Object {
     id: u32,
 }
 
+// A directional light: unit direction toward it, and its colour (crates/render/src/passes/
+// shade.rs `Sun`).
+struct Sun {
+    to_light: vec4<f32>,
+    colour: vec4<f32>,
+}
+
 struct PointLight {
     position: vec3<f32>,
     radius: f32,

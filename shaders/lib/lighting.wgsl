@@ -7,10 +7,6 @@
 // The least distance, in world units, a shadow ray starts off its surface.
 const SHADOW_OFFSET: f32 = 0.02;
 
-struct Sun {
-    to_light: vec4<f32>,
-    colour: vec4<f32>,
-}
 
 // Light `i` (the suns first, then the point lights) as seen from `p`: the unit direction
 // toward it, how far a shadow ray must reach (before the surface offset is taken off), and

@@ -19,7 +19,8 @@ struct Sprite {
     relief_depth: f32,
     index_ratio: f32,
     frames: u32,
-    id: u32,
+    // Where its lit texels start (crates/render/src/sprites.rs).
+    lit_base: u32,
 }
 
 const SPRITE_BILLBOARD: u32 = 3u;

@@ -347,6 +347,10 @@ impl Renderer {
             view: Some(&self.view),
         };
         let shaded = stages.run("shade", |enc| self.shade.record(ctx, enc, &jobs, &inputs));
+        // Sprite texels after the probes' (refraction reads their lit faces).
+        if let Some(binds) = &sprites {
+            stages.run("sprite shade", |enc| self.sprites.shade(enc, binds));
+        }
         let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded.stable);
         let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::with_capacity(4);
         let pixels_marched = match self.display {

@@ -61,6 +61,14 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/sprites.wgsl"),
     ),
     (
+        "lib/sprite_view.wgsl",
+        include_str!("../../../shaders/lib/sprite_view.wgsl"),
+    ),
+    (
+        "sprite_shade.wgsl",
+        include_str!("../../../shaders/sprite_shade.wgsl"),
+    ),
+    (
         "gbuffer_sprites.wgsl",
         include_str!("../../../shaders/gbuffer_sprites.wgsl"),
     ),

@@ -57,8 +57,9 @@ pub struct GpuSprite {
     pub index_ratio: f32,
     /// Frames on the sheet (the last is shown for a frame past it).
     pub frames: u32,
-    /// Entity id.
-    pub id: u32,
+    /// Where its lit texels start in [`GpuSprites::lit`]: two frames' worth (the grid probe's
+    /// copy, then the previous probe's).
+    pub lit_base: u32,
 }
 
 /// Why the sprites cannot be uploaded.
@@ -71,6 +72,17 @@ pub enum SpriteError {
         id: u32,
         /// What is wrong.
         message: String,
+    },
+    /// The sprites' texels, lit once per frame, need a larger buffer than the device binds.
+    #[error(
+        "the sprites' lit texels need {bytes} bytes (8 per texel, two frames' worth per \
+         sprite), more than this device binds ({max}): use fewer or smaller sprites"
+    )]
+    TooManyTexels {
+        /// Bytes needed.
+        bytes: u64,
+        /// The device's binding limit.
+        max: u64,
     },
     /// More frame layers or a larger frame than the device allows.
     #[error(
@@ -99,6 +111,9 @@ pub struct GpuSprites {
     pub frames_view: wgpu::TextureView,
     /// Instance records (at least one).
     pub records: wgpu::Buffer,
+    /// Each sprite texel's colour as lit this frame and its relief hit (`vec2<u32>`), two
+    /// frames' worth per sprite (`GpuSprite::lit_base`), written by the sprite shade pass.
+    pub lit: wgpu::Buffer,
     /// The records as last written.
     pub cpu: Vec<GpuSprite>,
 }
@@ -128,8 +143,8 @@ fn frame_pixels(image: &Image, frame: UVec2, i: u32, layer: UVec2) -> Vec<u8> {
 }
 
 impl GpuSprite {
-    /// The record of `s` whose images start at `layers`.
-    pub fn new(s: &SpriteInput, layers: [u32; 4]) -> GpuSprite {
+    /// The record of `s` whose images start at `layers` and lit texels at `lit_base`.
+    pub fn new(s: &SpriteInput, layers: [u32; 4], lit_base: u32) -> GpuSprite {
         let columns = (s.sheet.width / s.frame_size.x.max(1)).max(1);
         let rows = (s.sheet.height / s.frame_size.y.max(1)).max(1);
         let billboard = match s.billboard {
@@ -160,7 +175,7 @@ impl GpuSprite {
             relief_depth: s.relief.as_ref().map_or(0.0, |r| r.1),
             index_ratio: s.refraction.as_ref().map_or(0.0, |r| r.1),
             frames: columns * rows,
-            id: s.id,
+            lit_base,
         }
     }
 }
@@ -228,6 +243,7 @@ impl GpuSprites {
         let mut cuts: Vec<Cut<'_>> = Vec::new();
         let mut next = 0u32;
         let mut records = Vec::with_capacity(sprites.len());
+        let mut lit_texels = 0u64;
         for s in sprites {
             let f = s.frame_size;
             let fail = |message: String| SpriteError::Sheet { id: s.id, message };
@@ -277,10 +293,20 @@ impl GpuSprites {
                     }
                 };
             }
-            records.push(GpuSprite::new(s, layers));
+            let base = u32::try_from(lit_texels).unwrap_or(u32::MAX);
+            records.push(GpuSprite::new(s, layers, base));
+            lit_texels += 2 * u64::from(f.x) * u64::from(f.y);
         }
         let layer = cuts.iter().fold(UVec2::ONE, |m, c| m.max(c.frame));
         let limits = ctx.device.limits();
+        let lit_bytes = lit_texels * 8;
+        if lit_bytes > u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+        {
+            return Err(SpriteError::TooManyTexels {
+                bytes: lit_bytes,
+                max: u64::from(limits.max_storage_buffer_binding_size),
+            });
+        }
         if next > limits.max_texture_array_layers
             || layer.x > limits.max_texture_dimension_2d
             || layer.y > limits.max_texture_dimension_2d
@@ -347,10 +373,17 @@ impl GpuSprites {
                 contents: bytemuck::cast_slice(&records),
                 usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
             });
+        let lit = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sprites::lit"),
+            size: lit_bytes.max(8),
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         Ok(Some(GpuSprites {
             frames,
             frames_view,
             records: buffer,
+            lit,
             cpu: records,
         }))
     }

@@ -1,22 +1,27 @@
-//! Sprites: one instance per sprite expanded to a quad in the vertex stage
-//! (`shaders/sprites.wgsl`), drawn into the frame after the splats and the moving objects.
-//! Turned toward the grid probe's origin (and, during a crossfade, a second copy toward the
-//! previous probe's, the two splitting the pixels with the splats' Bayer pattern), or toward
-//! the camera in [`SpriteFacing::Camera`]. Nothing to do, and nothing bound, without sprites.
+//! Sprites, in two steps. `shade` (`shaders/sprite_shade.wgsl`, compute): every texel of every
+//! sprite in view lit once, for the grid probe's copy and during a crossfade the previous
+//! probe's, into [`crate::sprites::GpuSprites::lit`]. `draw` (`shaders/sprites.wgsl`): one
+//! instance per sprite expanded to a quad in the vertex stage, drawn into the frame after the
+//! splats and the moving objects, each pixel taking its texel's colour. Turned toward the
+//! grid probe's origin (the two copies splitting the pixels with the splats' Bayer pattern),
+//! or toward the camera in [`SpriteFacing::Camera`]. Nothing to do, and nothing bound,
+//! without sprites.
 
 use bytemuck::{Pod, Zeroable};
 
-use super::cull::{probe_textures_bind_group, probe_textures_layout};
 use super::shade::{Sun, gpu_suns};
 use super::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
-use super::{ARRAY, FLOAT, RenderSpec, bind_group, entry, storage, texture, uniform};
+use super::{
+    ARRAY, FLOAT, RenderSpec, bind_group, compute_pipeline, entry, storage, texture, uniform,
+};
 use crate::context::GpuContext;
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
 use crate::input::{Look, SpriteFacing};
 use crate::probe_store::ProbeStore;
 use crate::shader;
+use texel_probes::probe_set::Slot;
 
-/// `SpriteGlobals` in `shaders/sprites.wgsl`.
+/// `SpriteGlobals` in `shaders/lib/sprite_view.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct SpriteGlobals {
@@ -31,37 +36,67 @@ pub struct SpriteGlobals {
     _pad: [u32; 2],
 }
 
-/// The sprite pass.
+/// The sprite passes.
 pub struct SpritePass {
-    pipeline: wgpu::RenderPipeline,
-    layout: wgpu::BindGroupLayout,
-    slots_layout: wgpu::BindGroupLayout,
+    shade: wgpu::ComputePipeline,
+    shade_layout: wgpu::BindGroupLayout,
+    probes_layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
+    draw: wgpu::RenderPipeline,
+    draw_layout: wgpu::BindGroupLayout,
     globals: wgpu::Buffer,
     /// What sprites turn toward.
     pub facing: SpriteFacing,
 }
 
-/// What one frame's draw binds.
+/// What one frame's shading and drawing bind.
 pub struct SpriteBinds {
-    scene: wgpu::BindGroup,
-    slots: wgpu::BindGroup,
+    shade: wgpu::BindGroup,
+    probes: wgpu::BindGroup,
     bvh: wgpu::BindGroup,
-    instances: u32,
+    draw: wgpu::BindGroup,
+    count: u32,
+    copies: u32,
 }
 
 impl SpritePass {
-    /// Builds the pipeline for a `colour` target (with the frame's key target and splat
+    /// Builds the pipelines for a `colour` target (with the frame's key target and splat
     /// depth).
     pub fn new(
         device: &wgpu::Device,
         colour: wgpu::TextureFormat,
     ) -> Result<Self, shader::ShaderError> {
-        let module = shader::module(device, "sprites.wgsl")?;
+        let c = wgpu::ShaderStages::COMPUTE;
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let frag = wgpu::ShaderStages::FRAGMENT;
-        let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("sprites::layout"),
+        let shade_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sprites::shade_layout"),
+            entries: &[
+                entry(0, c, uniform(false)),
+                entry(1, c, storage(true)),
+                entry(2, c, texture(FLOAT, ARRAY)),
+                entry(3, c, uniform(false)),
+                entry(4, c, storage(true)),
+                entry(5, c, storage(false)),
+            ],
+        });
+        // The slots' geometry and lit textures only (lib/slots.wgsl bindings 0–2 and 6–8):
+        // refraction looks the background up there; the draw lists are not needed.
+        let probes_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sprites::probes_layout"),
+            entries: &[0, 1, 2, 6, 7, 8].map(|b| entry(b, c, texture(FLOAT, ARRAY))),
+        });
+        let bvh_layout = crate::passes::bvh_layout(device, "sprites::bvh_layout", c);
+        let module = shader::module(device, "sprite_shade.wgsl")?;
+        let shade = compute_pipeline(
+            device,
+            "sprites::shade",
+            &module,
+            "main",
+            &[&shade_layout, &probes_layout, &bvh_layout],
+        );
+        let draw_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("sprites::draw_layout"),
             entries: &[
                 entry(0, vf, uniform(false)),
                 entry(1, vf, storage(true)),
@@ -70,37 +105,39 @@ impl SpritePass {
                 entry(4, frag, storage(true)),
             ],
         });
-        let slots_layout = probe_textures_layout(device, frag);
-        let bvh_layout = crate::passes::bvh_layout(device, "sprites::bvh_layout", frag);
-        let layouts = [&layout, &slots_layout, &bvh_layout];
-        let spec = RenderSpec {
-            owner: "sprites",
-            module: &module,
-            vertex: "vs",
-            layouts: &layouts,
-            vertex_buffers: &[],
-            fragment: "fs",
-            targets: &[colour, KEY_FORMAT],
-            depth: Some((SPLAT_DEPTH_FORMAT, true, wgpu::CompareFunction::Greater)),
-        };
-        let pipeline = super::strip_pipeline(device, spec);
+        let module = shader::module(device, "sprites.wgsl")?;
+        let draw = super::strip_pipeline(
+            device,
+            RenderSpec {
+                owner: "sprites",
+                module: &module,
+                vertex: "vs",
+                layouts: &[&draw_layout],
+                vertex_buffers: &[],
+                fragment: "fs",
+                targets: &[colour, KEY_FORMAT],
+                depth: Some((SPLAT_DEPTH_FORMAT, true, wgpu::CompareFunction::Greater)),
+            },
+        );
         let globals = super::uniform_buffer(
             device,
             "sprites::globals",
             size_of::<SpriteGlobals>() as u64,
         );
         Ok(SpritePass {
-            pipeline,
-            layout,
-            slots_layout,
+            shade,
+            shade_layout,
+            probes_layout,
             bvh_layout,
+            draw,
+            draw_layout,
             globals,
             facing: SpriteFacing::Probe,
         })
     }
 
-    /// Writes the lights of `scene` and `look` and binds what the draw reads, with the view
-    /// globals `view`; `None` when the scene has no sprites.
+    /// Writes the lights of `scene` and `look` and binds what the passes read, with the view
+    /// globals `view`; `None` when the scene has no sprites. `fading`: a crossfade runs.
     pub fn prepare(
         &self,
         ctx: &GpuContext,
@@ -127,24 +164,56 @@ impl SpritePass {
         ctx.queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         let device = &ctx.device;
-        let scene_bind = bind_group(
+        let shade = bind_group(
             device,
-            "sprites::scene",
-            &self.layout,
+            "sprites::shade",
+            &self.shade_layout,
             &[
                 view.as_entire_binding(),
                 sprites.records.as_entire_binding(),
                 wgpu::BindingResource::TextureView(&sprites.frames_view),
                 self.globals.as_entire_binding(),
                 scene.points.as_entire_binding(),
+                sprites.lit.as_entire_binding(),
             ],
         );
-        let slots = probe_textures_bind_group(device, &self.slots_layout, store);
+        let probe_entries: Vec<wgpu::BindGroupEntry<'_>> = [0u32, 1, 2, 6, 7, 8]
+            .into_iter()
+            .map(|binding| {
+                let t = store.slot(Slot::ALL[(binding % 3) as usize]);
+                let view = if binding < 3 {
+                    &t.geo.array_view
+                } else {
+                    &t.lit.array_view
+                };
+                wgpu::BindGroupEntry {
+                    binding,
+                    resource: wgpu::BindingResource::TextureView(view),
+                }
+            })
+            .collect();
+        let probes = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("sprites::probes"),
+            layout: &self.probes_layout,
+            entries: &probe_entries,
+        });
         let bvh = bind_group(
             device,
             "sprites::bvh",
             &self.bvh_layout,
             &scene.bvh_resources(),
+        );
+        let draw = bind_group(
+            device,
+            "sprites::draw",
+            &self.draw_layout,
+            &[
+                view.as_entire_binding(),
+                sprites.records.as_entire_binding(),
+                wgpu::BindingResource::TextureView(&sprites.frames_view),
+                self.globals.as_entire_binding(),
+                sprites.lit.as_entire_binding(),
+            ],
         );
         // The previous probe's copies only while a crossfade runs toward the probes.
         let copies = if fading && self.facing == SpriteFacing::Probe {
@@ -153,19 +222,34 @@ impl SpritePass {
             1
         };
         Some(SpriteBinds {
-            scene: scene_bind,
-            slots,
+            shade,
+            probes,
             bvh,
-            instances: count * copies,
+            draw,
+            count,
+            copies,
         })
+    }
+
+    /// Lights the texels of the sprites in view (one workgroup per sprite and copy).
+    pub fn shade(&self, encoder: &mut wgpu::CommandEncoder, binds: &SpriteBinds) {
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("sprites::shade"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.shade);
+        pass.set_bind_group(0, &binds.shade, &[]);
+        pass.set_bind_group(1, &binds.probes, &[]);
+        pass.set_bind_group(2, &binds.bvh, &[]);
+        // At most 65535 workgroups per dimension: sprites beyond are spread over z.
+        let x = binds.count.min(65_535);
+        pass.dispatch_workgroups(x, binds.copies, binds.count.div_ceil(65_535).max(1));
     }
 
     /// Draws the sprites into `pass` (the frame's colour, key and depth targets).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, binds: &SpriteBinds) {
-        pass.set_pipeline(&self.pipeline);
-        pass.set_bind_group(0, &binds.scene, &[]);
-        pass.set_bind_group(1, &binds.slots, &[]);
-        pass.set_bind_group(2, &binds.bvh, &[]);
-        pass.draw(0..4, 0..binds.instances);
+        pass.set_pipeline(&self.draw);
+        pass.set_bind_group(0, &binds.draw, &[]);
+        pass.draw(0..4, 0..binds.count * binds.copies);
     }
 }

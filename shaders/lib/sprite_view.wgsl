@@ -1,0 +1,78 @@
+// Sprites as this frame's view turns them (shared by shaders/sprite_shade.wgsl, which
+// lights each sprite texel, and shaders/sprites.wgsl, which draws them): toward which probe a
+// sprite drawn for a role turns, its quad, the eye its relief and refraction rays start from,
+// and which texel a frame coordinate takes. The includer declares `view: ViewGlobals`,
+// `globals: SpriteGlobals` and what lib/sprite.wgsl needs, and includes lib/view.wgsl.
+
+struct SpriteGlobals {
+    suns: array<Sun, 4>,
+    ambient: vec4<f32>,
+    sun_count: u32,
+    point_count: u32,
+    bands: u32,
+    // 0: toward the probes; 1: toward the camera (for comparison).
+    facing: u32,
+    // A sprite pixel's key: MOVING_KEY | (key_base + sprite index).
+    key_base: u32,
+    count: u32,
+    _pad0: u32,
+    _pad1: u32,
+}
+
+// The slot whose origin a sprite drawn for `role` turns toward.
+fn role_slot(role: u32) -> u32 {
+    if role == ROLE_GRID {
+        return view.grid_slot;
+    }
+    for (var s = 1u; s < 3u; s++) {
+        if view.slots[s].role == ROLE_PREVIOUS {
+            return s;
+        }
+    }
+    return 3u;
+}
+
+// Sprite `s` as drawn for `role`: toward that probe's origin, or the camera.
+fn quad_for(s: Sprite, role: u32) -> SpriteQuad {
+    let grid = view.slots[view.grid_slot];
+    if globals.facing != 0u {
+        // The view axis, from the far plane's centre toward the near plane's.
+        let near = view.inv_view_proj * vec4(0.0, 0.0, NDC_NEAR, 1.0);
+        let far = view.inv_view_proj * vec4(0.0, 0.0, NDC_FAR, 1.0);
+        let back = near.xyz / near.w - far.xyz / far.w;
+        return sprite_quad(s, view.camera.xyz, back, grid.n, false);
+    }
+    let slot = view.slots[role_slot(role)];
+    return sprite_quad(s, slot.origin, slot.origin - s.position, slot.n, true);
+}
+
+// The eye a sprite's relief and refraction rays start from: its probe's origin (so what a
+// texel shows is fixed inside a cell), or the camera.
+fn eye_for(role: u32) -> vec3<f32> {
+    if globals.facing != 0u {
+        return view.camera.xyz;
+    }
+    return view.slots[role_slot(role)].origin;
+}
+
+// The texel of sprite `s` (quad `q`, drawn for `role`) whose light frame coordinate `uv`
+// shows. Toward the probes, a sprite texel is never smaller than a probe texel at the sprite
+// (as terrain pixels): where the picture is finer, cells of k × k texels (k a power of two)
+// take the texel at their centre, so a far sprite does not alias into the pixels. `.z` is k.
+fn sprite_cell(s: Sprite, q: SpriteQuad, role: u32, uv: vec2<f32>) -> vec3<u32> {
+    let t = sprite_texel_at(uv, s.frame_px);
+    if globals.facing != 0u {
+        return vec3(t, 1u);
+    }
+    let slot = view.slots[role_slot(role)];
+    let probe_texel = 2.0 * distance(sprite_point(q, vec2(0.5)), slot.origin) / f32(max(slot.n, 1u));
+    let texel = max(q.size.x / f32(s.frame_px.x), q.size.y / f32(s.frame_px.y));
+    let k = u32(exp2(ceil(log2(clamp(probe_texel / max(texel, 1.0e-6), 1.0, 64.0)))));
+    return vec3(min((t / k) * k + k / 2u, s.frame_px - 1u), k);
+}
+
+// Where sprite `s`'s texels for `role` start in the lit buffer (two copies: grid, previous).
+fn lit_index(s: Sprite, role: u32, t: vec2<u32>) -> u32 {
+    let texels = s.frame_px.x * s.frame_px.y;
+    return s.lit_base + select(0u, texels, role == ROLE_PREVIOUS) + t.y * s.frame_px.x + t.x;
+}
