@@ -300,11 +300,14 @@ impl GpuSprites {
         let layer = cuts.iter().fold(UVec2::ONE, |m, c| m.max(c.frame));
         let limits = ctx.device.limits();
         let lit_bytes = lit_texels * 8;
-        if lit_bytes > u64::from(limits.max_storage_buffer_binding_size).min(limits.max_buffer_size)
+        if lit_bytes
+            > limits
+                .max_storage_buffer_binding_size
+                .min(limits.max_buffer_size)
         {
             return Err(SpriteError::TooManyTexels {
                 bytes: lit_bytes,
-                max: u64::from(limits.max_storage_buffer_binding_size),
+                max: limits.max_storage_buffer_binding_size,
             });
         }
         if next > limits.max_texture_array_layers
