@@ -66,7 +66,8 @@ enum Command {
 
 #[derive(Args, Debug)]
 struct Common {
-    /// Comma-separated methods: raster, naive, snap, cubemap, splat-paper, splat, march.
+    /// Comma-separated methods: raster, naive, snap, cubemap, splat-paper, splat, march;
+    /// also splat-facing (splat with sprites turned toward the camera, to compare).
     #[arg(
         long,
         default_value = "raster,naive,snap,cubemap,splat-paper,splat,march"
@@ -185,7 +186,7 @@ struct CompareArgs {
     #[arg(long)]
     path: PathBuf,
     /// Comma-separated methods, left to right: raster, naive, snap, cubemap, splat-paper,
-    /// splat, march.
+    /// splat, march, splat-facing.
     #[arg(long, default_value = "naive,snap,splat")]
     methods: String,
     /// Cube-face resolution of every method (texels per face edge).
