@@ -210,6 +210,10 @@ struct CompareArgs {
     /// File stem of the GIF and JSON.
     #[arg(long, default_value = "compare")]
     name: String,
+    /// Show where each method flickers: the frame in grey, changed pixels red (magenta:
+    /// from the eye probe), as the shimmer metric counts them.
+    #[arg(long)]
+    flicker: bool,
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
@@ -244,6 +248,7 @@ fn compare_plan(args: &CompareArgs) -> Result<texel_eval::compare::ComparePlan> 
         face_res,
         size: parse_size(&args.size)?,
         reference,
+        flicker: args.flicker,
     })
 }
 

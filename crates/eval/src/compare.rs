@@ -6,6 +6,10 @@
 //! is the value `texel-eval run` reports for that frame. The GIF has one palette for every
 //! frame (exact when the frames hold at most 256 colours, NeuQuant otherwise), so the
 //! encoding itself cannot make a still colour change from frame to frame.
+//!
+//! With [`ComparePlan::flicker`], each panel shows where the metric found flicker instead of
+//! the plain frame ([`flicker_overlay`]): the frame dimmed to grey, pixels that changed in
+//! red (magenta where the method took them from the eye probe).
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -72,6 +76,30 @@ pub struct ComparePlan {
     pub size: UVec2,
     /// Where the reference G-buffers come from.
     pub reference: ReferenceKind,
+    /// Panels show the flicker the metric found ([`flicker_overlay`]).
+    pub flicker: bool,
+}
+
+/// Frame `cur` dimmed to grey, with the pixels [`crate::metrics::flicker_map`] found changed
+/// since `prev` in red (magenta: taken from the eye probe). RGBA8 like the frames.
+pub fn flicker_overlay(
+    prev: &crate::meter::OwnedFrame,
+    cur: &crate::meter::OwnedFrame,
+) -> Result<Vec<u8>, EvalError> {
+    use crate::metrics::map;
+    let (_, mask) =
+        crate::metrics::flicker_map(&prev.view(), &cur.view(), &MetricParams::default())?;
+    let mut out = cur.colour.clone();
+    for (px, m) in out.chunks_exact_mut(4).zip(mask) {
+        let grey = ((u32::from(px[0]) * 3 + u32::from(px[1]) * 6 + u32::from(px[2])) / 20) as u8;
+        let rgb = match m {
+            map::FLICKER => [255, 40, 40],
+            map::FLICKER_EYE => [255, 40, 255],
+            _ => [grey, grey, grey],
+        };
+        px[..3].copy_from_slice(&rgb);
+    }
+    Ok(out)
 }
 
 /// One method's frames and per-frame shimmer.
@@ -186,17 +214,41 @@ pub fn run_compare(
     for &method in &plan.methods {
         let mut source = method_source(ctx, &level, (&scene, &animation), method, &view)?;
         let mut frames = Vec::with_capacity(path.frames as usize);
+        let mut prev: Option<crate::meter::OwnedFrame> = None;
+        let mut overlay_error = None;
         let outcome = run_path_observed(
             &path,
             fov_y,
             source.as_mut(),
             &refs,
             MetricParams::default(),
-            &mut |_, frame| {
-                frames.push(frame.pixels.clone());
+            &mut |i, frame| {
+                if plan.flicker {
+                    let cur = crate::meter::OwnedFrame {
+                        camera: path.camera(i, fov_y),
+                        reference: refs.frames[i as usize].clone(),
+                        colour: frame.pixels.clone(),
+                        ids: frame.ids.clone(),
+                        from_eye: frame.from_eye.clone(),
+                    };
+                    let shown = match &prev {
+                        Some(p) => flicker_overlay(p, &cur).unwrap_or_else(|e| {
+                            overlay_error = Some(e);
+                            cur.colour.clone()
+                        }),
+                        None => cur.colour.clone(),
+                    };
+                    frames.push(shown);
+                    prev = Some(cur);
+                } else {
+                    frames.push(frame.pixels.clone());
+                }
                 tick(method.name());
             },
         )?;
+        if let Some(e) = overlay_error {
+            return Err(e);
+        }
         methods.push(MethodFrames {
             method,
             frames,

@@ -218,6 +218,38 @@ pub fn flicker(
     cur: &FrameView<'_>,
     params: &MetricParams,
 ) -> Result<FlickerCount, MetricError> {
+    flicker_into(prev, cur, params, None)
+}
+
+/// What [`flicker_map`] says of one pixel.
+pub mod map {
+    /// Not tested (sky, an id edge, not visible in the previous frame).
+    pub const UNTESTED: u8 = 0;
+    /// Tested, unchanged.
+    pub const STABLE: u8 = 1;
+    /// Changed.
+    pub const FLICKER: u8 = 2;
+    /// Changed, and the method took it from the eye probe.
+    pub const FLICKER_EYE: u8 = 3;
+}
+
+/// [`flicker`], and per pixel of `cur` what it found ([`map`]): where a method shimmers.
+pub fn flicker_map(
+    prev: &FrameView<'_>,
+    cur: &FrameView<'_>,
+    params: &MetricParams,
+) -> Result<(FlickerCount, Vec<u8>), MetricError> {
+    let mut out = vec![map::UNTESTED; cur.reference.id.len()];
+    let count = flicker_into(prev, cur, params, Some(&mut out))?;
+    Ok((count, out))
+}
+
+fn flicker_into(
+    prev: &FrameView<'_>,
+    cur: &FrameView<'_>,
+    params: &MetricParams,
+    mut mask: Option<&mut Vec<u8>>,
+) -> Result<FlickerCount, MetricError> {
     check(prev)?;
     check(cur)?;
     let size = cur.reference.size;
@@ -284,13 +316,19 @@ pub fn flicker(
                 let k = ((y0 + dy) * w + x0 + dx) as usize;
                 oklab_distance(c, oklab_from_srgb8(rgb(prev.colour, k))) > params.oklab_threshold
             });
+            let eye = cur.from_eye.is_some_and(|e| e[i]);
+            if let Some(mask) = mask.as_deref_mut() {
+                mask[i] = match (changed, eye) {
+                    (false, _) => map::STABLE,
+                    (true, false) => map::FLICKER,
+                    (true, true) => map::FLICKER_EYE,
+                };
+            }
             if changed {
                 out.flicker += 1;
                 out.flicker_moving += u64::from(moving.is_some());
                 out.flicker_sprite += u64::from(sprite);
-                if cur.from_eye.is_some_and(|e| e[i]) {
-                    out.flicker_eye += 1;
-                }
+                out.flicker_eye += u64::from(eye);
             }
         }
     }

@@ -122,6 +122,23 @@ fn eye_sourced_flicker_is_counted_separately() {
     assert!(f.flicker > 0);
     let share = f.flicker_eye as f64 / f.flicker as f64;
     assert!((share - 0.5).abs() < 0.1, "{share}");
+    // The map marks exactly the pixels counted, eye ones apart, and nothing untested.
+    let (g, m) = flicker_map(&view(cam, &r, &a), &cur, &MetricParams::default()).expect("sizes");
+    assert_eq!(g, f);
+    let n = |k: u8| m.iter().filter(|&&v| v == k).count() as u64;
+    assert_eq!(n(map::FLICKER) + n(map::FLICKER_EYE), f.flicker);
+    assert_eq!(n(map::FLICKER_EYE), f.flicker_eye);
+    assert_eq!(n(map::STABLE), 0, "every tested pixel changed");
+    let still = flicker_map(
+        &view(cam, &r, &a),
+        &view(cam, &r, &a),
+        &MetricParams::default(),
+    );
+    let (_, still) = still.expect("sizes");
+    assert_eq!(
+        still.iter().filter(|&&v| v == map::STABLE).count() as u64,
+        f.tested
+    );
 }
 
 #[test]
