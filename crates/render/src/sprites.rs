@@ -585,6 +585,33 @@ mod tests {
     }
 
     #[test]
+    fn a_moving_anchor_steps_from_texel_centre_to_texel_centre() {
+        // A probe of 64 texels at the origin; a sprite sliding along x at 5 units down -Z.
+        let (origin, n) = (Vec3::ZERO, 64);
+        let texel = 2.0 * 5.0 / n as f32;
+        let mut steps = Vec::new();
+        for i in 0..200 {
+            let p = Vec3::new(-1.0 + i as f32 * 0.01, 0.3, -5.0);
+            let q = snap_to_probe_texel(p, origin, n);
+            // Same Chebyshev distance, on a texel centre of the −Z face.
+            assert!((q.z + 5.0).abs() < 1e-5, "{q}");
+            let u = (q.x / 5.0 * 0.5 + 0.5) * n as f32;
+            assert!((u - u.floor() - 0.5).abs() < 1e-3, "{u}");
+            assert!((q - p).truncate().abs().max_element() <= 0.5 * texel + 1e-5);
+            if steps.last() != Some(&q) {
+                steps.push(q);
+            }
+        }
+        // Two units of travel (12.8 texels), whole texels at a time: 13 or 14 positions.
+        let texels = 2.0 / texel;
+        assert!(
+            (texels..texels + 1.5).contains(&(steps.len() as f32)),
+            "{} positions over {texels} texels",
+            steps.len()
+        );
+    }
+
+    #[test]
     fn records_are_the_shader_struct_size() {
         assert_eq!(size_of::<GpuSprite>(), 96);
     }
