@@ -438,8 +438,9 @@ impl Measured {
             .find(|(p, _)| *p == name)
             .map_or(f64::NAN, |(_, ms)| median(ms))
     }
+    /// The sprites' whole cost: their texels lit (`sprite shade`) and drawn (`sprites`).
     fn sprites(&self) -> f64 {
-        self.pass("sprites")
+        self.pass("sprites") + self.pass("sprite shade")
     }
 }
 
@@ -727,7 +728,7 @@ fn report(
         ms(crowd.sprites()),
         100.0 * changed.0 as f64 / changed.1.max(1) as f64,
     );
-    passes(&mut t, results, crowd, n, timestamps);
+    passes(&mut t, results, crowd, n);
     t
 }
 
@@ -782,7 +783,7 @@ fn ratios(t: &mut String, results: &Results<'_>) {
 }
 
 /// Median milliseconds of every pass, and the faces captured per frame, per case.
-fn passes(t: &mut String, results: &Results<'_>, crowd: &Measured, n: usize, timestamps: bool) {
+fn passes(t: &mut String, results: &Results<'_>, crowd: &Measured, n: usize) {
     let crowd_name = format!("animated_{n}");
     let cases: Vec<(String, &Measured)> = (results.iter())
         .map(|(name, r, m)| (format!("{name} {}", SIZES[*r].0), m))
@@ -792,6 +793,7 @@ fn passes(t: &mut String, results: &Results<'_>, crowd: &Measured, n: usize, tim
     let order = [
         "capture",
         "shade",
+        "sprite shade",
         "runs",
         "cull",
         "splat",
@@ -824,13 +826,6 @@ fn passes(t: &mut String, results: &Results<'_>, crowd: &Measured, n: usize, tim
             "| {case} | {:.0} | {} |",
             median(&m.captured),
             cells.join(" | ")
-        );
-    }
-    if timestamps {
-        let _ = writeln!(
-            t,
-            "\nA frame keeps 8 timestamped stages: with the sprite pass (9 stages) `present` is \
-             not listed and its time is counted in `visible`."
         );
     }
 }
