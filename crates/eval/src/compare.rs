@@ -192,6 +192,8 @@ pub fn run_compare(
     let fov_y = path.fov_y(DEFAULT_FOV_DEG.to_radians());
     let scene = scene_input(&level);
     let animation = Animation::new(&level, &scene);
+    // Before the references: their sprites snap to the probe texels of this resolution.
+    set_face_res(&mut level, plan.face_res)?;
     let refs = path_references(
         ctx,
         &level,
@@ -202,7 +204,6 @@ pub fn run_compare(
         plan.reference,
         &mut || tick("reference"),
     )?;
-    set_face_res(&mut level, plan.face_res)?;
     let view = SourceView {
         size: plan.size,
         face_res: plan.face_res,

@@ -125,8 +125,15 @@ pub fn total_frames(plans: &[RunPlan]) -> Result<u64, EvalError> {
         let path = load_path(&p.path)?;
         let per_res = p.methods.iter().filter(|m| runs_on(**m, &path)).count();
         let raster = p.methods.contains(&Method::Raster) as usize;
-        let runs =
-            (per_res * p.face_res.len() + 1 - raster * p.face_res.len().saturating_sub(1)) as u64;
+        // A level with sprites has its references made for each face resolution.
+        let sprites = texel_scene::Scene::load(&p.level).is_ok_and(|scene| {
+            let world = scene.world();
+            let mut q = world.query::<&texel_scene::sprite::Sprite>();
+            q.iter().next().is_some()
+        });
+        let references = if sprites { p.face_res.len() } else { 1 };
+        let runs = (per_res * p.face_res.len() + references
+            - raster * p.face_res.len().saturating_sub(1)) as u64;
         total += u64::from(path.frames) * runs;
     }
     Ok(total)
@@ -163,21 +170,30 @@ pub fn run_plan(
     };
     let name = format!("{} / {}", stem(&plan.level), stem(&plan.path));
     let moving = (&scene, &animation);
-    let refs = path_references(
-        ctx,
-        &level,
-        moving,
-        &path,
-        fov_y,
-        plan.size,
-        reference,
-        &mut || tick(&format!("{name}: reference")),
-    )?;
+    // Sprites in the reference snap to the grid probe's texels like splat's, so a level with
+    // sprites has its references made again for each face resolution.
+    let per_res = !scene.sprites.is_empty();
+    let mut refs = None;
     let warm_up = path.camera(0, fov_y);
     let look = level_look(&level);
     let mut records = Vec::new();
     for &n in &plan.face_res {
         set_face_res(&mut level, n)?;
+        if refs.is_none() || per_res {
+            refs = Some(path_references(
+                ctx,
+                &level,
+                moving,
+                &path,
+                fov_y,
+                plan.size,
+                reference,
+                &mut || tick(&format!("{name}: reference")),
+            )?);
+        }
+        let refs = refs
+            .as_ref()
+            .ok_or(EvalError::Input("no references".into()))?;
         for &method in &plan.methods {
             if !runs_on(method, &path) || (method == Method::Raster && n != plan.face_res[0]) {
                 // Raster does not depend on the face resolution: run it once.
@@ -193,7 +209,7 @@ pub fn run_plan(
             let mut source = method_source(ctx, &level, moving, method, &view)?;
             let label = format!("{name}: {} @{n}", method.name());
             let params = MetricParams::default();
-            let outcome = run_path(&path, fov_y, source.as_mut(), &refs, params, &mut || {
+            let outcome = run_path(&path, fov_y, source.as_mut(), refs, params, &mut || {
                 tick(&label)
             })?;
             let (steps_per_pixel, fallback_fraction) = march_means(&outcome.stats);
