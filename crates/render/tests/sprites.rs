@@ -407,3 +407,95 @@ fn refraction_at_ratio_one_leaves_the_background_and_a_ball_inverts_it() {
     assert!(same as f64 > 0.9 * sprite_px.len() as f64);
     assert!(left_blue as f64 > 0.9 * left as f64 && right_red as f64 > 0.9 * right as f64);
 }
+
+/// A frame whose grid probe is at `grid` and whose previous probe, during a crossfade at
+/// `fade_t`, is at `previous`.
+fn fading_frame(
+    camera: Camera,
+    grid: Vec3,
+    previous: Vec3,
+    fade_t: f32,
+    size: UVec2,
+) -> texel_render::input::FrameInput {
+    use texel_probes::cube::{Face, FaceMask};
+    use texel_probes::probe_set::{Role, Slot};
+    use texel_render::input::{CaptureInput, ProbeView};
+    let mut input = common::frame(camera, grid, 128, size, Schedule::Ours);
+    let prev = ProbeView {
+        role: Role::Previous,
+        slot: Slot::StableB,
+        origin: previous,
+        face_resolution: 128,
+        draw: FaceMask::ALL,
+        valid: FaceMask::ALL,
+    };
+    input.captures.extend(Face::ALL.map(|face| CaptureInput {
+        slot: Slot::StableB,
+        face,
+        origin: previous,
+        face_resolution: 128,
+    }));
+    input.previous = Some(prev);
+    input.fade_t = fade_t;
+    input
+}
+
+#[test]
+fn a_crossfade_splits_a_sprites_pixels_between_the_two_probes_by_the_bayer_pattern() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut scene = common::boxes_scene();
+    scene.objects.truncate(1);
+    // An upright sprite seen from two probes a unit apart sideways: turned toward each, its
+    // quad (and the texels a pixel shows) differ.
+    let sheet = image("checker", 8, |x, y| {
+        if (x + y) % 2 == 0 {
+            [230, 60, 40, 255]
+        } else {
+            [40, 60, 230, 255]
+        }
+    });
+    let mut s = sprite(sheet, Vec3::new(0.0, 1.0, -1.5), 1.0);
+    s.billboard = SpriteBillboard::Upright;
+    scene.sprites.push(s);
+    let camera = Camera::looking(Vec3::new(0.0, 1.0, 1.0), -Vec3::Z);
+    let size = UVec2::new(96, 96);
+    let (a, b) = (Vec3::new(-1.0, 1.0, 1.0), Vec3::new(1.0, 1.0, 1.0));
+    let mut r = Renderer::headless(&ctx).expect("renderer");
+    r.set_scene(&ctx, &scene).expect("scene");
+    let mut draw = |fade_t: f32| {
+        let input = fading_frame(camera, b, a, fade_t, size);
+        // Twice: the second frame draws with both probes captured.
+        r.render_offscreen(&ctx, &input).expect("frame");
+        let (_, pixels) = r.render_offscreen(&ctx, &input).expect("frame");
+        let ids = r.read_frame_ids(&ctx).expect("ids").entity;
+        (pixels, ids)
+    };
+    let (grid, grid_ids) = draw(1.0);
+    let (previous, previous_ids) = draw(0.0);
+    let (half, half_ids) = draw(0.5);
+    let (mut from_grid, mut from_previous, mut tested) = (0, 0, 0);
+    for i in 0..half_ids.len() {
+        // Pixels both copies cover, so each pixel's owner is the Bayer pattern's choice.
+        if grid_ids[i] != SPRITE_ID || previous_ids[i] != SPRITE_ID || half_ids[i] != SPRITE_ID {
+            continue;
+        }
+        let (x, y) = (i as u32 % size.x, i as u32 / size.x);
+        let rgb = |p: &[u8]| [p[i * 4], p[i * 4 + 1], p[i * 4 + 2]];
+        if rgb(&grid) == rgb(&previous) {
+            continue;
+        }
+        tested += 1;
+        if texel_probes::bayer::bayer_threshold(x, y) < 0.5 {
+            from_grid += usize::from(rgb(&half) == rgb(&grid));
+        } else {
+            from_previous += usize::from(rgb(&half) == rgb(&previous));
+        }
+    }
+    eprintln!(
+        "{tested} pixels the two copies colour apart: {from_grid} + {from_previous} as the pattern says"
+    );
+    assert!(tested > 100, "{tested}");
+    assert_eq!(from_grid + from_previous, tested);
+}
