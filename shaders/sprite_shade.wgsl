@@ -20,6 +20,8 @@
 @group(0) @binding(3) var<uniform> globals: SpriteGlobals;
 @group(0) @binding(4) var<storage, read> points: array<PointLight>;
 @group(0) @binding(5) var<storage, read_write> lit: array<vec2<u32>>;
+// Per sprite and copy, what its texels were last lit for (crates/render/src/sprites.rs).
+@group(0) @binding(6) var<storage, read_write> lit_keys: array<vec4<u32>>;
 @group(2) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(2) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(2) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
@@ -153,12 +155,31 @@ fn shade_texel(s: Sprite, q: SpriteQuad, role: u32, t_in: vec2<u32>, k: u32) -> 
         shift = -1.0;
     }
     let shaded = posterize(colour, globals.bands, shift);
-    let srgb = linear_to_srgb(hazed(shaded, length(p - view.camera.xyz)));
-    return vec2(pack4x8unorm(vec4(srgb, 1.0)), bitcast<u32>(t_hit));
+    // Haze is the draw's (it depends on the camera; these texels are kept while it moves).
+    return vec2(pack4x8unorm(vec4(linear_to_srgb(shaded), 1.0)), bitcast<u32>(t_hit));
 }
 
+// What a sprite's texels for a copy depend on besides the scene: the probe it turns toward
+// (origin, face resolution),
+// its position and frame, the look, and the epoch (which moves every frame while something
+// the cache cannot follow changes: moving shadows, a camera-facing quad). Never all zero, the
+// state of a fresh buffer.
+fn lit_key(s: Sprite, origin: vec3<f32>, n: u32) -> vec4<u32> {
+    var h = (s.frame ^ (n << 16u)) * 0x9e3779b1u;
+    h = (h ^ bitcast<u32>(s.position.x)) * 0x85ebca6bu;
+    h = (h ^ bitcast<u32>(s.position.y)) * 0xc2b2ae35u;
+    h = (h ^ bitcast<u32>(s.position.z)) * 0x27d4eb2fu;
+    h = (h ^ globals.epoch) * 0x165667b1u;
+    h = (h ^ globals.bands ^ bitcast<u32>(globals.ambient.r + 2.0 * globals.ambient.g + 4.0 * globals.ambient.b)) * 0x9e3779b1u;
+    return vec4(bitcast<vec3<u32>>(origin), h | 1u);
+}
+
+var<workgroup> unchanged: u32;
+
 // One workgroup per sprite and role; its threads take the sprite's texels in turn (only the
-// cells' centre texels, which are all the pass reads).
+// cells' centre texels, which are all the pass reads). A copy whose texels were lit for the
+// same probe, position, frame and look is left as it is (a refracting sprite, which sees the
+// probes' changing faces, never is).
 @compute @workgroup_size(64)
 fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) li: u32) {
     let index = wg.z * 65535u + wg.x;
@@ -175,13 +196,24 @@ fn main(@builtin(workgroup_id) wg: vec3<u32>, @builtin(local_invocation_index) l
     if !sphere_in_view(centre, 0.5 * length(q.size) + s.relief_depth) {
         return;
     }
+    if li == 0u {
+        let k = index * 2u + select(0u, 1u, role == ROLE_PREVIOUS);
+        let slot = view.slots[role_slot(role)];
+        let key = lit_key(s, slot.origin, slot.n);
+        let refracts = s.layers.w != NO_LAYER && s.index_ratio > 0.0;
+        let same = all(lit_keys[k] == key) && !refracts && globals.facing == 0u;
+        unchanged = select(0u, 1u, same);
+        lit_keys[k] = key;
+    }
+    if workgroupUniformLoad(&unchanged) == 1u {
+        return;
+    }
     let texels = s.frame_px.x * s.frame_px.y;
-    let cell = sprite_cell(s, q, role, vec2(0.5) / vec2<f32>(s.frame_px));
-    let k = cell.z;
+    let k = sprite_cell_size(s, q, role);
     for (var i = li; i < texels; i += 64u) {
         let t = vec2(i % s.frame_px.x, i / s.frame_px.x);
         // A cell's centre texel (what sprite_cell picks for every pixel of the cell).
-        if any(min((t / k) * k + k / 2u, s.frame_px - 1u) != t) {
+        if any(sprite_cell_texel(t, k, s.frame_px) != t) {
             continue;
         }
         lit[lit_index(s, role, t)] = shade_texel(s, q, role, t, k);

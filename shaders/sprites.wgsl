@@ -26,6 +26,10 @@ struct VsOut {
     @location(0) uv: vec2<f32>,
     @location(1) @interpolate(flat) sprite: u32,
     @location(2) @interpolate(flat) role: u32,
+    // The side of its lit cells in texels (the same for the whole quad).
+    @location(3) @interpolate(flat) cell: u32,
+    // The pixel's point on the quad (haze).
+    @location(4) world: vec3<f32>,
 }
 
 @vertex
@@ -46,7 +50,9 @@ fn vs(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> VsOut
     // Strip order: top-left, top-right, bottom-left, bottom-right.
     let uv = vec2(f32(vi & 1u), f32(vi >> 1u));
     out.uv = uv;
-    out.clip = view.view_proj * vec4(sprite_point(q, uv), 1.0);
+    out.world = sprite_point(q, uv);
+    out.clip = view.view_proj * vec4(out.world, 1.0);
+    out.cell = sprite_cell_size(s, q, role);
     return out;
 }
 
@@ -66,20 +72,25 @@ fn fs(in: VsOut) -> FsOut {
             discard;
         }
     }
-    let q = quad_for(s, role);
-    let t = sprite_cell(s, q, role, in.uv).xy;
+    let t = sprite_cell_texel(sprite_texel_at(in.uv, s.frame_px), in.cell, s.frame_px);
     let texel = lit[lit_index(s, role, t)];
     if texel.x == 0u {
         discard;
     }
     var out: FsOut;
     out.colour = vec4(unpack4x8unorm(texel.x).rgb, 1.0);
+    if view.haze > 0.0 {
+        let c = hazed(srgb_to_linear(out.colour.rgb), length(in.world - view.camera.xyz));
+        out.colour = vec4(linear_to_srgb(c), 1.0);
+    }
     // Not a probe texel: the sprite's index after the objects, under the moving bit
     // (crates/render/src/readback.rs `MOVING_KEY`): picking and the evaluator's ids name it.
     out.key = 0x80000000u | (globals.key_base + in.sprite);
     out.depth = in.clip.z;
     let t_hit = bitcast<f32>(texel.y);
     if t_hit > 0.0 {
+        // A relief texel: where its ray met the surface (the quad again, relief sprites only).
+        let q = quad_for(s, role);
         let uv0 = (vec2<f32>(t) + 0.5) / vec2<f32>(s.frame_px);
         let p0 = sprite_point(q, uv0);
         let p = p0 + normalize(p0 - eye_for(role)) * t_hit;

@@ -15,7 +15,8 @@ struct SpriteGlobals {
     // A sprite pixel's key: MOVING_KEY | (key_base + sprite index).
     key_base: u32,
     count: u32,
-    _pad0: u32,
+    // Moves every frame while the cached sprite texels cannot be trusted (sprite_shade.wgsl).
+    epoch: u32,
     _pad1: u32,
 }
 
@@ -55,20 +56,23 @@ fn eye_for(role: u32) -> vec3<f32> {
     return view.slots[role_slot(role)].origin;
 }
 
-// The texel of sprite `s` (quad `q`, drawn for `role`) whose light frame coordinate `uv`
-// shows. Toward the probes, a sprite texel is never smaller than a probe texel at the sprite
-// (as terrain pixels): where the picture is finer, cells of k × k texels (k a power of two)
-// take the texel at their centre, so a far sprite does not alias into the pixels. `.z` is k.
-fn sprite_cell(s: Sprite, q: SpriteQuad, role: u32, uv: vec2<f32>) -> vec3<u32> {
-    let t = sprite_texel_at(uv, s.frame_px);
+// The side of the square cells sprite `s` (quad `q`, drawn for `role`) is lit in, in
+// texels. Toward the probes, a sprite texel is never smaller than a probe texel at the
+// sprite (as terrain pixels): where the picture is finer, cells of k × k texels (k a power of
+// two) take the texel at their centre, so a far sprite does not alias into the pixels.
+fn sprite_cell_size(s: Sprite, q: SpriteQuad, role: u32) -> u32 {
     if globals.facing != 0u {
-        return vec3(t, 1u);
+        return 1u;
     }
     let slot = view.slots[role_slot(role)];
     let probe_texel = 2.0 * distance(sprite_point(q, vec2(0.5)), slot.origin) / f32(max(slot.n, 1u));
     let texel = max(q.size.x / f32(s.frame_px.x), q.size.y / f32(s.frame_px.y));
-    let k = u32(exp2(ceil(log2(clamp(probe_texel / max(texel, 1.0e-6), 1.0, 64.0)))));
-    return vec3(min((t / k) * k + k / 2u, s.frame_px - 1u), k);
+    return u32(exp2(ceil(log2(clamp(probe_texel / max(texel, 1.0e-6), 1.0, 64.0)))));
+}
+
+// The texel whose light texel `t` takes: its cell's centre texel, cells of `k` texels.
+fn sprite_cell_texel(t: vec2<u32>, k: u32, px: vec2<u32>) -> vec2<u32> {
+    return min((t / k) * k + k / 2u, px - 1u);
 }
 
 // Where sprite `s`'s texels for `role` start in the lit buffer (two copies: grid, previous).

@@ -114,6 +114,10 @@ pub struct GpuSprites {
     /// Each sprite texel's colour as lit this frame and its relief hit (`vec2<u32>`), two
     /// frames' worth per sprite (`GpuSprite::lit_base`), written by the sprite shade pass.
     pub lit: wgpu::Buffer,
+    /// Per sprite and copy, what its lit texels were lit for (a probe origin and a hash of
+    /// its position, frame, the look and the frame epoch): the shade pass skips a copy whose
+    /// key has not changed, so still sprites are lit once, not every frame.
+    pub lit_keys: wgpu::Buffer,
     /// The records as last written.
     pub cpu: Vec<GpuSprite>,
 }
@@ -382,11 +386,18 @@ impl GpuSprites {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
+        let lit_keys = ctx.device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("sprites::lit_keys"),
+            size: 32 * records.len() as u64,
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
         Ok(Some(GpuSprites {
             frames,
             frames_view,
             records: buffer,
             lit,
+            lit_keys,
             cpu: records,
         }))
     }

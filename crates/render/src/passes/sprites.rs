@@ -33,7 +33,8 @@ pub struct SpriteGlobals {
     facing: u32,
     key_base: u32,
     count: u32,
-    _pad: [u32; 2],
+    epoch: u32,
+    _pad: u32,
 }
 
 /// The sprite passes.
@@ -47,6 +48,8 @@ pub struct SpritePass {
     globals: wgpu::Buffer,
     /// What sprites turn toward.
     pub facing: SpriteFacing,
+    /// `SpriteGlobals::epoch`.
+    epoch: std::cell::Cell<u32>,
 }
 
 /// What one frame's shading and drawing bind.
@@ -78,6 +81,7 @@ impl SpritePass {
                 entry(3, c, uniform(false)),
                 entry(4, c, storage(true)),
                 entry(5, c, storage(false)),
+                entry(6, c, storage(false)),
             ],
         });
         // The slots' geometry and lit textures only (lib/slots.wgsl bindings 0–2 and 6–8):
@@ -133,6 +137,7 @@ impl SpritePass {
             draw_layout,
             globals,
             facing: SpriteFacing::Probe,
+            epoch: std::cell::Cell::new(0),
         })
     }
 
@@ -159,8 +164,13 @@ impl SpritePass {
             facing: u32::from(self.facing == SpriteFacing::Camera),
             key_base: scene.sprite_key_base(),
             count,
-            _pad: [0; 2],
+            epoch: self.epoch.get(),
+            _pad: 0,
         };
+        // Moving shadows and a camera-facing quad change what the texels show every frame.
+        if !scene.animated.is_empty() || self.facing == SpriteFacing::Camera {
+            self.epoch.set(self.epoch.get().wrapping_add(1));
+        }
         ctx.queue
             .write_buffer(&self.globals, 0, bytemuck::bytes_of(&globals));
         let device = &ctx.device;
@@ -175,6 +185,7 @@ impl SpritePass {
                 self.globals.as_entire_binding(),
                 scene.points.as_entire_binding(),
                 sprites.lit.as_entire_binding(),
+                sprites.lit_keys.as_entire_binding(),
             ],
         );
         let probe_entries: Vec<wgpu::BindGroupEntry<'_>> = [0u32, 1, 2, 6, 7, 8]
