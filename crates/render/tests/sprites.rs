@@ -499,3 +499,44 @@ fn a_crossfade_splits_a_sprites_pixels_between_the_two_probes_by_the_bayer_patte
     assert!(tested > 100, "{tested}");
     assert_eq!(from_grid + from_previous, tested);
 }
+
+#[test]
+fn kept_sprite_texels_follow_the_look_and_the_sprites_moves() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut scene = common::boxes_scene();
+    scene.objects.truncate(1);
+    scene.sprites.push(sprite(
+        image("white", 8, |_, _| [255; 4]),
+        Vec3::new(0.0, 1.0, -1.0),
+        1.0,
+    ));
+    let camera = Camera::looking(Vec3::new(0.0, 1.0, 2.0), -Vec3::Z);
+    let size = UVec2::new(64, 64);
+    let mut r = Renderer::headless(&ctx).expect("renderer");
+    r.set_scene(&ctx, &scene).expect("scene");
+    let mut input = common::frame(camera, camera.position, 128, size, Schedule::Ours);
+    let mut draw = |input: &texel_render::input::FrameInput| {
+        let (_, pixels) = r.render_offscreen(&ctx, input).expect("frame");
+        (pixels, r.read_frame_ids(&ctx).expect("ids").entity)
+    };
+    let (first, ids) = draw(&input);
+    let centre = (32 * 64 + 32) as usize;
+    assert_eq!(ids[centre], SPRITE_ID);
+    // The same frame again: the kept texels are the ones lit the first time.
+    assert_eq!(draw(&input).0, first);
+    // Darker ambient: the sprite is lit again.
+    input.look.ambient = Vec3::splat(0.05);
+    let (dim, _) = draw(&input);
+    let px = |p: &[u8]| [p[centre * 4], p[centre * 4 + 1], p[centre * 4 + 2]];
+    assert_ne!(px(&dim), px(&first), "a new look lights the sprite again");
+    // Moved aside: the centre shows what was behind it.
+    input.sprites = vec![texel_render::input::SpriteState {
+        sprite: 0,
+        position: Vec3::new(3.0, 1.0, -1.0),
+        frame: 0,
+    }];
+    let (_, moved) = draw(&input);
+    assert_ne!(moved[centre], SPRITE_ID, "the sprite moved");
+}
