@@ -540,3 +540,40 @@ fn kept_sprite_texels_follow_the_look_and_the_sprites_moves() {
     let (_, moved) = draw(&input);
     assert_ne!(moved[centre], SPRITE_ID, "the sprite moved");
 }
+
+#[test]
+fn a_matched_sprite_pixel_is_one_probe_texel_at_its_distance() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut scene = common::boxes_scene();
+    scene.objects.truncate(1);
+    scene.objects[0].transform = Mat4::from_translation(Vec3::new(0.0, -20.0, 0.0));
+    let mut s = sprite(
+        image("white", 8, |_, _| [255; 4]),
+        Vec3::new(0.0, 1.0, -4.0),
+        1.0,
+    );
+    s.size = None;
+    scene.sprites.push(s);
+    let camera = Camera::looking(Vec3::new(0.0, 1.0, 0.0), -Vec3::Z);
+    let size = UVec2::new(256, 256);
+    let mut baselines = BaselineRenderer::new(&ctx).expect("baselines");
+    baselines.set_scene(&ctx, &scene).expect("scene");
+    for n in [32u32, 64] {
+        let g = baselines
+            .reference_gbuffer(&ctx, &camera, size, (camera.position, n))
+            .expect("gbuffer");
+        let xs: Vec<f32> = (0..g.id.len())
+            .filter(|&i| g.id[i] == SPRITE_ID)
+            .map(|i| g.world[i][0])
+            .collect();
+        let width = xs.iter().copied().fold(f32::MIN, f32::max)
+            - xs.iter().copied().fold(f32::MAX, f32::min);
+        // 8 sprite pixels of one probe texel each: 8 × 2 × 4 / n, less a screen pixel.
+        let want = 8.0 * 2.0 * 4.0 / n as f32;
+        let pixel = 2.0 * 4.0 * (30f32.to_radians()).tan() / size.y as f32;
+        eprintln!("faces of {n}: {width} wide, {want} wanted");
+        assert!((width - want).abs() <= 2.0 * pixel, "{width} vs {want}");
+    }
+}
