@@ -332,24 +332,16 @@ fn load_sprite(
                 },
             )
         })?;
-    for (what, path) in sprite.files().skip(1) {
-        let Some(map) = lib.textures.get(path) else {
-            continue;
-        };
-        if (map.width, map.height) != (sheet.width, sheet.height) {
-            let message = format!(
-                "the {what} is {}×{} pixels, but the sheet {:?} is {}×{}: a sprite's maps must \
-                 be the size of its sheet",
-                map.width, map.height, sprite.sheet, sheet.width, sheet.height
-            );
-            let file = resolve(level_path, path);
-            return Err((
+    let size_of = |p: &str| (lib.textures.get(p)).map(|m| glam::UVec2::new(m.width, m.height));
+    sprite
+        .check_map_sizes(glam::UVec2::new(sheet.width, sheet.height), size_of)
+        .map_err(|(path, message)| {
+            let file = resolve(level_path, &path);
+            (
                 vec![format!("{path:?}")],
                 AssetFileError::Sprite { file, message },
-            ));
-        }
-    }
-    Ok(())
+            )
+        })
 }
 
 /// 1-based line and column of `needles` found one after the other inside entity row `row`

@@ -402,6 +402,29 @@ impl Sprite {
         Ok(())
     }
 
+    /// Whether every map is the size of the sheet (`sheet` pixels); `size_of` gives a loaded
+    /// image's size (maps not loaded are not checked). `Err((path, message))`: the first map
+    /// that differs, and what is wrong with it (the path is the caller's to show).
+    pub fn check_map_sizes(
+        &self,
+        sheet: UVec2,
+        size_of: impl Fn(&str) -> Option<UVec2>,
+    ) -> Result<(), (String, String)> {
+        for (what, path) in self.files().skip(1) {
+            if let Some(map) = size_of(path)
+                && map != sheet
+            {
+                let message = format!(
+                    "the {what} is {}×{} pixels, but the sheet {:?} is {}×{}: a sprite's maps \
+                     must be the size of its sheet",
+                    map.x, map.y, self.sheet, sheet.x, sheet.y
+                );
+                return Err((path.to_owned(), message));
+            }
+        }
+        Ok(())
+    }
+
     /// The image files this sprite names: the sheet, then its maps, in field order, as
     /// `(field, path)`.
     pub fn files(&self) -> impl Iterator<Item = (&'static str, &str)> {

@@ -231,18 +231,10 @@ pub fn check(sprite: &Sprite, assets: &AssetLibrary) -> Result<(), String> {
     sprite
         .check_sheet(UVec2::new(sheet.width, sheet.height))
         .map_err(|e| e.message)?;
-    for (what, path) in sprite.files().skip(1) {
-        if let Some(map) = assets.texture(path)
-            && (map.width, map.height) != (sheet.width, sheet.height)
-        {
-            return Err(format!(
-                "the {what} {path:?} is {}×{} pixels, but the sheet is {}×{}: a sprite's maps \
-                 must be the size of its sheet",
-                map.width, map.height, sheet.width, sheet.height
-            ));
-        }
-    }
-    Ok(())
+    let size_of = |p: &str| (assets.texture(p)).map(|m| UVec2::new(m.width, m.height));
+    sprite
+        .check_map_sizes(UVec2::new(sheet.width, sheet.height), size_of)
+        .map_err(|(path, message)| format!("{path:?}: {message}"))
 }
 
 /// Every field. Returns why a typed value could not be read (a frame list that is not
