@@ -11,7 +11,7 @@ use crate::metrics::{Reference, view_proj};
 #[derive(Debug, Clone, Default)]
 pub struct CpuScene {
     objects: Vec<CpuObject>,
-    sprites: usize,
+    has_sprites: bool,
 }
 
 #[derive(Debug, Clone)]
@@ -58,13 +58,13 @@ impl CpuScene {
             .collect();
         CpuScene {
             objects,
-            sprites: scene.sprites.len(),
+            has_sprites: !scene.sprites.is_empty(),
         }
     }
 
     /// Whether the scene has sprites (which this reference does not draw).
     pub fn has_sprites(&self) -> bool {
-        self.sprites > 0
+        self.has_sprites
     }
 
     /// The nearest hit along `origin + t·dir` for t in (0, t_max): distance and object id.

@@ -276,13 +276,15 @@ pub fn path_references(
         },
         tick: &mut |()| tick(),
     };
-    // Sprites turn toward each frame's grid probe, as texel splatting turns them.
-    let mut driver = texel_runtime::driver::FrameDriver::new(level, size, fov_y)
+    // Sprites turn toward each frame's grid probe, as texel splatting turns them; a level
+    // without sprites needs no frame driver (its probe placement builds a ray-cast tree).
+    let mut driver = (!scene.sprites.is_empty())
+        .then(|| texel_runtime::driver::FrameDriver::new(level, size, fov_y))
+        .transpose()
         .map_err(|e| EvalError::Input(e.to_string()))?;
-    let mut eye = |c: &texel_render::input::Camera| {
-        driver
-            .grid_probe(c)
-            .map_err(|e| EvalError::Input(e.to_string()))
+    let mut eye = |c: &texel_render::input::Camera| match driver.as_mut() {
+        Some(d) => d.grid_probe(c).map_err(|e| EvalError::Input(e.to_string())),
+        None => Ok((c.position, 0)),
     };
     CachedReferences::compute(
         &mut counted,

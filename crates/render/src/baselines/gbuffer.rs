@@ -243,6 +243,8 @@ impl GBufferPass {
         let targets = RasterTargets {
             colour: &colour,
             depth: &targets.depth.view,
+            // The sprites are drawn against it in a second pass.
+            keep_depth: scene.sprites.is_some(),
         };
         // Terrains at full detail, no culling (a G-buffer is one view, drawn once).
         // Animated objects too, where their motion records put them.

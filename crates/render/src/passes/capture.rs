@@ -150,6 +150,7 @@ impl CapturePass {
                     (&slot.shading.layer_views[f], clear),
                 ],
                 depth: &slot.depth.layer_views[f],
+                keep_depth: false,
             };
             let draw = RasterDraw {
                 pipeline: &self.pipeline,

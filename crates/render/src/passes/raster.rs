@@ -55,8 +55,10 @@ pub(crate) fn scene_layout_entries() -> [wgpu::BindGroupLayoutEntry; 6] {
 pub(crate) struct RasterTargets<'a> {
     /// Colour targets, location 0 first, each cleared to its colour.
     pub(crate) colour: &'a [(&'a wgpu::TextureView, wgpu::Color)],
-    /// Depth, cleared to 1 and discarded afterwards.
+    /// Depth, cleared to 1 and discarded afterwards unless `keep_depth`.
     pub(crate) depth: &'a wgpu::TextureView,
+    /// Keep the depth for a later pass (the G-buffer's sprites); captures discard it.
+    pub(crate) keep_depth: bool,
 }
 
 /// How one scene raster draws: the pipeline, its group-0 bind group with dynamic offsets,
@@ -101,8 +103,11 @@ pub(crate) fn record(
             view: targets.depth,
             depth_ops: Some(wgpu::Operations {
                 load: wgpu::LoadOp::Clear(1.0),
-                // Kept: the G-buffer draws its sprites against it in a second pass.
-                store: wgpu::StoreOp::Store,
+                store: if targets.keep_depth {
+                    wgpu::StoreOp::Store
+                } else {
+                    wgpu::StoreOp::Discard
+                },
             }),
             stencil_ops: None,
         }),
