@@ -97,18 +97,32 @@ fn fs(in: VsOut) -> FsOut {
     let obj = objects[in.object];
     let pdx = dpdx(in.world);
     let pdy = dpdy(in.world);
-    let depth = centre_depth(in.world, in.clip.xy, pdx, pdy);
+    var depth = centre_depth(in.world, in.clip.xy, pdx, pdy);
     // The probe texel's footprint on the triangle's plane: where the rays through this texel
     // and its neighbours meet it.
     let o = face.origin.xyz;
     let plane = surface_plane_normal(in);
-    let centre = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy));
+    var centre = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy));
+    var n = surface_normal(in.normal);
+    if (obj.flags & FLAG_TERRAIN) != 0u {
+        // A terrain chunk may be drawn at a coarser level (gpu_scene.rs `chunk_lod`): the
+        // texel stores the point and normal of the full-detail surface on its centre ray,
+        // the surface shadow rays and G-buffers see, so every level stores the same points.
+        let tr = terrains[obj.flags >> 8u];
+        let ray = pixel_ray(in.clip.xy);
+        depth = terrain_level0_hit(tr, o, ray, depth);
+        let p = o + ray * depth;
+        let q = p.xz - tr.corner.xz;
+        if all(q >= vec2(0.0)) && all(q <= tr.size) && abs(p.y - tr.corner.y - terrain_surface(tr, q).height) <= 1e-4 * max(depth, 1.0) {
+            centre = p;
+            n = surface_normal(terrain_surface(tr, q).normal);
+        }
+    }
     let fx = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(1.0, 0.0))) - centre;
     let fy = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(0.0, 1.0))) - centre;
     let t = surface_uv(in, fx, fy);
     let s = surfaces[in.surface];
     var out: FsOut;
-    let n = surface_normal(in.normal);
     out.geo = vec4(n, depth);
     out.id = in.object + 1u;
     out.albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
