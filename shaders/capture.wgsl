@@ -108,14 +108,15 @@ fn fs(in: VsOut) -> FsOut {
         // A terrain chunk may be drawn at a coarser level (gpu_scene.rs `chunk_lod`): the
         // texel stores the point and normal of the full-detail surface on its centre ray,
         // the surface shadow rays and G-buffers see, so every level stores the same points.
+        // At level 0 the first step finds the plane hit already there: the rasterizer's
+        // normal is the one (no normal reads for most fragments).
         let tr = terrains[obj.flags >> 8u];
         let ray = pixel_ray(in.clip.xy);
-        depth = terrain_level0_hit(tr, o, ray, depth);
-        let p = o + ray * depth;
-        let q = p.xz - tr.corner.xz;
-        if all(q >= vec2(0.0)) && all(q <= tr.size) && abs(p.y - tr.corner.y - terrain_surface(tr, q).height) <= 1e-4 * max(depth, 1.0) {
-            centre = p;
-            n = surface_normal(terrain_surface(tr, q).normal);
+        let refined = terrain_level0_hit(tr, o, ray, depth);
+        if abs(refined - depth) > 1e-5 * max(depth, 1.0) {
+            depth = refined;
+            centre = o + ray * depth;
+            n = surface_normal(terrain_normal(tr, centre.xz - tr.corner.xz));
         }
     }
     let fx = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(1.0, 0.0))) - centre;

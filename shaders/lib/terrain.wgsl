@@ -50,13 +50,27 @@ fn terrain_height(t: Terrain, q: vec2<f32>) -> f32 {
 }
 
 // The level-0 mesh at `q` (relative to the corner, along X and Z) as crates/scene/src/
-// terrain.rs `lod_mesh` builds it: each quad split along its (1,0)-(0,1) diagonal, vertex
-// normals from central differences of the samples, interpolated across the triangle.
-struct TerrainSurface {
+// terrain.rs `lod_mesh` builds it: each quad split along its (1,0)-(0,1) diagonal. Its
+// height there and the slope (d height / d (x, z)) of the triangle holding `q`.
+struct TerrainPlane {
     height: f32,
-    // d height / d (x, z) on the triangle holding `q`.
     slope: vec2<f32>,
-    normal: vec3<f32>,
+}
+
+fn terrain_plane(t: Terrain, q: vec2<f32>) -> TerrainPlane {
+    let cells = vec2<f32>(t.samples - vec2(1u));
+    let step = t.size / cells;
+    let g = clamp(q / step, vec2(0.0), cells);
+    let i = vec2<i32>(min(floor(g), cells - 1.0));
+    let f = g - vec2<f32>(i);
+    let h10 = terrain_height_at(t, i.x + 1, i.y);
+    let h01 = terrain_height_at(t, i.x, i.y + 1);
+    if f.x + f.y <= 1.0 {
+        let h00 = terrain_height_at(t, i.x, i.y);
+        return TerrainPlane(h00 + f.x * (h10 - h00) + f.y * (h01 - h00), vec2(h10 - h00, h01 - h00) / step);
+    }
+    let h11 = terrain_height_at(t, i.x + 1, i.y + 1);
+    return TerrainPlane(h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11), vec2(h11 - h01, h11 - h10) / step);
 }
 
 fn terrain_vertex_normal(t: Terrain, x: i32, z: i32, step: vec2<f32>) -> vec3<f32> {
@@ -65,31 +79,22 @@ fn terrain_vertex_normal(t: Terrain, x: i32, z: i32, step: vec2<f32>) -> vec3<f3
     return normalize(vec3(-dx, 1.0, -dz));
 }
 
-fn terrain_surface(t: Terrain, q: vec2<f32>) -> TerrainSurface {
+// The level-0 mesh's normal at `q`: its vertex normals (central differences of the samples)
+// interpolated across the triangle, as the rasterizer interpolates them.
+fn terrain_normal(t: Terrain, q: vec2<f32>) -> vec3<f32> {
     let cells = vec2<f32>(t.samples - vec2(1u));
     let step = t.size / cells;
     let g = clamp(q / step, vec2(0.0), cells);
     let i = vec2<i32>(min(floor(g), cells - 1.0));
     let f = g - vec2<f32>(i);
-    let h00 = terrain_height_at(t, i.x, i.y);
-    let h10 = terrain_height_at(t, i.x + 1, i.y);
-    let h01 = terrain_height_at(t, i.x, i.y + 1);
     let n10 = terrain_vertex_normal(t, i.x + 1, i.y, step);
     let n01 = terrain_vertex_normal(t, i.x, i.y + 1, step);
-    var s: TerrainSurface;
     if f.x + f.y <= 1.0 {
-        s.height = h00 + f.x * (h10 - h00) + f.y * (h01 - h00);
-        s.slope = vec2(h10 - h00, h01 - h00) / step;
         let n00 = terrain_vertex_normal(t, i.x, i.y, step);
-        s.normal = normalize((1.0 - f.x - f.y) * n00 + f.x * n10 + f.y * n01);
-    } else {
-        let h11 = terrain_height_at(t, i.x + 1, i.y + 1);
-        s.height = h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11);
-        s.slope = vec2(h11 - h01, h11 - h10) / step;
-        let n11 = terrain_vertex_normal(t, i.x + 1, i.y + 1, step);
-        s.normal = normalize((f.x + f.y - 1.0) * n11 + (1.0 - f.y) * n10 + (1.0 - f.x) * n01);
+        return normalize((1.0 - f.x - f.y) * n00 + f.x * n10 + f.y * n01);
     }
-    return s;
+    let n11 = terrain_vertex_normal(t, i.x + 1, i.y + 1, step);
+    return normalize((f.x + f.y - 1.0) * n11 + (1.0 - f.y) * n10 + (1.0 - f.x) * n01);
 }
 
 // Where the ray `o + dir · s` first meets the level-0 surface, searched from `s = depth` (a
@@ -105,12 +110,12 @@ fn terrain_level0_hit(t: Terrain, o: vec3<f32>, dir: vec3<f32>, depth: f32) -> f
         if any(q < vec2(0.0)) || any(q > t.size) {
             return depth;
         }
-        let surface = terrain_surface(t, q);
-        let above = p.y - (t.corner.y + surface.height);
+        let plane = terrain_plane(t, q);
+        let above = p.y - (t.corner.y + plane.height);
         if abs(above) <= 1e-5 * max(s, 1.0) {
             return s;
         }
-        let rate = dir.y - dot(surface.slope, dir.xz);
+        let rate = dir.y - dot(plane.slope, dir.xz);
         if abs(rate) < 1e-6 {
             return depth;
         }
