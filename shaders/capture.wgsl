@@ -16,10 +16,23 @@ struct FaceParams {
     n: u32,
     // 0: albedo; 1: texture-density debug colour.
     mode: u32,
-    _pad: u32,
+    // An orthographic probe's frame (lib/common.wgsl `ProbeFrame`): half extent, 0 for a cube.
+    half: f32,
     // Where terrain bands are measured from: the grid probe's origin (for the eye probe's
     // faces too, so terrain colours agree between the probes).
     band_origin: vec4<f32>,
+    right: vec4<f32>,
+    down: vec4<f32>,
+    forward: vec4<f32>,
+}
+
+fn capture_frame() -> ProbeFrame {
+    return ProbeFrame(face.origin.xyz, face.half, face.right.xyz, face.down.xyz, face.forward.xyz);
+}
+
+// Face coordinates of face pixel `pixel` (texel centres at half-integers).
+fn pixel_uv(pixel: vec2<f32>) -> vec2<f32> {
+    return pixel * (2.0 / f32(face.n)) - 1.0;
 }
 
 @group(0) @binding(0) var<uniform> face: FaceParams;
@@ -46,16 +59,18 @@ struct FsOut {
 // where the centre ray meets the triangle's plane (from the point's screen derivatives),
 // which every driver agrees on; edge-on, the interpolated depth.
 fn centre_depth(world: vec3<f32>, pixel: vec2<f32>, pdx: vec3<f32>, pdy: vec3<f32>) -> f32 {
-    let q = world - face.origin.xyz;
-    let interpolated = chebyshev(q);
-    let uv = pixel * (2.0 / f32(face.n)) - 1.0;
-    let centre = cube_dir(face.face, uv.x, uv.y);
+    let fr = capture_frame();
+    let uv = pixel_uv(pixel);
+    let q = world - frame_ray_start(fr, uv);
+    let interpolated = frame_locate(fr, world).depth;
+    let centre = frame_ray(fr, face.face, uv);
     let plane = cross(pdx, pdy);
     let den = dot(centre, plane);
     if abs(den) <= 1e-3 * length(centre) * length(plane) {
         return interpolated;
     }
-    // |centre| is 1 in the Chebyshev norm, so the ray parameter is the depth.
+    // |centre| is 1 in the Chebyshev norm (or `forward`, a unit vector), so the ray
+    // parameter is the depth.
     let t = dot(q, plane) / den;
     if t <= 0.0 || abs(t - interpolated) > 0.25 * interpolated {
         return interpolated;
@@ -88,8 +103,12 @@ fn density_colour(s: Surface, t: SurfaceUv) -> vec3<f32> {
 
 // The direction of the ray through face pixel `pixel` (texel centres at half-integers).
 fn pixel_ray(pixel: vec2<f32>) -> vec3<f32> {
-    let uv = pixel * (2.0 / f32(face.n)) - 1.0;
-    return cube_dir(face.face, uv.x, uv.y);
+    return frame_ray(capture_frame(), face.face, pixel_uv(pixel));
+}
+
+// Where that ray starts.
+fn pixel_start(pixel: vec2<f32>) -> vec3<f32> {
+    return frame_ray_start(capture_frame(), pixel_uv(pixel));
 }
 
 @fragment
@@ -100,7 +119,7 @@ fn fs(in: VsOut) -> FsOut {
     var depth = centre_depth(in.world, in.clip.xy, pdx, pdy);
     // The probe texel's footprint on the triangle's plane: where the rays through this texel
     // and its neighbours meet it.
-    let o = face.origin.xyz;
+    let o = pixel_start(in.clip.xy);
     let plane = surface_plane_normal(in);
     var centre = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy));
     var n = surface_normal(in.normal);
@@ -119,8 +138,10 @@ fn fs(in: VsOut) -> FsOut {
             n = surface_normal(terrain_normal(tr, centre.xz - tr.corner.xz));
         }
     }
-    let fx = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(1.0, 0.0))) - centre;
-    let fy = plane_hit(in.world, plane, o, pixel_ray(in.clip.xy + vec2(0.0, 1.0))) - centre;
+    let px = in.clip.xy + vec2(1.0, 0.0);
+    let py = in.clip.xy + vec2(0.0, 1.0);
+    let fx = plane_hit(in.world, plane, pixel_start(px), pixel_ray(px)) - centre;
+    let fy = plane_hit(in.world, plane, pixel_start(py), pixel_ray(py)) - centre;
     let t = surface_uv(in, fx, fy);
     let s = surfaces[in.surface];
     var out: FsOut;

@@ -4,6 +4,7 @@
 // off in the pipeline, so picking and the visible-texel count see through the lines.
 // crates/render/src/passes/lines.rs.
 
+#include "lib/common.wgsl"
 #include "lib/view.wgsl"
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;

@@ -47,10 +47,81 @@ fn crossing(q0: vec3<f32>, rd: vec3<f32>, axis: vec3<f32>, axis_uv: vec3<f32>, b
     return (b * dot(q0, axis) - dot(q0, axis_uv)) / den;
 }
 
+// `march` through an orthographic slot's one face (lib/common.wgsl `ProbeFrame`): in the
+// face's frame the ray is a straight line in (u, v, depth), so the next texel is again the
+// nearer of two boundary crossings; along the view's own direction the ray stays in one
+// texel and meets its plane there. Off the face, the probe cannot say (the eye can).
+fn march_ortho(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
+    let v = view.slots[s];
+    let f = slot_frame(v);
+    let texel = 2.0 * f.half / f32(v.n);
+    // Face coordinates in texels from the face's corner, and depth, at t = 0 and per unit t.
+    let q0 = ro - f.origin;
+    let a0 = vec3(dot(q0, f.right) + f.half, dot(q0, f.down) + f.half, dot(q0, f.forward));
+    let da = vec3(dot(rd, f.right), dot(rd, f.down), dot(rd, f.forward));
+    var out = March(STATUS_ESCAPED, 0u, 0u, vec2(0u), t1);
+    var t = t0;
+    var prev_d = -1.0;
+    for (var i = 0u; i < MAX_STEPS; i++) {
+        out.steps = i + 1u;
+        let a = a0 + da * t;
+        let cell = floor(a.xy / texel);
+        if any(cell < vec2(0.0)) || any(cell >= vec2(f32(v.n))) {
+            out.status = STATUS_UNKNOWN;
+            return out;
+        }
+        let tx = vec2<u32>(cell);
+        var t_out = t1;
+        if da.x != 0.0 {
+            let b = select(cell.x, cell.x + 1.0, da.x > 0.0) * texel;
+            let tu = (b - a0.x) / da.x;
+            if tu > t { t_out = min(t_out, tu); }
+        }
+        if da.y != 0.0 {
+            let b = select(cell.y, cell.y + 1.0, da.y > 0.0) * texel;
+            let tv = (b - a0.y) / da.y;
+            if tv > t { t_out = min(t_out, tv); }
+        }
+        var d = -1.0;
+        if (v.draw_mask & 1u) != 0u && load_id(s, tx, 0u) != 0u {
+            d = load_geo(s, tx, 0u).w;
+            if a.z >= d {
+                if (prev_d > 0.0 && abs(prev_d - d) <= 3.5 * texel) || a.z - d <= REACH_TEXELS * texel {
+                    out.status = STATUS_HIT;
+                } else {
+                    out.status = STATUS_UNKNOWN;
+                }
+                out.texel = tx;
+                out.t = t;
+                return out;
+            }
+            if da.z > 0.0 {
+                let tc = (d - a0.z) / da.z;
+                if tc <= t_out {
+                    out.status = STATUS_HIT;
+                    out.texel = tx;
+                    out.t = tc;
+                    return out;
+                }
+            }
+        }
+        if t_out >= t1 {
+            return out;
+        }
+        prev_d = d;
+        t = t_out + max(1e-5 * t_out, 1e-6);
+    }
+    out.status = STATUS_UNKNOWN;
+    return out;
+}
+
 // Marches the ray `ro + t rd` (|rd| = 1), t in [t0, t1], through stable slot `s`, one texel
 // at a time (across face seams): in each texel the ray meets the texel's plane, or not.
 fn march(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
     let v = view.slots[s];
+    if v.half > 0.0 {
+        return march_ortho(s, ro, rd, t0, t1);
+    }
     let q0 = ro - v.origin;
     let step = 2.0 / f32(v.n);
     var out = March(STATUS_ESCAPED, 0u, 0u, vec2(0u), t1);
@@ -199,7 +270,19 @@ fn fs(in: FullscreenOut) -> FsOut {
     // The eye probe sits at the camera: its texel in the view direction is exact.
     let dir = far.xyz / far.w - view.camera.xyz;
     let eye = view.slots[view.eye_slot];
-    let fu = cube_face_uv(dir);
+    var fu = cube_face_uv(dir);
+    if eye.half > 0.0 {
+        // An orthographic eye: where the pixel's ray meets its face.
+        let hit = frame_locate(slot_frame(eye), ro);
+        fu = FaceUv(hit.face, hit.uv);
+        let tx = texel_of_uv(fu.uv, eye.n);
+        if any(abs(hit.uv) > vec2(1.0)) || (eye.draw_mask & 1u) == 0u || load_id(view.eye_slot, tx, 0u) == 0u {
+            return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
+        }
+        let d = load_geo(view.eye_slot, tx, 0u).w;
+        let along = max(dot(rd, eye.forward.xyz), 1e-6);
+        return shown(view.eye_slot, 0u, tx, ro + rd * ((d - hit.depth) / along));
+    }
     if (eye.draw_mask & (1u << fu.face)) == 0u {
         return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
     }

@@ -88,6 +88,13 @@ const WORK_QUEUE: u32 = 64u;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(1) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
 
+// The texel frame of the face being lit: its own origin, the slot's orthographic frame (a
+// cube when the slot's view says none).
+fn face_frame() -> ProbeFrame {
+    let v = view.slots[sf.slot];
+    return ProbeFrame(sf.origin, v.half, v.right.xyz, v.down.xyz, v.forward.xyz);
+}
+
 // Offsets of the four neighbours, in the order of the similar bits: left, right, up, down.
 const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
 
@@ -106,6 +113,10 @@ fn neighbour(t: vec2<u32>, o: vec2<i32>) -> Sample {
     let q = vec2<i32>(t) + o;
     if all(q >= vec2(0)) && all(q < vec2(i32(n))) {
         return load(sf.face, vec2<u32>(q));
+    }
+    if face_frame().half > 0.0 {
+        // An orthographic face has no neighbour past its edge.
+        return load(sf.face, t);
     }
     // Past the edge: continue the face plane and re-project onto the cube.
     let uv = (vec2<f32>(q) + 0.5) * (2.0 / f32(n)) - 1.0;
@@ -185,9 +196,8 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
 // negative alpha when it does not.
 fn stable_colour(s: u32, p: vec3<f32>, id: u32) -> vec4<f32> {
     let sv = view.slots[s];
-    let r = p - sv.origin;
-    let fu = cube_face_uv(r);
-    if (sv.draw_mask & (1u << fu.face)) == 0u {
+    let fu = frame_locate(slot_frame(sv), p);
+    if (sv.draw_mask & (1u << fu.face)) == 0u || any(abs(fu.uv) > vec2(1.0)) {
         return vec4(-1.0);
     }
     let t = texel_of_uv(fu.uv, sv.n);
@@ -203,7 +213,7 @@ fn stable_colour(s: u32, p: vec3<f32>, id: u32) -> vec4<f32> {
         dn = textureLoad(geo_b, t, fu.face, 0).w;
         lit = textureLoad(lit_b, t, fu.face, 0);
     }
-    if nid != id || !same_surface(chebyshev(r), dn, sv.n) {
+    if nid != id || !frame_same_surface(slot_frame(sv), fu.depth, dn, sv.n) {
         return vec4(-1.0);
     }
     return vec4(lit.rgb, 0.0);
@@ -239,9 +249,10 @@ fn needs_light(t: vec2<u32>) -> bool {
     }
     if sf.view_cull != 0u {
         let uv = texel_center_uv(t, n);
-        let ray = cube_dir(sf.face, uv.x, uv.y);
-        let p = probe_point(sf.origin, ray, me.geo.w);
-        if !quad_in_view(p, texel_world_size(me.geo.w, n, ray)) {
+        let fr = face_frame();
+        let ray = frame_ray(fr, sf.face, uv);
+        let p = frame_point(fr, sf.face, uv, me.geo.w);
+        if !quad_in_view(p, frame_texel_size(fr, me.geo.w, n, ray)) {
             textureStore(lit_out, t, sf.face, vec4(0.0));
             return false;
         }
@@ -259,9 +270,10 @@ fn light_texel(t: vec2<u32>) {
     let n = sf.n;
     let me = load(sf.face, t);
     let uv = texel_center_uv(t, n);
-    let ray = cube_dir(sf.face, uv.x, uv.y);
+    let fr = face_frame();
+    let ray = frame_ray(fr, sf.face, uv);
     let d = me.geo.w;
-    let p = probe_point(sf.origin, ray, d);
+    let p = frame_point(fr, sf.face, uv, d);
     let normal = me.geo.xyz;
     let alb = textureLoad(albedo_tex, t, sf.face, 0);
     let flags = u32(round(alb.a * 255.0));
@@ -273,7 +285,7 @@ fn light_texel(t: vec2<u32>) {
         // hundredths of a texel off the surface far from the probe (more on some drivers:
         // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow
         // rays start a tenth of a texel off, and never nearer than the screen's offset.
-        let offset = max(SHADOW_OFFSET, 0.1 * texel_world_size(d, n, ray));
+        let offset = max(SHADOW_OFFSET, 0.1 * frame_texel_size(fr, d, n, ray));
         let shading = textureLoad(shading_tex, t, sf.face, 0).r;
         var lit_normal = normal;
         if shading != 0u {
@@ -288,7 +300,7 @@ fn light_texel(t: vec2<u32>) {
     var lighten = false;
     var similar = 0u;
     // Depth step between neighbours on a surface tilted ~37° from the face plane.
-    let tolerance = d * (2.0 / f32(n)) * 0.75;
+    let tolerance = frame_texel_size(fr, d, n, ray) / length(ray) * 0.75;
     for (var k = 0u; k < 4u; k++) {
         let nb = neighbour(t, NEIGHBOURS[k]);
         // Two bits per side (k and 4 + k), read by cull.wgsl `half_size`: 01 a similar

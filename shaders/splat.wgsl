@@ -179,7 +179,7 @@ fn grid_draws(p: vec3<f32>) -> bool {
     for (var s = 1u; s < 3u; s++) {
         let v = view.slots[s];
         if v.role == ROLE_GRID {
-            return (v.draw_mask & (1u << cube_face_uv(p - v.origin).face)) != 0u;
+            return (v.draw_mask & (1u << frame_locate(slot_frame(v), p).face)) != 0u;
         }
     }
     return false;

@@ -49,12 +49,11 @@ fn probe_background(p: vec3<f32>, dir: vec3<f32>) -> vec3<f32> {
     var colour = view.sky.rgb;
     for (var i = 0u; i < 48u; i++) {
         let x = p + dir * t;
-        let r = x - g.origin;
-        let fu = cube_face_uv(r);
+        let fu = frame_locate(slot_frame(g), x);
         let tx = texel_of_uv(fu.uv, n);
         let stored = load_geo(slot, tx, fu.face).w;
         colour = load_lit(slot, tx, fu.face).rgb;
-        if stored > 0.0 && chebyshev(r) >= stored {
+        if stored > 0.0 && fu.depth >= stored {
             return colour;
         }
         t *= 1.25;

@@ -20,6 +20,7 @@ use std::sync::Arc;
 use glam::{UVec2, Vec3};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::grid::{GridChoice, GridDefaults, GridError, GridOverride};
+use texel_probes::ortho::OrthoFrame;
 use texel_probes::placement::Placements;
 use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
 use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
@@ -269,6 +270,10 @@ pub struct FrameDriver {
     last_poses: Vec<glam::Mat4>,
     /// Whether the animation time stands still (the editor outside Play).
     paused: bool,
+    /// The frames of the last orthographic grid probes, by origin (newest last).
+    ortho_frames: Vec<(Vec3, OrthoFrame)>,
+    /// This frame's orthographic eye probe: origin and frame.
+    ortho_eye: Option<(Vec3, OrthoFrame)>,
 }
 
 impl FrameDriver {
@@ -312,6 +317,8 @@ impl FrameDriver {
             time: 0.0,
             last_poses: Vec::new(),
             paused: false,
+            ortho_frames: Vec::new(),
+            ortho_eye: None,
         })
     }
 
@@ -351,16 +358,34 @@ impl FrameDriver {
     /// and face resolution (what sprites turn toward; the evaluator's reference turns them
     /// so).
     pub fn grid_probe(&mut self, camera: &Camera) -> Result<(Vec3, u32), DriverError> {
-        let choice = match camera.ortho_height {
-            Some(h) => {
-                let probe = ortho_probe(camera, h, self.defaults.face_resolution);
-                let mut c = self.resolve(probe.anchor)?;
-                c.key.face_resolution = probe.face_resolution;
-                c
-            }
+        let choice = match self.ortho_probes(camera) {
+            Some(o) => self.ortho_choice(o.grid.0, o.grid.2)?,
             None => self.resolve(camera.position)?,
         };
         Ok((choice.origin(), choice.key.face_resolution))
+    }
+
+    /// The orthographic probes of `camera`, `None` for a perspective one.
+    fn ortho_probes(&self, camera: &Camera) -> Option<OrthoProbes> {
+        let aspect = self.size.x as f32 / self.size.y.max(1) as f32;
+        (camera.ortho_height)
+            .map(|h| ortho_probes(camera, h, self.defaults.face_resolution, aspect))
+    }
+
+    /// A grid choice for an orthographic probe at exactly `origin` (its cell's key, moved
+    /// there), with faces of `n` texels.
+    fn ortho_choice(&mut self, origin: Vec3, n: u32) -> Result<GridChoice, GridError> {
+        let mut c = self.resolve(origin)?;
+        c.key.offset = origin - c.key.cell.origin();
+        c.key.face_resolution = n;
+        Ok(c)
+    }
+
+    /// The orthographic frame of the probe at `origin`, if one of the last frames' was there.
+    fn ortho_frame(&self, origin: Vec3) -> Option<OrthoFrame> {
+        (self.ortho_eye.iter().chain(&self.ortho_frames))
+            .find(|(o, _)| *o == origin)
+            .map(|(_, f)| *f)
     }
 
     /// Plans one frame for `camera`, `dt` seconds after the last.
@@ -370,21 +395,30 @@ impl FrameDriver {
         dt: f32,
         schedule: Schedule,
     ) -> Result<FrameInput, DriverError> {
-        let choice = match camera.ortho_height {
-            Some(h) => {
-                let n = self.defaults.face_resolution;
-                let probe = ortho_probe(&camera, h, n);
-                let mut c = self.resolve(probe.anchor)?;
-                c.key.face_resolution = probe.face_resolution;
+        let ortho = self.ortho_probes(&camera);
+        self.scheduler.set_orthographic(ortho.is_some());
+        let choice = match &ortho {
+            Some(o) => {
+                let c = self.ortho_choice(o.grid.0, o.grid.2)?;
+                // Keep the frames of the stable probes that may still be drawn (grid,
+                // previous), and this frame's eye's.
+                if self.ortho_frame(c.origin()).is_none() {
+                    self.ortho_frames.push((c.origin(), o.grid.1));
+                }
+                let excess = self.ortho_frames.len().saturating_sub(ORTHO_FRAMES_KEPT);
+                self.ortho_frames.drain(..excess);
+                self.ortho_eye = Some((o.eye.0, o.eye.1));
                 c
             }
             None => self.resolve(camera.position)?,
         };
+        // An orthographic eye probe stands on its texel lattice in the camera's plane.
+        let eye_at = ortho.map_or(camera.position, |o| o.eye.0);
         self.track_velocity(camera.position, dt);
         let event = match &mut self.probes {
-            Some(p) => p.begin_frame(camera.position, choice.key, dt),
+            Some(p) => p.begin_frame(eye_at, choice.key, dt),
             None => {
-                let set = ProbeSet::new(camera.position, choice.key, FadeConfig::default())
+                let set = ProbeSet::new(eye_at, choice.key, FadeConfig::default())
                     .map_err(|e| DriverError::View(e.to_string()))?;
                 self.probes = Some(set);
                 TransitionEvent::CrossingStarted
@@ -420,23 +454,31 @@ impl FrameDriver {
         if event == TransitionEvent::CrossingStarted {
             self.fade_frame = 0;
         }
-        if schedule == Schedule::Paper {
+        if schedule == Schedule::Paper && ortho.is_none() {
             widen_to_reference(&mut plan, camera.forward);
             plan.work = self.paper_work(&plan, event);
         }
-        if camera.ortho_height.is_some() {
-            // The eye probe fills the rare gaps (slivers the far probe sees past at its few
-            // degrees of parallax) at the level's resolution.
-            let n = self.defaults.face_resolution;
+        if let Some(o) = &ortho {
+            // The eye probe fills what the grid's held direction misses, at its own size.
+            let n = o.eye.2;
             plan.eye.probe.face_resolution = n;
             for w in plan.work.iter_mut().filter(|w| w.role == Role::Eye) {
                 w.face_resolution = n;
             }
         }
-        let captures: Vec<CaptureInput> = plan.work.iter().map(capture_of).collect();
+        let captures: Vec<CaptureInput> = (plan.work.iter())
+            .map(|w| CaptureInput {
+                ortho: self.ortho_frame(w.origin),
+                ..capture_of(w)
+            })
+            .collect();
         self.scheduler.commit(&plan);
         let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
-        let n = plan.grid.probe.face_resolution;
+        // An orthographic probe's texel is an art pixel of the level's face resolution.
+        let n = match ortho {
+            Some(_) => self.defaults.face_resolution,
+            None => plan.grid.probe.face_resolution,
+        };
         let internal = internal_size(self.size, n, camera.fov_y);
         let mut input = FrameInput {
             camera: pixel_snapped(camera, internal),
@@ -615,37 +657,57 @@ impl FrameDriver {
     }
 }
 
-/// Texels per face edge of the probe that serves an orthographic camera.
-pub const ORTHO_FACE_RESOLUTION: u32 = 1024;
-/// How far (world units, in the view plane and along the view) an orthographic camera pans
-/// before its probe moves.
-pub const ORTHO_PAN_STEP: f32 = 64.0;
-
-/// The view-direction steps (yaw and pitch, degrees) at which an orthographic camera's
+/// The view-direction steps (yaw and pitch, degrees) at which an orthographic camera's grid
 /// probe turns with it.
 pub const ORTHO_TURN_STEP_DEG: f32 = 5.0;
 
-/// Where the probe of an orthographic camera sits, and its resolution.
-struct OrthoProbe {
-    anchor: Vec3,
-    face_resolution: u32,
+/// Orthographic grid probes' frames remembered (a previous probe is an old grid probe).
+const ORTHO_FRAMES_KEPT: usize = 4;
+
+/// The probes of an orthographic camera (see [`texel_probes::ortho`]): one orthographic face
+/// each, one texel per art pixel.
+#[derive(Debug, Clone, Copy)]
+struct OrthoProbes {
+    /// The grid probe: the view direction held in `ORTHO_TURN_STEP_DEG` steps, its origin on
+    /// a lattice of a quarter face in its plane, so it holds while the camera pans and turns
+    /// a little.
+    grid: (Vec3, OrthoFrame, u32),
+    /// The eye probe: the exact view direction, its origin on the texel lattice nearest the
+    /// camera, in the camera's plane: it sees what the camera sees.
+    eye: (Vec3, OrthoFrame, u32),
 }
 
-/// An orthographic camera sees along parallel rays, so the probe that serves it belongs far
-/// back along the view direction: from there its texels meet the scene almost along the
-/// view rays, so they stay put on screen as the camera pans (no parallax between texels, no
-/// gaps). It sits where a texel at the scene is one art pixel of the level's size (the size
-/// the naive and snap methods draw: `level_face_resolution · tan(fov_y / 2)` art pixels per
-/// view height), `ORTHO_FACE_RESOLUTION / 2` such texels behind the camera, and it moves only
-/// when the camera has panned `ORTHO_PAN_STEP` or turned `ORTHO_TURN_STEP_DEG`, so a pan
-/// draws from one probe throughout.
-fn ortho_probe(camera: &Camera, ortho_height: f32, level_face_resolution: u32) -> OrthoProbe {
+/// An orthographic camera sees along parallel rays, so its probe is not a point but a plane
+/// of texels whose rays all run along the view: from there every texel meets the scene where
+/// the view rays through it do, nothing is hidden from the probe that the camera sees (when
+/// the directions agree), and texels are one size at every depth. Its texel is one art pixel
+/// of the level's size (the size the naive and snap methods draw: `level_face_resolution ·
+/// tan(fov_y / 2)` art pixels per view height), and its origin lies on a lattice of whole
+/// texels in its plane, so every probe looking the same way samples the same world lines: a
+/// pan changes no texel. The grid probe sits `half` behind the camera's plane, as far as a
+/// texel's distance was for the cube probe this replaces (and sprites turn toward it).
+fn ortho_probes(
+    camera: &Camera,
+    ortho_height: f32,
+    level_face_resolution: u32,
+    aspect: f32,
+) -> OrthoProbes {
     let art_pixels = (level_face_resolution as f32 * (camera.fov_y * 0.5).tan()).max(1.0);
     let texel = ortho_height / art_pixels;
-    let n = ORTHO_FACE_RESOLUTION;
-    let distance = (texel * n as f32 * 0.5).min(0.6 * CAPTURE_FAR);
-    // The probe looks along the view direction rounded to ORTHO_TURN_STEP_DEG of yaw and
-    // pitch, so a turning camera keeps its probe for a while too.
+    // The view's diagonal in texels, and faces that hold it: the eye's around the camera,
+    // the grid's while the camera is up to an eighth of a face off its centre.
+    let diagonal = art_pixels * (1.0 + aspect * aspect).sqrt();
+    let max_n = *texel_scene::components::FACE_RESOLUTIONS.end();
+    let pow2 = |t: f32| {
+        (t.ceil().max(1.0) as u32)
+            .next_power_of_two()
+            .clamp(64, max_n)
+    };
+    let eye_n = pow2(diagonal + 4.0);
+    let grid_n = pow2((0.5 * diagonal + 4.0) * 8.0 / 3.0);
+    let snap = |v: f32, step: f32| (v / step).round() * step;
+    let p = camera.position;
+    // The grid's direction: the view rounded to ORTHO_TURN_STEP_DEG of yaw and pitch.
     let d = camera.forward.normalize();
     let turn = ORTHO_TURN_STEP_DEG.to_radians();
     let yaw = ((-d.x).atan2(-d.z) / turn).round() * turn;
@@ -655,14 +717,18 @@ fn ortho_probe(camera: &Camera, ortho_height: f32, level_face_resolution: u32) -
         pitch.sin(),
         -yaw.cos() * pitch.cos(),
     );
-    let r = f.cross(view_up(f)).normalize();
-    let u = r.cross(f);
-    let step = |v: f32| (v / ORTHO_PAN_STEP).round() * ORTHO_PAN_STEP;
-    let p = camera.position;
-    let held = r * step(p.dot(r)) + u * step(p.dot(u)) + f * step(p.dot(f));
-    OrthoProbe {
-        anchor: held - f * distance,
-        face_resolution: n,
+    let grid = OrthoFrame::new(f, view_up(f), 0.5 * grid_n as f32 * texel);
+    let step = 0.25 * grid_n as f32 * texel;
+    let plane = |fr: &OrthoFrame, step: f32| {
+        fr.right * snap(p.dot(fr.right), step) + fr.down * snap(p.dot(fr.down), step)
+    };
+    let grid_origin =
+        plane(&grid, step) + grid.forward * (snap(p.dot(grid.forward), step) - step - grid.half);
+    let eye = OrthoFrame::new(d, camera.up(), 0.5 * eye_n as f32 * texel);
+    let eye_origin = plane(&eye, texel) + eye.forward * p.dot(eye.forward);
+    OrthoProbes {
+        grid: (grid_origin, grid, grid_n),
+        eye: (eye_origin, eye, eye_n),
     }
 }
 
@@ -704,6 +770,7 @@ fn capture_of(w: &texel_probes::schedule::FaceWork) -> CaptureInput {
         face: w.face,
         origin: w.origin,
         face_resolution: w.face_resolution,
+        ortho: None,
     }
 }
 
@@ -742,6 +809,7 @@ impl FrameDriver {
                 _ => p.draw,
             },
             valid,
+            ortho: self.ortho_frame(p.probe.origin),
         }
     }
 }

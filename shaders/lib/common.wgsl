@@ -58,6 +58,73 @@ fn probe_point(o: vec3<f32>, r: vec3<f32>, d: f32) -> vec3<f32> {
     return o + r * (d / chebyshev(r));
 }
 
+// A probe's texel frame: a cube (`half` 0: texel rays leave `origin` along `cube_dir`, depth
+// Chebyshev) or one orthographic face (`half` > 0, crates/probes/src/ortho.rs: face 0 only,
+// every texel's ray runs along `forward` from the plane through `origin` spanned by `right`
+// (u) and `down` (v), `half` world units from its centre to each edge; depth along
+// `forward`).
+struct ProbeFrame {
+    origin: vec3<f32>,
+    half: f32,
+    right: vec3<f32>,
+    down: vec3<f32>,
+    forward: vec3<f32>,
+}
+
+fn cube_frame(origin: vec3<f32>) -> ProbeFrame {
+    return ProbeFrame(origin, 0.0, vec3(0.0), vec3(0.0), vec3(0.0));
+}
+
+// The world point of face coordinates `uv` of `face` at depth `d`.
+fn frame_point(f: ProbeFrame, face: u32, uv: vec2<f32>, d: f32) -> vec3<f32> {
+    if f.half > 0.0 {
+        return f.origin + f.half * (uv.x * f.right + uv.y * f.down) + d * f.forward;
+    }
+    return probe_point(f.origin, cube_dir(face, uv.x, uv.y), d);
+}
+
+// The direction of the ray through face coordinates `uv` of `face` (a cube direction, |·|∞ = 1,
+// or `forward`): a texel's point is its ray's start plus this times its depth.
+fn frame_ray(f: ProbeFrame, face: u32, uv: vec2<f32>) -> vec3<f32> {
+    if f.half > 0.0 {
+        return f.forward;
+    }
+    return cube_dir(face, uv.x, uv.y);
+}
+
+// Where the ray through `uv` starts: the origin of a cube, the face plane of an orthographic
+// probe.
+fn frame_ray_start(f: ProbeFrame, uv: vec2<f32>) -> vec3<f32> {
+    if f.half > 0.0 {
+        return f.origin + f.half * (uv.x * f.right + uv.y * f.down);
+    }
+    return f.origin;
+}
+
+// World size of a texel of a face of `n` texels at depth `d` along `ray` (frame_ray).
+fn frame_texel_size(f: ProbeFrame, d: f32, n: u32, ray: vec3<f32>) -> f32 {
+    if f.half > 0.0 {
+        return 2.0 * f.half / f32(n);
+    }
+    return d * (2.0 / f32(n)) * length(ray);
+}
+
+// The face, face coordinates and depth at which `f` sees world point `p`.
+struct FrameHit {
+    face: u32,
+    uv: vec2<f32>,
+    depth: f32,
+}
+
+fn frame_locate(f: ProbeFrame, p: vec3<f32>) -> FrameHit {
+    let q = p - f.origin;
+    if f.half > 0.0 {
+        return FrameHit(0u, vec2(dot(q, f.right), dot(q, f.down)) / f.half, dot(q, f.forward));
+    }
+    let fu = cube_face_uv(q);
+    return FrameHit(fu.face, fu.uv, chebyshev(q));
+}
+
 // --- colour ---
 
 fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {

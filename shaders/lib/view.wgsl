@@ -14,8 +14,17 @@ struct SlotView {
     role: u32,
     // Bit f set: face f is drawn.
     draw_mask: u32,
+    // An orthographic probe (lib/common.wgsl `ProbeFrame`): its half extent, 0 for a cube.
+    half: f32,
     _pad0: u32,
-    _pad1: u32,
+    right: vec4<f32>,
+    down: vec4<f32>,
+    forward: vec4<f32>,
+}
+
+// The texel frame of slot view `s`.
+fn slot_frame(s: SlotView) -> ProbeFrame {
+    return ProbeFrame(s.origin, s.half, s.right.xyz, s.down.xyz, s.forward.xyz);
 }
 
 struct ViewGlobals {
@@ -64,6 +73,14 @@ fn draws_pixels(role: u32) -> bool {
 // distance `d` from its origin: within two texels' depth step of a 60° slope.
 fn same_surface(d: f32, dn: f32, n: u32) -> bool {
     return abs(dn - d) <= d * (2.0 / f32(n)) * 3.5;
+}
+
+// `same_surface` for frame `f`: an orthographic face's texels are one size at every depth.
+fn frame_same_surface(f: ProbeFrame, d: f32, dn: f32, n: u32) -> bool {
+    if f.half > 0.0 {
+        return abs(dn - d) <= 2.0 * f.half / f32(n) * 3.5;
+    }
+    return same_surface(d, dn, n);
 }
 
 // World size of a texel of a face of `n` texels at Chebyshev depth `d` along `ray` (a cube

@@ -340,3 +340,62 @@ fn switching_from_the_paper_schedule_draws_the_same_frame() {
         "{differ} pixels differ after switching from the paper schedule"
     );
 }
+
+/// An orthographic camera's grid probe is one face whose texels lie on a world lattice: after
+/// a pan long enough to move the probe (a quarter face), every texel the two probes share
+/// (the same world line) is lit exactly alike, so a pan never resamples anything.
+#[test]
+fn orthographic_grid_probes_share_their_texels_across_a_pan() {
+    let size = UVec2::new(160, 90);
+    let Some(mut h) = Harness::new("assets/levels/stone_circle.ron", size, 32) else {
+        return;
+    };
+    let ortho = |x: f32| Camera {
+        ortho_height: Some(12.0),
+        ..cam(x, 9.0, 14.0, 0.0, -35.0)
+    };
+    let (a, n, faces_a) = h.grid_lit_faces(ortho(-2.0));
+    let (b, n_b, faces_b) = h.grid_lit_faces(ortho(11.0));
+    assert_eq!(n, n_b);
+    let (fa, fb) = (
+        a.grid.ortho.expect("orthographic"),
+        b.grid.ortho.expect("orthographic"),
+    );
+    assert_eq!(fa, fb, "a pan keeps the probe's direction and size");
+    assert_ne!(a.grid.origin, b.grid.origin, "the pan moved the probe");
+    // The same world line: columns and rows shifted by the origins' offset, whole texels.
+    let texel = fa.texel(n);
+    let shift = (b.grid.origin - a.grid.origin) / texel;
+    let (dx, dy) = (shift.dot(fa.right), shift.dot(fa.down));
+    assert!(
+        (dx - dx.round()).abs() < 1e-3 && (dy - dy.round()).abs() < 1e-3,
+        "origins {} texels apart, not whole",
+        shift
+    );
+    let (dx, dy) = (dx.round() as i64, dy.round() as i64);
+    assert!(dx != 0, "shifted {dx} columns");
+    let (mut shared, mut same, mut lit) = (0, 0, std::collections::HashSet::new());
+    // Away from the faces' borders (outlines look at neighbours across them).
+    for y in 1..n as i64 - 1 {
+        for x in 1..n as i64 - 1 {
+            let (xb, yb) = (x - dx, y - dy);
+            if xb < 1 || yb < 1 || xb >= n as i64 - 1 || yb >= n as i64 - 1 {
+                continue;
+            }
+            let i = ((y * n as i64 + x) * 4) as usize;
+            let j = ((yb * n as i64 + xb) * 4) as usize;
+            let (ca, cb) = (&faces_a[0][i..i + 3], &faces_b[0][j..j + 3]);
+            shared += 1;
+            if ca == cb {
+                same += 1;
+            }
+            lit.insert([ca[0], ca[1], ca[2]]);
+        }
+    }
+    assert!(
+        shared > 1000 && lit.len() > 20,
+        "{shared} shared texels, {} colours",
+        lit.len()
+    );
+    assert_eq!(same, shared, "{same} of {shared} shared texels lit alike");
+}

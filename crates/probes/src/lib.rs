@@ -9,6 +9,7 @@
 //! - [`visibility`]: which faces of a probe can reach the camera frustum;
 //! - [`schedule`]: which faces to capture and shade this frame, within a budget;
 //! - [`cube`]: the cube-face convention, texel directions, splat quads, face matrices;
+//! - [`ortho`]: the one orthographic face that serves an orthographic camera;
 //! - [`bayer`]: the 4×4 dither that splits pixels between previous and grid;
 //! - [`resolution`]: face resolution from an on-screen pixel size.
 //!
@@ -19,6 +20,7 @@
 pub mod bayer;
 pub mod cube;
 pub mod grid;
+pub mod ortho;
 pub mod placement;
 pub mod probe_set;
 pub mod resolution;

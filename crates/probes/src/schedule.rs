@@ -198,6 +198,8 @@ pub struct Scheduler {
     crossing_cap: Option<u32>,
     capture_far: f32,
     stamps: [[Option<CaptureStamp>; 6]; 3],
+    /// Every probe is one orthographic face stored as face +X ([`crate::ortho`]).
+    orthographic: bool,
 }
 
 impl Scheduler {
@@ -216,6 +218,7 @@ impl Scheduler {
             crossing_cap: None,
             capture_far,
             stamps: [[None; 6]; 3],
+            orthographic: false,
         })
     }
 
@@ -233,6 +236,15 @@ impl Scheduler {
     pub fn with_crossing_faces(mut self, n: u32) -> Self {
         self.crossing_cap = Some(n.max(1));
         self
+    }
+
+    /// Plans every probe as one orthographic face (layer +X, [`crate::ortho`]) when `on`, as
+    /// cubes otherwise. Switching drops the cache: a face's data belongs to one projection.
+    pub fn set_orthographic(&mut self, on: bool) {
+        if self.orthographic != on {
+            self.orthographic = on;
+            self.invalidate_all();
+        }
     }
 
     /// The per-frame capture budget.
@@ -383,6 +395,11 @@ impl Scheduler {
     }
 
     fn visible(&self, frustum: &Frustum, probe: &Probe) -> FaceMask {
+        if self.orthographic {
+            let mut only = FaceMask::EMPTY;
+            only.insert(Face::PosX);
+            return only;
+        }
         let extent = splat_extent(probe.face_resolution);
         visible_faces(frustum, probe.origin, self.capture_far, extent)
     }

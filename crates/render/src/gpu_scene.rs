@@ -386,7 +386,15 @@ pub fn chunk_lod(r: &DrawRange, origin: Vec3, n: u32) -> u32 {
         return 0;
     }
     let d = (origin.clamp(r.min, r.max) - origin).length();
-    let texel = 2.0 * d / n as f32;
+    lod_for_texel(r, 2.0 * d / n as f32)
+}
+
+/// The coarsest level of `r` whose samples are at most `LOD_SAMPLE_TEXELS` texels of world
+/// size `texel` apart.
+fn lod_for_texel(r: &DrawRange, texel: f32) -> u32 {
+    if r.max_lod == 0 || r.spacing <= 0.0 || !texel.is_finite() {
+        return 0;
+    }
     let ratio = LOD_SAMPLE_TEXELS * texel / r.spacing;
     if ratio < 2.0 {
         return 0;
@@ -400,6 +408,8 @@ pub fn chunk_lod(r: &DrawRange, origin: Vec3, n: u32) -> u32 {
 pub enum LodFrom {
     /// Levels for a probe at `origin` with faces of `n` texels.
     Probe(Vec3, u32),
+    /// Levels for texels of one world size everywhere (an orthographic face).
+    Texel(f32),
     /// Full detail.
     Full,
 }
@@ -410,6 +420,7 @@ pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) 
     let wanted = |r: &DrawRange| match lod {
         LodFrom::Full => r.lod == 0,
         LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
+        LodFrom::Texel(size) => r.lod == lod_for_texel(r, size),
     };
     merge_runs(
         ranges

@@ -318,6 +318,8 @@ pub struct ProbeView {
     /// Faces holding data captured from this origin once this frame's captures are done
     /// (shading looks across seams only into these).
     pub valid: FaceMask,
+    /// `Some` for an orthographic probe: one face (+X) along the frame, not a cube.
+    pub ortho: Option<texel_probes::ortho::OrthoFrame>,
 }
 
 /// One face to capture and shade before drawing.
@@ -331,6 +333,8 @@ pub struct CaptureInput {
     pub origin: Vec3,
     /// Texels per face edge.
     pub face_resolution: u32,
+    /// `Some` for an orthographic probe's face (see [`ProbeView::ortho`]).
+    pub ortho: Option<texel_probes::ortho::OrthoFrame>,
 }
 
 /// The look of the level.

@@ -18,10 +18,15 @@ pub struct SlotView {
     n: u32,
     role: u32,
     draw_mask: u32,
-    _pad: [u32; 2],
+    /// An orthographic probe's half extent (`OrthoFrame::half`), 0 for a cube.
+    half: f32,
+    _pad: u32,
+    right: [f32; 4],
+    down: [f32; 4],
+    forward: [f32; 4],
 }
 
-/// `ViewGlobals` in WGSL (400 bytes).
+/// `ViewGlobals` in WGSL (544 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ViewGlobals {
@@ -90,7 +95,11 @@ impl ViewGlobals {
             n: 1,
             role: 3,
             draw_mask: 0,
-            _pad: [0; 2],
+            half: 0.0,
+            _pad: 0,
+            right: [0.0; 4],
+            down: [0.0; 4],
+            forward: [0.0; 4],
         }; 3];
         for (i, s) in slots.iter_mut().enumerate() {
             s.n = slot_n[i];
@@ -100,6 +109,12 @@ impl ViewGlobals {
             s.origin = p.origin.to_array();
             s.role = role_code(p.role);
             s.draw_mask = u32::from(p.draw.bits());
+            if let Some(f) = p.ortho {
+                s.half = f.half;
+                s.right = f.right.extend(0.0).to_array();
+                s.down = f.down.extend(0.0).to_array();
+                s.forward = f.forward.extend(0.0).to_array();
+            }
         };
         set(&input.eye);
         set(&input.grid);

@@ -428,12 +428,14 @@ fn fading_frame(
         face_resolution: 128,
         draw: FaceMask::ALL,
         valid: FaceMask::ALL,
+        ortho: None,
     };
     input.captures.extend(Face::ALL.map(|face| CaptureInput {
         slot: Slot::StableB,
         face,
         origin: previous,
         face_resolution: 128,
+        ortho: None,
     }));
     input.previous = Some(prev);
     input.fade_t = fade_t;

@@ -40,6 +40,7 @@ pub fn captures(eye: Vec3, n: u32) -> Vec<CaptureInput> {
             face,
             origin: eye,
             face_resolution: n,
+            ortho: None,
         })
         .collect()
 }

@@ -28,8 +28,20 @@ struct FaceParams {
     face: u32,
     n: u32,
     mode: u32,
-    _pad: u32,
+    /// An orthographic face's half extent, 0 for a cube face.
+    half: f32,
     band_origin: [f32; 4],
+    right: [f32; 4],
+    down: [f32; 4],
+    forward: [f32; 4],
+}
+
+/// The view-projection a capture rasterizes `c` with.
+fn capture_view_projection(c: &CaptureInput) -> glam::Mat4 {
+    match c.ortho {
+        Some(f) => f.view_projection(c.origin, CAPTURE_NEAR, CAPTURE_FAR),
+        None => face_view_projection(c.origin, c.face, CAPTURE_NEAR, CAPTURE_FAR),
+    }
 }
 
 /// What a capture stores as the albedo.
@@ -102,14 +114,16 @@ impl CapturePass {
         let captures = &captures[..captures.len().min(MAX_CAPTURES)];
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
         for (i, c) in captures.iter().enumerate() {
+            let axis = |f: fn(&texel_probes::ortho::OrthoFrame) -> glam::Vec3| {
+                c.ortho.map_or([0.0; 4], |o| f(&o).extend(0.0).to_array())
+            };
             let p = FaceParams {
-                view_proj: face_view_projection(c.origin, c.face, CAPTURE_NEAR, CAPTURE_FAR)
-                    .to_cols_array_2d(),
+                view_proj: capture_view_projection(c).to_cols_array_2d(),
                 origin: c.origin.extend(1.0).to_array(),
                 face: c.face.index() as u32,
                 n: store.slot(c.slot).n,
                 mode: u32::from(mode == CaptureMode::TextureDensity),
-                _pad: 0,
+                half: c.ortho.map_or(0.0, |o| o.half),
                 band_origin: if c.slot == texel_probes::probe_set::Slot::Eye {
                     self.eye_band_origin
                 } else {
@@ -117,6 +131,9 @@ impl CapturePass {
                 }
                 .extend(1.0)
                 .to_array(),
+                right: axis(|o| o.right),
+                down: axis(|o| o.down),
+                forward: axis(|o| o.forward),
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
@@ -137,8 +154,11 @@ impl CapturePass {
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
             // Only the ranges this face may see (terrain chunks, objects).
-            let view_proj = face_view_projection(c.origin, c.face, CAPTURE_NEAR, CAPTURE_FAR);
-            let lod = crate::gpu_scene::LodFrom::Probe(c.origin, slot.n);
+            let view_proj = capture_view_projection(c);
+            let lod = match c.ortho {
+                Some(o) => crate::gpu_scene::LodFrom::Texel(o.texel(slot.n)),
+                None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
+            };
             let runs = crate::gpu_scene::visible_runs(&scene.ranges, &view_proj, lod);
             let f = c.face.index();
             let clear = wgpu::Color::TRANSPARENT;

@@ -79,6 +79,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         face_resolution: n,
         draw: FaceMask::ALL,
         valid: FaceMask::ALL,
+        ortho: None,
     };
     let eye = probe(Role::Eye, Slot::Eye, camera.position);
     let grid = probe(Role::Grid, Slot::StableA, grid);
@@ -90,6 +91,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
                 face,
                 origin: p.origin,
                 face_resolution: n,
+                ortho: None,
             })
         })
         .collect();
