@@ -131,6 +131,7 @@ impl EditorApp {
                 textured_selection: info.is_some(),
                 terrain_selection: terrain::selected_terrain(&self.state).is_some(),
                 terrain_tool: self.viewport.terrain.active,
+                ortho: self.viewport.camera.ortho,
             };
             if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing, view) {
                 actions.push(a);
@@ -245,6 +246,8 @@ impl EditorApp {
             ui.label(format!("{} entities", self.state.scene().len()));
             if self.viewport.playing() {
                 ui.label("playing");
+            } else if self.viewport.camera.ortho {
+                ui.label("ortho");
             }
         });
     }
@@ -360,6 +363,11 @@ impl EditorApp {
             }
             Action::Schedule(s) => self.viewport.set_schedule(s),
             Action::ToggleDebug(v) => self.viewport.debug.flags.toggle(v),
+            Action::ToggleOrtho => {
+                if !self.viewport.playing() {
+                    self.viewport.toggle_ortho();
+                }
+            }
             Action::FrameOneToOne => {
                 if let Err(e) = self.viewport.frame_one_to_one(&self.state) {
                     self.dialogs.error = Some(format!("cannot frame 1:1: {e}"));

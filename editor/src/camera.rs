@@ -1,5 +1,8 @@
-//! The editor camera (look, fly, zoom, focus) and the projection between world and the
-//! viewport rectangle, shared by the overlay, the gizmo and picking.
+//! The editor camera (look, fly, zoom, focus), perspective or orthographic, and the
+//! projection between world and the viewport rectangle, shared by the overlay, the gizmo and
+//! picking. The projection is the render camera's own ([`Camera::projection`] and
+//! [`Camera::view`]), so what the overlay draws and what a click picks line up with the
+//! rendered picture in both modes.
 
 use egui::{Pos2, Rect};
 use glam::{Mat4, Vec2, Vec3, Vec4};
@@ -8,7 +11,13 @@ use texel_render::input::Camera;
 /// Vertical field of view of the editor camera, degrees.
 pub const FOV_Y_DEG: f32 = 60.0;
 
-/// A fly camera that also orbits a focus point `distance` ahead of the eye.
+/// How far behind the eye, in focus distances, the orthographic render camera stands.
+pub const ORTHO_PULL_BACK: f32 = 1.0;
+
+/// A fly camera that also orbits a focus point `distance` ahead of the eye. Orthographic
+/// (`ortho`), its view is as tall as the perspective one is at the focus point
+/// ([`EditorCamera::ortho_height`]), so switching keeps the framing there and zooming (which
+/// changes `distance`) changes the height; the eye stays where it is.
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct EditorCamera {
     /// The eye.
@@ -19,6 +28,8 @@ pub struct EditorCamera {
     pub pitch_deg: f32,
     /// Distance to the point the camera looks at (what the wheel zooms toward).
     pub distance: f32,
+    /// Orthographic view (parallel rays) instead of perspective.
+    pub ortho: bool,
 }
 
 impl Default for EditorCamera {
@@ -28,6 +39,7 @@ impl Default for EditorCamera {
             yaw_deg: 30.0,
             pitch_deg: -25.0,
             distance: 18.0,
+            ortho: false,
         };
         c.focus(Vec3::new(0.0, 1.0, 0.0), 18.0);
         c
@@ -47,11 +59,28 @@ impl EditorCamera {
         Vec3::new(c, 0.0, -s)
     }
 
-    /// The render camera.
+    /// Height in world units of the orthographic view: what the perspective view spans at
+    /// the focus point, `2 · distance · tan(FOV_Y / 2)`.
+    pub fn ortho_height(&self) -> f32 {
+        2.0 * self.distance * (FOV_Y_DEG.to_radians() * 0.5).tan()
+    }
+
+    /// The render camera (orthographic when `ortho`; it keeps the field of view, which the
+    /// frame driver reads for the art pixel's size). Orthographic, it stands
+    /// [`ORTHO_PULL_BACK`] focus distances behind the eye, along the view: the picture is
+    /// the same (rays are parallel), but what lies just behind the eye's plane, such as the
+    /// ground under the bottom edge of a view looking down, is not clipped away (as
+    /// Blender pulls its orthographic clipping plane back).
     pub fn camera(&self) -> Camera {
+        let eye = if self.ortho {
+            self.eye - self.forward() * ORTHO_PULL_BACK * self.distance
+        } else {
+            self.eye
+        };
         Camera {
             fov_y: FOV_Y_DEG.to_radians(),
-            ..Camera::from_yaw_pitch(self.eye, self.yaw_deg, self.pitch_deg)
+            ortho_height: self.ortho.then(|| self.ortho_height()),
+            ..Camera::from_yaw_pitch(eye, self.yaw_deg, self.pitch_deg)
         }
     }
 
@@ -87,12 +116,17 @@ impl EditorCamera {
     }
 }
 
-/// World ↔ screen mapping for one viewport rectangle.
+/// World ↔ screen mapping for one viewport rectangle, through the render camera's view and
+/// projection (perspective or orthographic).
 #[derive(Debug, Clone, Copy)]
 pub struct Projector {
     view_proj: Mat4,
     inverse: Mat4,
     rect: Rect,
+    eye: Vec3,
+    forward: Vec3,
+    fov_y: f32,
+    ortho_height: Option<f32>,
 }
 
 impl Projector {
@@ -104,13 +138,27 @@ impl Projector {
             view_proj,
             inverse: view_proj.inverse(),
             rect,
+            eye: camera.position,
+            forward: camera.forward.normalize_or_zero(),
+            fov_y: camera.fov_y,
+            ortho_height: camera.ortho_height,
         }
     }
 
-    /// Screen position of `p`, or `None` behind the camera.
+    /// Depth of `p` in front of the camera's plane, along the view direction.
+    pub fn depth(&self, p: Vec3) -> f32 {
+        (p - self.eye).dot(self.forward)
+    }
+
+    /// Screen position of `p`, or `None` behind the camera (behind its plane when
+    /// orthographic, which the renderer clips there too).
     pub fn project(&self, p: Vec3) -> Option<Pos2> {
         let c = self.view_proj * p.extend(1.0);
-        if c.w <= 1e-4 {
+        let depth = match self.ortho_height {
+            Some(_) => self.depth(p),
+            None => c.w,
+        };
+        if depth <= 1e-4 {
             return None;
         }
         let n = c.truncate() / c.w;
@@ -120,19 +168,34 @@ impl Projector {
         ))
     }
 
-    /// The world ray under screen position `pos`: origin and unit direction.
+    /// The world ray under screen position `pos`: origin on the near plane and unit
+    /// direction. Orthographic rays are parallel: every one runs along the view direction.
     pub fn ray(&self, pos: Pos2) -> (Vec3, Vec3) {
         let nx = (pos.x - self.rect.min.x) / self.rect.width() * 2.0 - 1.0;
         let ny = 1.0 - (pos.y - self.rect.min.y) / self.rect.height() * 2.0;
         let near = self.inverse * Vec4::new(nx, ny, 0.0, 1.0);
+        let a = near.truncate() / near.w;
+        if self.ortho_height.is_some() {
+            return (a, self.forward);
+        }
         let far = self.inverse * Vec4::new(nx, ny, 1.0, 1.0);
-        let (a, b) = (near.truncate() / near.w, far.truncate() / far.w);
+        let b = far.truncate() / far.w;
         (a, (b - a).normalize_or_zero())
     }
 
     /// The rectangle.
     pub fn rect(&self) -> Rect {
         self.rect
+    }
+
+    /// The distance from which a perspective view would show things at `p` at the size this
+    /// view shows them: the eye's distance to `p`, or for an orthographic view the distance
+    /// whose perspective view height is the orthographic height (the same at every depth).
+    pub fn apparent_distance(&self, p: Vec3) -> f32 {
+        match self.ortho_height {
+            Some(h) => h / (2.0 * (self.fov_y * 0.5).tan()),
+            None => (p - self.eye).length(),
+        }
     }
 }
 
@@ -152,6 +215,102 @@ mod tests {
         assert!((d - c.forward()).length() < 1e-3);
         assert!((o - c.eye).length() < 0.2);
         assert!(p.project(c.eye - c.forward()).is_none());
+    }
+
+    /// Distance from `p` to the ray `(o, d)` (unit `d`), and how far along the ray it lies.
+    fn off_ray(p: Vec3, (o, d): (Vec3, Vec3)) -> (f32, f32) {
+        let t = (p - o).dot(d);
+        ((o + d * t - p).length(), t)
+    }
+
+    fn ortho_view() -> (EditorCamera, Rect) {
+        let mut c = EditorCamera {
+            ortho: true,
+            ..EditorCamera::default()
+        };
+        c.focus(Vec3::new(3.0, 1.0, -2.0), 10.0);
+        let rect = Rect::from_min_size(Pos2::new(10.0, 20.0), egui::vec2(400.0, 300.0));
+        (c, rect)
+    }
+
+    #[test]
+    fn ortho_picking_rays_pass_through_the_projected_points() {
+        let (c, rect) = ortho_view();
+        let cam = c.camera();
+        assert_eq!(cam.ortho_height, Some(c.ortho_height()));
+        let p = Projector::new(&cam, rect);
+        let focus = c.eye + c.forward() * c.distance;
+        let up = c.right().cross(c.forward());
+        for (k, depth) in [0.5f32, 3.0, 10.0, 25.0, 120.0].into_iter().enumerate() {
+            let off = c.right() * (k as f32 - 2.0) * 1.7 + up * (1.0 - k as f32 * 0.6);
+            let w = c.eye + c.forward() * depth + off;
+            let s = p.project(w).expect("in front");
+            let ray = p.ray(s);
+            assert!((ray.1 - c.forward()).length() < 1e-5, "parallel rays");
+            // The ray starts on the near plane, under the cursor.
+            assert!((p.depth(ray.0) - cam.near).abs() < 1e-3, "{:?}", ray.0);
+            let (miss, t) = off_ray(w, ray);
+            assert!(
+                miss < 1e-3 * depth.max(1.0),
+                "depth {depth}: misses by {miss}"
+            );
+            assert!(t > 0.0);
+        }
+        // The focus is still the centre; a point just behind the eye's plane is still drawn
+        // (the render camera stands ORTHO_PULL_BACK focus distances back), one behind that
+        // is not.
+        let s = p.project(focus).expect("in front");
+        assert!((s - rect.center()).length() < 0.01, "{s:?}");
+        assert!(p.project(c.eye - c.forward() + c.right()).is_some());
+        let behind = c.eye - c.forward() * (ORTHO_PULL_BACK * c.distance + 1.0);
+        assert!(p.project(behind + c.right()).is_none());
+    }
+
+    #[test]
+    fn ortho_rays_are_parallel_and_perspective_ones_are_not() {
+        let (c, rect) = ortho_view();
+        let near = c.eye + c.forward() * 2.0 + c.right() * 1.5 + Vec3::Y * 0.7;
+        let far = near + c.forward() * 30.0;
+        let ortho = Projector::new(&c.camera(), rect);
+        let (a, b) = (ortho.project(near).unwrap(), ortho.project(far).unwrap());
+        assert!((a - b).length() < 0.01, "{a:?} {b:?}");
+        assert!((a - rect.center()).length() > 10.0, "off the centre");
+        let persp = EditorCamera { ortho: false, ..c };
+        let persp = Projector::new(&persp.camera(), rect);
+        let (a, b) = (persp.project(near).unwrap(), persp.project(far).unwrap());
+        assert!((a - b).length() > 10.0, "{a:?} {b:?}");
+    }
+
+    #[test]
+    fn ortho_frames_the_focus_plane_as_perspective_does() {
+        let (c, rect) = ortho_view();
+        let focus = c.eye + c.forward() * c.distance;
+        let up = c.right().cross(c.forward());
+        let ortho = Projector::new(&c.camera(), rect);
+        let persp = Projector::new(&EditorCamera { ortho: false, ..c }.camera(), rect);
+        for w in [
+            focus + c.right() * 4.0,
+            focus - up * 2.5,
+            focus + c.right() * -6.0 + up * 3.0,
+        ] {
+            let (a, b) = (ortho.project(w).unwrap(), persp.project(w).unwrap());
+            assert!((a - b).length() < 0.05, "{a:?} {b:?}");
+        }
+        assert!((ortho.apparent_distance(focus) - c.distance).abs() < 1e-3);
+    }
+
+    #[test]
+    fn zoom_changes_the_ortho_height() {
+        let (mut c, _) = ortho_view();
+        let before = c.camera().ortho_height.expect("ortho");
+        assert!((before - 2.0 * 10.0 * 30f32.to_radians().tan()).abs() < 1e-4);
+        c.zoom(3.0);
+        let zoomed_in = c.camera().ortho_height.expect("ortho");
+        assert!(zoomed_in < before * 0.75, "{before} -> {zoomed_in}");
+        c.zoom(-6.0);
+        assert!(c.camera().ortho_height.expect("ortho") > before);
+        c.ortho = false;
+        assert_eq!(c.camera().ortho_height, None);
     }
 
     #[test]

@@ -3,7 +3,7 @@
 //! the viewport (raise and Ctrl-lower, smooth, flatten), each stroke one undo step; saving a
 //! sculpted terrain writes its 16-bit heightmap beside the level and a failed write keeps the
 //! document; heightmap import (refusing 8-bit files) and export; the brush's hit on a flat
-//! terrain under a known cursor ray.
+//! terrain under a known cursor ray, in the perspective and the orthographic view.
 
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
@@ -542,6 +542,36 @@ fn the_brush_lands_where_the_cursor_ray_meets_a_flat_terrain() {
     assert!(h.state().viewport.terrain.hover.is_none());
     let without = h.output().shapes.len();
     assert!(with_circle >= without + 64, "{without} -> {with_circle}");
+}
+
+#[test]
+fn in_the_orthographic_view_the_brush_lands_under_the_cursor_along_the_view() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = flat_level(dir.path());
+    let target = Vec3::new(3.0, FLAT, -5.0);
+    let mut h = sculpting(&path, BrushKind::Raise, target);
+    h.state_mut().viewport.camera.ortho = true;
+    h.run();
+    let rect = h.state().viewport.rect.expect("drawn");
+    h.hover_at(rect.center());
+    h.run();
+    let hit = h.state().viewport.terrain.hover.expect("a hit");
+    assert!((hit - target).length() < 0.02, "{hit}");
+    // 100 points down: the ray starts `s` world units below the centre's (the view is
+    // `ortho_height` units tall) and runs along the view, parallel to the centre's.
+    let cam = h.state().viewport.camera;
+    let s = 100.0 * cam.ortho_height() / rect.height();
+    let (forward, up) = (cam.forward(), cam.right().cross(cam.forward()));
+    let expected = target - up * s + forward * (up.y * s / forward.y);
+    h.hover_at(rect.center() + egui::vec2(0.0, 100.0));
+    h.run();
+    let hit = h.state().viewport.terrain.hover.expect("a hit");
+    assert!((hit - expected).length() < 0.02, "{hit} vs {expected}");
+    // A perspective ray through that pixel meets the ground elsewhere.
+    h.state_mut().viewport.camera.ortho = false;
+    h.run();
+    let persp = h.state().viewport.terrain.hover.expect("a hit");
+    assert!((persp - expected).length() > 0.2, "{persp} vs {expected}");
 }
 
 #[test]

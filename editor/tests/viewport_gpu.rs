@@ -1,6 +1,7 @@
 //! The viewport's GPU path on a headless device (lavapipe in CI): the level renders into a
 //! texture egui can show, picking returns the entity under a pixel, and an edit re-uploads
-//! the scene. Prints the frame times measured.
+//! the scene; the orthographic view renders from orthographic probes. Prints the frame times
+//! measured.
 
 use glam::{UVec2, Vec3};
 use texel_render::context::test_context;
@@ -47,4 +48,37 @@ fn viewport_renders_and_picks_on_eframes_kind_of_device() {
             .expect("render");
     }
     assert_ne!(gpu.pick(size / 2).expect("pick"), Some(2));
+}
+
+#[test]
+fn orthographic_view_renders_from_orthographic_probes_and_picks() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut gpu = support::gpu_view(&ctx);
+    let level = support::stone_circle();
+    let mut camera = support::camera();
+    camera.ortho = true;
+    let size = UVec2::new(160, 120);
+    for _ in 0..3 {
+        gpu.render(&level, 0, camera.camera(), size, Schedule::Ours, 0.016)
+            .expect("render");
+    }
+    ctx.wait_idle().expect("idle");
+    // The frame driver saw the editor camera's orthographic height: its grid probe (and the
+    // eye probe) are orthographic faces, not cubes.
+    let probes = gpu.probes.expect("probes of the last frame");
+    assert!(probes.grid.ortho.is_some(), "{:?}", probes.grid);
+    assert!(probes.eye.ortho.is_some());
+    let stats = gpu.report.stats.clone().expect("stats");
+    assert!(stats.counters.quads_splatted > 0);
+    // The centre still shows the upright the view is focused on.
+    assert_eq!(gpu.pick(size / 2).expect("pick"), Some(2));
+
+    // Back to perspective: cube probes again.
+    camera.ortho = false;
+    gpu.render(&level, 0, camera.camera(), size, Schedule::Ours, 0.016)
+        .expect("render");
+    let probes = gpu.probes.expect("probes of the last frame");
+    assert!(probes.grid.ortho.is_none());
 }

@@ -1,6 +1,6 @@
 //! UI flows of the viewport driven through egui_kittest (no GPU): the View menu's render
-//! method radio buttons and debug views, the face handles of a probe-grid override volume,
-//! and the pointer grab while playing.
+//! method radio buttons and debug views, the orthographic view (menu and key 5), the face
+//! handles of a probe-grid override volume, and the pointer grab while playing.
 
 use egui::viewport::CursorGrab;
 use egui::{Key, Modifiers, Pos2, ViewportCommand, ViewportId};
@@ -78,6 +78,76 @@ fn view_menu_switches_method_and_debug_views() {
     assert!(!h.state().viewport.debug.flags.cube_faces);
     assert!(h.query_by_label("no grid probe yet").is_none());
     // Debug views do not touch the document.
+    assert!(!h.state().state.is_dirty());
+}
+
+#[test]
+fn orthographic_view_from_the_menu_and_key_5_but_never_in_play() {
+    let mut h = harness();
+    assert!(!h.state().viewport.camera.ortho);
+    assert_eq!(h.state().viewport.render_camera().ortho_height, None);
+    assert!(h.query_by_label("ortho").is_none());
+
+    menu(&mut h, "View", "Orthographic view  (5)");
+    let cam = h.state().viewport.camera;
+    assert!(cam.ortho);
+    let rendered = h.state().viewport.render_camera();
+    assert_eq!(rendered.ortho_height, Some(cam.ortho_height()));
+    // The render camera stands back along the view (nothing near the eye is clipped); the
+    // picture's centre is still the focus point.
+    let back = cam.eye - cam.forward() * texel_editor::camera::ORTHO_PULL_BACK * cam.distance;
+    assert!(
+        (rendered.position - back).length() < 1e-4,
+        "{:?}",
+        rendered.position
+    );
+    // The status bar says so.
+    assert!(h.query_by_label("ortho").is_some());
+    // The wheel zooms the orthographic view: a smaller height.
+    let before = cam.ortho_height();
+    let centre = h.state().viewport.rect.expect("drawn").center();
+    h.hover_at(centre);
+    h.event(egui::Event::MouseWheel {
+        unit: egui::MouseWheelUnit::Point,
+        delta: egui::vec2(0.0, 120.0),
+        phase: egui::TouchPhase::Move,
+        source: egui::MouseWheelSource::Wheel,
+        modifiers: Modifiers::NONE,
+    });
+    h.run();
+    let zoomed = h
+        .state()
+        .viewport
+        .render_camera()
+        .ortho_height
+        .expect("ortho");
+    assert!(zoomed < before * 0.95, "{before} -> {zoomed}");
+
+    // Key 5 switches back, and again.
+    h.key_press(Key::Num5);
+    h.run();
+    assert!(!h.state().viewport.camera.ortho);
+    assert_eq!(h.state().viewport.render_camera().ortho_height, None);
+    h.key_press(Key::Num5);
+    h.run();
+    assert!(h.state().viewport.camera.ortho);
+
+    // Play walks with the perspective camera, and 5 does nothing there (Play repaints all
+    // the time: steps, not runs).
+    h.key_press(Key::F5);
+    h.step();
+    assert!(h.state().viewport.playing());
+    assert_eq!(h.state().viewport.render_camera().ortho_height, None);
+    h.key_press(Key::Num5);
+    h.step();
+    assert!(h.state().viewport.camera.ortho);
+    assert_eq!(h.state().viewport.render_camera().ortho_height, None);
+    // Back in the editor the orthographic view is as it was.
+    h.key_press(Key::Escape);
+    h.run();
+    assert!(!h.state().viewport.playing());
+    assert!(h.state().viewport.render_camera().ortho_height.is_some());
+    // None of it touches the document.
     assert!(!h.state().state.is_dirty());
 }
 

@@ -64,6 +64,8 @@ pub enum Action {
     ToggleDebug(DebugView),
     /// Move the editor camera to see the selected entity's texture 1:1.
     FrameOneToOne,
+    /// Switch the editor camera between perspective and orthographic.
+    ToggleOrtho,
     /// Quit.
     Quit,
 }
@@ -135,6 +137,8 @@ pub struct ViewChoice {
     pub terrain_selection: bool,
     /// Whether the terrain tool is on.
     pub terrain_tool: bool,
+    /// Whether the editor camera is orthographic.
+    pub ortho: bool,
 }
 
 /// Draws the menu bar and returns what was chosen.
@@ -251,6 +255,15 @@ pub fn show(
                 }
             }
             ui.separator();
+            let mut ortho = view.ortho;
+            let check = egui::Checkbox::new(&mut ortho, "Orthographic view  (5)");
+            if ui
+                .add_enabled(!playing, check)
+                .on_disabled_hover_text("Play always walks with the perspective camera")
+                .clicked()
+            {
+                out = Some(Action::ToggleOrtho);
+            }
             let frame = egui::Button::new("Frame 1:1 (selected texture)");
             if ui
                 .add_enabled(view.textured_selection && !playing, frame)

@@ -36,11 +36,9 @@ const AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
 pub type Drag = HandleDrag<Transform>;
 
 /// The screen ends of the three handles of a gizmo at `origin`.
-pub fn handles(proj: &Projector, origin: Vec3, cam_eye: Vec3) -> Option<(Pos2, [Pos2; 3])> {
+pub fn handles(proj: &Projector, origin: Vec3) -> Option<(Pos2, [Pos2; 3])> {
     let o = proj.project(origin)?;
-    // World length that shows as about HANDLE_PX pixels at this distance.
-    let dist = (origin - cam_eye).length().max(0.1);
-    let world = dist * HANDLE_PX / proj.rect().height().max(1.0) * 1.2;
+    let world = world_len(proj, origin);
     let mut ends = [o; 3];
     for (k, a) in AXES.iter().enumerate() {
         ends[k] = proj.project(origin + *a * world)?;
@@ -118,9 +116,10 @@ pub fn apply(drag: &Drag, mode: Mode, o: Pos2, end: Pos2, world_len: f32, snap: 
     t
 }
 
-/// World length of the handles at `origin` (matches [`handles`]).
-pub fn world_len(proj: &Projector, origin: Vec3, cam_eye: Vec3) -> f32 {
-    let dist = (origin - cam_eye).length().max(0.1);
+/// World length of the handles at `origin`: what shows as about `HANDLE_PX` pixels there
+/// (the same at every depth in an orthographic view).
+pub fn world_len(proj: &Projector, origin: Vec3) -> f32 {
+    let dist = proj.apparent_distance(origin).max(0.1);
     dist * HANDLE_PX / proj.rect().height().max(1.0) * 1.2
 }
 
@@ -146,6 +145,29 @@ mod tests {
         assert!((t.translation.x - 0.5).abs() < 1e-5, "{}", t.translation.x);
         let t = apply(&drag, Mode::Rotate, o, end, 2.0, true);
         assert_eq!(t.rotation.x, 15.0);
+    }
+
+    #[test]
+    fn ortho_handles_are_one_size_at_every_depth() {
+        // (Sized by the distance from the eye, they would grow tenfold from 4 to 40 units.)
+        // Looking along −Z: the X handle lies across the view.
+        let mut cam = crate::camera::EditorCamera {
+            yaw_deg: 0.0,
+            pitch_deg: 0.0,
+            ..Default::default()
+        };
+        cam.focus(Vec3::ZERO, 10.0);
+        let rect = egui::Rect::from_min_size(Pos2::ZERO, egui::vec2(400.0, 300.0));
+        let length = |ortho: bool, depth: f32| {
+            let c = crate::camera::EditorCamera { ortho, ..cam };
+            let proj = Projector::new(&c.camera(), rect);
+            let (o, ends) = handles(&proj, cam.eye + cam.forward() * depth).expect("in front");
+            (ends[0] - o).length()
+        };
+        let (near, far) = (length(true, 4.0), length(true, 40.0));
+        assert!((near - far).abs() < 0.01, "{near} {far}");
+        // As long as the perspective view's handles at the focus point.
+        assert!((near - length(false, 10.0)).abs() < 0.5, "{near}");
     }
 
     #[test]

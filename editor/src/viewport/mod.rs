@@ -1,5 +1,6 @@
-//! The viewport: the level rendered by `texel_render`, the editor camera, click-to-select
-//! through the renderer's id buffer, the transform gizmo and the overlay; and Play, which
+//! The viewport: the level rendered by `texel_render`, the editor camera (perspective, or
+//! orthographic from the View menu or key 5), click-to-select through the renderer's id
+//! buffer, the transform gizmo and the overlay; and Play (always perspective), which
 //! switches to the game's walking camera from the player start without touching the document:
 //! the player collides, falls and rides the moving objects ([`play::PlayPhysics`]), which
 //! move only in Play.
@@ -165,9 +166,25 @@ impl Viewport {
         }
     }
 
+    /// Switches the editor camera between perspective and orthographic (Play's walking
+    /// camera is always perspective).
+    pub fn toggle_ortho(&mut self) {
+        self.camera.ortho = !self.camera.ortho;
+        self.settle = SETTLE_FRAMES;
+    }
+
     /// Whether Play is on.
     pub fn playing(&self) -> bool {
         matches!(self.mode, ViewMode::Play(_))
+    }
+
+    /// The camera the viewport renders from: the editor camera (perspective or orthographic)
+    /// while editing, the walking camera (always perspective) in Play.
+    pub fn render_camera(&self) -> texel_render::input::Camera {
+        match self.mode {
+            ViewMode::Edit => self.camera.camera(),
+            ViewMode::Play(w) => w.camera(FOV_Y_DEG.to_radians()),
+        }
     }
 
     /// Looks at the selected entity.
@@ -243,15 +260,17 @@ impl Viewport {
                 if i.key_pressed(Key::F) {
                     self.focus_selection(state);
                 }
+                // 5 on the number row or the keypad (egui names both Num5), as numpad 5 in
+                // Blender.
+                if i.key_pressed(Key::Num5) && i.modifiers.is_none() {
+                    self.toggle_ortho();
+                }
             });
             if ui.input(|i| i.key_pressed(Key::T)) {
                 self.terrain.toggle(state)?;
             }
         }
-        let camera = match self.mode {
-            ViewMode::Edit => self.camera.camera(),
-            ViewMode::Play(w) => w.camera(FOV_Y_DEG.to_radians()),
-        };
+        let camera = self.render_camera();
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
         // An edit (a gizmo or inspector drag, or a single change) renders its first frame
@@ -391,6 +410,15 @@ impl Viewport {
                 Color32::WHITE,
             );
             return Ok(());
+        }
+        if self.camera.ortho {
+            painter.text(
+                rect.right_top() + egui::vec2(-8.0, 8.0),
+                egui::Align2::RIGHT_TOP,
+                "ortho (5)",
+                egui::FontId::proportional(14.0),
+                Color32::WHITE,
+            );
         }
         overlay::markers(&painter, &proj, state.scene(), state.selection);
         // The terrain tool on a selected terrain takes the primary button (no gizmo).
@@ -562,8 +590,7 @@ impl Viewport {
         let Some(t) = row.transform else {
             return Ok(false);
         };
-        let eye = self.camera.eye;
-        let Some((o, ends)) = gizmo::handles(proj, t.translation, eye) else {
+        let Some((o, ends)) = gizmo::handles(proj, t.translation) else {
             return Ok(false);
         };
         let pointer = Pointer::read(ui, response);
@@ -571,9 +598,9 @@ impl Viewport {
         let frame = drag::update(&mut self.drag, &pointer, hit, t);
         gizmo::draw(painter, o, ends, self.gizmo, frame.highlight);
         if let Some(d) = frame.dragged {
-            let world_len = gizmo::world_len(proj, d.start.translation, eye);
+            let world_len = gizmo::world_len(proj, d.start.translation);
             let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
-            let (o0, ends0) = gizmo::handles(proj, d.start.translation, eye).unwrap_or((o, ends));
+            let (o0, ends0) = gizmo::handles(proj, d.start.translation).unwrap_or((o, ends));
             let next = gizmo::apply(&d, self.gizmo, o0, ends0[d.handle], world_len, snap);
             let mut row = row;
             row.transform = Some(next);
