@@ -67,7 +67,7 @@ fn shade_texel(s: Sprite, q: SpriteQuad, role: u32, t_in: vec2<u32>, k: u32) -> 
     var t = t_in;
     let uv0 = (vec2<f32>(t) + 0.5) / vec2<f32>(s.frame_px);
     let p0 = sprite_point(q, uv0);
-    let eye = eye_for(role);
+    let eye = eye_for(s, role);
     var p = p0;
     var c = 0.0;
     var t_hit = 0.0;

@@ -93,7 +93,7 @@ fn fs(in: VsOut) -> FsOut {
         let q = quad_for(s, role);
         let uv0 = (vec2<f32>(t) + 0.5) / vec2<f32>(s.frame_px);
         let p0 = sprite_point(q, uv0);
-        let p = p0 + normalize(p0 - eye_for(role)) * t_hit;
+        let p = p0 + normalize(p0 - eye_for(s, role)) * t_hit;
         let clip = view.view_proj * vec4(p, 1.0);
         out.depth = clamp(clip.z / clip.w, 0.0, 1.0);
     }

@@ -44,16 +44,34 @@ fn quad_for(s: Sprite, role: u32) -> SpriteQuad {
         return sprite_quad(s, view.camera.xyz, back, grid.n, false);
     }
     let slot = view.slots[role_slot(role)];
+    if slot.half > 0.0 {
+        // An orthographic probe's rays are parallel: the sprite faces back along them, one
+        // sprite pixel per texel of its face, its anchor on the probe's texel lattice.
+        let f = slot_frame(slot);
+        let eye = eye_for(s, role);
+        var q = sprite_quad(s, eye, eye - s.position, slot.n, false);
+        let at = frame_locate(f, s.position);
+        let texel = 2.0 / f32(max(slot.n, 1u));
+        let uv = (floor((at.uv * 0.5 + 0.5) * f32(slot.n)) + 0.5) * texel - 1.0;
+        q.corner += frame_point(f, 0u, uv, at.depth) - s.position;
+        return q;
+    }
     return sprite_quad(s, slot.origin, slot.origin - s.position, slot.n, true);
 }
 
 // The eye a sprite's relief and refraction rays start from: its probe's origin (so what a
-// texel shows is fixed inside a cell), or the camera.
-fn eye_for(role: u32) -> vec3<f32> {
+// texel shows is fixed inside a cell), or the camera. For an orthographic probe, a point back
+// along its parallel rays, one face half from the sprite: as far as a texel of that face
+// spans one texel (so matched sizes and cells come out one texel of the face).
+fn eye_for(s: Sprite, role: u32) -> vec3<f32> {
     if globals.facing != 0u {
         return view.camera.xyz;
     }
-    return view.slots[role_slot(role)].origin;
+    let slot = view.slots[role_slot(role)];
+    if slot.half > 0.0 {
+        return s.position - slot.forward.xyz * slot.half;
+    }
+    return slot.origin;
 }
 
 // The side of the square cells sprite `s` (quad `q`, drawn for `role`) is lit in, in
@@ -65,7 +83,7 @@ fn sprite_cell_size(s: Sprite, q: SpriteQuad, role: u32) -> u32 {
         return 1u;
     }
     let slot = view.slots[role_slot(role)];
-    let probe_texel = 2.0 * distance(sprite_point(q, vec2(0.5)), slot.origin) / f32(max(slot.n, 1u));
+    let probe_texel = 2.0 * distance(sprite_point(q, vec2(0.5)), eye_for(s, role)) / f32(max(slot.n, 1u));
     let texel = max(q.size.x / f32(s.frame_px.x), q.size.y / f32(s.frame_px.y));
     return u32(exp2(ceil(log2(clamp(probe_texel / max(texel, 1.0e-6), 1.0, 64.0)))));
 }

@@ -579,3 +579,73 @@ fn a_matched_sprite_pixel_is_one_probe_texel_at_its_distance() {
         assert!((width - want).abs() <= 2.0 * pixel, "{width} vs {want}");
     }
 }
+
+/// Under an orthographic camera drawn from orthographic probes, a matched sprite's pixel is
+/// one texel of the probe's face wherever the sprite stands (the face's texels are one size
+/// at every depth), and it faces back along the probe's parallel rays: a sprite of 8 pixels
+/// spans 8 texels near and far.
+#[test]
+fn under_orthographic_probes_a_matched_sprite_pixel_is_one_face_texel_at_every_depth() {
+    use texel_probes::cube::{Face, FaceMask};
+    use texel_probes::ortho::OrthoFrame;
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut scene = common::boxes_scene();
+    scene.objects.truncate(1);
+    scene.objects[0].transform = Mat4::from_translation(Vec3::new(0.0, -20.0, 0.0));
+    let size = UVec2::new(256, 256);
+    // A 16-unit-tall view; faces of 64 texels 32 units across: a texel is half a unit, 8
+    // output pixels.
+    let (n, half, height) = (64u32, 16.0f32, 16.0f32);
+    let mut widths = Vec::new();
+    for depth in [4.0f32, 30.0] {
+        let mut s = sprite(
+            image("white", 8, |_, _| [255; 4]),
+            Vec3::new(0.0, 1.0, -depth),
+            1.0,
+        );
+        s.size = None;
+        let mut scene = scene.clone();
+        scene.sprites.push(s);
+        let mut camera = Camera::looking(Vec3::new(0.0, 1.0, 0.0), -Vec3::Z);
+        camera.ortho_height = Some(height);
+        let mut input = common::frame(camera, Vec3::ZERO, n, size, Schedule::Ours);
+        let frame = OrthoFrame::new(-Vec3::Z, Vec3::Y, half);
+        // The probes' planes through the camera (on the lattice of half-unit texels).
+        let origin = Vec3::new(0.0, 1.0, 0.0);
+        for p in [&mut input.eye, &mut input.grid] {
+            p.origin = origin;
+            p.ortho = Some(frame);
+            p.draw = FaceMask::EMPTY;
+            p.draw.insert(Face::PosX);
+            p.valid = p.draw;
+        }
+        input.captures.retain(|c| c.face == Face::PosX);
+        for c in &mut input.captures {
+            c.origin = origin;
+            c.ortho = Some(frame);
+        }
+        input.internal_size = size;
+        let mut r = Renderer::headless(&ctx).expect("renderer");
+        r.set_scene(&ctx, &scene).expect("scene");
+        r.render_offscreen(&ctx, &input).expect("frame");
+        r.render_offscreen(&ctx, &input).expect("frame");
+        let ids = r.read_frame_ids(&ctx).expect("ids").entity;
+        let xs: Vec<u32> = (0..ids.len() as u32)
+            .filter(|&i| ids[i as usize] == SPRITE_ID)
+            .map(|i| i % size.x)
+            .collect();
+        assert!(!xs.is_empty(), "the sprite is drawn at depth {depth}");
+        let width = xs.iter().max().unwrap() - xs.iter().min().unwrap() + 1;
+        widths.push(width);
+    }
+    // 8 sprite pixels of half a unit each, 16 output pixels a unit.
+    let want = 8.0 * (2.0 * half / n as f32) * (size.y as f32 / height);
+    for w in &widths {
+        assert!(
+            (*w as f32 - want).abs() <= 1.0,
+            "width {w} px, want {want}: {widths:?}"
+        );
+    }
+}
