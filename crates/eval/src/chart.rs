@@ -100,7 +100,9 @@ pub fn write_charts(report: &Report, dir: &Path, stem: &str) -> Result<(), Chart
     // The PNG backend draws text with fonts registered here; egui's bundled font is pure data.
     let _ =
         plotters::style::register_font(FONT, FontStyle::Normal, epaint_default_fonts::UBUNTU_LIGHT);
-    let size = (1400, 1100);
+    // The bar panels' rows (three panels a row) each get room for readable axes.
+    let rows = bar_paths(report).len().div_ceil(3) as u32;
+    let size = (1400, (480 + 40 + rows * BAR_ROW_PX).max(1100));
     let png = dir.join(format!("{stem}.png"));
     let svg = dir.join(format!("{stem}.svg"));
     let err = |file: &Path| {
@@ -191,9 +193,12 @@ fn scatter<DB: DrawingBackend>(
     Ok(())
 }
 
-fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, report: &Report) -> DrawResult<DB> {
-    let face_res = report.runs.iter().map(|r| r.face_res).max().unwrap_or(0);
-    // One panel per level and path (the same path may fly through two levels).
+/// Height of a row of bar panels, pixels.
+const BAR_ROW_PX: u32 = 150;
+
+/// One bar panel per level and path (the same path may fly through two levels), in report
+/// order.
+fn bar_paths(report: &Report) -> Vec<(&str, &str)> {
     let mut paths: Vec<(&str, &str)> = Vec::new();
     for r in &report.runs {
         let key = (r.level_name(), r.path_name());
@@ -201,6 +206,12 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, report: &Report) -> D
             paths.push(key);
         }
     }
+    paths
+}
+
+fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, report: &Report) -> DrawResult<DB> {
+    let face_res = report.runs.iter().map(|r| r.face_res).max().unwrap_or(0);
+    let paths = bar_paths(report);
     let first_level = |path: &str| paths.iter().find(|(_, p)| *p == path).map(|(l, _)| *l);
     let cols = 3;
     let rows = paths.len().div_ceil(cols).max(1);
@@ -246,6 +257,8 @@ fn bars<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, report: &Report) -> D
                     String::new()
                 }
             })
+            .y_labels(4)
+            .y_label_formatter(&|y| format!("{y:.3}"))
             .label_style((FONT, 12))
             .draw()?;
         chart.draw_series(runs.iter().filter_map(|r| {
