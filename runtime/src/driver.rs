@@ -1193,4 +1193,58 @@ mod tests {
             assert_eq!(stable == 0, frame > 1, "ours captures the grid probe once");
         }
     }
+
+    /// An orthographic camera's probes are orthographic faces whose origins stand on a
+    /// lattice of whole texels: panning moves the grid probe by whole texels (so it samples
+    /// the same world lines), the grid's face holds the whole view, the eye's stands in the
+    /// camera's plane, and a turn within half a step keeps the grid's direction.
+    #[test]
+    fn orthographic_probes_stand_on_a_texel_lattice_and_hold_the_view() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
+            .expect("level loads");
+        let size = UVec2::new(320, 180);
+        let mut driver = FrameDriver::new(&level, size, 1.2).expect("driver");
+        let camera = |x: f32, yaw: f32| Camera {
+            ortho_height: Some(12.0),
+            ..Camera::from_yaw_pitch(Vec3::new(x, 9.0, 14.0), yaw, -35.0)
+        };
+        let mut grids = Vec::new();
+        for k in 0..40 {
+            let c = camera(-2.0 + 0.77 * k as f32, 1.0);
+            let input = driver.frame(c, 1.0 / 30.0, Schedule::Ours).expect("frame");
+            let (grid, eye) = (input.grid, input.eye);
+            let (gf, ef) = (
+                grid.ortho.expect("ortho grid"),
+                eye.ortho.expect("ortho eye"),
+            );
+            assert_eq!(grid.draw.bits(), 1, "one face");
+            // The eye looks exactly along the view, from the camera's plane.
+            assert!((ef.forward - c.forward).length() < 1e-5);
+            assert!((eye.origin - c.position).dot(c.forward).abs() < 1e-3);
+            // The grid's direction is the view's rounded to 5°: here yaw 0.
+            assert!((gf.forward - camera(0.0, 0.0).forward).length() < 1e-5);
+            // The whole view (its corners, with the pixel snap's margin) lies on the face.
+            let h = 12.0;
+            let w = h * size.x as f32 / size.y as f32;
+            let up = ef.down * -1.0;
+            for (sx, sy) in [(-1.0, -1.0), (1.0, -1.0), (1.0, 1.0), (-1.0, 1.0)] {
+                let corner = c.position + ef.right * (sx * 0.5 * w) + up * (sy * 0.5 * h);
+                let (u, v, _) = gf.locate(grid.origin, corner);
+                assert!(u.abs() < 1.0 && v.abs() < 1.0, "view corner at ({u}, {v})");
+            }
+            grids.push((grid.origin, gf, grid.face_resolution));
+        }
+        let (o0, f0, n) = grids[0];
+        let texel = f0.texel(n);
+        let moved = grids.iter().filter(|g| g.0 != o0).count();
+        assert!(moved > 0, "a 30-unit pan moves the grid probe");
+        for (o, f, _) in &grids {
+            assert_eq!(*f, f0);
+            let d = (*o - o0) / texel;
+            for a in [d.dot(f0.right), d.dot(f0.down)] {
+                assert!((a - a.round()).abs() < 2e-3, "{a} texels apart");
+            }
+        }
+    }
 }
