@@ -24,36 +24,19 @@ struct FsOut {
 
 @fragment
 fn fs(in: FullscreenOut) -> FsOut {
-    let far = view.inv_view_proj * vec4(in.ndc, NDC_FAR, 1.0);
-    let dir = far.xyz / far.w - view.camera.xyz;
+    let e = eye_ray(in.ndc);
     let eye = view.slots[view.eye_slot];
-    var fu = cube_face_uv(dir);
-    if eye.half > 0.0 {
-        // An orthographic eye looks along the camera's parallel rays: the pixel's ray meets
-        // its face where the pixel's near point projects onto it.
-        let near = view.inv_view_proj * vec4(in.ndc, NDC_NEAR, 1.0);
-        let hit = frame_locate(slot_frame(eye), near.xyz / near.w);
-        fu = FaceUv(hit.face, hit.uv);
-        if any(abs(hit.uv) > vec2(1.0)) {
-            return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u);
-        }
-    }
-    if (eye.draw_mask & (1u << fu.face)) == 0u {
+    if e.face > 5u || (eye.draw_mask & (1u << e.face)) == 0u {
         return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u);
     }
-    let t = texel_of_uv(fu.uv, eye.n);
-    let lit = textureLoad(eye_lit, t, fu.face, 0);
+    let t = texel_of_uv(e.uv, eye.n);
+    let lit = textureLoad(eye_lit, t, e.face, 0);
     var key = 0u;
     var colour = lit.rgb;
-    if textureLoad(eye_ids, t, fu.face, 0).r != 0u {
-        key = texel_key(view.eye_slot, fu.face, t, view.max_n) + 1u;
-        let d = textureLoad(eye_geo, t, fu.face, 0).w;
-        var dist = d * length(dir) / chebyshev(dir);
-        if eye.half > 0.0 {
-            // Depth along the view from the eye's plane, which lies in the camera's.
-            dist = d;
-        }
-        colour = hazed(colour, dist);
+    if textureLoad(eye_ids, t, e.face, 0).r != 0u {
+        key = texel_key(view.eye_slot, e.face, t, view.max_n) + 1u;
+        let d = textureLoad(eye_geo, t, e.face, 0).w;
+        colour = hazed(colour, length(eye_point(e, d) - e.start));
     }
     return FsOut(vec4(linear_to_srgb(colour), 1.0), key);
 }

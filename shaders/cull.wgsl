@@ -68,19 +68,14 @@ const SKY_SILHOUETTE_HALF: f32 = 0.75;
 // ortho_pan's 2% -> 1.4%), so the eye probe fills less. Half sizes are at most 2 (the splat
 // list stores them halved, as unorm).
 const NEARER_HALF: f32 = 1.5;
-// An orthographic probe's texels are exactly the texel squares (as `cos_theta` to
-// `half_size`): its rays run along the view (or within half a turn step of it), so no gap
-// opens between neighbours as the camera moves, and what the held direction misses the eye
-// fills. Measured (stone_circle, 320×180, faces of 128): coverage error on ortho_pan 0.0195
-// with the expanded quads, 0.0179 exact (snap 0.0189); iso_orbit 0.0179, 0.0167 (snap
-// 0.0164); shimmer 0.0000 and 0.0035 either way.
-const EXACT_QUADS: f32 = -1.0;
+// An orthographic probe's quads are exactly the texel squares (`emit`): its rays run along
+// the view (or within half a turn step of it), so no gap opens between neighbours as the
+// camera moves, and what the held direction misses the eye fills. Measured (stone_circle,
+// 320×180, faces of 128): coverage error on ortho_pan 0.0195 with the expanded quads, 0.0179
+// exact (snap 0.0189); iso_orbit 0.0179, 0.0167 (snap 0.0164); shimmer 0.0000 and 0.0035
+// either way.
 
 fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
-    if cos_theta < 0.0 {
-        // EXACT_QUADS.
-        return 0.5;
-    }
     let code = ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
     if code == 2u {
         return 0.5;
@@ -94,6 +89,14 @@ fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
     let c = max(cos_theta, 0.14);
     let tan_theta = sqrt(1.0 - c * c) / c;
     return min(0.575 + 0.05 * tan_theta, 1.0);
+}
+
+// `half_size`, or exactly half a texel on every side (`exact`: an orthographic probe's).
+fn quad_half(bits: u32, k: u32, cos_theta: f32, exact: bool) -> f32 {
+    if exact {
+        return 0.5;
+    }
+    return half_size(bits, k, cos_theta);
 }
 
 // Every texel of the faces in `work` (the paper schedule; ours with runs off).
@@ -185,8 +188,14 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
             return;
         }
         // Back-facing surfaces cannot be seen (meshes are closed or one-sided). A run is
-        // planar, so its middle decides for all of it.
-        if dot(geo.xyz, view.camera.xyz - p) < -1.0e-3 * d {
+        // planar, so its middle decides for all of it. An orthographic camera looks along
+        // one direction everywhere (its position says nothing about which way a surface
+        // faces it: sides seen at a grazing angle were culled, and the eye filled them).
+        var facing = dot(geo.xyz, view.camera.xyz - p) + 1.0e-3 * d;
+        if view.ortho != 0u {
+            facing = 1.0e-3 - dot(geo.xyz, view.forward.xyz);
+        }
+        if facing < 0.0 {
             return;
         }
     }
@@ -198,10 +207,8 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     }
     // The more grazing end sizes the run's sides. The first texel's bits give the sides the
     // run shares and its start; the last texel's give its end.
-    var cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
-    if fr.half > 0.0 {
-        cos_theta = EXACT_QUADS;
-    }
+    let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
+    let exact = fr.half > 0.0;
     let h = 2.0 / f32(s.n);
     // Sides 0-3 are left, right, up, down: the run's end side comes from its last texel.
     var end_bits = bits;
@@ -210,12 +217,12 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     } else {
         end_bits = (bits & 0xccu) | (last_bits & 0x22u);
     }
-    let start_half = half_size(bits, select(0u, 2u, column), cos_theta);
-    let end_half = half_size(end_bits, select(1u, 3u, column), cos_theta);
-    let left = uv.x - half_size(bits, 0u, cos_theta) * h;
-    let right = uv_last.x + half_size(end_bits, 1u, cos_theta) * h;
-    let top = uv.y - half_size(bits, 2u, cos_theta) * h;
-    let bottom = uv_last.y + half_size(end_bits, 3u, cos_theta) * h;
+    let start_half = quad_half(bits, select(0u, 2u, column), cos_theta, exact);
+    let end_half = quad_half(end_bits, select(1u, 3u, column), cos_theta, exact);
+    let left = uv.x - quad_half(bits, 0u, cos_theta, exact) * h;
+    let right = uv_last.x + quad_half(end_bits, 1u, cos_theta, exact) * h;
+    let top = uv.y - quad_half(bits, 2u, cos_theta, exact) * h;
+    let bottom = uv_last.y + quad_half(end_bits, 3u, cos_theta, exact) * h;
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;

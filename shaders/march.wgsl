@@ -47,6 +47,27 @@ fn crossing(q0: vec3<f32>, rd: vec3<f32>, axis: vec3<f32>, axis_uv: vec3<f32>, b
     return (b * dot(q0, axis) - dot(q0, axis_uv)) / den;
 }
 
+// What the ray learns in a texel of depth `d`, entered at depth `entry` (ray parameter `t`)
+// and left at `t_out`, reaching depth `d` at `tc` when `along` > 0 (it goes deeper). Entered
+// in behind the surface through the texel's side: from a texel of the same surface (`same`:
+// a floor seen at a grazing angle steps in depth from row to row) the ray crossed it; else
+// within `reach` the texel's quad still covers it; beyond, the probe cannot see what the
+// ray hits. STATUS_ESCAPED: nothing here, on to the next texel.
+struct Verdict {
+    status: u32,
+    t: f32,
+}
+
+fn texel_verdict(entry: f32, d: f32, same: bool, reach: f32, t: f32, tc: f32, along: f32, t_out: f32) -> Verdict {
+    if entry >= d {
+        return Verdict(select(STATUS_UNKNOWN, STATUS_HIT, same || entry - d <= reach), t);
+    }
+    if along > 0.0 && tc <= t_out {
+        return Verdict(STATUS_HIT, tc);
+    }
+    return Verdict(STATUS_ESCAPED, t_out);
+}
+
 // `march` through an orthographic slot's one face (lib/common.wgsl `ProbeFrame`): in the
 // face's frame the ray is a straight line in (u, v, depth), so the next texel is again the
 // nearer of two boundary crossings; along the view's own direction the ray stays in one
@@ -85,24 +106,14 @@ fn march_ortho(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March 
         var d = -1.0;
         if (v.draw_mask & 1u) != 0u && load_id(s, tx, 0u) != 0u {
             d = load_geo(s, tx, 0u).w;
-            if a.z >= d {
-                if (prev_d > 0.0 && abs(prev_d - d) <= 3.5 * texel) || a.z - d <= REACH_TEXELS * texel {
-                    out.status = STATUS_HIT;
-                } else {
-                    out.status = STATUS_UNKNOWN;
-                }
+            let same = prev_d > 0.0 && frame_same_surface(f, prev_d, d, v.n);
+            let tc = (d - a0.z) / da.z;
+            let verdict = texel_verdict(a.z, d, same, REACH_TEXELS * texel, t, tc, da.z, t_out);
+            if verdict.status != STATUS_ESCAPED {
+                out.status = verdict.status;
                 out.texel = tx;
-                out.t = t;
+                out.t = verdict.t;
                 return out;
-            }
-            if da.z > 0.0 {
-                let tc = (d - a0.z) / da.z;
-                if tc <= t_out {
-                    out.status = STATUS_HIT;
-                    out.texel = tx;
-                    out.t = tc;
-                    return out;
-                }
             }
         }
         if t_out >= t1 {
@@ -153,29 +164,16 @@ fn march(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
         var d = -1.0;
         if (v.draw_mask & (1u << fu.face)) != 0u && load_id(s, tx, fu.face) != 0u {
             d = load_geo(s, tx, fu.face).w;
-            if qa >= d {
-                // In behind the surface through the texel's side: from a texel of the same
-                // surface (a floor seen at a grazing angle steps in depth from row to row)
-                // the ray crossed that surface; else within a quad's reach the texel still
-                // covers it; beyond, the probe cannot see what the ray hits.
-                let reach = REACH_TEXELS * texel_world_size(d, v.n, q / qa);
-                if (prev_d > 0.0 && same_surface(prev_d, d, v.n)) || qa - d <= reach {
-                    out.status = STATUS_HIT;
-                } else {
-                    out.status = STATUS_UNKNOWN;
-                }
-                out.face = fu.face;
-                out.texel = tx;
-                out.t = t;
-                return out;
-            }
+            let same = prev_d > 0.0 && same_surface(prev_d, d, v.n);
+            let reach = REACH_TEXELS * texel_world_size(d, v.n, q / qa);
             let along = dot(rd, axis);
             let tc = (d - dot(q0, axis)) / along;
-            if along > 0.0 && tc <= t_out {
-                out.status = STATUS_HIT;
+            let verdict = texel_verdict(qa, d, same, reach, t, tc, along, t_out);
+            if verdict.status != STATUS_ESCAPED {
+                out.status = verdict.status;
                 out.face = fu.face;
                 out.texel = tx;
-                out.t = tc;
+                out.t = verdict.t;
                 return out;
             }
         }
@@ -267,29 +265,15 @@ fn fs(in: FullscreenOut) -> FsOut {
     if found {
         return result;
     }
-    // The eye probe sits at the camera: its texel in the view direction is exact.
-    let dir = far.xyz / far.w - view.camera.xyz;
+    // The eye probe sits at the camera (or in its plane): its texel under the pixel is exact.
+    let e = eye_ray(in.ndc);
     let eye = view.slots[view.eye_slot];
-    var fu = cube_face_uv(dir);
-    if eye.half > 0.0 {
-        // An orthographic eye: where the pixel's ray meets its face.
-        let hit = frame_locate(slot_frame(eye), ro);
-        fu = FaceUv(hit.face, hit.uv);
-        let tx = texel_of_uv(fu.uv, eye.n);
-        if any(abs(hit.uv) > vec2(1.0)) || (eye.draw_mask & 1u) == 0u || load_id(view.eye_slot, tx, 0u) == 0u {
-            return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
-        }
-        let d = load_geo(view.eye_slot, tx, 0u).w;
-        let along = max(dot(rd, eye.forward.xyz), 1e-6);
-        return shown(view.eye_slot, 0u, tx, ro + rd * ((d - hit.depth) / along));
-    }
-    if (eye.draw_mask & (1u << fu.face)) == 0u {
+    if e.face > 5u || (eye.draw_mask & (1u << e.face)) == 0u {
         return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
     }
-    let tx = texel_of_uv(fu.uv, eye.n);
-    if load_id(view.eye_slot, tx, fu.face) == 0u {
-        return FsOut(vec4(linear_to_srgb(load_lit(view.eye_slot, tx, fu.face).rgb), 1.0), 0u, NDC_FAR);
+    let tx = texel_of_uv(e.uv, eye.n);
+    if load_id(view.eye_slot, tx, e.face) == 0u {
+        return FsOut(vec4(linear_to_srgb(load_lit(view.eye_slot, tx, e.face).rgb), 1.0), 0u, NDC_FAR);
     }
-    let d = load_geo(view.eye_slot, tx, fu.face).w;
-    return shown(view.eye_slot, fu.face, tx, probe_point(view.camera.xyz, dir, d));
+    return shown(view.eye_slot, e.face, tx, eye_point(e, load_geo(view.eye_slot, tx, e.face).w));
 }

@@ -91,8 +91,9 @@ const WORK_QUEUE: u32 = 64u;
 // The texel frame of the face being lit: its own origin, the slot's orthographic frame (a
 // cube when the slot's view says none).
 fn face_frame() -> ProbeFrame {
-    let v = view.slots[sf.slot];
-    return ProbeFrame(sf.origin, v.half, v.right.xyz, v.down.xyz, v.forward.xyz);
+    var f = slot_frame(view.slots[sf.slot]);
+    f.origin = sf.origin;
+    return f;
 }
 
 // Offsets of the four neighbours, in the order of the similar bits: left, right, up, down.

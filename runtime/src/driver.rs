@@ -19,7 +19,7 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec3};
 use texel_probes::cube::{Face, FaceMask};
-use texel_probes::grid::{GridChoice, GridDefaults, GridError, GridOverride};
+use texel_probes::grid::{GridChoice, GridDefaults, GridError, GridOverride, resolve_grid};
 use texel_probes::ortho::OrthoFrame;
 use texel_probes::placement::Placements;
 use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
@@ -373,9 +373,10 @@ impl FrameDriver {
     }
 
     /// A grid choice for an orthographic probe at exactly `origin` (its cell's key, moved
-    /// there), with faces of `n` texels.
-    fn ortho_choice(&mut self, origin: Vec3, n: u32) -> Result<GridChoice, GridError> {
-        let mut c = self.resolve(origin)?;
+    /// there), with faces of `n` texels. No placement: the probe stands where its lattice
+    /// puts it, outside the scene.
+    fn ortho_choice(&self, origin: Vec3, n: u32) -> Result<GridChoice, GridError> {
+        let mut c = resolve_grid(origin, &self.defaults, &self.overrides)?;
         c.key.offset = origin - c.key.cell.origin();
         c.key.face_resolution = n;
         Ok(c)

@@ -71,10 +71,6 @@ struct ProbeFrame {
     forward: vec3<f32>,
 }
 
-fn cube_frame(origin: vec3<f32>) -> ProbeFrame {
-    return ProbeFrame(origin, 0.0, vec3(0.0), vec3(0.0), vec3(0.0));
-}
-
 // The world point of face coordinates `uv` of `face` at depth `d`.
 fn frame_point(f: ProbeFrame, face: u32, uv: vec2<f32>, d: f32) -> vec3<f32> {
     if f.half > 0.0 {

@@ -51,8 +51,7 @@ fn quad_for(s: Sprite, role: u32) -> SpriteQuad {
         let eye = eye_for(s, role);
         var q = sprite_quad(s, eye, eye - s.position, slot.n, false);
         let at = frame_locate(f, s.position);
-        let texel = 2.0 / f32(max(slot.n, 1u));
-        let uv = (floor((at.uv * 0.5 + 0.5) * f32(slot.n)) + 0.5) * texel - 1.0;
+        let uv = texel_center_uv(texel_of_uv(at.uv, slot.n), slot.n);
         q.corner += frame_point(f, 0u, uv, at.depth) - s.position;
         return q;
     }

@@ -49,28 +49,42 @@ fn terrain_height(t: Terrain, q: vec2<f32>) -> f32 {
     return mix(a, b, f.y);
 }
 
-// The level-0 mesh at `q` (relative to the corner, along X and Z) as crates/scene/src/
-// terrain.rs `lod_mesh` builds it: each quad split along its (1,0)-(0,1) diagonal. Its
-// height there and the slope (d height / d (x, z)) of the triangle holding `q`.
+// The level-0 mesh's quad holding `q` (relative to the corner, along X and Z): its sample
+// index, where `q` lies in it (0..1 along X and Z) and the sample spacing. crates/scene/src/
+// terrain.rs `lod_mesh` splits each quad along its (1,0)-(0,1) diagonal: `f.x + f.y <= 1` is
+// the triangle at sample `i`, the rest the one at `i + 1`.
+struct TerrainQuad {
+    i: vec2<i32>,
+    f: vec2<f32>,
+    step: vec2<f32>,
+}
+
+fn terrain_quad(t: Terrain, q: vec2<f32>) -> TerrainQuad {
+    let cells = vec2<f32>(t.samples - vec2(1u));
+    let step = t.size / cells;
+    let g = clamp(q / step, vec2(0.0), cells);
+    let i = vec2<i32>(min(floor(g), cells - 1.0));
+    return TerrainQuad(i, g - vec2<f32>(i), step);
+}
+
+// The level-0 mesh's height at `q` and the slope (d height / d (x, z)) of its triangle there.
 struct TerrainPlane {
     height: f32,
     slope: vec2<f32>,
 }
 
 fn terrain_plane(t: Terrain, q: vec2<f32>) -> TerrainPlane {
-    let cells = vec2<f32>(t.samples - vec2(1u));
-    let step = t.size / cells;
-    let g = clamp(q / step, vec2(0.0), cells);
-    let i = vec2<i32>(min(floor(g), cells - 1.0));
-    let f = g - vec2<f32>(i);
+    let c = terrain_quad(t, q);
+    let i = c.i;
+    let f = c.f;
     let h10 = terrain_height_at(t, i.x + 1, i.y);
     let h01 = terrain_height_at(t, i.x, i.y + 1);
     if f.x + f.y <= 1.0 {
         let h00 = terrain_height_at(t, i.x, i.y);
-        return TerrainPlane(h00 + f.x * (h10 - h00) + f.y * (h01 - h00), vec2(h10 - h00, h01 - h00) / step);
+        return TerrainPlane(h00 + f.x * (h10 - h00) + f.y * (h01 - h00), vec2(h10 - h00, h01 - h00) / c.step);
     }
     let h11 = terrain_height_at(t, i.x + 1, i.y + 1);
-    return TerrainPlane(h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11), vec2(h11 - h01, h11 - h10) / step);
+    return TerrainPlane(h11 + (1.0 - f.x) * (h01 - h11) + (1.0 - f.y) * (h10 - h11), vec2(h11 - h01, h11 - h10) / c.step);
 }
 
 fn terrain_vertex_normal(t: Terrain, x: i32, z: i32, step: vec2<f32>) -> vec3<f32> {
@@ -82,18 +96,16 @@ fn terrain_vertex_normal(t: Terrain, x: i32, z: i32, step: vec2<f32>) -> vec3<f3
 // The level-0 mesh's normal at `q`: its vertex normals (central differences of the samples)
 // interpolated across the triangle, as the rasterizer interpolates them.
 fn terrain_normal(t: Terrain, q: vec2<f32>) -> vec3<f32> {
-    let cells = vec2<f32>(t.samples - vec2(1u));
-    let step = t.size / cells;
-    let g = clamp(q / step, vec2(0.0), cells);
-    let i = vec2<i32>(min(floor(g), cells - 1.0));
-    let f = g - vec2<f32>(i);
-    let n10 = terrain_vertex_normal(t, i.x + 1, i.y, step);
-    let n01 = terrain_vertex_normal(t, i.x, i.y + 1, step);
+    let c = terrain_quad(t, q);
+    let i = c.i;
+    let f = c.f;
+    let n10 = terrain_vertex_normal(t, i.x + 1, i.y, c.step);
+    let n01 = terrain_vertex_normal(t, i.x, i.y + 1, c.step);
     if f.x + f.y <= 1.0 {
-        let n00 = terrain_vertex_normal(t, i.x, i.y, step);
+        let n00 = terrain_vertex_normal(t, i.x, i.y, c.step);
         return normalize((1.0 - f.x - f.y) * n00 + f.x * n10 + f.y * n01);
     }
-    let n11 = terrain_vertex_normal(t, i.x + 1, i.y + 1, step);
+    let n11 = terrain_vertex_normal(t, i.x + 1, i.y + 1, c.step);
     return normalize((f.x + f.y - 1.0) * n11 + (1.0 - f.y) * n10 + (1.0 - f.x) * n01);
 }
 

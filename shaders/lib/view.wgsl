@@ -48,6 +48,8 @@ struct ViewGlobals {
     ortho: u32,
     _pad1: u32,
     _pad2: u32,
+    // The camera's unit view direction (every view ray's, for an orthographic camera).
+    forward: vec4<f32>,
 }
 
 // The colour `c` seen from `dist` world units away through the haze.
@@ -73,6 +75,42 @@ fn draws_pixels(role: u32) -> bool {
 // distance `d` from its origin: within two texels' depth step of a 60° slope.
 fn same_surface(d: f32, dn: f32, n: u32) -> bool {
     return abs(dn - d) <= d * (2.0 / f32(n)) * 3.5;
+}
+
+// How the eye probe sees the pixel at `ndc`: the face and face coordinates under it, and the
+// ray its texels' depths are measured along. A cube eye sits at the camera and looks along
+// the pixel's direction; an orthographic one looks along the view from the camera's plane,
+// and the pixel's parallel ray meets its face where the pixel's near point projects onto it.
+// `face` 6: the pixel lies off the eye's face.
+struct EyeRay {
+    face: u32,
+    uv: vec2<f32>,
+    start: vec3<f32>,
+    dir: vec3<f32>,
+    // A texel of depth `d` shows the point `start + dir · (d − depth0) / along`.
+    depth0: f32,
+    along: f32,
+}
+
+fn eye_ray(ndc: vec2<f32>) -> EyeRay {
+    let eye = view.slots[view.eye_slot];
+    let far = view.inv_view_proj * vec4(ndc, NDC_FAR, 1.0);
+    if eye.half > 0.0 {
+        let near = view.inv_view_proj * vec4(ndc, NDC_NEAR, 1.0);
+        let start = near.xyz / near.w;
+        let dir = normalize(far.xyz / far.w - start);
+        let hit = frame_locate(slot_frame(eye), start);
+        let face = select(hit.face, 6u, any(abs(hit.uv) > vec2(1.0)));
+        return EyeRay(face, hit.uv, start, dir, hit.depth, max(dot(dir, eye.forward.xyz), 1e-6));
+    }
+    let dir = far.xyz / far.w - view.camera.xyz;
+    let fu = cube_face_uv(dir);
+    return EyeRay(fu.face, fu.uv, view.camera.xyz, dir, 0.0, chebyshev(dir));
+}
+
+// The world point an eye texel of depth `d` shows along `e`.
+fn eye_point(e: EyeRay, d: f32) -> vec3<f32> {
+    return e.start + e.dir * ((d - e.depth0) / e.along);
 }
 
 // `same_surface` for frame `f`: an orthographic face's texels are one size at every depth.

@@ -26,7 +26,7 @@ pub struct SlotView {
     forward: [f32; 4],
 }
 
-/// `ViewGlobals` in WGSL (544 bytes).
+/// `ViewGlobals` in WGSL (560 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ViewGlobals {
@@ -47,6 +47,7 @@ pub struct ViewGlobals {
     haze: f32,
     ortho: u32,
     _pad2: [u32; 2],
+    forward: [f32; 4],
 }
 
 /// Role numbers of `lib/view.wgsl`.
@@ -143,6 +144,12 @@ impl ViewGlobals {
             haze: input.look.haze.max(0.0),
             ortho: u32::from(input.camera.ortho_height.is_some()),
             _pad2: [0; 2],
+            forward: input
+                .camera
+                .forward
+                .normalize_or_zero()
+                .extend(0.0)
+                .to_array(),
         }
     }
 }

@@ -543,21 +543,23 @@ fn kept_sprite_texels_follow_the_look_and_the_sprites_moves() {
     assert_ne!(moved[centre], SPRITE_ID, "the sprite moved");
 }
 
+/// One white 8×8 sprite of matched size at `at`, the boxes' ground out of the way.
+fn matched_sprite_scene(at: Vec3) -> texel_render::input::SceneInput {
+    let mut scene = common::boxes_scene();
+    scene.objects.truncate(1);
+    scene.objects[0].transform = Mat4::from_translation(Vec3::new(0.0, -20.0, 0.0));
+    let mut s = sprite(image("white", 8, |_, _| [255; 4]), at, 1.0);
+    s.size = None;
+    scene.sprites.push(s);
+    scene
+}
+
 #[test]
 fn a_matched_sprite_pixel_is_one_probe_texel_at_its_distance() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut scene = common::boxes_scene();
-    scene.objects.truncate(1);
-    scene.objects[0].transform = Mat4::from_translation(Vec3::new(0.0, -20.0, 0.0));
-    let mut s = sprite(
-        image("white", 8, |_, _| [255; 4]),
-        Vec3::new(0.0, 1.0, -4.0),
-        1.0,
-    );
-    s.size = None;
-    scene.sprites.push(s);
+    let scene = matched_sprite_scene(Vec3::new(0.0, 1.0, -4.0));
     let camera = Camera::looking(Vec3::new(0.0, 1.0, 0.0), -Vec3::Z);
     let size = UVec2::new(256, 256);
     let mut baselines = BaselineRenderer::new(&ctx).expect("baselines");
@@ -591,23 +593,13 @@ fn under_orthographic_probes_a_matched_sprite_pixel_is_one_face_texel_at_every_d
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut scene = common::boxes_scene();
-    scene.objects.truncate(1);
-    scene.objects[0].transform = Mat4::from_translation(Vec3::new(0.0, -20.0, 0.0));
     let size = UVec2::new(256, 256);
     // A 16-unit-tall view; faces of 64 texels 32 units across: a texel is half a unit, 8
     // output pixels.
     let (n, half, height) = (64u32, 16.0f32, 16.0f32);
     let mut widths = Vec::new();
     for depth in [4.0f32, 30.0] {
-        let mut s = sprite(
-            image("white", 8, |_, _| [255; 4]),
-            Vec3::new(0.0, 1.0, -depth),
-            1.0,
-        );
-        s.size = None;
-        let mut scene = scene.clone();
-        scene.sprites.push(s);
+        let scene = matched_sprite_scene(Vec3::new(0.0, 1.0, -depth));
         let mut camera = Camera::looking(Vec3::new(0.0, 1.0, 0.0), -Vec3::Z);
         camera.ortho_height = Some(height);
         let mut input = common::frame(camera, Vec3::ZERO, n, size, Schedule::Ours);
