@@ -181,7 +181,7 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     let p = frame_point(fr, face, mid, d);
     let texel_world = frame_texel_size(fr, d, s.n, ray);
     if view.schedule == 0u {
-        if s.role != ROLE_EYE && !draws_pixels(s.role) {
+        if s.role != ROLE_EYE && !draws_quads(s.role) {
             return;
         }
         if !sphere_in_view(p, (2.5 + 0.5 * f32(texels - 1u)) * texel_world) {

@@ -2,7 +2,7 @@
 // from the cull pass's list; a quad may span a run of texels along a face row or column).
 // Eye quads are pushed back in depth so grid and previous quads win where both exist; grid
 // and previous split the screen with complementary 4×4 Bayer patterns while a crossfade
-// runs. Writes the colour (sRGB-encoded, into a plain unorm target:
+// runs, each keeping the other's pixels behind its own (`FadeFsOut`). Writes the colour (sRGB-encoded, into a plain unorm target:
 // no per-pixel encode) and the texel key of every pixel.
 // crates/render/src/passes/splat.rs.
 
@@ -127,6 +127,25 @@ struct FsOut {
     @location(1) key: u32,
 }
 
+// A crossfade's output. A pixel handed to the other stable probe is not discarded (as the
+// paper's schedule does) but kept behind, halfway to the eye's push-back: it still fills
+// where the probe that owns the pixel has no quad (what it cannot see from its origin, its
+// silhouettes a texel short) before the eye does, whose texels move with the camera.
+struct FadeFsOut {
+    @location(0) colour: vec4<f32>,
+    @location(1) key: u32,
+    @builtin(frag_depth) depth: f32,
+}
+
+// The depth of a crossfade's fragment at depth `z` (see `FadeFsOut`); discarded instead
+// under the paper's schedule.
+fn fade_depth(z: f32, handed_over: bool) -> f32 {
+    if handed_over && view.schedule == 1u {
+        discard;
+    }
+    return select(z, max(z - 0.5 * view.eye_bias, 0.0), handed_over);
+}
+
 // A one-texel quad's vertex output: no `along`, so a pipeline of such quads (the paper
 // schedule, or runs off) sets up no interpolated varying at all.
 struct TexelIn {
@@ -214,21 +233,17 @@ fn fs(in: VsOut) -> FsOut {
 
 // During a crossfade.
 @fragment
-fn fs_dither(in: VsOut) -> FsOut {
-    if faded_out(in.run, in.clip.xy) {
-        discard;
-    }
-    return FsOut(vec4(in.colour, 1.0), pixel_key(in));
+fn fs_dither(in: VsOut) -> FadeFsOut {
+    let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy));
+    return FadeFsOut(vec4(in.colour, 1.0), pixel_key(in), z);
 }
 
 // During a crossfade toward a grid probe that misses faces.
 @fragment
-fn fs_dither_partial(in: FadeOut) -> FsOut {
-    if faded_out_partial(in.run, in.clip.xy, in.world) {
-        discard;
-    }
+fn fs_dither_partial(in: FadeOut) -> FadeFsOut {
+    let z = fade_depth(in.clip.z, faded_out_partial(in.run, in.clip.xy, in.world));
     let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
-    return FsOut(vec4(in.colour, 1.0), pixel_key(v));
+    return FadeFsOut(vec4(in.colour, 1.0), pixel_key(v), z);
 }
 
 // One texel per quad, without a crossfade.
@@ -239,18 +254,14 @@ fn fs_texel(in: TexelIn) -> FsOut {
 
 // One texel per quad, during a crossfade.
 @fragment
-fn fs_texel_dither(in: TexelIn) -> FsOut {
-    if faded_out(in.run, in.clip.xy) {
-        discard;
-    }
-    return FsOut(vec4(in.colour, 1.0), in.key);
+fn fs_texel_dither(in: TexelIn) -> FadeFsOut {
+    let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy));
+    return FadeFsOut(vec4(in.colour, 1.0), in.key, z);
 }
 
 // One texel per quad, during a crossfade toward a grid probe that misses faces.
 @fragment
-fn fs_texel_dither_partial(in: FadeOut) -> FsOut {
-    if faded_out_partial(in.run, in.clip.xy, in.world) {
-        discard;
-    }
-    return FsOut(vec4(in.colour, 1.0), in.key);
+fn fs_texel_dither_partial(in: FadeOut) -> FadeFsOut {
+    let z = fade_depth(in.clip.z, faded_out_partial(in.run, in.clip.xy, in.world));
+    return FadeFsOut(vec4(in.colour, 1.0), in.key, z);
 }

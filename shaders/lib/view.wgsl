@@ -71,6 +71,13 @@ fn draws_pixels(role: u32) -> bool {
     return (role == ROLE_GRID && view.fade_t > 0.0) || (role == ROLE_PREVIOUS && view.fade_t < 1.0);
 }
 
+// Whether a stable probe's quads are drawn this frame: those that win pixels, and while a
+// crossfade runs the grid probe's from its first frame too, behind the previous probe's
+// (splat.wgsl `fade_depth`), where it fills before the eye does.
+fn draws_quads(role: u32) -> bool {
+    return draws_pixels(role) || (role == ROLE_GRID && view.fade_t < 1.0);
+}
+
 // Whether a stable probe's texel with depth `dn` shows the surface point at Chebyshev
 // distance `d` from its origin: within two texels' depth step of a 60° slope.
 fn same_surface(d: f32, dn: f32, n: u32) -> bool {
