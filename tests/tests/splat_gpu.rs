@@ -146,6 +146,40 @@ fn a_cell_crossing_crossfades_over_several_frames() {
     );
 }
 
+/// While a crossfade runs, each stable probe fills behind the other's pixels, so the eye
+/// probe shows only what neither sees, which does not grow as `fade_t` moves under a still
+/// camera. (Discarding the pixels the Bayer pattern hands over let the eye show through in
+/// that pattern wherever the owner could not see what the other probe did: here the eye's
+/// share tripled over the fade, 757 -> 2,236 pixels, where it now goes 496 -> 626.)
+#[test]
+fn during_a_crossfade_the_eye_fills_only_what_neither_stable_probe_sees() {
+    let size = UVec2::new(160, 90);
+    let Some(mut h) = Harness::new("assets/levels/stone_circle.ron", size, 32) else {
+        return;
+    };
+    // Looking past the near stones, where the two probes see around them differently.
+    settled(&mut h, cam(0.6, 1.6, 7.7, 15.0, -4.0));
+    // Step over the boundary at z = 7.5 and stand still.
+    let c = cam(0.6, 1.6, 7.3, 15.0, -4.0);
+    let mut fading = Vec::new();
+    for _ in 0..30 {
+        let (input, _, _) = h.frame(c, DT);
+        if input.previous.is_some() {
+            let ids = h.renderer().read_frame_ids(&h.ctx).unwrap();
+            let eye = ids.from_eye.iter().filter(|e| **e).count();
+            fading.push((input.fade_t, eye));
+        }
+    }
+    assert!(fading.len() >= 4, "no crossfade ran: {fading:?}");
+    let first = fading[0].1;
+    for &(t, eye) in &fading {
+        assert!(
+            2 * eye <= 3 * first,
+            "at fade_t {t} the eye showed {eye} pixels, {first} when the fade began: {fading:?}"
+        );
+    }
+}
+
 #[test]
 fn inside_a_closed_room_no_pixel_is_left_uncovered() {
     let size = UVec2::new(160, 90);
