@@ -212,8 +212,13 @@ struct CompareArgs {
     name: String,
     /// Show where each method flickers: the frame in grey, changed pixels red (magenta:
     /// from the eye probe), as the shimmer metric counts them.
-    #[arg(long)]
+    #[arg(long, conflicts_with = "coverage")]
     flicker: bool,
+    /// Show where each method's silhouettes differ from the reference, as the coverage
+    /// error counts them: the frame in grey, blue where it shows an object over the
+    /// reference's sky, yellow sky over an object, red another object.
+    #[arg(long)]
+    coverage: bool,
     /// No progress bar.
     #[arg(long)]
     quiet: bool,
@@ -248,7 +253,13 @@ fn compare_plan(args: &CompareArgs) -> Result<texel_eval::compare::ComparePlan> 
         face_res,
         size: parse_size(&args.size)?,
         reference,
-        flicker: args.flicker,
+        overlay: if args.flicker {
+            texel_eval::compare::Overlay::Flicker
+        } else if args.coverage {
+            texel_eval::compare::Overlay::Coverage
+        } else {
+            texel_eval::compare::Overlay::Frames
+        },
     })
 }
 

@@ -7,9 +7,10 @@
 //! frame (exact when the frames hold at most 256 colours, NeuQuant otherwise), so the
 //! encoding itself cannot make a still colour change from frame to frame.
 //!
-//! With [`ComparePlan::flicker`], each panel shows where the metric found flicker instead of
+//! With [`Overlay::Flicker`], each panel shows where the metric found flicker instead of
 //! the plain frame ([`flicker_overlay`]): the frame dimmed to grey, pixels that changed in
-//! red (magenta where the method took them from the eye probe).
+//! red (magenta where the method took them from the eye probe). With [`Overlay::Coverage`],
+//! where its object ids differ from the reference's ([`coverage_overlay`]), by kind.
 
 use std::collections::HashMap;
 use std::path::{Path, PathBuf};
@@ -76,8 +77,49 @@ pub struct ComparePlan {
     pub size: UVec2,
     /// Where the reference G-buffers come from.
     pub reference: ReferenceKind,
-    /// Panels show the flicker the metric found ([`flicker_overlay`]).
-    pub flicker: bool,
+    /// What the panels show.
+    pub overlay: Overlay,
+}
+
+/// What the panels of a comparison show.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum Overlay {
+    /// The frames.
+    #[default]
+    Frames,
+    /// The flicker the shimmer metric found ([`flicker_overlay`]).
+    Flicker,
+    /// The pixels the coverage metric counts ([`coverage_overlay`]).
+    Coverage,
+}
+
+/// Frame `cur` dimmed to grey, with the pixels whose object id differs from the reference's
+/// (the coverage error) coloured by kind: blue where the method shows an object over the
+/// reference's sky (silhouettes grown), yellow where it shows sky over an object (holes,
+/// silhouettes shrunk), red where it shows another object (occlusion drawn wrong, mostly
+/// where one object's silhouette meets another). RGBA8 like the frames.
+pub fn coverage_overlay(cur: &crate::meter::OwnedFrame) -> Result<Vec<u8>, EvalError> {
+    let reference = &cur.reference.id;
+    if reference.len() != cur.ids.len() || cur.colour.len() != 4 * cur.ids.len() {
+        return Err(EvalError::Render(format!(
+            "coverage overlay: {} reference ids, {} ids, {} colour bytes",
+            reference.len(),
+            cur.ids.len(),
+            cur.colour.len()
+        )));
+    }
+    let mut out = cur.colour.clone();
+    for ((px, &want), &got) in out.chunks_exact_mut(4).zip(reference).zip(&cur.ids) {
+        let grey = ((u32::from(px[0]) * 3 + u32::from(px[1]) * 6 + u32::from(px[2])) / 20) as u8;
+        let rgb = match (want, got) {
+            (w, g) if w == g => [grey, grey, grey],
+            (0, _) => [60, 110, 255],
+            (_, 0) => [255, 220, 40],
+            _ => [255, 40, 40],
+        };
+        px[..3].copy_from_slice(&rgb);
+    }
+    Ok(out)
 }
 
 /// Frame `cur` dimmed to grey, with the pixels [`crate::metrics::flicker_map`] found changed
@@ -224,25 +266,31 @@ pub fn run_compare(
             &refs,
             MetricParams::default(),
             &mut |i, frame| {
-                if plan.flicker {
-                    let cur = crate::meter::OwnedFrame {
-                        camera: path.camera(i, fov_y),
-                        reference: refs.frames[i as usize].clone(),
-                        colour: frame.pixels.clone(),
-                        ids: frame.ids.clone(),
-                        from_eye: frame.from_eye.clone(),
-                    };
-                    let shown = match &prev {
-                        Some(p) => flicker_overlay(p, &cur).unwrap_or_else(|e| {
-                            overlay_error = Some(e);
-                            cur.colour.clone()
-                        }),
-                        None => cur.colour.clone(),
-                    };
-                    frames.push(shown);
-                    prev = Some(cur);
-                } else {
-                    frames.push(frame.pixels.clone());
+                let cur = || crate::meter::OwnedFrame {
+                    camera: path.camera(i, fov_y),
+                    reference: refs.frames[i as usize].clone(),
+                    colour: frame.pixels.clone(),
+                    ids: frame.ids.clone(),
+                    from_eye: frame.from_eye.clone(),
+                };
+                let mut shown = |r: Result<Vec<u8>, EvalError>| {
+                    r.unwrap_or_else(|e| {
+                        overlay_error = Some(e);
+                        frame.pixels.clone()
+                    })
+                };
+                match plan.overlay {
+                    Overlay::Frames => frames.push(frame.pixels.clone()),
+                    Overlay::Flicker => {
+                        let cur = cur();
+                        let image = match &prev {
+                            Some(p) => shown(flicker_overlay(p, &cur)),
+                            None => cur.colour.clone(),
+                        };
+                        frames.push(image);
+                        prev = Some(cur);
+                    }
+                    Overlay::Coverage => frames.push(shown(coverage_overlay(&cur()))),
                 }
                 tick(method.name());
             },
@@ -670,6 +718,42 @@ mod tests {
     fn px(frame: &[u8], w: u16, x: u32, y: u32) -> [u8; 3] {
         let i = ((y * u32::from(w) + x) * 4) as usize;
         [frame[i], frame[i + 1], frame[i + 2]]
+    }
+
+    #[test]
+    fn the_coverage_overlay_colours_each_kind_of_wrong_pixel() {
+        // Four pixels: right, an object over the sky, sky over an object, another object.
+        let reference = crate::metrics::Reference {
+            size: UVec2::new(4, 1),
+            world: vec![[0.0; 3]; 4],
+            id: vec![1, 0, 2, 3],
+            ..Default::default()
+        };
+        let frame = crate::meter::OwnedFrame {
+            camera: texel_render::input::Camera::from_yaw_pitch(glam::Vec3::ZERO, 0.0, 0.0),
+            reference,
+            colour: [200u8, 100, 0, 255].repeat(4),
+            ids: vec![1, 5, 0, 4],
+            from_eye: None,
+        };
+        let out = coverage_overlay(&frame).unwrap();
+        let grey = ((200 * 3 + 100 * 6) / 20) as u8;
+        assert_eq!(
+            &out[0..4],
+            &[grey, grey, grey, 255],
+            "a right pixel is dimmed"
+        );
+        assert_eq!(&out[4..8], &[60, 110, 255, 255], "grown over the sky: blue");
+        assert_eq!(&out[8..12], &[255, 220, 40, 255], "a hole: yellow");
+        assert_eq!(&out[12..16], &[255, 40, 40, 255], "another object: red");
+        let short = crate::meter::OwnedFrame {
+            ids: vec![1],
+            ..frame
+        };
+        assert!(
+            coverage_overlay(&short).is_err(),
+            "mismatched sizes are an error"
+        );
     }
 
     /// Three methods of 4 frames of 20×10: `a` a still grey, `b` flipping between two colours,

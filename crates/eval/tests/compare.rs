@@ -105,3 +105,69 @@ fn compare_writes_a_gif_of_every_frame_with_runs_numbers() {
         }
     }
 }
+
+/// `--coverage` panels: the frame in grey with the pixels the coverage error counts in one of
+/// three colours, and some of them on a frame with silhouettes; `--flicker` with it is refused.
+#[test]
+fn compare_coverage_marks_the_pixels_coverage_counts() {
+    let Some(_ctx) = test_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = dir.path().join("still.ron");
+    std::fs::write(
+        &path,
+        "(frames: 2, dt: 0.05, keyframes: [(position: (0.0, 1.6, 9.0), yaw: 0.0, pitch: -5.0)])",
+    )
+    .expect("path written");
+    let level = assets().join("levels/stone_circle.ron");
+    let out = dir.path().join("out");
+    let run = |extra: &[&str]| {
+        Command::new(env!("CARGO_BIN_EXE_texel-eval"))
+            .args(["compare", "--quiet", "--methods", "naive,splat"])
+            .args(["--face-res", "32", "--size", "64x36", "--scale", "1"])
+            .args(extra)
+            .arg("--out")
+            .arg(&out)
+            .arg("--level")
+            .arg(&level)
+            .arg("--path")
+            .arg(&path)
+            .output()
+            .expect("texel-eval runs")
+    };
+    let both = run(&["--coverage", "--flicker"]);
+    assert!(!both.status.success());
+    assert!(
+        String::from_utf8_lossy(&both.stderr).contains("--flicker"),
+        "{}",
+        String::from_utf8_lossy(&both.stderr)
+    );
+    assert!(run(&["--coverage"]).status.success());
+    let mut opts = gif::DecodeOptions::new();
+    opts.set_color_output(gif::ColorOutput::RGBA);
+    let mut gif = opts
+        .read_info(std::fs::File::open(out.join("compare.gif")).expect("compare.gif"))
+        .expect("the GIF decodes");
+    let w = u32::from(gif.width());
+    let frame = gif.read_next_frame().expect("decodes").expect("a frame");
+    let marks = [[60, 110, 255], [255, 220, 40], [255, 40, 40]];
+    for x0 in [0, 64 + GAP] {
+        let mut marked = 0;
+        for y in 0..36 {
+            for x in x0..x0 + 64 {
+                let i = ((y * w + x) * 4) as usize;
+                let px = [frame.buffer[i], frame.buffer[i + 1], frame.buffer[i + 2]].map(i32::from);
+                // Near, not equal: past 256 colours the GIF's palette is quantized.
+                let near = |c: [i32; 3]| (0..3).all(|k| (px[k] - c[k]).abs() <= 24);
+                if marks.iter().any(|m| near(*m)) {
+                    marked += 1;
+                } else {
+                    let spread = px.iter().max().unwrap() - px.iter().min().unwrap();
+                    assert!(spread <= 12, "({x}, {y}) {px:?} is neither grey nor a mark");
+                }
+            }
+        }
+        assert!(marked > 0, "the panel at {x0} marks no pixel");
+    }
+}
