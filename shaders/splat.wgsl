@@ -8,6 +8,7 @@
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
+#include "lib/slots.wgsl"
 
 struct Splat {
     c0: vec4<f32>,
@@ -127,23 +128,52 @@ struct FsOut {
     @location(1) key: u32,
 }
 
-// A crossfade's output. A pixel handed to the other stable probe is not discarded (as the
-// paper's schedule does) but kept behind, halfway to the eye's push-back: it still fills
-// where the probe that owns the pixel has no quad (what it cannot see from its origin, its
-// silhouettes a texel short) before the eye does, whose texels move with the camera.
+// A crossfade's output. A pixel handed to the other stable probe (the owner) is not
+// discarded (as the paper's schedule does) but kept behind, halfway to the eye's push-back,
+// where the owner cannot see its point: past something nearer (what the other probe sees
+// around an occluder), or on a face the owner has not captured yet. There it fills before
+// the eye does, whose texels move with the camera. Where the owner sees the sky or a farther
+// surface toward the point, the point lies past the owner's silhouette, and kept it would
+// only grow that silhouette: it is discarded.
 struct FadeFsOut {
     @location(0) colour: vec4<f32>,
     @location(1) key: u32,
     @builtin(frag_depth) depth: f32,
 }
 
-// The depth of a crossfade's fragment at depth `z` (see `FadeFsOut`); discarded instead
-// under the paper's schedule.
-fn fade_depth(z: f32, handed_over: bool) -> f32 {
-    if handed_over && view.schedule == 1u {
+// Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
+fn owner_misses(role: u32, p: vec3<f32>) -> bool {
+    let owner = select(ROLE_GRID, ROLE_PREVIOUS, role == ROLE_GRID);
+    for (var s = 1u; s < 3u; s++) {
+        let v = view.slots[s];
+        if v.role != owner {
+            continue;
+        }
+        let fr = slot_frame(v);
+        let hit = frame_locate(fr, p);
+        if (v.draw_mask & (1u << hit.face)) == 0u || any(abs(hit.uv) > vec2(1.0)) {
+            return true;
+        }
+        let t = texel_of_uv(hit.uv, v.n);
+        if load_id(s, t, hit.face) == 0u {
+            return false;
+        }
+        let dn = load_geo(s, t, hit.face).w;
+        return dn < hit.depth || frame_same_surface(fr, hit.depth, dn, v.n);
+    }
+    return true;
+}
+
+// The depth of a crossfade's fragment at depth `z` (see `FadeFsOut`); `misses` the
+// interpolated `FadeOut::owner_misses`.
+fn fade_depth(z: f32, handed_over: bool, misses: f32) -> f32 {
+    if !handed_over {
+        return z;
+    }
+    if view.schedule == 1u || misses < 0.5 {
         discard;
     }
-    return select(z, max(z - 0.5 * view.eye_bias, 0.0), handed_over);
+    return max(z - 0.5 * view.eye_bias, 0.0);
 }
 
 // A one-texel quad's vertex output: no `along`, so a pipeline of such quads (the paper
@@ -172,6 +202,20 @@ struct FadeOut {
     @location(2) @interpolate(flat) run: u32,
     @location(3) along: f32,
     @location(4) world: vec3<f32>,
+    // 1 where the stable probe that owns the pixel cannot see the quad (`owner_misses`,
+    // decided at the corners: the vertex stage runs four times a quad, the fragment stage
+    // for every pixel), 0 where it can.
+    @location(5) owner_misses: f32,
+}
+
+// `owner_misses` at corner `vi` of splat `ii`, as 1 or 0.
+fn corner_owner_misses(vi: u32, ii: u32) -> f32 {
+    if ii >= arrayLength(&splats) {
+        return 0.0;
+    }
+    let s = splats[ii];
+    let role = bitcast<u32>(s.c2.w) & 0xffu;
+    return select(0.0, 1.0, role != ROLE_EYE && owner_misses(role, corner_world(s, vi)));
 }
 
 fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
@@ -184,13 +228,15 @@ fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
 @vertex
 fn vs_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
     let v = run_vertex(vi, ii);
-    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, splat_world(vi, ii));
+    let world = splat_world(vi, ii);
+    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, world, corner_owner_misses(vi, ii));
 }
 
 @vertex
 fn vs_texel_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
     let v = texel_vertex(vi, ii);
-    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, splat_world(vi, ii));
+    let world = splat_world(vi, ii);
+    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, world, corner_owner_misses(vi, ii));
 }
 
 // Whether the grid probe draws the face that would show world point `p`.
@@ -233,15 +279,17 @@ fn fs(in: VsOut) -> FsOut {
 
 // During a crossfade.
 @fragment
-fn fs_dither(in: VsOut) -> FadeFsOut {
-    let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy));
-    return FadeFsOut(vec4(in.colour, 1.0), pixel_key(in), z);
+fn fs_dither(in: FadeOut) -> FadeFsOut {
+    let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
+    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
+    return FadeFsOut(vec4(in.colour, 1.0), pixel_key(v), z);
 }
 
 // During a crossfade toward a grid probe that misses faces.
 @fragment
 fn fs_dither_partial(in: FadeOut) -> FadeFsOut {
-    let z = fade_depth(in.clip.z, faded_out_partial(in.run, in.clip.xy, in.world));
+    let handed = faded_out_partial(in.run, in.clip.xy, in.world);
+    let z = fade_depth(in.clip.z, handed, in.owner_misses);
     let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
     return FadeFsOut(vec4(in.colour, 1.0), pixel_key(v), z);
 }
@@ -254,14 +302,15 @@ fn fs_texel(in: TexelIn) -> FsOut {
 
 // One texel per quad, during a crossfade.
 @fragment
-fn fs_texel_dither(in: TexelIn) -> FadeFsOut {
-    let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy));
+fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
+    let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
     return FadeFsOut(vec4(in.colour, 1.0), in.key, z);
 }
 
 // One texel per quad, during a crossfade toward a grid probe that misses faces.
 @fragment
 fn fs_texel_dither_partial(in: FadeOut) -> FadeFsOut {
-    let z = fade_depth(in.clip.z, faded_out_partial(in.run, in.clip.xy, in.world));
+    let handed = faded_out_partial(in.run, in.clip.xy, in.world);
+    let z = fade_depth(in.clip.z, handed, in.owner_misses);
     return FadeFsOut(vec4(in.colour, 1.0), in.key, z);
 }

@@ -360,7 +360,7 @@ impl Renderer {
                 let list = stages.run("cull", |enc| {
                     (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
                 });
-                let splat_bind = self.splat.bind_group(ctx, &self.view, list);
+                let splat_binds = self.splat.bind_groups(ctx, &self.view, list, store);
                 let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
                 let fade = match input.previous {
                     Some(_) if input.fade_t >= 1.0 => Fade::None,
@@ -372,7 +372,7 @@ impl Renderer {
                     .any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
                 stages.run("splat", |enc| {
                     let mut pass = begin_draw(enc, draw_target, screen, true);
-                    self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
+                    self.splat.draw(&mut pass, &splat_binds, list, runs, fade);
                 });
                 if let Some(binds) = &moving {
                     stages.run("moving", |enc| {

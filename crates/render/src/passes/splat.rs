@@ -1,7 +1,8 @@
 //! Splat: draws the culled texels as indexed, instanced world-space quads (`shaders/splat.wgsl`).
 
 use crate::context::GpuContext;
-use crate::passes::cull::SplatList;
+use crate::passes::cull::{SplatList, probe_textures_bind_group, probe_textures_layout};
+use crate::probe_store::ProbeStore;
 use wgpu::util::DeviceExt;
 
 use super::{RenderSpec, bind_group, entry, render_pipeline, storage, uniform};
@@ -30,6 +31,8 @@ pub struct SplatPass {
     /// By (runs, [`Fade`]): quads that may span runs write each pixel's own texel key.
     pipelines: [[wgpu::RenderPipeline; 3]; 2],
     layout: wgpu::BindGroupLayout,
+    /// Every slot's textures (a crossfade's kept-behind pixels look at the owner's).
+    slots_layout: wgpu::BindGroupLayout,
     indices: wgpu::Buffer,
 }
 
@@ -45,6 +48,7 @@ impl SplatPass {
             label: Some("splat::layout"),
             entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
         });
+        let slots_layout = probe_textures_layout(device, wgpu::ShaderStages::VERTEX);
         let pipeline_for = |vertex, fragment| {
             render_pipeline(
                 device,
@@ -52,7 +56,7 @@ impl SplatPass {
                     owner: "splat",
                     module: &module,
                     vertex,
-                    layouts: &[&layout],
+                    layouts: &[&layout, &slots_layout],
                     vertex_buffers: &[],
                     fragment,
                     targets: &[colour, KEY_FORMAT],
@@ -63,12 +67,12 @@ impl SplatPass {
         let pipelines = [
             [
                 pipeline_for("vs_texel", "fs_texel"),
-                pipeline_for("vs_texel", "fs_texel_dither"),
+                pipeline_for("vs_texel_fade", "fs_texel_dither"),
                 pipeline_for("vs_texel_fade", "fs_texel_dither_partial"),
             ],
             [
                 pipeline_for("vs", "fs"),
-                pipeline_for("vs", "fs_dither"),
+                pipeline_for("vs_fade", "fs_dither"),
                 pipeline_for("vs_fade", "fs_dither_partial"),
             ],
         ];
@@ -80,38 +84,45 @@ impl SplatPass {
         Ok(SplatPass {
             pipelines,
             layout,
+            slots_layout,
             indices,
         })
     }
 
-    /// The bind group over the view globals and the splat list.
-    pub fn bind_group(
+    /// The bind groups: the view globals and the splat list (group 0), every slot's
+    /// textures (group 1).
+    pub fn bind_groups(
         &self,
         ctx: &GpuContext,
         view: &wgpu::Buffer,
         list: SplatList<'_>,
-    ) -> wgpu::BindGroup {
-        bind_group(
-            &ctx.device,
-            "splat::bind",
-            &self.layout,
-            &[view.as_entire_binding(), list.splats.as_entire_binding()],
-        )
+        store: &ProbeStore,
+    ) -> [wgpu::BindGroup; 2] {
+        [
+            bind_group(
+                &ctx.device,
+                "splat::bind",
+                &self.layout,
+                &[view.as_entire_binding(), list.splats.as_entire_binding()],
+            ),
+            probe_textures_bind_group(&ctx.device, &self.slots_layout, store),
+        ]
     }
 
-    /// Draws the cull pass's `list` (`bind` from [`SplatPass::bind_group`] over it); `runs`
+    /// Draws the cull pass's `list` (`binds` from [`SplatPass::bind_groups`] over it); `runs`
     /// when some quads may span several texels; `fade` how grid and previous share the
     /// pixels.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
-        bind: &wgpu::BindGroup,
+        binds: &[wgpu::BindGroup; 2],
         list: SplatList<'_>,
         runs: bool,
         fade: Fade,
     ) {
         pass.set_pipeline(&self.pipelines[usize::from(runs)][fade as usize]);
-        pass.set_bind_group(0, bind, &[]);
+        pass.set_bind_group(0, &binds[0], &[]);
+        pass.set_bind_group(1, &binds[1], &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed_indirect(list.args, 0);
     }
