@@ -2,8 +2,9 @@
 // from the cull pass's list; a quad may span a run of texels along a face row or column).
 // Eye quads are pushed back in depth so grid and previous quads win where both exist; grid
 // and previous split the screen with complementary 4×4 Bayer patterns while a crossfade
-// runs, each keeping the other's pixels behind its own (`FadeFsOut`). Writes the colour (sRGB-encoded, into a plain unorm target:
-// no per-pixel encode) and the texel key of every pixel.
+// runs, each keeping behind its own the pixels of the other's it can fill (`FadeFsOut`).
+// Writes the colour (sRGB-encoded, into a plain unorm target: no per-pixel encode) and the
+// texel key of every pixel.
 // crates/render/src/passes/splat.rs.
 
 #include "lib/common.wgsl"
@@ -192,9 +193,9 @@ fn pixel_key(in: VsOut) -> u32 {
     return in.key + step * u32(clamp(floor(in.along), 0.0, last));
 }
 
-// During a crossfade toward a grid probe that misses faces, the vertex stage also passes the
-// quad's world point, so a pixel of the previous probe can tell whether the grid probe has
-// the face that would show it.
+// During a crossfade the vertex stage also passes whether the probe that owns a pixel can
+// see the quad, and the quad's world point: toward a grid probe that misses faces, a pixel
+// of the previous probe tells from it whether the grid probe has the face that would show it.
 struct FadeOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) @interpolate(flat) colour: vec3<f32>,
@@ -208,9 +209,10 @@ struct FadeOut {
     @location(5) owner_misses: f32,
 }
 
-// `owner_misses` at corner `vi` of splat `ii`, as 1 or 0.
+// `owner_misses` at corner `vi` of splat `ii`, as 1 or 0 (0 under the paper's schedule,
+// which discards every handed-over pixel).
 fn corner_owner_misses(vi: u32, ii: u32) -> f32 {
-    if ii >= arrayLength(&splats) {
+    if ii >= arrayLength(&splats) || view.schedule == 1u {
         return 0.0;
     }
     let s = splats[ii];
