@@ -666,10 +666,21 @@ impl FrameDriver {
 /// 0.25 s 0.0046, 0.15 s 0.0040 mean shimmer, but worst frames grow below a quarter second).
 pub const OUR_FADE_SECONDS: f32 = 0.25;
 
+/// A fast camera's fade of ours ends within half a cell of travel (the reference's within
+/// one). With one cell, a sprint's fade was still running when the next crossing came
+/// (on 28 of 29 frames of sprint_cells): the crossing then had to wait for it, the camera
+/// left both stable probes' views behind, and the eye probe filled 4.7% of the pixels.
+/// Measured with `texel-eval run --methods splat --face-res 128 --size 320x180` on
+/// stone_circle: sprint_cells 0.0134 -> 0.0107 mean shimmer (worst frame 0.084 -> 0.046,
+/// eye pixels 4.7% -> 1.7%), walk_cells 0.0047 -> 0.0042; the other crossing paths within
+/// ±0.0003 but textured_walk (0.0190 -> 0.0171).
+pub const OUR_FADE_CELLS: f32 = 0.5;
+
 fn fade_config(schedule: Schedule) -> FadeConfig {
     match schedule {
         Schedule::Ours => FadeConfig {
             fade_seconds: OUR_FADE_SECONDS,
+            fade_cells: OUR_FADE_CELLS,
             ..FadeConfig::default()
         },
         Schedule::Paper => FadeConfig::default(),

@@ -13,9 +13,10 @@
 //! [`Readiness`] moves the fade. [`ProbeSet::update`] does both for callers without a
 //! scheduler.
 //!
-//! **Speed.** `fade_t` moves at `max(1 / fade_seconds, smoothed_speed / cell_size)` per
-//! second, the speed being smoothed exponentially with time constant `speed_tau` and `dt`
-//! capped at `max_dt` (the reference uses 0.5 s, 0.05 s and 0.1 s). Two rules are ours:
+//! **Speed.** `fade_t` moves at `max(1 / fade_seconds, smoothed_speed / (fade_cells ·
+//! cell_size))` per second, the speed being smoothed exponentially with time constant
+//! `speed_tau` and `dt` capped at `max_dt` (the reference uses 0.5 s, one cell, 0.05 s and
+//! 0.1 s): a fast camera's fade ends within `fade_cells` of a cell's travel. Two rules are ours:
 //! - one frame moves `fade_t` by at most `1 / min_frames` (`min_frames >= 2`), and the
 //!   frame a crossing starts does not move it, so a crossing takes at least `min_frames`
 //!   frames after its trigger frame and no frame hands more than half of the pixels from
@@ -49,6 +50,10 @@ use crate::grid::ProbeKey;
 pub struct FadeConfig {
     /// Duration of a fade when the camera is slow, seconds (> 0).
     pub fade_seconds: f32,
+    /// How much of a cell's travel a fade may take when the camera is fast (> 0): the
+    /// reference's 1 ends a fade just as the next crossing may start; below 1 a fade ends
+    /// before the camera is that far into the new cell, so fades do not run into each other.
+    pub fade_cells: f32,
     /// Time constant of the camera-speed smoothing, seconds (> 0).
     pub speed_tau: f32,
     /// Largest frame time taken into account, seconds (> 0).
@@ -61,6 +66,7 @@ impl Default for FadeConfig {
     fn default() -> Self {
         FadeConfig {
             fade_seconds: 0.5,
+            fade_cells: 1.0,
             speed_tau: 0.05,
             max_dt: 0.1,
             min_frames: 2,
@@ -74,6 +80,9 @@ impl FadeConfig {
         let positive = |v: f32| v.is_finite() && v > 0.0;
         if !positive(self.fade_seconds) {
             return Err(FadeConfigError::FadeSeconds(self.fade_seconds));
+        }
+        if !positive(self.fade_cells) {
+            return Err(FadeConfigError::FadeCells(self.fade_cells));
         }
         if !positive(self.speed_tau) {
             return Err(FadeConfigError::SpeedTau(self.speed_tau));
@@ -98,6 +107,8 @@ impl FadeConfig {
 pub enum FadeConfigError {
     /// `fade_seconds` is not finite and positive.
     FadeSeconds(f32),
+    /// `fade_cells` is not finite and positive.
+    FadeCells(f32),
     /// `speed_tau` is not finite and positive.
     SpeedTau(f32),
     /// `max_dt` is not finite and positive.
@@ -110,6 +121,7 @@ impl fmt::Display for FadeConfigError {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         match self {
             FadeConfigError::FadeSeconds(v) => write!(f, "fade_seconds {v} must be > 0"),
+            FadeConfigError::FadeCells(v) => write!(f, "fade_cells {v} must be > 0"),
             FadeConfigError::SpeedTau(v) => write!(f, "speed_tau {v} must be > 0"),
             FadeConfigError::MaxDt(v) => write!(f, "max_dt {v} must be > 0"),
             FadeConfigError::MinFrames(v) => write!(f, "min_frames {v} must be >= 2"),
@@ -479,7 +491,7 @@ impl ProbeSet {
 
     fn fade_step(&self) -> f32 {
         let c = &self.config;
-        let by_speed = self.smoothed_speed / self.grid.cell.cell_size;
+        let by_speed = self.smoothed_speed / (c.fade_cells * self.grid.cell.cell_size);
         let rate = (1.0 / c.fade_seconds).max(by_speed);
         (rate * self.frame_dt).min(c.max_step())
     }

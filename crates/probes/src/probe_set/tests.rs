@@ -126,6 +126,38 @@ fn speed_is_smoothed_and_speeds_up_the_fade() {
 }
 
 #[test]
+fn a_fast_fade_ends_within_fade_cells_of_travel() {
+    // 3 cells/s at 60 fps: the reference's fade takes a whole cell (20 frames), one with
+    // fade_cells 0.5 half of it (10 frames), so it is over before the camera is halfway
+    // into the new cell.
+    for (fade_cells, frames) in [(1.0, 20), (0.5, 10)] {
+        let cfg = FadeConfig {
+            fade_cells,
+            ..FadeConfig::default()
+        };
+        let mut set = ProbeSet::new(Vec3::ZERO, key(0), cfg).unwrap();
+        let speed = 3.0;
+        let mut x = 0.0;
+        while x < 0.5 {
+            x += speed * DT;
+            set.update(Vec3::new(x, 0.0, 0.0), key(0), DT, Readiness::ALL);
+        }
+        let mut n = 0;
+        set.update(Vec3::new(x, 0.0, 0.0), key(1), DT, Readiness::ALL);
+        while set.previous_active() {
+            x += speed * DT;
+            set.update(Vec3::new(x, 0.0, 0.0), key(1), DT, Readiness::ALL);
+            n += 1;
+            assert!(n < 1000);
+        }
+        assert!(
+            (frames..=frames + 1).contains(&n),
+            "fade_cells {fade_cells}: {n} frames"
+        );
+    }
+}
+
+#[test]
 fn smoothing_follows_tau() {
     let mut set = set_at(0);
     // One frame of dt = tau at 10 u/s moves the average by 1 - 1/e.
@@ -274,6 +306,13 @@ fn bad_inputs_are_tolerated_or_rejected() {
             ..d
         }),
         FadeConfigError::SpeedTau(_)
+    ));
+    assert!(matches!(
+        bad(FadeConfig {
+            fade_cells: 0.0,
+            ..d
+        }),
+        FadeConfigError::FadeCells(_)
     ));
     assert!(matches!(
         bad(FadeConfig { max_dt: -1.0, ..d }),
