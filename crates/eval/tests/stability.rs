@@ -158,6 +158,23 @@ fn behind_an_occluder_the_flicker_concentrates_in_eye_pixels() {
     );
 }
 
+/// Close behind a pillar, the grid probe a cell away sees the pillar's side from its
+/// neighbour face at a grazing angle, as quads standing across it like the slats of a blind;
+/// from the camera, off the probe's origin, the floor and wall behind showed between them in
+/// stripes. The eye's fill now takes every pixel whose splat lies far behind what the eye
+/// sees (`shaders/background.wgsl`).
+#[test]
+fn no_farther_surface_shows_through_a_near_pillar() {
+    let Some(r) = run("colonnade", "occluder_pass", &[Method::Splat], 32) else {
+        return;
+    };
+    let splat = find(&r, Method::Splat);
+    // Measured: coverage error 0.046 (0.057 while the eye filled only where no quad landed;
+    // naive 0.059), shimmer 0.0094 (0.0107). Bound between the two.
+    assert!(splat.coverage_error < 0.052, "{}", splat.coverage_error);
+    assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
+}
+
 #[test]
 fn along_the_wall_the_hole_rate_stays_low() {
     let Some(r) = run(
@@ -201,15 +218,25 @@ fn a_low_camera_is_served_by_the_grid_probe() {
 /// quarter cell from every surface, so the grid probe still sees along the wall.
 #[test]
 fn a_camera_brushing_a_wall_is_served_by_the_grid_probe() {
-    let Some(r) = run("colonnade", "wall_brush", &[Method::Splat], 32) else {
+    let Some(r) = run(
+        "colonnade",
+        "wall_brush",
+        &[Method::Splat, Method::Naive],
+        32,
+    ) else {
         return;
     };
-    let splat = find(&r, Method::Splat);
+    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     let eye = splat.eye_fraction.expect("splat reports eye pixels");
-    // Measured: eye pixels 17% (40% with the probe at the cell centre), mean shimmer
-    // 0.015 (0.027).
+    // Measured: eye pixels 6.6% (40% with the probe at the cell centre), mean shimmer
+    // 0.011 (0.027).
     assert!(eye < 0.3, "eye probe draws {eye} of the pixels");
-    assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
+    // Holes 0.0020 (lavapipe) and 0.0023 (SwiftShader), naive's 0.015 and 0.014: at faces
+    // of 32 the far colonnade's pillars are narrower than a texel and alias, a texel off
+    // between probes; since fades end within half a cell the grid probe's pattern shows
+    // sooner (0.0011 on SwiftShader with whole-cell fades, which left 10% to the eye).
+    assert!(splat.hole_rate < 0.003, "{}", splat.hole_rate);
+    assert!(splat.hole_rate * 4.0 < naive.hole_rate);
 }
 
 /// An orthographic camera is served by orthographic probes (`texel_probes::ortho`): one face

@@ -39,7 +39,8 @@ impl BackgroundPass {
                 vertex_buffers: &[],
                 fragment: "fs",
                 targets: &[colour, KEY_FORMAT],
-                // At the far plane: only where no splat wrote depth.
+                // At the eye's surface, pushed back: where no splat wrote depth, or where the
+                // splat lies behind what the eye sees (see background.wgsl).
                 depth: Some((
                     SPLAT_DEPTH_FORMAT,
                     false,
