@@ -1,12 +1,11 @@
 // Background: a fullscreen triangle drawn after the splats with a depth test. Each pixel shows
 // the eye probe's lit texel in its view direction (the sky where the eye probe saw none),
 // sRGB-encoded like the splats, at the depth of the eye's surface pushed back by half its
-// distance (`GAP_DEPTH`; under an orthographic camera at the far plane): so it shades the
-// pixels no quad covered, and also those where the quads that landed lie far behind what the
-// eye sees from the camera. Those are gaps between a
-// stable probe's quads that the camera sees into from off the probe's origin (a wall a cell
-// from the probe, seen from its neighbour face at a grazing angle, is drawn as quads standing
-// across it like the slats of a blind), through which a farther surface showed.
+// distance (`GAP_DEPTH`; under an orthographic camera at the far plane). So it shades the
+// pixels no quad covered, and also those where the quad that landed lies far behind what the
+// eye sees: gaps between a stable probe's quads that the camera, off the probe's origin, sees
+// into (a wall a cell from the probe, seen from its neighbour face at a grazing angle, is
+// drawn as quads standing across it like the slats of a blind).
 // crates/render/src/passes/background.rs.
 
 #include "lib/common.wgsl"
@@ -22,6 +21,7 @@
 // 0.0041, the rest within ±0.0001; at 0.1 terrain_walk rose 0.0131 -> 0.0143 (grazing hill
 // sides taken by the eye), at 0.25 to 0.0133.
 const GAP_DEPTH: f32 = 0.5;
+
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var eye_ids: texture_2d_array<u32>;
 @group(0) @binding(2) var eye_lit: texture_2d_array<f32>;
@@ -56,11 +56,13 @@ fn fs(in: FullscreenOut) -> FsOut {
         let p = eye_point(e, d);
         colour = hazed(colour, length(p - e.start));
         // Reversed depth is about near / distance under perspective: dividing it pushes the
-        // distance back by a fraction. An orthographic probe's quads are exact, so there are no
-        // gaps to fill: there the fill stays at the far plane.
-        let clip = view.view_proj * vec4(p, 1.0);
-        if view.ortho == 0u && clip.w > 0.0 {
-            depth = clamp(clip.z / clip.w / (1.0 + GAP_DEPTH), NDC_FAR, 1.0);
+        // distance back by a fraction. An orthographic probe's quads are exact, so there are
+        // no gaps to fill: there the fill stays at the far plane.
+        if view.ortho == 0u {
+            let clip = view.view_proj * vec4(p, 1.0);
+            if clip.w > 0.0 {
+                depth = clamp(clip.z / clip.w / (1.0 + GAP_DEPTH), NDC_FAR, 1.0);
+            }
         }
     }
     return FsOut(vec4(linear_to_srgb(colour), 1.0), key, depth);

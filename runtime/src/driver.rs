@@ -666,10 +666,12 @@ impl FrameDriver {
 /// 0.25 s 0.0046, 0.15 s 0.0040 mean shimmer, but worst frames grow below a quarter second).
 pub const OUR_FADE_SECONDS: f32 = 0.25;
 
-/// A fast camera's fade of ours ends within half a cell of travel (the reference's within
-/// one). With one cell, a sprint's fade was still running when the next crossing came
-/// (on 28 of 29 frames of sprint_cells): the crossing then had to wait for it, the camera
-/// left both stable probes' views behind, and the eye probe filled 4.7% of the pixels.
+/// A fast camera's fade of ours is paced to end within half a cell of travel (the
+/// reference's within one; the frames a fade waits for its grid's captures and the
+/// per-frame cap below lengthen both). At the reference's pace a sprint's fades had reached
+/// only 0.77–0.97 when the next crossing came (`texel-run render` on sprint_cells, stats.json
+/// `fade_t`): each crossing waited, the camera left both stable probes' views behind, and
+/// the eye probe filled 4.7% of the pixels; at ours each fade ends as the next begins.
 /// Measured with `texel-eval run --methods splat --face-res 128 --size 320x180` on
 /// stone_circle: sprint_cells 0.0134 -> 0.0107 mean shimmer (worst frame 0.084 -> 0.046,
 /// eye pixels 4.7% -> 1.7%), walk_cells 0.0047 -> 0.0042; the other crossing paths within
@@ -678,8 +680,8 @@ pub const OUR_FADE_CELLS: f32 = 0.5;
 
 /// No frame of our fades hands more than a third of the pixels from one probe to the other
 /// (the reference's half): a fast fade then spreads a crossing's change over three frames
-/// instead of two, which halves the pop without making the fade outlast half a cell at a
-/// sprint. Measured as above: sprint_cells 0.0107 -> 0.0103 (worst frame 0.046 -> 0.029),
+/// instead of two, which lowers the worst frame, and a sprint's fade still ends before the
+/// next crossing. Measured as above: sprint_cells 0.0107 -> 0.0103 (worst frame 0.046 -> 0.029),
 /// iso_orbit 0.0035 -> 0.0032, terrain_descent 0.0090 -> 0.0082, terrain_walk 0.0137 ->
 /// 0.0131; the other crossing paths unchanged.
 pub const OUR_MIN_FADE_FRAMES: u32 = 3;

@@ -233,7 +233,7 @@ fn a_camera_brushing_a_wall_is_served_by_the_grid_probe() {
     assert!(eye < 0.3, "eye probe draws {eye} of the pixels");
     // Holes 0.0020 (lavapipe) and 0.0023 (SwiftShader), naive's 0.015 and 0.014: at faces
     // of 32 the far colonnade's pillars are narrower than a texel and alias, a texel off
-    // between probes; since fades end within half a cell the grid probe's pattern shows
+    // between probes; since fades are paced to half a cell the grid probe's pattern shows
     // sooner (0.0011 on SwiftShader with whole-cell fades, which left 10% to the eye).
     assert!(splat.hole_rate < 0.003, "{}", splat.hole_rate);
     assert!(splat.hole_rate * 4.0 < naive.hole_rate);
