@@ -57,12 +57,12 @@ fn fs(in: FullscreenOut) -> FsOut {
         colour = hazed(colour, length(p - e.start));
         // Reversed depth is about near / distance under perspective: dividing it pushes the
         // distance back by a fraction. An orthographic probe's quads are exact, so there are
-        // no gaps to fill: there the fill stays at the far plane.
-        if view.ortho == 0u {
-            let clip = view.view_proj * vec4(p, 1.0);
-            if clip.w > 0.0 {
-                depth = clamp(clip.z / clip.w / (1.0 + GAP_DEPTH), NDC_FAR, 1.0);
-            }
+        // no gaps to fill: there the fill stays at the far plane. (Written as one condition:
+        // with the clip position computed inside a nested branch, lavapipe's resident memory
+        // grew 67 MiB over 300 frames of the `texel-run soak` test.)
+        let clip = view.view_proj * vec4(p, 1.0);
+        if view.ortho == 0u && clip.w > 0.0 {
+            depth = clamp(clip.z / clip.w / (1.0 + GAP_DEPTH), NDC_FAR, 1.0);
         }
     }
     return FsOut(vec4(linear_to_srgb(colour), 1.0), key, depth);
