@@ -194,7 +194,8 @@ fn along_the_wall_the_hole_rate_stays_low() {
 
 /// A camera 0.35 above the ground puts its cell centre on the ground plane: a probe there
 /// sees the ground edge-on, so the eye probe filled most of the frame. Placement moves the
-/// grid probe a quarter cell up, where it sees the ground.
+/// grid probe up to the top of the cell (`texel_probes::placement::CLEARANCE`), where it
+/// sees the ground with short texels.
 #[test]
 fn a_low_camera_is_served_by_the_grid_probe() {
     let Some(r) = run(
@@ -207,15 +208,16 @@ fn a_low_camera_is_served_by_the_grid_probe() {
     };
     let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     let eye = splat.eye_fraction.expect("splat reports eye pixels");
-    // Measured: the eye probe draws 14% of the pixels (57% with the probe at the cell
-    // centre); splat mean shimmer 0.040 (0.061 at the centre), naive 0.109.
-    assert!(eye < 0.3, "eye probe draws {eye} of the pixels");
-    assert!(splat.shimmer.mean < 0.05, "{:?}", splat.shimmer);
-    assert!(splat.shimmer.mean * 2.0 < naive.shimmer.mean);
+    // Measured: the eye probe draws 5.0% of the pixels (SwiftShader 5.2%; 14% with the
+    // probe a quarter cell up, 57% at the cell centre); splat mean shimmer 0.0146
+    // (SwiftShader 0.0191; 0.040 a quarter cell up, 0.061 at the centre), naive 0.109 (0.163).
+    assert!(eye < 0.1, "eye probe draws {eye} of the pixels");
+    assert!(splat.shimmer.mean < 0.03, "{:?}", splat.shimmer);
+    assert!(splat.shimmer.mean * 5.0 < naive.shimmer.mean);
 }
 
-/// Walking 0.6 from a wall puts the cell centre 0.2 from it; placement keeps the probe a
-/// quarter cell from every surface, so the grid probe still sees along the wall.
+/// Walking 0.6 from a wall puts the cell centre 0.2 from it; placement keeps the probe
+/// 0.45 of a cell from every surface, so the grid probe still sees along the wall.
 #[test]
 fn a_camera_brushing_a_wall_is_served_by_the_grid_probe() {
     let Some(r) = run(
@@ -228,14 +230,13 @@ fn a_camera_brushing_a_wall_is_served_by_the_grid_probe() {
     };
     let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     let eye = splat.eye_fraction.expect("splat reports eye pixels");
-    // Measured: eye pixels 6.6% (40% with the probe at the cell centre), mean shimmer
-    // 0.011 (0.027).
-    assert!(eye < 0.3, "eye probe draws {eye} of the pixels");
-    // Holes 0.0020 (lavapipe) and 0.0023 (SwiftShader), naive's 0.015 and 0.014: at faces
-    // of 32 the far colonnade's pillars are narrower than a texel and alias, a texel off
-    // between probes; since fades are paced to half a cell the grid probe's pattern shows
-    // sooner (0.0011 on SwiftShader with whole-cell fades, which left 10% to the eye).
-    assert!(splat.hole_rate < 0.003, "{}", splat.hole_rate);
+    // Measured: eye pixels 2.7% (SwiftShader 2.5%; 6.6% with the probe a quarter cell
+    // from the wall, 40% at the cell centre), mean shimmer 0.0092 (0.011, 0.027).
+    assert!(eye < 0.1, "eye probe draws {eye} of the pixels");
+    // Holes 0.0013 on both drivers (0.0020 and 0.0023 with the probe a quarter cell from
+    // the wall), naive's 0.015 and 0.014: at faces of 32 the far colonnade's pillars are
+    // narrower than a texel and alias, a texel off between probes.
+    assert!(splat.hole_rate < 0.0025, "{}", splat.hole_rate);
     assert!(splat.hole_rate * 4.0 < naive.hole_rate);
 }
 
