@@ -59,15 +59,23 @@ const MAX_GROUPS: u32 = 65535u;
 // (two bits per side, k and 4 + k: see shade.wgsl), in texels. Toward a similar neighbour,
 // tight (grazing-scaled by the angle between the surface and the probe ray, camera-
 // independent). At a silhouette against farther geometry, exact: this texel occludes it, and
-// the farther quad reaches under this one. Against the sky, exact where the surface faces the
-// probe, a little more as it turns away (up to a quarter texel at grazing angles, where a
-// quad standing across the ray tilts away from the surface): a texel is the object's when its
-// centre ray meets it, so its square is already as often past the true edge as short of it,
-// and a fixed quarter texel more had grown every silhouette against the sky (faces of 128,
-// 320×180: coverage error on walk_cells 0.0251 -> 0.0224, wall_graze 0.0215 -> 0.0205;
-// exact everywhere, 0.0200 and 0.0169, opened the hills' crests: terrain_walk holes at faces
-// of 48 0.0035). Toward a nearer surface, a full texel, reaching under the occluder so no gap
-// opens between them when the camera moves off the probe origin.
+// the farther quad reaches under this one. Against the sky, exact: a texel is the object's
+// when its centre ray meets it, so its square is already as often past the true edge as
+// short of it. Only where the surface curves (`SIMILAR_CURVED`: a hill's crest, whose
+// silhouette rolls over the surface as the viewpoint moves) a little more as it turns away
+// (up to a quarter texel at grazing angles, where a quad standing across the ray tilts away
+// from the surface). Faces of 128, 320×180: a fixed quarter texel more had grown every
+// silhouette against the sky (coverage error on walk_cells 0.0251); grown by the angle
+// everywhere, walk_cells 0.0204, wall_graze 0.0180, dolly 0.0237 (naive 0.0176, 0.0119,
+// 0.0188); grown only where curved, 0.0183, 0.0157, 0.0213 (on flat surfaces by their tilt
+// along each side's axis, 0.0200, 0.0174, 0.0233: the growth lay along the grazing side of
+// every convex silhouette). Its cost: holes over the suite's paths 0.0006 -> 0.0009 (naive
+// 0.0029). Exact everywhere opened the hills' crests (terrain_walk holes at faces of 48,
+// 160×90: 0.0037; grown by the angle everywhere 0.0022, only where curved 0.0025). Toward
+// a nearer surface, a full texel,
+// reaching under the occluder so no gap opens between them when the camera moves off the
+// probe origin (sized as a similar neighbour where the two meet at one depth, a wall on a
+// floor: coverage error on occluder_pass 0.0158 -> 0.0161, walk_cells 0.0183 -> 0.0190).
 // Reaching one texel under a nearer surface covers the slivers the camera sees past an
 // occluder's edge from off the probe origin (measured: wall_graze eye pixels 32% -> 23%,
 // ortho_pan's 2% -> 1.4%), so the eye probe fills less. Half sizes are at most 2 (the splat
@@ -91,6 +99,9 @@ fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
     let c = max(cos_theta, 0.14);
     let tan_theta = sqrt(1.0 - c * c) / c;
     if code == 3u {
+        if (bits & SIMILAR_CURVED) == 0u {
+            return 0.5;
+        }
         return min(0.5 + 0.05 * tan_theta, 0.75);
     }
     return min(0.575 + 0.05 * tan_theta, 1.0);

@@ -300,6 +300,10 @@ fn light_texel(t: vec2<u32>) {
     var darken = false;
     var lighten = false;
     var similar = 0u;
+    // Whether a similar neighbour shows this surface flat here, or turning (short of a
+    // crease); a texel with neither counts as curved.
+    var flat = false;
+    var curved = false;
     // Depth step between neighbours on a surface tilted ~37° from the face plane.
     let tolerance = frame_texel_size(fr, d, n, ray) / length(ray) * 0.75;
     for (var k = 0u; k < 4u; k++) {
@@ -310,6 +314,12 @@ fn light_texel(t: vec2<u32>) {
         // against the sky; 00 a nearer surface, which this texel's quad reaches under.
         if nb.id == me.id && abs(nb.geo.w - d) <= tolerance {
             similar |= 1u << k;
+            let turn = dot(normal, nb.geo.xyz);
+            if turn >= FLAT_DOT {
+                flat = true;
+            } else if turn >= 0.7 {
+                curved = true;
+            }
         } else if nb.id == 0u {
             similar |= 17u << k;
         } else if nb.geo.w > d {
@@ -332,6 +342,9 @@ fn light_texel(t: vec2<u32>) {
                 darken = true;
             }
         }
+    }
+    if curved || !flat {
+        similar |= SIMILAR_CURVED;
     }
     var shift = 0.0;
     if darken {

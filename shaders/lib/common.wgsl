@@ -215,5 +215,11 @@ fn linear_to_srgb(c: vec3<f32>) -> vec3<f32> {
 
 // Draw lists (lib/lists.wgsl): the per-face counts before the entries, in u32s.
 const LIST_HEADER: u32 = 8u;
+// In a lit texel's neighbour bits (shade.wgsl; bits 0-7 are two per side): the surface
+// curves here (a similar neighbour's normal differs, short of a crease), so a silhouette
+// of it against the sky rolls as the viewpoint moves (cull.wgsl `half_size`).
+const SIMILAR_CURVED: u32 = 256u;
+// Neighbour normals closer than this are one flat surface.
+const FLAT_DOT: f32 = 0.99995;
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.
 const RUN_COLUMN: u32 = 0x10000u;

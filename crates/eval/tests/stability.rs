@@ -186,10 +186,12 @@ fn along_the_wall_the_hole_rate_stays_low() {
         return;
     };
     let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
-    // Measured: splat 0.0001 of pixels (grazing quads are stretched to close gaps), naive
-    // 0.0087 (thin geometry lost at low resolution). Bound at 0.002.
-    assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
-    assert!(splat.hole_rate < naive.hole_rate);
+    // Measured: splat 0.0029 of pixels (SwiftShader 0.0027), naive 0.0087 (thin geometry
+    // lost at low resolution). 0.0013 while flat surfaces' silhouettes against the sky grew
+    // by their angle (cull.wgsl `half_size`), at a coverage error of 0.0576 against today's
+    // 0.0525. At faces of 128 (the suite's) 0.0010.
+    assert!(splat.hole_rate < 0.004, "{}", splat.hole_rate);
+    assert!(splat.hole_rate * 2.0 < naive.hole_rate);
 }
 
 /// A camera 0.35 above the ground puts its cell centre on the ground plane: a probe there
@@ -360,9 +362,10 @@ fn terrain_walk_stays_well_below_naive() {
         return;
     };
     let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
-    // Measured at 48 on 160x90: splat 0.026 (max 0.081), naive 0.126 (4.8x); holes 0.0019
-    // (0.0018 on SwiftShader; naive's 0.0050: at this size a texel is big, and where a hill's
-    // crest falls short of its texel's square against the sky, the sky shows).
+    // Measured at 48 on 160x90: splat 0.029 (max 0.066), naive 0.126; holes 0.0025 on both
+    // drivers (naive's 0.0050: at this size a texel is big, and where a hill's crest falls
+    // short of its texel's square against the sky, the sky shows; 0.0022 while flat
+    // surfaces' silhouettes against the sky grew too, 0.0037 with the crests' exact).
     // Ask for 3x. (The issue asks for 10x: not met yet, see the closing note.)
     assert!(
         splat.shimmer.mean * 3.0 < naive.shimmer.mean,
