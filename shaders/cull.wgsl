@@ -11,7 +11,8 @@
 
 struct Splat {
     // xyz: corner; c0.w key + 1 of the first texel, c1.w packed sRGB colour, c2.w role |
-    // texels << 8 | SPLAT_COLUMN for a column run, c3.w how far the quad reaches past the
+    // texels << 8 | SPLAT_COLUMN for a column run | the owner-miss bits of its corners
+    // (`owner_miss_bits`), c3.w how far the quad reaches past the
     // centres of its first and last texel along the run, in texels, halved (pack2x16unorm) (all
     // bitcast).
     c0: vec4<f32>,
@@ -113,6 +114,48 @@ fn quad_half(bits: u32, k: u32, cos_theta: f32, exact: bool) -> f32 {
         return 0.5;
     }
     return half_size(bits, k, cos_theta);
+}
+
+// Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
+fn owner_misses(role: u32, p: vec3<f32>) -> bool {
+    let owner = select(ROLE_GRID, ROLE_PREVIOUS, role == ROLE_GRID);
+    for (var s = 1u; s < 3u; s++) {
+        let v = view.slots[s];
+        if v.role != owner {
+            continue;
+        }
+        let fr = slot_frame(v);
+        let hit = frame_locate(fr, p);
+        if (v.draw_mask & (1u << hit.face)) == 0u || any(abs(hit.uv) > vec2(1.0)) {
+            return true;
+        }
+        let t = texel_of_uv(hit.uv, v.n);
+        if load_id(s, t, hit.face) == 0u {
+            return false;
+        }
+        let dn = load_geo(s, t, hit.face).w;
+        return dn < hit.depth || frame_same_surface(fr, hit.depth, dn, v.n);
+    }
+    return true;
+}
+
+// While a crossfade runs (our schedule), bit i (from `SPLAT_OWNER_MISSES`) set where the
+// stable probe that owns a pixel cannot see corner i of a stable probe's quad (`corners`),
+// for the splat pass's kept-behind pixels. Decided here once per quad rather than in the
+// splat's vertex stage (measured on walk_cells at 1280×720, faces of 128, lavapipe: the
+// vertex stage's test cost about 7 of a fade frame's 19 ms of splatting).
+fn owner_miss_bits(role: u32, corners: array<vec3<f32>, 4>) -> u32 {
+    if view.schedule != 0u || role == ROLE_EYE || view.fade_t >= 1.0 {
+        return 0u;
+    }
+    // Unrolled: SwiftShader's compiler has choked on loops around and inside `emit`.
+    let b = vec4<u32>(
+        select(0u, 1u, owner_misses(role, corners[0])),
+        select(0u, 2u, owner_misses(role, corners[1])),
+        select(0u, 4u, owner_misses(role, corners[2])),
+        select(0u, 8u, owner_misses(role, corners[3])),
+    );
+    return (b.x | b.y | b.z | b.w) << SPLAT_OWNER_MISSES;
 }
 
 // Every texel of the faces in `work` (the paper schedule; ours with runs off).
@@ -242,11 +285,17 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
-    out.c0 = vec4(frame_point(fr, face, vec2(left, top), d), bitcast<f32>(key));
-    out.c1 = vec4(frame_point(fr, face, vec2(right, top), d), bitcast<f32>(colour));
-    let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column);
-    out.c2 = vec4(frame_point(fr, face, vec2(right, bottom), d), bitcast<f32>(shape));
-    out.c3 = vec4(frame_point(fr, face, vec2(left, bottom), d), bitcast<f32>(pack2x16unorm(0.5 * vec2(start_half, end_half))));
+    let corners = array<vec3<f32>, 4>(
+        frame_point(fr, face, vec2(left, top), d),
+        frame_point(fr, face, vec2(right, top), d),
+        frame_point(fr, face, vec2(right, bottom), d),
+        frame_point(fr, face, vec2(left, bottom), d),
+    );
+    let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, corners);
+    out.c0 = vec4(corners[0], bitcast<f32>(key));
+    out.c1 = vec4(corners[1], bitcast<f32>(colour));
+    out.c2 = vec4(corners[2], bitcast<f32>(shape));
+    out.c3 = vec4(corners[3], bitcast<f32>(pack2x16unorm(0.5 * vec2(start_half, end_half))));
     let index = atomicAdd(&args.instance_count, 1u);
     if index < arrayLength(&splats) {
         splats[index] = out;

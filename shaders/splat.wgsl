@@ -142,29 +142,6 @@ struct FadeFsOut {
     @builtin(frag_depth) depth: f32,
 }
 
-// Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
-fn owner_misses(role: u32, p: vec3<f32>) -> bool {
-    let owner = select(ROLE_GRID, ROLE_PREVIOUS, role == ROLE_GRID);
-    for (var s = 1u; s < 3u; s++) {
-        let v = view.slots[s];
-        if v.role != owner {
-            continue;
-        }
-        let fr = slot_frame(v);
-        let hit = frame_locate(fr, p);
-        if (v.draw_mask & (1u << hit.face)) == 0u || any(abs(hit.uv) > vec2(1.0)) {
-            return true;
-        }
-        let t = texel_of_uv(hit.uv, v.n);
-        if load_id(s, t, hit.face) == 0u {
-            return false;
-        }
-        let dn = load_geo(s, t, hit.face).w;
-        return dn < hit.depth || frame_same_surface(fr, hit.depth, dn, v.n);
-    }
-    return true;
-}
-
 // The depth of a crossfade's fragment at depth `z` (see `FadeFsOut`); `misses` the
 // interpolated `FadeOut::owner_misses`.
 fn fade_depth(z: f32, handed_over: bool, misses: f32) -> f32 {
@@ -209,15 +186,15 @@ struct FadeOut {
     @location(5) owner_misses: f32,
 }
 
-// `owner_misses` at corner `vi` of splat `ii`, as 1 or 0 (0 under the paper's schedule,
-// which discards every handed-over pixel).
+// `owner_misses` at corner `vi` of splat `ii`, as 1 or 0, as the cull pass decided it
+// (cull.wgsl `owner_miss_bits`; 0 under the paper's schedule, which discards every
+// handed-over pixel).
 fn corner_owner_misses(vi: u32, ii: u32) -> f32 {
     if ii >= arrayLength(&splats) || view.schedule == 1u {
         return 0.0;
     }
-    let s = splats[ii];
-    let role = bitcast<u32>(s.c2.w) & 0xffu;
-    return select(0.0, 1.0, role != ROLE_EYE && owner_misses(role, corner_world(s, vi)));
+    let shape = bitcast<u32>(splats[ii].c2.w);
+    return f32((shape >> (SPLAT_OWNER_MISSES + vi)) & 1u);
 }
 
 fn splat_world(vi: u32, ii: u32) -> vec3<f32> {

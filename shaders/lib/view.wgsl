@@ -64,6 +64,9 @@ const ROLE_PREVIOUS: u32 = 2u;
 const ROLE_NONE: u32 = 3u;
 // In a splat's shape word (role | texels << 8): the run goes down a column.
 const SPLAT_COLUMN: u32 = 0x80000000u;
+// In a splat's shape word: bits 16-19, the owner of a crossfade's pixel cannot see corner
+// 0-3 (cull.wgsl `owner_miss_bits`).
+const SPLAT_OWNER_MISSES: u32 = 16u;
 
 // Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
 // cells below fade_t, the previous probe the rest.
