@@ -73,9 +73,8 @@ const MAX_GROUPS: u32 = 65535u;
 // every convex silhouette). Its cost: holes over the suite's paths 0.0006 -> 0.0009 (naive
 // 0.0029). Exact everywhere opened the hills' crests (terrain_walk holes at faces of 48,
 // 160×90: 0.0037; grown by the angle everywhere 0.0022, only where curved 0.0025). Toward
-// a nearer surface, a full texel,
-// reaching under the occluder so no gap opens between them when the camera moves off the
-// probe origin (sized as a similar neighbour where the two meet at one depth, a wall on a
+// a nearer surface, a full texel, reaching under the occluder so no gap opens between them
+// when the camera moves off the probe origin (sized as a similar neighbour where the two meet at one depth, a wall on a
 // floor: coverage error on occluder_pass 0.0158 -> 0.0161, walk_cells 0.0183 -> 0.0190).
 // Reaching one texel under a nearer surface covers the slivers the camera sees past an
 // occluder's edge from off the probe origin (measured: wall_graze eye pixels 32% -> 23%,
@@ -140,20 +139,21 @@ fn owner_misses(role: u32, p: vec3<f32>) -> bool {
 }
 
 // While a crossfade runs (our schedule), bit i (from `SPLAT_OWNER_MISSES`) set where the
-// stable probe that owns a pixel cannot see corner i of a stable probe's quad (`corners`),
+// stable probe that owns a pixel cannot see corner i of a stable probe's quad (`c0`..`c3`),
 // for the splat pass's kept-behind pixels. Decided here once per quad rather than in the
 // splat's vertex stage (measured on walk_cells at 1280×720, faces of 128, lavapipe: the
 // vertex stage's test cost about 7 of a fade frame's 19 ms of splatting).
-fn owner_miss_bits(role: u32, corners: array<vec3<f32>, 4>) -> u32 {
+fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: vec3<f32>) -> u32 {
     if view.schedule != 0u || role == ROLE_EYE || view.fade_t >= 1.0 {
         return 0u;
     }
-    // Unrolled: SwiftShader's compiler has choked on loops around and inside `emit`.
+    // Unrolled, like `listed`'s dispatch: SwiftShader's compiler took gigabytes on a loop
+    // around `emit` (a loop in it was not tried).
     let b = vec4<u32>(
-        select(0u, 1u, owner_misses(role, corners[0])),
-        select(0u, 2u, owner_misses(role, corners[1])),
-        select(0u, 4u, owner_misses(role, corners[2])),
-        select(0u, 8u, owner_misses(role, corners[3])),
+        select(0u, 1u, owner_misses(role, c0)),
+        select(0u, 2u, owner_misses(role, c1)),
+        select(0u, 4u, owner_misses(role, c2)),
+        select(0u, 8u, owner_misses(role, c3)),
     );
     return (b.x | b.y | b.z | b.w) << SPLAT_OWNER_MISSES;
 }
@@ -285,17 +285,15 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
-    let corners = array<vec3<f32>, 4>(
-        frame_point(fr, face, vec2(left, top), d),
-        frame_point(fr, face, vec2(right, top), d),
-        frame_point(fr, face, vec2(right, bottom), d),
-        frame_point(fr, face, vec2(left, bottom), d),
-    );
-    let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, corners);
-    out.c0 = vec4(corners[0], bitcast<f32>(key));
-    out.c1 = vec4(corners[1], bitcast<f32>(colour));
-    out.c2 = vec4(corners[2], bitcast<f32>(shape));
-    out.c3 = vec4(corners[3], bitcast<f32>(pack2x16unorm(0.5 * vec2(start_half, end_half))));
+    let c0 = frame_point(fr, face, vec2(left, top), d);
+    let c1 = frame_point(fr, face, vec2(right, top), d);
+    let c2 = frame_point(fr, face, vec2(right, bottom), d);
+    let c3 = frame_point(fr, face, vec2(left, bottom), d);
+    let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, c0, c1, c2, c3);
+    out.c0 = vec4(c0, bitcast<f32>(key));
+    out.c1 = vec4(c1, bitcast<f32>(colour));
+    out.c2 = vec4(c2, bitcast<f32>(shape));
+    out.c3 = vec4(c3, bitcast<f32>(pack2x16unorm(0.5 * vec2(start_half, end_half))));
     let index = atomicAdd(&args.instance_count, 1u);
     if index < arrayLength(&splats) {
         splats[index] = out;

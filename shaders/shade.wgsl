@@ -266,6 +266,9 @@ fn needs_light(t: vec2<u32>) -> bool {
     return true;
 }
 
+// Similar neighbours' normals at least this close are one flat surface (`SIMILAR_CURVED`).
+const FLAT_DOT: f32 = 0.99995;
+
 // Lights one texel: lights and shadows, posterization, outlines, similar-neighbour bits.
 fn light_texel(t: vec2<u32>) {
     let n = sf.n;

@@ -180,17 +180,16 @@ struct FadeOut {
     @location(2) @interpolate(flat) run: u32,
     @location(3) along: f32,
     @location(4) world: vec3<f32>,
-    // 1 where the stable probe that owns the pixel cannot see the quad (`owner_misses`,
-    // decided at the corners: the vertex stage runs four times a quad, the fragment stage
-    // for every pixel), 0 where it can.
+    // 1 where the stable probe that owns the pixel cannot see the quad (cull.wgsl
+    // `owner_misses`, decided at the corners once per quad), 0 where it can.
     @location(5) owner_misses: f32,
 }
 
-// `owner_misses` at corner `vi` of splat `ii`, as 1 or 0, as the cull pass decided it
-// (cull.wgsl `owner_miss_bits`; 0 under the paper's schedule, which discards every
-// handed-over pixel).
+// Whether the probe that owns a crossfade's pixel cannot see corner `vi` of splat `ii`, as
+// 1 or 0, as the cull pass decided it (cull.wgsl `owner_miss_bits`; always 0 under the
+// paper's schedule, which discards every handed-over pixel).
 fn corner_owner_misses(vi: u32, ii: u32) -> f32 {
-    if ii >= arrayLength(&splats) || view.schedule == 1u {
+    if ii >= arrayLength(&splats) {
         return 0.0;
     }
     let shape = bitcast<u32>(splats[ii].c2.w);

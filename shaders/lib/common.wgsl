@@ -219,7 +219,5 @@ const LIST_HEADER: u32 = 8u;
 // curves here (a similar neighbour's normal differs, short of a crease), so a silhouette
 // of it against the sky rolls as the viewpoint moves (cull.wgsl `half_size`).
 const SIMILAR_CURVED: u32 = 256u;
-// Neighbour normals closer than this are one flat surface.
-const FLAT_DOT: f32 = 0.99995;
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.
 const RUN_COLUMN: u32 = 0x10000u;

@@ -889,11 +889,11 @@ mod tests {
     use super::*;
     use glam::Vec2;
 
-    #[test]
-    fn ranges_outside_a_frustum_are_skipped_and_neighbours_merge() {
+    /// A view from the origin down −Z (far plane at 100) and a range of one triangle at
+    /// `first` whose box is 2 units wide around `z` on the Z axis.
+    fn down_z() -> (glam::Mat4, impl Fn(u32, f32) -> DrawRange) {
         let mut camera = crate::input::Camera::looking(Vec3::ZERO, -Vec3::Z);
         camera.far = 100.0;
-        let view_proj = camera.projection(1.0) * camera.view();
         let r = |first, z: f32| DrawRange {
             first,
             count: 3,
@@ -903,6 +903,12 @@ mod tests {
             max_lod: 0,
             spacing: 0.0,
         };
+        (camera.projection(1.0) * camera.view(), r)
+    }
+
+    #[test]
+    fn ranges_outside_a_frustum_are_skipped_and_neighbours_merge() {
+        let (view_proj, r) = down_z();
         // In front, in front, behind, beyond the far plane, in front.
         let ranges = [r(0, -5.0), r(3, -9.0), r(6, 5.0), r(9, -200.0), r(12, -3.0)];
         assert_eq!(
@@ -913,18 +919,7 @@ mod tests {
 
     #[test]
     fn a_probe_draws_its_nearest_ranges_first() {
-        let mut camera = crate::input::Camera::looking(Vec3::ZERO, -Vec3::Z);
-        camera.far = 100.0;
-        let view_proj = camera.projection(1.0) * camera.view();
-        let r = |first, z: f32| DrawRange {
-            first,
-            count: 3,
-            min: Vec3::new(-1.0, -1.0, z - 1.0),
-            max: Vec3::new(1.0, 1.0, z + 1.0),
-            lod: 0,
-            max_lod: 0,
-            spacing: 0.0,
-        };
+        let (view_proj, r) = down_z();
         // Buffer order far, nearest, next nearest, middle: drawn nearest first, the three
         // in buffer order merged.
         let ranges = [r(0, -30.0), r(3, -3.0), r(6, -3.5), r(9, -9.0)];
