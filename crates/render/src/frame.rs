@@ -128,6 +128,8 @@ pub struct Renderer {
     runs_stale: [FaceMask; 3],
     pub(crate) cull: CullPass,
     splat: SplatPass,
+    /// Whether every splat pipeline has been drawn with once (`SplatPass::warm_up`).
+    splat_warm: bool,
     background: BackgroundPass,
     moving: MovingPass,
     sprites: SpritePass,
@@ -172,6 +174,7 @@ impl Renderer {
             runs_stale: [FaceMask::EMPTY; 3],
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
+            splat_warm: false,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
             moving: MovingPass::new(d, colour.remove_srgb_suffix())?,
             sprites: SpritePass::new(d, colour.remove_srgb_suffix())?,
@@ -372,6 +375,10 @@ impl Renderer {
                     .any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
                 stages.run("splat", |enc| {
                     let mut pass = begin_draw(enc, draw_target, screen, true);
+                    if !self.splat_warm {
+                        self.splat.warm_up(&mut pass, &splat_binds);
+                        self.splat_warm = true;
+                    }
                     self.splat.draw(&mut pass, &splat_binds, list, runs, fade);
                 });
                 if let Some(binds) = &moving {
