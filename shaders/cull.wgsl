@@ -90,21 +90,20 @@ const NEARER_HALF: f32 = 1.5;
 
 fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
     let code = ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
-    if code == 2u {
-        return 0.5;
-    }
     if code == 0u {
         return NEARER_HALF;
     }
     let c = max(cos_theta, 0.14);
     let tan_theta = sqrt(1.0 - c * c) / c;
-    if code == 3u {
-        if (bits & SIMILAR_CURVED) == 0u {
-            return 0.5;
-        }
-        return min(0.5 + 0.05 * tan_theta, 0.75);
+    if code == 1u {
+        return min(0.575 + 0.05 * tan_theta, 1.0);
     }
-    return min(0.575 + 0.05 * tan_theta, 1.0);
+    // A silhouette side ends where the shade pass found the edge (`SIMILAR_EDGE_AT`).
+    let edge = f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
+    if code == 3u && (bits & SIMILAR_CURVED) != 0u {
+        return edge + min(0.05 * tan_theta, 0.25);
+    }
+    return edge;
 }
 
 // `half_size`, or exactly half a texel on every side (`exact`: an orthographic probe's).
@@ -264,31 +263,47 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     if texels > 1u {
         last_bits = u32(load_lit(slot, last, face).a);
     }
-    // The more grazing end sizes the run's sides. The first texel's bits give the sides the
-    // run shares and its start; the last texel's give its end.
+    // The more grazing end sizes the run's sides. The first texel's bits give the run's
+    // start and its sides' kinds (a run's texels share them), the last texel's its end; each
+    // side runs from where the first texel's edge lies to where the last texel's does
+    // (silhouette edges: `half_size`), so a straight silhouette along a run is met at both
+    // ends.
     let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
     let exact = fr.half > 0.0;
     let h = 2.0 / f32(s.n);
     // Sides 0-3 are left, right, up, down: the run's end side comes from its last texel.
-    var end_bits = bits;
+    // Its end side's kind, and every side's edge and the curve at the last texel, from that
+    // texel.
+    var last_sides = (bits & 0xccu) | (last_bits & ~0xffu) | (last_bits & 0x22u);
     if column {
-        end_bits = (bits & 0x33u) | (last_bits & 0x88u);
-    } else {
-        end_bits = (bits & 0xccu) | (last_bits & 0x22u);
+        last_sides = (bits & 0x33u) | (last_bits & ~0xffu) | (last_bits & 0x88u);
     }
     let start_half = quad_half(bits, select(0u, 2u, column), cos_theta, exact);
-    let end_half = quad_half(end_bits, select(1u, 3u, column), cos_theta, exact);
-    let left = uv.x - quad_half(bits, 0u, cos_theta, exact) * h;
-    let right = uv_last.x + quad_half(end_bits, 1u, cos_theta, exact) * h;
-    let top = uv.y - quad_half(bits, 2u, cos_theta, exact) * h;
-    let bottom = uv_last.y + quad_half(end_bits, 3u, cos_theta, exact) * h;
+    let end_half = quad_half(last_sides, select(1u, 3u, column), cos_theta, exact);
+    // Offsets (in face coordinates) of the quad's sides at its first and last texel.
+    let left = vec2(quad_half(bits, 0u, cos_theta, exact), quad_half(last_sides, 0u, cos_theta, exact)) * h;
+    let right = vec2(quad_half(bits, 1u, cos_theta, exact), quad_half(last_sides, 1u, cos_theta, exact)) * h;
+    let top = vec2(quad_half(bits, 2u, cos_theta, exact), quad_half(last_sides, 2u, cos_theta, exact)) * h;
+    let bottom = vec2(quad_half(bits, 3u, cos_theta, exact), quad_half(last_sides, 3u, cos_theta, exact)) * h;
+    // Corners 0-3: top-left, top-right, bottom-right, bottom-left; a row run's first texel
+    // holds corners 0 and 3, a column run's 0 and 1.
+    var q0 = vec2(uv.x - left.x, uv.y - top.x);
+    var q1 = vec2(uv_last.x + right.y, uv.y - top.y);
+    var q2 = vec2(uv_last.x + right.y, uv_last.y + bottom.y);
+    var q3 = vec2(uv.x - left.x, uv.y + bottom.x);
+    if column {
+        q0 = vec2(uv.x - left.x, uv.y - top.x);
+        q1 = vec2(uv.x + right.x, uv.y - top.x);
+        q2 = vec2(uv_last.x + right.y, uv_last.y + bottom.y);
+        q3 = vec2(uv_last.x - left.y, uv_last.y + bottom.y);
+    }
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
-    let c0 = frame_point(fr, face, vec2(left, top), d);
-    let c1 = frame_point(fr, face, vec2(right, top), d);
-    let c2 = frame_point(fr, face, vec2(right, bottom), d);
-    let c3 = frame_point(fr, face, vec2(left, bottom), d);
+    let c0 = frame_point(fr, face, q0, d);
+    let c1 = frame_point(fr, face, q1, d);
+    let c2 = frame_point(fr, face, q2, d);
+    let c3 = frame_point(fr, face, q3, d);
     let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, c0, c1, c2, c3);
     out.c0 = vec4(c0, bitcast<f32>(key));
     out.c1 = vec4(c1, bitcast<f32>(colour));

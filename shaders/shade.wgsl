@@ -56,7 +56,7 @@ var<private> sf: ShadeFace;
 @group(0) @binding(4) var albedo_tex: texture_2d_array<f32>;
 // Normal-mapped normals (pack4x8snorm, w = 1), 0 where the geometric normal lights the texel.
 @group(0) @binding(11) var shading_tex: texture_2d_array<u32>;
-@group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba16float, write>;
+@group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba32float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<storage, read> points: array<PointLight>;
 // Work of this frame's jobs: the texels lit (WORK_SHADED), each slot's queue length (from
@@ -245,7 +245,7 @@ fn needs_light(t: vec2<u32>) -> bool {
     let n = sf.n;
     let me = load(sf.face, t);
     if me.id == 0u {
-        textureStore(lit_out, t, sf.face, vec4(posterize(globals.sky.rgb, globals.bands, 0.0), 0.0));
+        textureStore(lit_out, t, sf.face, vec4(half_precision(posterize(globals.sky.rgb, globals.bands, 0.0)), 0.0));
         return false;
     }
     if sf.view_cull != 0u {
@@ -266,6 +266,58 @@ fn needs_light(t: vec2<u32>) -> bool {
     return true;
 }
 
+// A lit colour rounded to a half float's 10 bits of mantissa: posterization fixes the
+// lightness only, and runs.wgsl joins texels of exactly one colour, so hue and chroma are
+// rounded as they were when the lit texture held half floats (its alpha now needs more bits
+// than a half's). By bits: pack2x16float needs a capability not every device has.
+fn half_precision(c: vec3<f32>) -> vec3<f32> {
+    return bitcast<vec3<f32>>((bitcast<vec3<u32>>(c) + vec3(0x1000u)) & vec3(0xffffe000u));
+}
+
+// Bisection steps of the silhouette edges' search (`edge_ray`): the edge to a sixteenth of a texel.
+const EDGE_STEPS: u32 = 4u;
+// Every side's edge half a texel out (`SIMILAR_EDGE_AT`: c = 4).
+const EDGES_UNKNOWN: u32 = 0x6dbu << SIMILAR_EDGE_AT;
+
+// Where each silhouette side's edge lies (`SIMILAR_EDGE_AT`): a texel belongs to its surface
+// when its centre ray meets it, so a side whose neighbour sees the sky or a farther surface
+// has its edge somewhere between the two centres, and a quad that ends half a texel out
+// rounds every straight silhouette (a stone's top, the horizon) the same way for as long as
+// the probe stays. Rays between the centres, cast against the BVH, find it by bisection: a
+// ray that meets something before the far side's depth (halfway to farther geometry; for
+// the sky, four times this texel's depth) is still on this side. Only for surfaces in the
+// BVH (`FLAG_IN_BVH`: they cast shadows and do not move) and probes that are cubes (an
+// orthographic probe's quads are exact squares); elsewhere half a texel. `light_texel` casts
+// these rays in its shadow rays' loop.
+struct EdgeRay {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+    reach: f32,
+    // Whether the ray is cast at all (a side that is no silhouette is not searched).
+    casts: bool,
+}
+
+// Ray `j` of the edge search of texel `t` (EDGE_STEPS per side, the bisection's current
+// middle in `lo`, `hi`; `reach` the side's far limit, `edge_reach`).
+fn edge_ray(uv: vec2<f32>, d: f32, bits: u32, j: u32, lo: f32, hi: f32, reach: f32) -> EdgeRay {
+    let fr = face_frame();
+    // Rays start halfway to the surface (nothing nearer lies on this texel's ray, and the
+    // traversal skips the boxes before it).
+    let skip = 0.5 * d;
+    let k = j / EDGE_STEPS;
+    let q = uv + vec2<f32>(NEIGHBOURS[k]) * (0.5 * (lo + hi) * 2.0 / f32(sf.n));
+    let dir = frame_ray(fr, sf.face, q);
+    return EdgeRay(fr.origin + dir * skip, dir, reach - skip, ((bits >> (4u + k)) & 1u) != 0u);
+}
+
+// The far limit of side `k`'s edge search (see `edge_ray`).
+fn edge_reach(t: vec2<u32>, d: f32, bits: u32, k: u32) -> f32 {
+    if ((bits >> k) & 1u) == 0u {
+        return 0.5 * (d + neighbour(t, NEIGHBOURS[k]).geo.w);
+    }
+    return 4.0 * d;
+}
+
 // Similar neighbours' normals at least this close are one flat surface (`SIMILAR_CURVED`).
 const FLAT_DOT: f32 = 0.99995;
 
@@ -281,23 +333,6 @@ fn light_texel(t: vec2<u32>) {
     let normal = me.geo.xyz;
     let alb = textureLoad(albedo_tex, t, sf.face, 0);
     let flags = u32(round(alb.a * 255.0));
-    var colour: vec3<f32>;
-    if (flags & FLAG_EMISSIVE) != 0u {
-        colour = objects[me.id - 1u].emissive;
-    } else {
-        // A texel's point is interpolated across its triangle by the rasterizer, a few
-        // hundredths of a texel off the surface far from the probe (more on some drivers:
-        // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow
-        // rays start a tenth of a texel off, and never nearer than the screen's offset.
-        let offset = max(SHADOW_OFFSET, 0.1 * frame_texel_size(fr, d, n, ray));
-        let shading = textureLoad(shading_tex, t, sf.face, 0).r;
-        var lit_normal = normal;
-        if shading != 0u {
-            lit_normal = normalize(unpack4x8snorm(shading).xyz);
-        }
-        colour = alb.rgb * lighting(p, lit_normal, offset);
-    }
-
     // Outlines and similar-neighbour bits from the four neighbours.
     let facing = dot(normal, -normalize(ray));
     var darken = false;
@@ -349,13 +384,86 @@ fn light_texel(t: vec2<u32>) {
     if curved || !flat {
         similar |= SIMILAR_CURVED;
     }
+
+    // Lights and shadows, then the silhouette edges' search: one loop, one call of the BVH
+    // traversal (every call site is a copy of it in the compiled shader: with the edge
+    // search's own, lavapipe took 4.8 s longer to build the pipelines).
+    let emissive = (flags & FLAG_EMISSIVE) != 0u;
+    // A texel's point is interpolated across its triangle by the rasterizer, a few
+    // hundredths of a texel off the surface far from the probe (more on some drivers:
+    // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow rays
+    // start a tenth of a texel off, and never nearer than the screen's offset.
+    let offset = max(SHADOW_OFFSET, 0.1 * frame_texel_size(fr, d, n, ray));
+    let shading = textureLoad(shading_tex, t, sf.face, 0).r;
+    var lit_normal = normal;
+    if shading != 0u {
+        lit_normal = normalize(unpack4x8snorm(shading).xyz);
+    }
+    let start = p + lit_normal * offset;
+    var light = globals.ambient.rgb;
+    let lights = select(light_count(), 0u, emissive);
+    let search = fr.half <= 0.0 && (similar & 0xf0u) != 0u && (flags & FLAG_IN_BVH) != 0u;
+    var edges = EDGES_UNKNOWN;
+    var lo = 0.0;
+    var hi = 1.0;
+    var reach = 0.0;
+    for (var i = 0u; i < lights + select(0u, 4u * EDGE_STEPS, search); i++) {
+        var origin = start;
+        var dir: vec3<f32>;
+        var t_max: f32;
+        var r: LightRay;
+        let j = i - lights;
+        if i < lights {
+            r = light_ray(i, p);
+            if dot(lit_normal, r.dir) <= 0.0 || r.reach <= 0.0 {
+                continue;
+            }
+            dir = r.dir;
+            t_max = light_reach(r, offset);
+        } else {
+            if j % EDGE_STEPS == 0u {
+                lo = 0.0;
+                hi = 1.0;
+                reach = edge_reach(t, d, similar, j / EDGE_STEPS);
+            }
+            let e = edge_ray(uv, d, similar, j, lo, hi, reach);
+            if !e.casts {
+                continue;
+            }
+            origin = e.origin;
+            dir = e.dir;
+            t_max = e.reach;
+        }
+        let hit = bvh_any_hit(origin, dir, t_max);
+        if i < lights {
+            if !hit {
+                light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
+            }
+            continue;
+        }
+        if hit {
+            lo = 0.5 * (lo + hi);
+        } else {
+            hi = 0.5 * (lo + hi);
+        }
+        if j % EDGE_STEPS == EDGE_STEPS - 1u {
+            let at = SIMILAR_EDGE_AT + 3u * (j / EDGE_STEPS);
+            let c = u32(clamp(round(4.0 * (lo + hi)), 1.0, 8.0));
+            edges = (edges & ~(7u << at)) | ((c - 1u) << at);
+        }
+    }
+    similar |= edges;
+    var colour = alb.rgb * light;
+    if emissive {
+        colour = objects[me.id - 1u].emissive;
+    }
     var shift = 0.0;
     if darken {
         shift = -1.0;
     } else if lighten {
         shift = 1.0;
     }
-    textureStore(lit_out, t, sf.face, vec4(posterize(colour, globals.bands, shift), f32(similar)));
+    textureStore(lit_out, t, sf.face, vec4(half_precision(posterize(colour, globals.bands, shift)), f32(similar)));
     // The cull pass draws exactly the eye texels lit this frame.
     if sf.view_cull != 0u {
         list_push(sf.face, n, t);

@@ -201,6 +201,8 @@ const FLAG_OUTLINED: u32 = 1u;
 const FLAG_EMISSIVE: u32 = 2u;
 // A terrain, whose index is flags >> 8 (only the low 8 bits reach the albedo target).
 const FLAG_TERRAIN: u32 = 4u;
+// Its triangles are in the static BVH (crates/render/src/gpu_scene.rs `FLAG_IN_BVH`).
+const FLAG_IN_BVH: u32 = 16u;
 
 // --- splat keys: a dense index over (slot, face, texel) with faces of `max_n` texels ---
 
@@ -219,5 +221,10 @@ const LIST_HEADER: u32 = 8u;
 // curves here (a similar neighbour's normal differs, short of a crease), so a silhouette
 // of it against the sky rolls as the viewpoint moves (cull.wgsl `half_size`).
 const SIMILAR_CURVED: u32 = 256u;
+// In a lit texel's neighbour bits: from this bit, three per side (left, right, up, down),
+// where a silhouette side's edge crosses the line to that neighbour's centre, c − 1 for c/8
+// of a texel from this texel's centre (shade.wgsl `edge_ray`; 3, half a texel,
+// where it is not searched). The bits stay below 2^24, exact in the lit texture's f32 alpha.
+const SIMILAR_EDGE_AT: u32 = 9u;
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.
 const RUN_COLUMN: u32 = 0x10000u;

@@ -23,8 +23,8 @@ struct FaceData {
     geo: Vec<[f32; 4]>,
     ids: Vec<u32>,
     albedo: Vec<[u8; 4]>,
-    /// The lit colour's RGB as half-float bits (compared exactly).
-    lit: Vec<[u16; 3]>,
+    /// The lit colour's RGB as float bits (compared exactly).
+    lit: Vec<[u32; 3]>,
 }
 
 fn read_face(h: &Harness, slot: &SlotTextures, face: u32) -> FaceData {
@@ -33,9 +33,8 @@ fn read_face(h: &Harness, slot: &SlotTextures, face: u32) -> FaceData {
     let geo = read(&slot.geo, 16);
     let ids = read(&slot.ids, 4);
     let albedo = read(&slot.albedo, 4);
-    let lit = read(&slot.lit, 8);
+    let lit = read(&slot.lit, 16);
     let f32_at = |b: &[u8], i: usize| f32::from_le_bytes([b[i], b[i + 1], b[i + 2], b[i + 3]]);
-    let u16_at = |b: &[u8], i: usize| u16::from_le_bytes([b[i], b[i + 1]]);
     FaceData {
         geo: (0..ids.len() / 4)
             .map(|i| [0, 1, 2, 3].map(|k| f32_at(&geo, 16 * i + 4 * k)))
@@ -48,32 +47,23 @@ fn read_face(h: &Harness, slot: &SlotTextures, face: u32) -> FaceData {
             .chunks_exact(4)
             .map(|b| [b[0], b[1], b[2], b[3]])
             .collect(),
-        lit: (0..lit.len() / 8)
-            .map(|i| [0, 1, 2].map(|k| u16_at(&lit, 8 * i + 2 * k)))
+        lit: (0..lit.len() / 16)
+            .map(|i| [0, 1, 2].map(|k| f32_at(&lit, 16 * i + 4 * k).to_bits()))
             .collect(),
     }
 }
 
-/// Half-float bits to f32 (for messages only).
-fn half(bits: u16) -> f32 {
-    let sign = if bits >> 15 == 0 { 1.0 } else { -1.0 };
-    let exp = i32::from((bits >> 10) & 31);
-    let mant = f32::from(bits & 1023);
-    if exp == 0 {
-        sign * mant * 2f32.powi(-24)
-    } else {
-        sign * (1.0 + mant / 1024.0) * 2f32.powi(exp - 15)
-    }
-}
-
 /// Colour → (texel count, one example texel's description).
-type Census = BTreeMap<[u16; 3], (usize, String)>;
+type Census = BTreeMap<[u32; 3], (usize, String)>;
 
 fn describe(census: &Census) -> String {
     census
         .iter()
         .map(|(c, (count, example))| {
-            format!("\n    {:.4?} × {count} (e.g. {example})", c.map(half))
+            format!(
+                "\n    {:.4?} × {count} (e.g. {example})",
+                c.map(f32::from_bits)
+            )
         })
         .collect()
 }

@@ -168,6 +168,9 @@ pub const FLAG_TERRAIN: u32 = 4;
 /// Object flag: animated (drawn by the moving pass, never captured); its motion record's
 /// index is in bits 8..32.
 pub const FLAG_ANIMATED: u32 = 8;
+/// Object flag: its triangles are in the static BVH (it casts shadows and is not animated),
+/// so rays can find its silhouette's edges (`shaders/shade.wgsl` `edge_ray`).
+pub const FLAG_IN_BVH: u32 = 16;
 
 /// One animated object's pose this frame (272 bytes; WGSL `Motion` in `shaders/moving.wgsl`,
 /// also read by `gbuffer.wgsl`).
@@ -564,7 +567,8 @@ impl GpuScene {
                 flags: u32::from(m.outlined) * FLAG_OUTLINED
                     + u32::from(emissive) * FLAG_EMISSIVE
                     + terrain
-                    + animated_flag,
+                    + animated_flag
+                    + u32::from(m.casts_shadows && moving.is_none()) * FLAG_IN_BVH,
                 emissive: m.emissive.to_array(),
                 id: o.id,
             });

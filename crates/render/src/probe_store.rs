@@ -8,7 +8,7 @@
 //! | `albedo` | `rgba8unorm` | albedo × vertex colour × texture (rgb), object flags (a) |
 //! | `shading` | `r32uint` | `pack4x8snorm` of the normal-mapped normal (w = 1), 0 without a normal map |
 //! | `depth` | `depth32float` | capture depth test |
-//! | `lit` | `rgba16float` | shaded, posterized, outlined colour (rgb); similar-neighbour bits (a) |
+//! | `lit` | `rgba32float` | shaded, posterized, outlined colour (rgb); neighbour bits and silhouette edges (a: an integer below 2^24) |
 //! | `runs` | `r32uint` | stable slots: texels in the run this texel heads (`RUN_COLUMN` set for a column run; 0 = inside a run) |
 //!
 //! Beside the textures, each slot has a draw list (`shaders/lib/lists.wgsl`): the texels the
@@ -30,7 +30,7 @@ pub const SHADING_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 /// Capture depth.
 pub use crate::passes::raster::DEPTH_FORMAT;
 /// Lit colour.
-pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba16Float;
+pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Runs of alike texels.
 pub const RUNS_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 

@@ -229,20 +229,21 @@ impl Renderer {
         let textures = self.store.slot(slot);
         let faces = (0..6)
             .map(|layer| {
-                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 8)
-                    .map(|raw| rgba16f_to_srgb8(&raw))
+                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 16)
+                    .map(|raw| rgba32f_to_srgb8(&raw))
             })
             .collect::<Result<_, _>>()?;
         Ok((textures.n, faces))
     }
 }
 
-/// `Rgba16Float` texels (linear colour) to opaque sRGB8 RGBA (the lit texture's alpha holds
+/// `Rgba32Float` texels (linear colour) to opaque sRGB8 RGBA (the lit texture's alpha holds
 /// neighbour bits, not coverage, so it is dropped).
-fn rgba16f_to_srgb8(raw: &[u8]) -> Vec<u8> {
-    raw.chunks_exact(8)
+fn rgba32f_to_srgb8(raw: &[u8]) -> Vec<u8> {
+    raw.chunks_exact(16)
         .flat_map(|t| {
-            let ch = |i: usize| half_to_f32(u16::from_le_bytes([t[2 * i], t[2 * i + 1]]));
+            let ch =
+                |i: usize| f32::from_le_bytes([t[4 * i], t[4 * i + 1], t[4 * i + 2], t[4 * i + 3]]);
             [
                 linear_to_srgb8(ch(0)),
                 linear_to_srgb8(ch(1)),
@@ -251,19 +252,6 @@ fn rgba16f_to_srgb8(raw: &[u8]) -> Vec<u8> {
             ]
         })
         .collect()
-}
-
-/// IEEE half to f32.
-fn half_to_f32(h: u16) -> f32 {
-    let sign = if h & 0x8000 != 0 { -1.0 } else { 1.0 };
-    let exp = i32::from((h >> 10) & 0x1f);
-    let frac = f32::from(h & 0x3ff);
-    match exp {
-        0 => sign * frac * 2f32.powi(-24),
-        31 if frac == 0.0 => sign * f32::INFINITY,
-        31 => f32::NAN,
-        e => sign * (1.0 + frac / 1024.0) * 2f32.powi(e - 15),
-    }
 }
 
 /// Linear colour in 0..1 to an sRGB byte (clamped; non-finite values give 0).
@@ -339,21 +327,15 @@ mod tests {
     use super::*;
 
     #[test]
-    fn half_floats_convert_to_opaque_srgb_bytes() {
-        // 1.0 = 0x3C00, 0.5 = 0x3800, 0.0, then alpha 0.25 (dropped); then 2.0, -2.0, NaN.
+    fn float_texels_convert_to_opaque_srgb_bytes() {
+        // 1.0, 0.5, 0.0, then neighbour bits in alpha (dropped); then 2.0, -2.0, NaN.
         let mut raw = Vec::new();
-        for h in [
-            0x3C00u16, 0x3800, 0x0000, 0x3400, 0x4000, 0xC000, 0x7C01, 0x0000,
-        ] {
-            raw.extend_from_slice(&h.to_le_bytes());
+        for c in [1.0f32, 0.5, 0.0, 1234.0, 2.0, -2.0, f32::NAN, 0.0] {
+            raw.extend_from_slice(&c.to_le_bytes());
         }
         assert_eq!(
-            rgba16f_to_srgb8(&raw),
+            rgba32f_to_srgb8(&raw),
             vec![255, 188, 0, 255, 255, 0, 0, 255]
         );
-        assert_eq!(half_to_f32(0xC000), -2.0);
-        assert_eq!(half_to_f32(0x0001), 2f32.powi(-24));
-        assert!(half_to_f32(0x7C01).is_nan());
-        assert_eq!(half_to_f32(0xFC00), f32::NEG_INFINITY);
     }
 }
