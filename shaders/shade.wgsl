@@ -33,7 +33,8 @@ struct ShadeGlobals {
     sun_count: u32,
     point_count: u32,
     bands: u32,
-    _pad0: u32,
+    // 1: search silhouettes' edges (`edge_ray`; our schedule's, not the paper's).
+    edges: u32,
     // Where each slot's part of the light queue starts in `work` (after WORK_QUEUE).
     queue_base: vec4<u32>,
 }
@@ -402,7 +403,7 @@ fn light_texel(t: vec2<u32>) {
     let start = p + lit_normal * offset;
     var light = globals.ambient.rgb;
     let lights = select(light_count(), 0u, emissive);
-    let search = fr.half <= 0.0 && (similar & 0xf0u) != 0u && (flags & FLAG_IN_BVH) != 0u;
+    let search = globals.edges != 0u && fr.half <= 0.0 && (similar & 0xf0u) != 0u && (flags & FLAG_IN_BVH) != 0u;
     var edges = EDGES_UNKNOWN;
     var lo = 0.0;
     var hi = 1.0;

@@ -126,6 +126,9 @@ pub struct Renderer {
     runs: RunsPass,
     /// Stable faces lit in the paper schedule, whose runs are not yet recomputed.
     runs_stale: [FaceMask; 3],
+    /// Stable faces lit without the silhouette edges' search (by the paper schedule, or while
+    /// marching): our splats light them again before drawing them.
+    edges_owed: [FaceMask; 3],
     pub(crate) cull: CullPass,
     splat: SplatPass,
     /// Whether every splat pipeline has been drawn with once (`SplatPass::warm_up`).
@@ -172,6 +175,7 @@ impl Renderer {
             shade: ShadePass::new(d)?,
             runs: RunsPass::new(d)?,
             runs_stale: [FaceMask::EMPTY; 3],
+            edges_owed: [FaceMask::EMPTY; 3],
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
             splat_warm: false,
@@ -342,12 +346,16 @@ impl Renderer {
             self.capture.eye_band_origin = input.grid.origin;
             (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
-        let jobs = shade_jobs(input, &rects);
+        let mut jobs = shade_jobs(input, &rects);
+        // Only splat quads end at edges (texel marching meets the texel planes).
+        let edges = input.schedule == Schedule::Ours && self.display == Display::Splat;
+        settle_edges(&mut jobs, input, &mut self.edges_owed, edges);
         let inputs = ShadeInputs {
             store,
             scene,
             look: &input.look,
             view: Some(&self.view),
+            edges,
         };
         let shaded = stages.run("shade", |enc| self.shade.record(ctx, enc, &jobs, &inputs));
         // Sprite texels after the probes' (refraction reads their lit faces).
@@ -619,6 +627,52 @@ fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> 
         }
     }
     jobs
+}
+
+/// Keeps `owed` (per slot, the stable faces lit without the silhouette edges' search) and,
+/// when this frame searches (`edges`), adds a whole-face job for each owed face of a stable
+/// probe that no job lights whole already: switching from the paper schedule (or from
+/// marching) shows the same picture as splatting all along.
+fn settle_edges(
+    jobs: &mut Vec<ShadeJob>,
+    input: &FrameInput,
+    owed: &mut [FaceMask; 3],
+    edges: bool,
+) {
+    let whole = |j: &ShadeJob| j.slot != Slot::Eye && !j.border && j.rect.is_none();
+    if !edges {
+        for j in jobs.iter().filter(|j| whole(j)) {
+            owed[j.slot.index()].insert(j.face);
+        }
+        return;
+    }
+    let stable = [
+        Some(&input.grid),
+        input.previous.as_ref(),
+        input.prefetch.as_ref(),
+    ];
+    for p in stable.into_iter().flatten() {
+        for face in owed[p.slot.index()].iter() {
+            let lit = jobs
+                .iter()
+                .any(|j| whole(j) && j.slot == p.slot && j.face == face);
+            if p.valid.contains(face) && !lit {
+                jobs.push(ShadeJob {
+                    slot: p.slot,
+                    face,
+                    origin: p.origin,
+                    valid: p.valid,
+                    border: false,
+                    view_cull: false,
+                    rect: None,
+                });
+            }
+        }
+    }
+    for j in jobs.iter().filter(|j| whole(j)) {
+        let o = &mut owed[j.slot.index()];
+        *o = o.difference(FaceMask::single(j.face));
+    }
 }
 
 /// How far past the view cone, in texels (of 2/n radians), an eye face is still captured and

@@ -400,6 +400,7 @@ impl BaselineRenderer {
                 scene,
                 look: &view.look,
                 view: None,
+                edges: false,
             };
             self.cube_shade.record(ctx, enc, &jobs, &inputs);
         });

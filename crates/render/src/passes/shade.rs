@@ -75,6 +75,12 @@ pub struct ShadeInputs<'a> {
     /// The frame's view (frustum, stable probes), read by view-culled jobs only; `None`
     /// when no job is view-culled (the cubemap baseline).
     pub view: Option<&'a wgpu::Buffer>,
+    /// Whether silhouettes' edges are searched (`shaders/shade.wgsl` `edge_ray`): our
+    /// schedule's splats'; the paper's schedule and the cubemap baseline end every silhouette
+    /// half a texel out, as the reference does, and texel marching has no quads to end. A
+    /// face lit without them and drawn later by our splats keeps its quads half a texel out
+    /// until it is lit again.
+    pub edges: bool,
 }
 
 /// What the shade pass produces.
@@ -113,7 +119,8 @@ pub struct ShadeGlobals {
     sun_count: u32,
     point_count: u32,
     bands: u32,
-    _pad: u32,
+    /// 1: search silhouettes' edges ([`ShadeInputs::edges`]).
+    edges: u32,
     queue_base: [u32; 4],
 }
 
@@ -260,6 +267,7 @@ impl ShadePass {
             scene,
             look,
             view,
+            edges,
         } = *inputs;
         let (device, queue) = (&ctx.device, &ctx.queue);
         // Without a frame's view (the cubemap baseline), nothing is view-culled and the view
@@ -294,6 +302,7 @@ impl ShadePass {
         }
         let mut g = globals(scene, look);
         g.queue_base = queue_base;
+        g.edges = u32::from(edges);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
         let args: Vec<[u32; 4]> = Slot::ALL.iter().map(|_| [0, 1, 1, 0]).collect();
         queue.write_buffer(&self.job_args, 0, bytemuck::cast_slice(&args));
@@ -454,7 +463,7 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         sun_count,
         point_count: scene.point_count,
         bands: look.bands.max(2),
-        _pad: 0,
+        edges: 0,
         queue_base: [0; 4],
     }
 }
