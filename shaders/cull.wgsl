@@ -114,6 +114,11 @@ fn quad_half(bits: u32, k: u32, cos_theta: f32, exact: bool) -> f32 {
     return half_size(bits, k, cos_theta);
 }
 
+// `quad_half` toward left, right, up and down.
+fn quad_halves(bits: u32, cos_theta: f32, exact: bool) -> vec4<f32> {
+    return vec4(quad_half(bits, 0u, cos_theta, exact), quad_half(bits, 1u, cos_theta, exact), quad_half(bits, 2u, cos_theta, exact), quad_half(bits, 3u, cos_theta, exact));
+}
+
 // Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
 fn owner_misses(role: u32, p: vec3<f32>) -> bool {
     let owner = select(ROLE_GRID, ROLE_PREVIOUS, role == ROLE_GRID);
@@ -263,40 +268,32 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     if texels > 1u {
         last_bits = u32(load_lit(slot, last, face).a);
     }
-    // The more grazing end sizes the run's sides. The first texel's bits give the run's
-    // start and its sides' kinds (a run's texels share them), the last texel's its end; each
-    // side runs from where the first texel's edge lies to where the last texel's does
-    // (silhouette edges: `half_size`), so a straight silhouette along a run is met at both
-    // ends.
+    // The more grazing end sizes the run's sides. Each side runs from where the first
+    // texel's edge lies to where the last texel's does (silhouette edges: `half_size`), so a
+    // straight silhouette along a run is met at both ends; a run's texels share the kinds of
+    // the sides across it (runs.wgsl `joins`), and its end side is the last texel's.
     let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
     let exact = fr.half > 0.0;
     let h = 2.0 / f32(s.n);
-    // Sides 0-3 are left, right, up, down: the run's end side comes from its last texel.
-    // Its end side's kind, and every side's edge and the curve at the last texel, from that
-    // texel.
-    var last_sides = (bits & 0xccu) | (last_bits & ~0xffu) | (last_bits & 0x22u);
-    if column {
-        last_sides = (bits & 0x33u) | (last_bits & ~0xffu) | (last_bits & 0x88u);
-    }
-    let start_half = quad_half(bits, select(0u, 2u, column), cos_theta, exact);
-    let end_half = quad_half(last_sides, select(1u, 3u, column), cos_theta, exact);
-    // Offsets (in face coordinates) of the quad's sides at its first and last texel.
-    let left = vec2(quad_half(bits, 0u, cos_theta, exact), quad_half(last_sides, 0u, cos_theta, exact)) * h;
-    let right = vec2(quad_half(bits, 1u, cos_theta, exact), quad_half(last_sides, 1u, cos_theta, exact)) * h;
-    let top = vec2(quad_half(bits, 2u, cos_theta, exact), quad_half(last_sides, 2u, cos_theta, exact)) * h;
-    let bottom = vec2(quad_half(bits, 3u, cos_theta, exact), quad_half(last_sides, 3u, cos_theta, exact)) * h;
-    // Corners 0-3: top-left, top-right, bottom-right, bottom-left; a row run's first texel
-    // holds corners 0 and 3, a column run's 0 and 1.
-    var q0 = vec2(uv.x - left.x, uv.y - top.x);
-    var q1 = vec2(uv_last.x + right.y, uv.y - top.y);
-    var q2 = vec2(uv_last.x + right.y, uv_last.y + bottom.y);
-    var q3 = vec2(uv.x - left.x, uv.y + bottom.x);
-    if column {
-        q0 = vec2(uv.x - left.x, uv.y - top.x);
-        q1 = vec2(uv.x + right.x, uv.y - top.x);
-        q2 = vec2(uv_last.x + right.y, uv_last.y + bottom.y);
-        q3 = vec2(uv_last.x - left.y, uv_last.y + bottom.y);
-    }
+    // Half sizes toward left, right, up and down at the first and the last texel.
+    let first_halves = quad_halves(bits, cos_theta, exact);
+    let last_halves = quad_halves(last_bits, cos_theta, exact);
+    let start_half = select(first_halves.x, first_halves.z, column);
+    let end_half = select(last_halves.y, last_halves.w, column);
+    // The same in face coordinates.
+    let f = first_halves * h;
+    let l = last_halves * h;
+    // Corners 0-3: top-left (the first texel's), top-right (the last's in a row run, the
+    // first's in a column run), bottom-right (the last's), bottom-left (the first's in a row
+    // run, the last's in a column run).
+    let a_uv = select(uv_last, uv, column);
+    let a = select(l, f, column);
+    let b_uv = select(uv, uv_last, column);
+    let b = select(f, l, column);
+    let q0 = uv + vec2(-f.x, -f.z);
+    let q1 = a_uv + vec2(a.y, -a.z);
+    let q2 = uv_last + vec2(l.y, l.w);
+    let q3 = b_uv + vec2(-b.x, b.w);
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;

@@ -298,8 +298,9 @@ struct EdgeRay {
     casts: bool,
 }
 
-// Ray `j` of the edge search of texel `t` (EDGE_STEPS per side, the bisection's current
-// middle in `lo`, `hi`; `reach` the side's far limit, `edge_reach`).
+// Ray `j` of the edge search of the texel at `uv`, depth `d`, neighbour bits `bits`
+// (EDGE_STEPS per side, the bisection's current middle in `lo`, `hi`; `reach` the side's far
+// limit, `edge_reach`); not cast toward a side that is no silhouette.
 fn edge_ray(uv: vec2<f32>, d: f32, bits: u32, j: u32, lo: f32, hi: f32, reach: f32) -> EdgeRay {
     let fr = face_frame();
     // Rays start halfway to the surface (nothing nearer lies on this texel's ray, and the
@@ -413,7 +414,8 @@ fn light_texel(t: vec2<u32>) {
         var dir: vec3<f32>;
         var t_max: f32;
         var r: LightRay;
-        let j = i - lights;
+        // The edge search's ray index (from `lights` on).
+        let j = select(0u, i - lights, i >= lights);
         if i < lights {
             r = light_ray(i, p);
             if dot(lit_normal, r.dir) <= 0.0 || r.reach <= 0.0 {

@@ -58,6 +58,15 @@ fn run_sized(
     Some(records)
 }
 
+/// [`run`] with splat and naive at `face_res`: their records, in that order.
+fn splat_and_naive(level: &str, path: &str, face_res: u32) -> Option<(RunRecord, RunRecord)> {
+    let r = run(level, path, &[Method::Splat, Method::Naive], face_res)?;
+    Some((
+        find(&r, Method::Splat).clone(),
+        find(&r, Method::Naive).clone(),
+    ))
+}
+
 fn find(records: &[RunRecord], m: Method) -> &RunRecord {
     records
         .iter()
@@ -70,10 +79,9 @@ fn find(records: &[RunRecord], m: Method) -> &RunRecord {
 /// about 0.01 (checker corners and sub-pixel detail; see `calibration.rs`).
 #[test]
 fn splat_under_pure_yaw_does_not_shimmer() {
-    let Some(r) = run("stone_circle", "yaw", &[Method::Splat, Method::Naive], 32) else {
+    let Some((splat, naive)) = splat_and_naive("stone_circle", "yaw", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // Measured: splat max 0.004 (resampling residue at texel corners, none of it from the
     // eye probe), naive mean 0.14. Nothing in the world moves relative to the probes, so
     // anything above the metric's floor would be a real pop.
@@ -83,15 +91,9 @@ fn splat_under_pure_yaw_does_not_shimmer() {
 
 #[test]
 fn splat_strafing_inside_a_cell_is_far_below_naive() {
-    let Some(r) = run(
-        "stone_circle",
-        "strafe_in_cell",
-        &[Method::Splat, Method::Naive],
-        32,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("stone_circle", "strafe_in_cell", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // Measured: splat mean 0.0021, naive 0.030 (14×). The probes stay put inside a cell, so
     // only the eye probe and raster resampling can flicker; ask for at least 5×.
     assert!(
@@ -120,15 +122,9 @@ fn snap_is_stable_under_an_orthographic_pan_and_not_under_a_perspective_strafe()
 
 #[test]
 fn splat_across_cells_stays_bounded_per_frame() {
-    let Some(r) = run(
-        "stone_circle",
-        "sprint_cells",
-        &[Method::Splat, Method::Naive],
-        32,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("stone_circle", "sprint_cells", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // A cell every four frames. Measured: splat mean 0.043, worst frame 0.21, eye pixels
     // 4.0%; naive mean 0.18. With fades that took a whole cell of travel (the reference's
     // rate) each fade was still running when the next crossing came: mean 0.054, worst
@@ -177,15 +173,9 @@ fn no_farther_surface_shows_through_a_near_pillar() {
 
 #[test]
 fn along_the_wall_the_hole_rate_stays_low() {
-    let Some(r) = run(
-        "colonnade",
-        "wall_graze",
-        &[Method::Splat, Method::Naive],
-        32,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("colonnade", "wall_graze", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // Measured: splat 0.0006 of pixels, naive 0.0087 (thin geometry lost at low
     // resolution). 0.0029 (SwiftShader 0.0027) while silhouettes ended half a texel out
     // (today they end where the shade pass finds the edge: `edge_ray`), 0.0013 while flat
@@ -201,15 +191,9 @@ fn along_the_wall_the_hole_rate_stays_low() {
 /// silhouettes are as tight as low-resolution rendering's.
 #[test]
 fn silhouettes_are_tighter_than_low_resolution_rendering() {
-    let Some(r) = run(
-        "stone_circle",
-        "walk_cells",
-        &[Method::Splat, Method::Naive],
-        32,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("stone_circle", "walk_cells", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // Measured: coverage error 0.0517 against naive's 0.0642 (0.0691 with every silhouette
     // half a texel out); holes 0.0028 against 0.0121.
     assert!(
@@ -227,15 +211,9 @@ fn silhouettes_are_tighter_than_low_resolution_rendering() {
 /// sees the ground with short texels.
 #[test]
 fn a_low_camera_is_served_by_the_grid_probe() {
-    let Some(r) = run(
-        "stone_circle",
-        "low_orbit",
-        &[Method::Splat, Method::Naive],
-        32,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("stone_circle", "low_orbit", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     let eye = splat.eye_fraction.expect("splat reports eye pixels");
     // Measured: the eye probe draws 5.0% of the pixels (SwiftShader 5.2%; 14% with the
     // probe a quarter cell up, 57% at the cell centre); splat mean shimmer 0.0146
@@ -249,15 +227,9 @@ fn a_low_camera_is_served_by_the_grid_probe() {
 /// 0.45 of a cell from every surface, so the grid probe still sees along the wall.
 #[test]
 fn a_camera_brushing_a_wall_is_served_by_the_grid_probe() {
-    let Some(r) = run(
-        "colonnade",
-        "wall_brush",
-        &[Method::Splat, Method::Naive],
-        32,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("colonnade", "wall_brush", 32) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     let eye = splat.eye_fraction.expect("splat reports eye pixels");
     // Measured: eye pixels 2.7% (SwiftShader 2.5%; 6.6% with the probe a quarter cell
     // from the wall, 40% at the cell centre), mean shimmer 0.0092 (0.011, 0.027).
@@ -355,15 +327,9 @@ fn march_is_exact_under_yaw_and_calm_inside_a_cell() {
 /// that no more quads are drawn than texels are seen.
 #[test]
 fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels() {
-    let Some(r) = run(
-        "textured",
-        "textured_strafe",
-        &[Method::Splat, Method::Naive],
-        64,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("textured", "textured_strafe", 64) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     let quads = splat.counters.quads_splatted / splat.counters.screen_visible_texels;
     eprintln!("quads per screen-visible texel {quads:.3}");
     assert!(
@@ -380,15 +346,9 @@ fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels(
 /// is the hills' occlusion (eye pixels) and crossings. Bounded against naive rendering.
 #[test]
 fn terrain_walk_stays_well_below_naive() {
-    let Some(r) = run(
-        "terrain_hills",
-        "terrain_walk",
-        &[Method::Splat, Method::Naive],
-        48,
-    ) else {
+    let Some((splat, naive)) = splat_and_naive("terrain_hills", "terrain_walk", 48) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // Measured at 48 on 160x90: splat 0.029 (max 0.066), naive 0.126; holes 0.0025 on both
     // drivers (naive's 0.0050: at this size a texel is big, and where a hill's crest falls
     // short of its texel's square against the sky, the sky shows; 0.0022 while flat
