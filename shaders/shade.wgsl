@@ -33,7 +33,7 @@ struct ShadeGlobals {
     sun_count: u32,
     point_count: u32,
     bands: u32,
-    // 1: search silhouettes' edges (`edge_ray`; our schedule's, not the paper's).
+    // 1: search silhouettes' edges (our schedule's, not the paper's).
     edges: u32,
     // Where each slot's part of the light queue starts in `work` (after WORK_QUEUE).
     queue_base: vec4<u32>,
@@ -275,11 +275,6 @@ fn half_precision(c: vec3<f32>) -> vec3<f32> {
     return bitcast<vec3<f32>>((bitcast<vec3<u32>>(c) + vec3(0x1000u)) & vec3(0xffffe000u));
 }
 
-// Bisection steps of the silhouette edges' search (`edge_ray`): the edge to a sixteenth of a texel.
-const EDGE_STEPS: u32 = 4u;
-// Every side's edge half a texel out (`SIMILAR_EDGE_AT`: c = 4).
-const EDGES_UNKNOWN: u32 = 0x6dbu << SIMILAR_EDGE_AT;
-
 // Where each silhouette side's edge lies (`SIMILAR_EDGE_AT`): a texel belongs to its surface
 // when its centre ray meets it, so a side whose neighbour sees the sky or a farther surface
 // has its edge somewhere between the two centres, and a quad that ends half a texel out
@@ -290,29 +285,27 @@ const EDGES_UNKNOWN: u32 = 0x6dbu << SIMILAR_EDGE_AT;
 // BVH (`FLAG_IN_BVH`: they cast shadows and do not move) and probes that are cubes (an
 // orthographic probe's quads are exact squares); elsewhere half a texel. `light_texel` casts
 // these rays in its shadow rays' loop.
-struct EdgeRay {
-    origin: vec3<f32>,
-    dir: vec3<f32>,
-    reach: f32,
-    // Whether the ray is cast at all (a side that is no silhouette is not searched).
-    casts: bool,
+
+// Bisection steps of the silhouette edges' search: the edge to a sixteenth of a texel.
+const EDGE_STEPS: u32 = 4u;
+// Every side's edge half a texel out (`SIMILAR_EDGE_AT`: c = 4).
+const EDGES_UNKNOWN: u32 = 0x6dbu << SIMILAR_EDGE_AT;
+
+// Whether neighbour `nb`, seen along `nray`, lies on the plane of `me` (seen along `ray`):
+// the same object, at the depth where that plane meets its ray (within 1%). A surface seen
+// at a grazing angle has its next texel far behind, yet no silhouette between them: the
+// edge search would find its edge where the depth passes the halfway mark, about half a
+// texel out, as without a search.
+fn on_plane(me: Sample, ray: vec3<f32>, nb: Sample, nray: vec3<f32>) -> bool {
+    let along = dot(me.geo.xyz, nray);
+    if nb.id != me.id || along >= 0.0 {
+        return false;
+    }
+    let at = dot(me.geo.xyz, ray) * me.geo.w / along;
+    return abs(at - nb.geo.w) <= 0.01 * nb.geo.w;
 }
 
-// Ray `j` of the edge search of the texel at `uv`, depth `d`, neighbour bits `bits`
-// (EDGE_STEPS per side, the bisection's current middle in `lo`, `hi`; `reach` the side's far
-// limit, `edge_reach`); not cast toward a side that is no silhouette.
-fn edge_ray(uv: vec2<f32>, d: f32, bits: u32, j: u32, lo: f32, hi: f32, reach: f32) -> EdgeRay {
-    let fr = face_frame();
-    // Rays start halfway to the surface (nothing nearer lies on this texel's ray, and the
-    // traversal skips the boxes before it).
-    let skip = 0.5 * d;
-    let k = j / EDGE_STEPS;
-    let q = uv + vec2<f32>(NEIGHBOURS[k]) * (0.5 * (lo + hi) * 2.0 / f32(sf.n));
-    let dir = frame_ray(fr, sf.face, q);
-    return EdgeRay(fr.origin + dir * skip, dir, reach - skip, ((bits >> (4u + k)) & 1u) != 0u);
-}
-
-// The far limit of side `k`'s edge search (see `edge_ray`).
+// The far limit of side `k`'s edge search.
 fn edge_reach(t: vec2<u32>, d: f32, bits: u32, k: u32) -> f32 {
     if ((bits >> k) & 1u) == 0u {
         return 0.5 * (d + neighbour(t, NEIGHBOURS[k]).geo.w);
@@ -344,6 +337,8 @@ fn light_texel(t: vec2<u32>) {
     // crease); a texel with neither counts as curved.
     var flat = false;
     var curved = false;
+    // Bit k: side k's edge is searched (a silhouette).
+    var seek = 0u;
     // Depth step between neighbours on a surface tilted ~37° from the face plane.
     let tolerance = frame_texel_size(fr, d, n, ray) / length(ray) * 0.75;
     for (var k = 0u; k < 4u; k++) {
@@ -362,8 +357,14 @@ fn light_texel(t: vec2<u32>) {
             }
         } else if nb.id == 0u {
             similar |= 17u << k;
+            seek |= 1u << k;
         } else if nb.geo.w > d {
             similar |= 16u << k;
+            // Searched for its edge, unless the surface goes on there.
+            let nray = frame_ray(fr, sf.face, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(n)));
+            if !on_plane(me, ray, nb, nray) {
+                seek |= 1u << k;
+            }
         }
         if (flags & FLAG_OUTLINED) == 0u {
             continue;
@@ -404,18 +405,27 @@ fn light_texel(t: vec2<u32>) {
     let start = p + lit_normal * offset;
     var light = globals.ambient.rgb;
     let lights = select(light_count(), 0u, emissive);
-    let search = globals.edges != 0u && fr.half <= 0.0 && (similar & 0xf0u) != 0u && (flags & FLAG_IN_BVH) != 0u;
+    let search = globals.edges != 0u && fr.half <= 0.0 && seek != 0u && (flags & FLAG_IN_BVH) != 0u;
     var edges = EDGES_UNKNOWN;
+    // The sides left to search (bit k: side k), the one searched now, its bisection's
+    // interval, far limit and the ray's change per texel toward the neighbour.
+    var left = select(0u, seek, search);
+    var k = 0u;
     var lo = 0.0;
     var hi = 1.0;
     var reach = 0.0;
-    for (var i = 0u; i < lights + select(0u, 4u * EDGE_STEPS, search); i++) {
+    var toward = vec3(0.0);
+    // Edge rays start halfway to the surface (nothing nearer lies on this texel's ray, and
+    // the traversal skips the boxes before it).
+    let skip = 0.5 * d;
+    let rays = lights + EDGE_STEPS * countOneBits(left);
+    for (var i = 0u; i < rays; i++) {
         var origin = start;
         var dir: vec3<f32>;
         var t_max: f32;
         var r: LightRay;
-        // The edge search's ray index (from `lights` on).
-        let j = select(0u, i - lights, i >= lights);
+        // The edge search's step on its side (from `lights` on).
+        let step = select(0u, i - lights, i >= lights) % EDGE_STEPS;
         if i < lights {
             r = light_ray(i, p);
             if dot(lit_normal, r.dir) <= 0.0 || r.reach <= 0.0 {
@@ -424,18 +434,18 @@ fn light_texel(t: vec2<u32>) {
             dir = r.dir;
             t_max = light_reach(r, offset);
         } else {
-            if j % EDGE_STEPS == 0u {
+            if step == 0u {
+                k = firstTrailingBit(left);
+                left &= left - 1u;
                 lo = 0.0;
                 hi = 1.0;
-                reach = edge_reach(t, d, similar, j / EDGE_STEPS);
+                reach = edge_reach(t, d, similar, k);
+                // A cube face's rays are linear in its coordinates.
+                toward = frame_ray(fr, sf.face, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(n))) - ray;
             }
-            let e = edge_ray(uv, d, similar, j, lo, hi, reach);
-            if !e.casts {
-                continue;
-            }
-            origin = e.origin;
-            dir = e.dir;
-            t_max = e.reach;
+            dir = ray + toward * (0.5 * (lo + hi));
+            origin = fr.origin + dir * skip;
+            t_max = reach - skip;
         }
         let hit = bvh_any_hit(origin, dir, t_max);
         if i < lights {
@@ -449,8 +459,8 @@ fn light_texel(t: vec2<u32>) {
         } else {
             hi = 0.5 * (lo + hi);
         }
-        if j % EDGE_STEPS == EDGE_STEPS - 1u {
-            let at = SIMILAR_EDGE_AT + 3u * (j / EDGE_STEPS);
+        if step == EDGE_STEPS - 1u {
+            let at = SIMILAR_EDGE_AT + 3u * k;
             let c = u32(clamp(round(4.0 * (lo + hi)), 1.0, 8.0));
             edges = (edges & ~(7u << at)) | ((c - 1u) << at);
         }

@@ -223,7 +223,7 @@ const LIST_HEADER: u32 = 8u;
 const SIMILAR_CURVED: u32 = 256u;
 // In a lit texel's neighbour bits: from this bit, three per side (left, right, up, down),
 // where a silhouette side's edge crosses the line to that neighbour's centre, c − 1 for c/8
-// of a texel from this texel's centre (shade.wgsl `edge_ray`; 3, half a texel,
+// of a texel from this texel's centre (shade.wgsl, the edge search; 3, half a texel,
 // where it is not searched). The bits stay below 2^24, exact in the lit texture's f32 alpha.
 const SIMILAR_EDGE_AT: u32 = 9u;
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.

@@ -178,7 +178,7 @@ fn along_the_wall_the_hole_rate_stays_low() {
     };
     // Measured: splat 0.0006 of pixels, naive 0.0087 (thin geometry lost at low
     // resolution). 0.0029 (SwiftShader 0.0027) while silhouettes ended half a texel out
-    // (today they end where the shade pass finds the edge: `edge_ray`), 0.0013 while flat
+    // (today they end where the shade pass finds the edge: the edge search), 0.0013 while flat
     // surfaces' silhouettes against the sky also grew by their angle. At faces of 128 (the
     // suite's) 0.0003.
     assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
@@ -186,7 +186,7 @@ fn along_the_wall_the_hole_rate_stays_low() {
 }
 
 /// Silhouettes end where the shade pass found the surface's edge between a texel and its
-/// neighbour (shade.wgsl `edge_ray`), not half a texel out: a straight silhouette (a stone's
+/// neighbour (shade.wgsl's edge search), not half a texel out: a straight silhouette (a stone's
 /// top, the horizon) is no longer rounded one way for as long as a probe stays, so splat's
 /// silhouettes are as tight as low-resolution rendering's.
 #[test]

@@ -169,7 +169,7 @@ pub const FLAG_TERRAIN: u32 = 4;
 /// index is in bits 8..32.
 pub const FLAG_ANIMATED: u32 = 8;
 /// Object flag: its triangles are in the static BVH (it casts shadows and is not animated),
-/// so rays can find its silhouette's edges (`shaders/shade.wgsl` `edge_ray`).
+/// so rays can find its silhouette's edges (`shaders/shade.wgsl`, the edge search).
 pub const FLAG_IN_BVH: u32 = 16;
 
 /// One animated object's pose this frame (272 bytes; WGSL `Motion` in `shaders/moving.wgsl`,

@@ -75,7 +75,7 @@ pub struct ShadeInputs<'a> {
     /// The frame's view (frustum, stable probes), read by view-culled jobs only; `None`
     /// when no job is view-culled (the cubemap baseline).
     pub view: Option<&'a wgpu::Buffer>,
-    /// Whether silhouettes' edges are searched (`shaders/shade.wgsl` `edge_ray`): our
+    /// Whether silhouettes' edges are searched (`shaders/shade.wgsl`, the edge search): our
     /// schedule's splats'; the paper's schedule and the cubemap baseline end every silhouette
     /// half a texel out, as the reference does, and texel marching has no quads to end. A
     /// face lit without them and drawn later by our splats keeps its quads half a texel out
