@@ -349,6 +349,12 @@ impl ProbeSet {
         self.fade.map_or(1.0, |f| f.t)
     }
 
+    /// Whether this frame starts (or turns) a fade: its first `advance_fade` leaves `fade_t`
+    /// alone, so the probe faded away from still draws every pixel it drew.
+    pub fn fade_starts(&self) -> bool {
+        self.fade.is_some_and(|f| f.fresh)
+    }
+
     /// Whether the previous probe exists (a fade is running).
     pub fn previous_active(&self) -> bool {
         self.fade.is_some()

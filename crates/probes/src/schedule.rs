@@ -20,7 +20,9 @@
 //!   drawing; the fade waits for the grid via [`UpdatePlan::readiness`], and a scene that
 //!   changes every frame cannot stall it. The crossing frame itself (a new grid origin with
 //!   nothing captured yet, the previous probe drawing) may take a lower cap
-//!   ([`Scheduler::with_crossing_faces`]): it is the frame that also pays for everything else.
+//!   ([`Scheduler::with_crossing_faces`]): it is the frame that also pays for everything else;
+//!   with that cap set, a fade's first frame toward a grid probe that draws some face already
+//!   (prefetched) captures no stable face (the previous probe owns every pixel then).
 //!
 //! - **Prefetch** ([`Scheduler::prefetch`]): on a frame with no stable work, a few faces of
 //!   the grid probe of the cell the camera is heading into, in the free stable slot, so the
@@ -232,7 +234,8 @@ impl Scheduler {
     }
 
     /// Caps the stable faces captured on a cell-crossing frame (the first frame of a new grid
-    /// origin, while the previous probe draws) at `n` (at least 1), below the per-frame cap.
+    /// origin, while the previous probe draws) at `n` (at least 1), below the per-frame cap;
+    /// and at none on a fade's first frame when the grid probe draws some face already.
     pub fn with_crossing_faces(mut self, n: u32) -> Self {
         self.crossing_cap = Some(n.max(1));
         self
@@ -310,12 +313,16 @@ impl Scheduler {
         let mut grid = self.needs(&pass, &probes.grid());
         let mut previous = probes.previous().map(|p| self.needs(&pass, &p));
         // The frame that crosses into a new cell (a grid probe with nothing captured at its
-        // origin while the previous one still draws) captures fewer stable faces: it also
-        // pays for the eye and the previous probe, and the rest follow next frame.
+        // origin while the previous one still draws, or the fade's first frame) captures
+        // fewer stable faces: it also pays for the eye and both stable probes' quads, and
+        // the rest follow next frame. None at all when the grid probe draws some face
+        // already (prefetched): on that frame the previous probe owns every pixel, and it
+        // keeps those of the faces the grid probe misses.
         if let Some(cap) = self.crossing_cap
             && previous.is_some()
-            && grid.drawable.is_empty()
+            && (grid.drawable.is_empty() || probes.fade_starts())
         {
+            let cap = if grid.drawable.is_empty() { cap } else { 0 };
             pass.budget = pass.budget.min(cap);
         }
         let mut order = vec![&mut grid];

@@ -381,6 +381,42 @@ fn prefetched_faces_spare_the_crossing_frame() {
 }
 
 #[test]
+fn a_fade_toward_a_partly_prefetched_grid_starts_without_stable_captures() {
+    let mut rig = Rig::new(18);
+    rig.scheduler = Scheduler::new(18, FAR)
+        .unwrap()
+        .with_stable_faces_per_frame(2)
+        .with_crossing_faces(1);
+    let camera = Vec3::new(0.2, 0.1, -0.3);
+    let wide = 100f32.to_radians();
+    let frustum = view_at(camera, 0.3, wide);
+    for _ in 0..6 {
+        rig.frame(camera, 0, 0.3, wide);
+    }
+    // One face of the next cell's grid probe only, where the view needs several.
+    let next = rig.probes.next_probe(key(1)).expect("no fade runs");
+    rig.probes.begin_frame(camera, key(0), DT);
+    let mut plan = rig.scheduler.plan(&frustum, &rig.probes, rig.generation);
+    rig.scheduler.prefetch(&mut plan, &frustum, &next, 1);
+    assert_eq!(plan.work.iter().filter(|w| w.role != Role::Eye).count(), 1);
+    rig.scheduler.commit(&plan);
+    rig.probes.advance_fade(plan.readiness());
+    let stable = |plan: &UpdatePlan| plan.counts.grid + plan.counts.previous;
+    let crossing = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+    assert!(crossing.previous.is_some(), "a fade starts");
+    assert!(!crossing.grid.draw.is_empty(), "the prefetched face draws");
+    assert!(!crossing.readiness().grid, "faces are missing");
+    assert_eq!(stable(&crossing), 0, "the previous probe owns every pixel");
+    assert_eq!(rig.probes.fade_t(), 0.0);
+    let next = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+    assert!(stable(&next) > 0, "the missing faces follow: {next:?}");
+    for _ in 0..40 {
+        rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+    }
+    assert_eq!(rig.probes.fade_t(), 1.0, "the fade ends");
+}
+
+#[test]
 fn prefetch_waits_for_stable_work() {
     let mut rig = Rig::new(12);
     let camera = Vec3::new(0.2, 0.1, -0.3);
