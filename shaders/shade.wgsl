@@ -284,8 +284,8 @@ fn half_precision(c: vec3<f32>) -> vec3<f32> {
 // the sky, four times this texel's depth) is still on this side. Only for surfaces in the
 // BVH (`FLAG_IN_BVH`: they cast shadows and do not move) and probes that are cubes (an
 // orthographic probe's quads are exact squares); elsewhere half a texel. `light_texel` casts
-// these rays in its shadow rays' loop.
-
+// these rays in its shadow rays' loop, over the searched sides only.
+//
 // Bisection steps of the silhouette edges' search: the edge to a sixteenth of a texel.
 const EDGE_STEPS: u32 = 4u;
 // Every side's edge half a texel out (`SIMILAR_EDGE_AT`: c = 4).
@@ -303,6 +303,12 @@ fn on_plane(me: Sample, ray: vec3<f32>, nb: Sample, nray: vec3<f32>) -> bool {
     }
     let at = dot(me.geo.xyz, ray) * me.geo.w / along;
     return abs(at - nb.geo.w) <= 0.01 * nb.geo.w;
+}
+
+// The ray (`frame_ray`) through the centre of the neighbour on side `k` of the texel at `uv`
+// of a cube face: past the face's edge it continues the face's plane.
+fn neighbour_ray(fr: ProbeFrame, uv: vec2<f32>, k: u32) -> vec3<f32> {
+    return frame_ray(fr, sf.face, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(sf.n)));
 }
 
 // The far limit of side `k`'s edge search.
@@ -361,8 +367,7 @@ fn light_texel(t: vec2<u32>) {
         } else if nb.geo.w > d {
             similar |= 16u << k;
             // Searched for its edge, unless the surface goes on there.
-            let nray = frame_ray(fr, sf.face, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(n)));
-            if !on_plane(me, ray, nb, nray) {
+            if !on_plane(me, ray, nb, neighbour_ray(fr, uv, k)) {
                 seek |= 1u << k;
             }
         }
@@ -441,7 +446,7 @@ fn light_texel(t: vec2<u32>) {
                 hi = 1.0;
                 reach = edge_reach(t, d, similar, k);
                 // A cube face's rays are linear in its coordinates.
-                toward = frame_ray(fr, sf.face, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(n))) - ray;
+                toward = neighbour_ray(fr, uv, k) - ray;
             }
             dir = ray + toward * (0.5 * (lo + hi));
             origin = fr.origin + dir * skip;

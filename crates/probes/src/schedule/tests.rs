@@ -38,6 +38,17 @@ struct Rig {
 }
 
 impl Rig {
+    /// A budget of 18 faces, at most 2 stable faces a frame and 1 on a crossing frame.
+    fn with_crossing_cap() -> Self {
+        Rig {
+            scheduler: Scheduler::new(18, FAR)
+                .unwrap()
+                .with_stable_faces_per_frame(2)
+                .with_crossing_faces(1),
+            ..Rig::new(18)
+        }
+    }
+
     fn new(max_faces: u32) -> Rig {
         let camera = Vec3::new(0.2, 0.1, -0.3);
         Rig {
@@ -323,11 +334,7 @@ fn a_stable_cap_limits_each_crossing_frame() {
 
 #[test]
 fn the_crossing_frame_captures_fewer_stable_faces() {
-    let mut rig = Rig::new(18);
-    rig.scheduler = Scheduler::new(18, FAR)
-        .unwrap()
-        .with_stable_faces_per_frame(2)
-        .with_crossing_faces(1);
+    let mut rig = Rig::with_crossing_cap();
     let wide = 100f32.to_radians();
     let stable = |plan: &UpdatePlan| plan.counts.grid + plan.counts.previous;
     let first = rig.frame(Vec3::new(0.2, 0.1, -0.3), 0, 0.3, wide);
@@ -382,11 +389,7 @@ fn prefetched_faces_spare_the_crossing_frame() {
 
 #[test]
 fn a_fade_toward_a_partly_prefetched_grid_starts_without_stable_captures() {
-    let mut rig = Rig::new(18);
-    rig.scheduler = Scheduler::new(18, FAR)
-        .unwrap()
-        .with_stable_faces_per_frame(2)
-        .with_crossing_faces(1);
+    let mut rig = Rig::with_crossing_cap();
     let camera = Vec3::new(0.2, 0.1, -0.3);
     let wide = 100f32.to_radians();
     let frustum = view_at(camera, 0.3, wide);
