@@ -19,7 +19,9 @@ use std::sync::Arc;
 
 use glam::{UVec2, Vec3};
 use texel_probes::cube::{Face, FaceMask};
-use texel_probes::grid::{GridChoice, GridDefaults, GridError, GridOverride, resolve_grid};
+use texel_probes::grid::{
+    GridChoice, GridDefaults, GridError, GridOverride, first_crossing, resolve_grid,
+};
 use texel_probes::ortho::OrthoFrame;
 use texel_probes::placement::Placements;
 use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
@@ -442,10 +444,16 @@ impl FrameDriver {
         let mut plan = self.scheduler.plan(&frustum, probes, 0);
         // An orthographic camera's probe holds still while it pans: nothing to prefetch.
         if schedule == Schedule::Ours && camera.ortho_height.is_none() {
+            // The cell the camera enters next, if it does within the look-ahead.
             let ahead = camera.position + self.velocity * PREFETCH_LOOKAHEAD_S;
-            let next = (self.placements)
-                .resolve(ahead, &self.defaults, &self.overrides, &self.level.rays)
-                .ok()
+            let next = first_crossing(camera.position, ahead, &self.defaults, &self.overrides)
+                .and_then(|p| {
+                    let rays = &self.level.rays;
+                    let c = self
+                        .placements
+                        .resolve(p, &self.defaults, &self.overrides, rays);
+                    c.ok()
+                })
                 .and_then(|c| probes.next_probe(c.key));
             if let Some(next) = next {
                 let faces = PREFETCH_FACES_PER_FRAME;
@@ -1105,41 +1113,57 @@ mod tests {
     use super::*;
     use texel_probes::probe_set::Slot;
 
-    /// Walking slowly toward a cell boundary, quiet frames capture the next cell's grid
-    /// probe ahead of time, so the crossing frame captures no stable face.
-    #[test]
-    fn a_slow_walk_prefetches_the_next_cell_before_crossing_it() {
+    /// Frames of a walk through `path` (camera position per frame, looking down -z) on
+    /// stone_circle: faces prefetched before the first crossing, and that crossing's frame
+    /// with the stable faces it still captured.
+    fn first_crossing_of(path: impl Fn(f32) -> Vec3) -> (usize, (usize, usize)) {
         let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
         let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
             .expect("level loads");
         let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
         let dt = 1.0 / 30.0;
         let mut prefetched = 0;
-        let mut crossing = None;
-        for i in 0..30 {
-            // 1 unit/s toward -z; the cell boundary at z = 12.5 comes after 15 frames.
-            let camera =
-                Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, 13.0 - i as f32 * dt), 0.0, -5.0);
+        for i in 0..60 {
+            let camera = Camera::from_yaw_pitch(path(i as f32 * dt), 0.0, -5.0);
             let input = driver.frame(camera, dt, Schedule::Ours).expect("frame");
             if let Some(p) = input.prefetch {
                 assert_eq!(p.draw, FaceMask::EMPTY, "a prefetched probe is not drawn");
                 assert_ne!(p.slot, input.grid.slot);
                 prefetched += input.captures.iter().filter(|c| c.slot == p.slot).count();
             }
-            if input.previous.is_some() && crossing.is_none() {
-                let stable = input
-                    .captures
-                    .iter()
-                    .filter(|c| c.slot != Slot::Eye)
-                    .count();
-                crossing = Some((i, stable));
+            if input.previous.is_some() {
+                let stable = input.captures.iter().filter(|c| c.slot != Slot::Eye);
+                return (prefetched, (i, stable.count()));
             }
         }
-        let (frame, stable) = crossing.expect("the walk crosses a cell");
+        panic!("the walk crosses no cell");
+    }
+
+    /// Walking slowly toward a cell boundary, quiet frames capture the next cell's grid
+    /// probe ahead of time, so the crossing frame captures no stable face.
+    #[test]
+    fn a_slow_walk_prefetches_the_next_cell_before_crossing_it() {
+        // 1 unit/s toward -z; the cell boundary at z = 12.5 comes after 15 frames.
+        let (prefetched, (frame, stable)) = first_crossing_of(|t| Vec3::new(0.0, 1.6, 13.0 - t));
         assert!(prefetched >= 2, "prefetched {prefetched} faces");
         assert_eq!(
             stable, 0,
-            "the crossing at frame {frame} still captured {stable} faces"
+            "the crossing at frame {frame} captured {stable} faces"
+        );
+    }
+
+    /// A diagonal walk that crosses its cell's z boundary 0.1 s before its x boundary:
+    /// the point the look-ahead reaches lies in the diagonal cell, but the camera enters
+    /// the cell beside its own first. The prefetch goes to the cell it enters.
+    #[test]
+    fn a_diagonal_walk_prefetches_the_cell_it_enters_not_the_one_ahead() {
+        // z reaches 12.5 at t = 0.4 s (x = 0.46), x reaches 0.5 at t = 0.5 s.
+        let path = |t: f32| Vec3::new(0.30 + 0.4 * t, 1.6, 12.9 - t);
+        let (prefetched, (frame, stable)) = first_crossing_of(path);
+        assert!(prefetched >= 2, "prefetched {prefetched} faces");
+        assert_eq!(
+            stable, 0,
+            "the crossing at frame {frame} captured {stable} faces"
         );
     }
 

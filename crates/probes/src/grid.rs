@@ -280,6 +280,55 @@ pub fn resolve_grid(
     })
 }
 
+/// The first point on the segment `from..to` whose grid (cell and face resolution, see
+/// [`resolve_grid`]) differs from the grid at `from`: where a camera moving along it
+/// enters its next cell. `None` if the whole segment stays in `from`'s cell, or an input
+/// is invalid.
+///
+/// The cell at `to` is not the answer: a camera near a corner of its cell, moving
+/// diagonally, may cross one boundary within the segment and the other only past its end
+/// (or never, if it slows), and then enters the cell beside its own, not the diagonal one.
+pub fn first_crossing(
+    from: Vec3,
+    to: Vec3,
+    defaults: &GridDefaults,
+    overrides: &[GridOverride],
+) -> Option<Vec3> {
+    let start = resolve_grid(from, defaults, overrides).ok()?;
+    let same = |p: Vec3| {
+        resolve_grid(p, defaults, overrides).map(|c| {
+            c.key.cell == start.key.cell && c.key.face_resolution == start.key.face_resolution
+        })
+    };
+    // Steps of an eighth of the smallest cell any grid here uses: a cell is never stepped
+    // over, and a corner clipped by less than that is not worth prefetching.
+    let finest = (overrides.iter().map(|o| o.cell_size)).fold(defaults.cell_size, f32::min);
+    let length = (to - from).length();
+    if !length.is_finite() || length <= 0.0 {
+        return None;
+    }
+    let steps = ((length / (finest / 8.0)).ceil() as u32).clamp(1, MAX_CROSSING_STEPS);
+    let at = |i: u32| i as f32 / steps as f32;
+    let first = (1..=steps).find(|&i| !same(from.lerp(to, at(i))).unwrap_or(true))?;
+    // The step may have crossed two boundaries near a corner: bisect to the first, and
+    // answer just past it.
+    let (mut lo, mut hi) = (at(first - 1), at(first));
+    for _ in 0..CROSSING_BISECTIONS {
+        let mid = 0.5 * (lo + hi);
+        if same(from.lerp(to, mid)).unwrap_or(false) {
+            lo = mid;
+        } else {
+            hi = mid;
+        }
+    }
+    Some(from.lerp(to, hi))
+}
+
+/// Samples [`first_crossing`] tests at most along its segment.
+const MAX_CROSSING_STEPS: u32 = 256;
+/// Halvings of the step where [`first_crossing`] found a new grid (to 1/4096 of it).
+const CROSSING_BISECTIONS: u32 = 12;
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -297,6 +346,45 @@ mod tests {
             face_resolution: None,
             priority,
         }
+    }
+
+    #[test]
+    fn a_diagonal_move_near_a_corner_enters_the_side_cell_first() {
+        // From (0.41, 1.6, 4.9) toward (0.53, 1.6, 4.3): z crosses 4.5 before x crosses
+        // 0.5, so the cell entered is (0, 2, 4), not (1, 2, 4) where the segment ends.
+        let (from, to) = (Vec3::new(0.41, 1.6, 4.9), Vec3::new(0.53, 1.6, 4.3));
+        let p = first_crossing(from, to, &DEFAULTS, &[]).unwrap();
+        let entered = resolve_grid(p, &DEFAULTS, &[]).unwrap();
+        assert_eq!(entered.key.cell.index, IVec3::new(0, 2, 4));
+        let end = resolve_grid(to, &DEFAULTS, &[]).unwrap();
+        assert_eq!(end.key.cell.index, IVec3::new(1, 2, 4));
+        assert!(p.z < 4.5 && p.z > 4.499, "{p}");
+    }
+
+    #[test]
+    fn a_segment_inside_one_cell_crosses_nothing() {
+        let from = Vec3::new(0.1, 1.9, 5.2);
+        assert_eq!(
+            first_crossing(from, from + Vec3::X * 0.3, &DEFAULTS, &[]),
+            None
+        );
+        assert_eq!(first_crossing(from, from, &DEFAULTS, &[]), None);
+        assert_eq!(first_crossing(from, Vec3::NAN, &DEFAULTS, &[]), None);
+    }
+
+    #[test]
+    fn entering_an_override_volume_is_a_crossing() {
+        // Same cell vertex (0,0,0) at both cell sizes, but the volume's face resolution
+        // differs: a new probe.
+        let mut v = volume(0.2, 1.0, 1.0, 0);
+        v.face_resolution = Some(32);
+        let p = first_crossing(Vec3::splat(0.1), Vec3::splat(0.3), &DEFAULTS, &[v]).unwrap();
+        assert!(v.contains(p), "{p}");
+        // A volume of finer cells is never stepped over.
+        let fine = volume(0.30, 0.32, 0.02, 0);
+        let from = Vec3::new(0.0, 0.31, 0.31);
+        let p = first_crossing(from, from + Vec3::X * 0.45, &DEFAULTS, &[fine]).unwrap();
+        assert!(fine.contains(p), "{p}");
     }
 
     #[test]
