@@ -157,6 +157,9 @@ impl CapturePass {
             let view_proj = capture_view_projection(c);
             let lod = match c.ortho {
                 Some(o) => crate::gpu_scene::LodFrom::Texel(o.texel(slot.n)),
+                None if c.slot == texel_probes::probe_set::Slot::Eye => {
+                    crate::gpu_scene::LodFrom::Eye(c.origin, slot.n)
+                }
                 None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
             };
             let runs = crate::gpu_scene::visible_runs(&scene.ranges, &view_proj, lod);
