@@ -50,7 +50,8 @@ pub const FACE_BUDGET: u32 = 9;
 /// faces to a frame, and the new grid probe completes over the following frames.
 pub const STABLE_FACES_PER_FRAME: u32 = 2;
 /// Stable faces captured at most on the frame that crosses into a new cell (which also
-/// captures the eye and draws the previous probe alone); the rest follow.
+/// captures the eye and draws the previous probe alone) and on the frames after it until
+/// the fade begins; the rest follow.
 pub const CROSSING_STABLE_FACES: u32 = 1;
 /// Stable faces of the next cell's grid probe captured per quiet frame ahead of a crossing.
 pub const PREFETCH_FACES_PER_FRAME: u32 = 1;

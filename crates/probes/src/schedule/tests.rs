@@ -345,8 +345,14 @@ fn the_crossing_frame_captures_fewer_stable_faces() {
     let crossing = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
     assert!(crossing.previous.is_some());
     assert_eq!(stable(&crossing), 1);
+    // The rest follow at the crossing's cap while the fade has not begun (such a frame
+    // also draws both probes' quads), then at the usual cap.
+    assert_eq!(rig.probes.fade_t(), 0.0);
     let next = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
-    assert_eq!(stable(&next), 2, "the rest follow at the usual cap");
+    assert_eq!(stable(&next), 1, "one a frame while fade_t is 0");
+    assert!(rig.probes.fade_t() > 0.0, "the fade begins");
+    let after = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
+    assert_eq!(stable(&after), 2, "then the usual cap");
 }
 
 #[test]
@@ -411,8 +417,11 @@ fn a_fade_toward_a_partly_prefetched_grid_starts_without_stable_captures() {
     assert!(!crossing.readiness().grid, "faces are missing");
     assert_eq!(stable(&crossing), 0, "the previous probe owns every pixel");
     assert_eq!(rig.probes.fade_t(), 0.0);
+    // The missing faces follow, one a frame while the fade has not begun (each such frame
+    // also draws both probes' quads).
     let next = rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
-    assert!(stable(&next) > 0, "the missing faces follow: {next:?}");
+    assert_eq!(stable(&next), 1, "the missing faces follow: {next:?}");
+    assert!(!next.readiness().grid, "more faces are missing");
     for _ in 0..40 {
         rig.frame(Vec3::new(0.8, 0.1, -0.3), 1, 0.3, wide);
     }
