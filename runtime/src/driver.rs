@@ -443,8 +443,9 @@ impl FrameDriver {
         };
         let frustum = frustum(&view).map_err(|e| DriverError::View(e.to_string()))?;
         let mut plan = self.scheduler.plan(&frustum, probes, 0);
-        // An orthographic camera's probe holds still while it pans: nothing to prefetch.
-        if schedule == Schedule::Ours && camera.ortho_height.is_none() {
+        // An orthographic camera's probe holds still while it pans: nothing to prefetch;
+        // nor while a fade runs (no stable slot is free).
+        if schedule == Schedule::Ours && camera.ortho_height.is_none() && plan.previous.is_none() {
             // The cell the camera enters next, if it does within the look-ahead.
             let ahead = camera.position + self.velocity * PREFETCH_LOOKAHEAD_S;
             let next = first_crossing(camera.position, ahead, &self.defaults, &self.overrides)

@@ -295,8 +295,9 @@ pub fn first_crossing(
     overrides: &[GridOverride],
 ) -> Option<Vec3> {
     let start = resolve_grid(from, defaults, overrides).ok()?;
+    // A point that does not resolve counts as another grid.
     let same = |p: Vec3| {
-        resolve_grid(p, defaults, overrides).map(|c| {
+        resolve_grid(p, defaults, overrides).is_ok_and(|c| {
             c.key.cell == start.key.cell && c.key.face_resolution == start.key.face_resolution
         })
     };
@@ -309,13 +310,13 @@ pub fn first_crossing(
     }
     let steps = ((length / (finest / 8.0)).ceil() as u32).clamp(1, MAX_CROSSING_STEPS);
     let at = |i: u32| i as f32 / steps as f32;
-    let first = (1..=steps).find(|&i| !same(from.lerp(to, at(i))).unwrap_or(true))?;
+    let first = (1..=steps).find(|&i| !same(from.lerp(to, at(i))))?;
     // The step may have crossed two boundaries near a corner: bisect to the first, and
     // answer just past it.
     let (mut lo, mut hi) = (at(first - 1), at(first));
     for _ in 0..CROSSING_BISECTIONS {
         let mid = 0.5 * (lo + hi);
-        if same(from.lerp(to, mid)).unwrap_or(false) {
+        if same(from.lerp(to, mid)) {
             lo = mid;
         } else {
             hi = mid;
