@@ -286,6 +286,15 @@ fn half_precision(c: vec3<f32>) -> vec3<f32> {
 // orthographic probe's quads are exact squares); elsewhere half a texel. `light_texel` casts
 // these rays in its shadow rays' loop, over the searched sides only.
 //
+// A farther neighbour that lies in front of this texel's plane (`hides_plane`: a wall
+// standing on a floor, a stone on a terrain) does not end the surface: it hides it. There
+// the depth halfway between the two says nothing (the two meet at one depth), so the edge is
+// where the plane stops being the first thing a ray meets: a ray is on this side when
+// nothing in the BVH lies before the plane along it. That asks the BVH for the neighbour,
+// not for this surface, so a floor that casts no shadow finds its junction with a wall that
+// does. Measured on occluder_pass (faces of 128, 320×180): the floor's junction with the
+// long wall had been a whole row off over the frame's width.
+//
 // Bisection steps of the silhouette edges' search: the edge to a sixteenth of a texel.
 const EDGE_STEPS: u32 = 4u;
 // Every side's edge half a texel out (`SIMILAR_EDGE_AT`: c = 4).
@@ -301,8 +310,27 @@ fn on_plane(me: Sample, ray: vec3<f32>, nb: Sample, nray: vec3<f32>) -> bool {
     if nb.id != me.id || along >= 0.0 {
         return false;
     }
-    let at = dot(me.geo.xyz, ray) * me.geo.w / along;
-    return abs(at - nb.geo.w) <= 0.01 * nb.geo.w;
+    return abs(plane_depth(me, ray, nray) - nb.geo.w) <= 0.01 * nb.geo.w;
+}
+
+// The depth (ray parameter) at which `dir` meets the plane of `me` (seen along `ray`); only
+// where `dot(normal, dir) < 0`.
+fn plane_depth(me: Sample, ray: vec3<f32>, dir: vec3<f32>) -> f32 {
+    return dot(me.geo.xyz, ray) * me.geo.w / dot(me.geo.xyz, dir);
+}
+
+// Whether neighbour `nb`, seen along `nray`, lies in front of the plane of `me` (by more
+// than 0.1%, far above the depths' rounding): it hides the plane there rather than showing
+// what lies past the surface's end. (1%, `on_plane`'s margin, missed a junction whose
+// neighbour's centre lay within 1% of the plane: a floor meeting a wall within a sixth of
+// the texel from the wall's first texel's centre.)
+fn hides_plane(me: Sample, ray: vec3<f32>, nb: Sample, nray: vec3<f32>) -> bool {
+    return dot(me.geo.xyz, nray) < 0.0 && nb.geo.w < 0.999 * plane_depth(me, ray, nray);
+}
+
+// Whether object `id` (1-based) has its triangles in the BVH.
+fn in_bvh(id: u32) -> bool {
+    return id != 0u && id <= arrayLength(&objects) && (objects[id - 1u].flags & FLAG_IN_BVH) != 0u;
 }
 
 // The ray (`frame_ray`) through the centre of the neighbour on side `k` of the texel at `uv`
@@ -343,8 +371,13 @@ fn light_texel(t: vec2<u32>) {
     // crease); a texel with neither counts as curved.
     var flat = false;
     var curved = false;
-    // Bit k: side k's edge is searched (a silhouette).
+    // Bit k: side k's edge is searched (a silhouette, or where a neighbour hides the plane).
     var seek = 0u;
+    // Bit k: side k's neighbour hides this texel's plane (`hides_plane`).
+    var hidden = 0u;
+    // A farther neighbour is not this surface turning a convex crease (`SIMILAR_APART`).
+    var apart = false;
+    let me_in_bvh = (flags & FLAG_IN_BVH) != 0u;
     // Depth step between neighbours on a surface tilted ~37° from the face plane.
     let tolerance = frame_texel_size(fr, d, n, ray) / length(ray) * 0.75;
     for (var k = 0u; k < 4u; k++) {
@@ -363,12 +396,23 @@ fn light_texel(t: vec2<u32>) {
             }
         } else if nb.id == 0u {
             similar |= 17u << k;
-            seek |= 1u << k;
+            seek |= select(0u, 1u << k, me_in_bvh);
         } else if nb.geo.w > d {
             similar |= 16u << k;
-            // Searched for its edge, unless the surface goes on there.
-            if !on_plane(me, ray, nb, neighbour_ray(fr, uv, k)) {
+            // Searched for its edge, unless the surface goes on there: against the neighbour
+            // where it hides the plane, else against this surface.
+            let nray = neighbour_ray(fr, uv, k);
+            if hides_plane(me, ray, nb, nray) {
+                if in_bvh(nb.id) {
+                    seek |= 1u << k;
+                    hidden |= 1u << k;
+                }
+            } else if me_in_bvh && !on_plane(me, ray, nb, nray) {
                 seek |= 1u << k;
+            }
+            // Another object, or this one hiding itself: the edge lies on this plane.
+            if nb.id != me.id || (hidden & (1u << k)) != 0u {
+                apart = true;
             }
         }
         if (flags & FLAG_OUTLINED) == 0u {
@@ -391,6 +435,11 @@ fn light_texel(t: vec2<u32>) {
     }
     if curved || !flat {
         similar |= SIMILAR_CURVED;
+        // The plane of a curved surface is only its tangent: nothing it hides is known.
+        seek &= ~hidden;
+        hidden = 0u;
+    } else if apart {
+        similar |= SIMILAR_APART;
     }
 
     // Lights and shadows, then the silhouette edges' search: one loop, one call of the BVH
@@ -410,7 +459,7 @@ fn light_texel(t: vec2<u32>) {
     let start = p + lit_normal * offset;
     var light = globals.ambient.rgb;
     let lights = select(light_count(), 0u, emissive);
-    let search = globals.edges != 0u && fr.half <= 0.0 && seek != 0u && (flags & FLAG_IN_BVH) != 0u;
+    let search = globals.edges != 0u && fr.half <= 0.0 && seek != 0u;
     var edges = EDGES_UNKNOWN;
     // The sides left to search (bit k: side k), the one searched now, its bisection's
     // interval, far limit and the ray's change per texel toward the neighbour.
@@ -451,6 +500,10 @@ fn light_texel(t: vec2<u32>) {
             dir = ray + toward * (0.5 * (lo + hi));
             origin = fr.origin + dir * skip;
             t_max = reach - skip;
+            if ((hidden >> k) & 1u) != 0u {
+                // Up to the plane, short of the surface itself where it is in the BVH.
+                t_max = plane_depth(me, ray, dir) - skip - offset / length(dir);
+            }
         }
         let hit = bvh_any_hit(origin, dir, t_max);
         if i < lights {
@@ -459,7 +512,9 @@ fn light_texel(t: vec2<u32>) {
             }
             continue;
         }
-        if hit {
+        // On this side: the ray meets this surface (a silhouette) or nothing before its plane
+        // (a hidden side).
+        if hit != (((hidden >> k) & 1u) != 0u) {
             lo = 0.5 * (lo + hi);
         } else {
             hi = 0.5 * (lo + hi);

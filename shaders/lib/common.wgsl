@@ -226,5 +226,9 @@ const SIMILAR_CURVED: u32 = 256u;
 // of a texel from this texel's centre (shade.wgsl, the edge search; 3, half a texel,
 // where it is not searched). The bits stay below 2^24, exact in the lit texture's f32 alpha.
 const SIMILAR_EDGE_AT: u32 = 9u;
+// In a lit texel's neighbour bits: a flat texel whose farther neighbours are other objects,
+// or hide its plane (shade.wgsl), not its own surface past a convex crease: its quad's
+// sides toward them end on its plane (cull.wgsl `ends_at_edge`).
+const SIMILAR_APART: u32 = 0x200000u;
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.
 const RUN_COLUMN: u32 = 0x10000u;
