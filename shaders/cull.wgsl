@@ -145,9 +145,13 @@ fn plane_corner(fr: ProbeFrame, face: u32, q: vec2<f32>, on: vec3<f32>, nrm: vec
     return start + r * clamp(dot(nrm, on - start) / den, 0.8, 1.25);
 }
 
-// Per side (left, right, up, down): it ends at an edge against farther geometry (bits 10)
-// and the texel is flat (not `SIMILAR_CURVED`: a curved surface's plane is only its
-// tangent, and moved terrain crests' corners raised terrain_walk's shimmer 0.0123 -> 0.0165).
+// Per side (left, right, up, down): it ends at an edge against farther geometry (bits 10),
+// on a texel the shade pass marked `SIMILAR_APART`: flat (a curved surface's plane is only
+// its tangent: terrain crests' corners moved onto it raised terrain_walk's shimmer 0.0123 ->
+// 0.0165), and the farther neighbours are other objects or hide its plane (this surface
+// past a convex crease, an architrave's side turning into its underside, is not: the
+// underside's quad reaching under the side's met its plane-bound corners in depth, and the
+// crease broke into speckles).
 fn ends_at_edge(bits: u32) -> vec4<bool> {
     let far = (vec4(bits >> 4u, bits >> 5u, bits >> 6u, bits >> 7u) & vec4(1u)) != vec4(0u);
     let similar = (vec4(bits, bits >> 1u, bits >> 2u, bits >> 3u) & vec4(1u)) != vec4(0u);

@@ -438,7 +438,8 @@ fn light_texel(t: vec2<u32>) {
         // The plane of a curved surface is only its tangent: nothing it hides is known.
         seek &= ~hidden;
         hidden = 0u;
-    } else if apart {
+    } else if apart && globals.edges != 0u && fr.half <= 0.0 {
+        // Only where edges are searched (the paper's schedule keeps its quads as they were).
         similar |= SIMILAR_APART;
     }
 
