@@ -282,9 +282,10 @@ fn half_precision(c: vec3<f32>) -> vec3<f32> {
 // the probe stays. Rays between the centres, cast against the BVH, find it by bisection: a
 // ray that meets something before the far side's depth (halfway to farther geometry; for
 // the sky, four times this texel's depth) is still on this side. Only for surfaces in the
-// BVH (`FLAG_IN_BVH`: they cast shadows and do not move) and probes that are cubes (an
-// orthographic probe's quads are exact squares); elsewhere half a texel. `light_texel` casts
-// these rays in its shadow rays' loop, over the searched sides only.
+// BVH (`FLAG_IN_BVH`: they cast shadows and do not move); elsewhere half a texel. An
+// orthographic probe's rays are parallel: its edge rays start between the two texels'
+// starts (`toward_ray`). `light_texel` casts these rays in its shadow rays' loop, over the
+// searched sides only.
 //
 // A farther neighbour that lies in front of this texel's plane (`hides_plane`: a wall
 // standing on a floor, a stone on a terrain) does not end the surface: it hides it. There
@@ -300,43 +301,54 @@ const EDGE_STEPS: u32 = 4u;
 // Every side's edge half a texel out (`SIMILAR_EDGE_AT`: c = 4).
 const EDGES_UNKNOWN: u32 = 0x6dbu << SIMILAR_EDGE_AT;
 
-// Whether neighbour `nb`, seen along `nray`, lies on the plane of `me` (seen along `ray`):
+// A probe ray: from `start` along `dir` (`frame_ray`: a point at depth t is start + dir·t).
+struct ProbeRay {
+    start: vec3<f32>,
+    dir: vec3<f32>,
+}
+
+// The ray through face coordinates `uv` of the face being lit (past the face's edge a cube
+// face's plane goes on).
+fn probe_ray(fr: ProbeFrame, uv: vec2<f32>) -> ProbeRay {
+    return ProbeRay(frame_ray_start(fr, uv), frame_ray(fr, sf.face, uv));
+}
+
+// The ray through the point `s` of the way from the texel at `uv` to its neighbour on side
+// `k` (s = 1: the neighbour's centre).
+fn toward_ray(fr: ProbeFrame, uv: vec2<f32>, k: u32, s: f32) -> ProbeRay {
+    return probe_ray(fr, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 * s / f32(sf.n)));
+}
+
+// The depth at which ray `r` meets the plane through `p` with normal `n`; only where
+// `dot(n, r.dir) < 0`.
+fn plane_depth(n: vec3<f32>, p: vec3<f32>, r: ProbeRay) -> f32 {
+    return dot(n, p - r.start) / dot(n, r.dir);
+}
+
+// Whether neighbour `nb`, seen along `nr`, lies on the plane of `me` (whose point is `p`):
 // the same object, at the depth where that plane meets its ray (within 1%). A surface seen
 // at a grazing angle has its next texel far behind, yet no silhouette between them: the
 // edge search would find its edge where the depth passes the halfway mark, about half a
 // texel out, as without a search.
-fn on_plane(me: Sample, ray: vec3<f32>, nb: Sample, nray: vec3<f32>) -> bool {
-    let along = dot(me.geo.xyz, nray);
-    if nb.id != me.id || along >= 0.0 {
+fn on_plane(me: Sample, p: vec3<f32>, nb: Sample, nr: ProbeRay) -> bool {
+    if nb.id != me.id || dot(me.geo.xyz, nr.dir) >= 0.0 {
         return false;
     }
-    return abs(plane_depth(me, ray, nray) - nb.geo.w) <= 0.01 * nb.geo.w;
+    return abs(plane_depth(me.geo.xyz, p, nr) - nb.geo.w) <= 0.01 * nb.geo.w;
 }
 
-// The depth (ray parameter) at which `dir` meets the plane of `me` (seen along `ray`); only
-// where `dot(normal, dir) < 0`.
-fn plane_depth(me: Sample, ray: vec3<f32>, dir: vec3<f32>) -> f32 {
-    return dot(me.geo.xyz, ray) * me.geo.w / dot(me.geo.xyz, dir);
-}
-
-// Whether neighbour `nb`, seen along `nray`, lies in front of the plane of `me` (by more
-// than 0.1%, far above the depths' rounding): it hides the plane there rather than showing
-// what lies past the surface's end. (1%, `on_plane`'s margin, missed a junction whose
+// Whether neighbour `nb`, seen along `nr`, lies in front of the plane of `me` (by more than
+// 0.1%, far above the depths' rounding): it hides the plane there rather than showing what
+// lies past the surface's end. (1%, `on_plane`'s margin, missed a junction whose
 // neighbour's centre lay within 1% of the plane: a floor meeting a wall within a sixth of
 // the texel from the wall's first texel's centre.)
-fn hides_plane(me: Sample, ray: vec3<f32>, nb: Sample, nray: vec3<f32>) -> bool {
-    return dot(me.geo.xyz, nray) < 0.0 && nb.geo.w < 0.999 * plane_depth(me, ray, nray);
+fn hides_plane(me: Sample, p: vec3<f32>, nb: Sample, nr: ProbeRay) -> bool {
+    return dot(me.geo.xyz, nr.dir) < 0.0 && nb.geo.w < 0.999 * plane_depth(me.geo.xyz, p, nr);
 }
 
 // Whether object `id` (1-based) has its triangles in the BVH.
 fn in_bvh(id: u32) -> bool {
     return id != 0u && id <= arrayLength(&objects) && (objects[id - 1u].flags & FLAG_IN_BVH) != 0u;
-}
-
-// The ray (`frame_ray`) through the centre of the neighbour on side `k` of the texel at `uv`
-// of a cube face: past the face's edge it continues the face's plane.
-fn neighbour_ray(fr: ProbeFrame, uv: vec2<f32>, k: u32) -> vec3<f32> {
-    return frame_ray(fr, sf.face, uv + vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(sf.n)));
 }
 
 // The far limit of side `k`'s edge search.
@@ -401,13 +413,13 @@ fn light_texel(t: vec2<u32>) {
             similar |= 16u << k;
             // Searched for its edge, unless the surface goes on there: against the neighbour
             // where it hides the plane, else against this surface.
-            let nray = neighbour_ray(fr, uv, k);
-            if hides_plane(me, ray, nb, nray) {
+            let nr = toward_ray(fr, uv, k, 1.0);
+            if hides_plane(me, p, nb, nr) {
                 if in_bvh(nb.id) {
                     seek |= 1u << k;
                     hidden |= 1u << k;
                 }
-            } else if me_in_bvh && !on_plane(me, ray, nb, nray) {
+            } else if me_in_bvh && !on_plane(me, p, nb, nr) {
                 seek |= 1u << k;
             }
             // Another object, or this one hiding itself: the edge lies on this plane.
@@ -438,7 +450,7 @@ fn light_texel(t: vec2<u32>) {
         // The plane of a curved surface is only its tangent: nothing it hides is known.
         seek &= ~hidden;
         hidden = 0u;
-    } else if apart && globals.edges != 0u && fr.half <= 0.0 {
+    } else if apart && globals.edges != 0u {
         // Only where edges are searched (the paper's schedule keeps its quads as they were).
         similar |= SIMILAR_APART;
     }
@@ -460,16 +472,15 @@ fn light_texel(t: vec2<u32>) {
     let start = p + lit_normal * offset;
     var light = globals.ambient.rgb;
     let lights = select(light_count(), 0u, emissive);
-    let search = globals.edges != 0u && fr.half <= 0.0 && seek != 0u;
+    let search = globals.edges != 0u && seek != 0u;
     var edges = EDGES_UNKNOWN;
     // The sides left to search (bit k: side k), the one searched now, its bisection's
-    // interval, far limit and the ray's change per texel toward the neighbour.
+    // interval and far limit.
     var left = select(0u, seek, search);
     var k = 0u;
     var lo = 0.0;
     var hi = 1.0;
     var reach = 0.0;
-    var toward = vec3(0.0);
     // Edge rays start halfway to the surface (nothing nearer lies on this texel's ray, and
     // the traversal skips the boxes before it).
     let skip = 0.5 * d;
@@ -495,15 +506,14 @@ fn light_texel(t: vec2<u32>) {
                 lo = 0.0;
                 hi = 1.0;
                 reach = edge_reach(t, d, similar, k);
-                // A cube face's rays are linear in its coordinates.
-                toward = neighbour_ray(fr, uv, k) - ray;
             }
-            dir = ray + toward * (0.5 * (lo + hi));
-            origin = fr.origin + dir * skip;
+            let er = toward_ray(fr, uv, k, 0.5 * (lo + hi));
+            dir = er.dir;
+            origin = er.start + dir * skip;
             t_max = reach - skip;
             if ((hidden >> k) & 1u) != 0u {
                 // Up to the plane, short of the surface itself where it is in the BVH.
-                t_max = plane_depth(me, ray, dir) - skip - offset / length(dir);
+                t_max = plane_depth(normal, p, er) - skip - offset / length(dir);
             }
         }
         let hit = bvh_any_hit(origin, dir, t_max);
