@@ -90,8 +90,18 @@ const NEARER_HALF: f32 = 1.5;
 // edges and sides toward nearer surfaces reaching under them: ortho_pan 0.0116 (at faces of
 // 64, 0.0385 -> 0.0207, naive 0.0342), iso_orbit 0.0096; shimmer 0.0000 and 0.0037.
 
+// Side `k`'s kind from its two bits: 0 nearer, 1 similar, 2 farther, 3 sky.
+fn side_code(bits: u32, k: u32) -> u32 {
+    return ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
+}
+
+// Where side `k`'s edge lies, in texels from the centre (`SIMILAR_EDGE_AT`).
+fn side_edge(bits: u32, k: u32) -> f32 {
+    return f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
+}
+
 fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
-    let code = ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
+    let code = side_code(bits, k);
     if code == 0u {
         return NEARER_HALF;
     }
@@ -101,7 +111,7 @@ fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
         return min(0.575 + 0.05 * tan_theta, 1.0);
     }
     // A silhouette side ends where the shade pass found the edge (`SIMILAR_EDGE_AT`).
-    let edge = f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
+    let edge = side_edge(bits, k);
     if code == 3u && (bits & SIMILAR_CURVED) != 0u {
         return edge + min(0.05 * tan_theta, 0.25);
     }
@@ -114,14 +124,14 @@ fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
 // half a texel; under the orthographic camera it stays hidden behind it).
 fn quad_half(bits: u32, k: u32, cos_theta: f32, exact: bool) -> f32 {
     if exact {
-        let code = ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
+        let code = side_code(bits, k);
         if code == 0u {
             return NEARER_HALF;
         }
         if code == 1u {
             return 0.5;
         }
-        return f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
+        return side_edge(bits, k);
     }
     return half_size(bits, k, cos_theta);
 }
@@ -141,10 +151,13 @@ fn quad_halves(bits: u32, cos_theta: f32, exact: bool) -> vec4<f32> {
 // viewpoint. Other sides keep the depth: measured (faces of 128, 320×180), corners on the
 // plane on every side flickered under pure yaw (0.0001 -> 0.0022: a convex crease's quad
 // continued its plane out past the crease); toward the sky too, 0.0003; here 0.0002, with
-// coverage error on occluder_pass 0.0108 -> 0.0060 (naive 0.0090), walk_cells 0.0127 ->
-// 0.0123, orbit 0.0131 -> 0.0124.
+// coverage error on occluder_pass 0.0108 -> 0.0059 (naive 0.0090; the junctions searched
+// without moving corners, 0.0099), walk_cells 0.0127 -> 0.0124, orbit 0.0131 -> 0.0123.
+// At faces of 64 it costs the colonnade's wall paths: wall_graze 0.0235 -> 0.0255 (0.0241
+// without moving corners), the floor's junction seen slanting along the wall.
 //
-// Where corner `q`'s ray meets the plane through `on` with normal `nrm` (at most a quarter
+// Where corner `q`'s ray meets the plane through `on` (the run's middle point: its texels
+// share the depth and the plane) with normal `nrm` (at most a quarter
 // further or a fifth nearer than depth `d`, the texel's: a grazing plane runs far).
 fn plane_corner(fr: ProbeFrame, face: u32, q: vec2<f32>, on: vec3<f32>, nrm: vec3<f32>, d: f32) -> vec3<f32> {
     let at_depth = frame_point(fr, face, q, d);
@@ -165,9 +178,8 @@ fn plane_corner(fr: ProbeFrame, face: u32, q: vec2<f32>, on: vec3<f32>, nrm: vec
 // underside's quad reaching under the side's met its plane-bound corners in depth, and the
 // crease broke into speckles).
 fn ends_at_edge(bits: u32) -> vec4<bool> {
-    let far = (vec4(bits >> 4u, bits >> 5u, bits >> 6u, bits >> 7u) & vec4(1u)) != vec4(0u);
-    let similar = (vec4(bits, bits >> 1u, bits >> 2u, bits >> 3u) & vec4(1u)) != vec4(0u);
-    return far & !similar & vec4((bits & SIMILAR_APART) != 0u);
+    let codes = vec4(side_code(bits, 0u), side_code(bits, 1u), side_code(bits, 2u), side_code(bits, 3u));
+    return codes == vec4(2u) & vec4((bits & SIMILAR_APART) != 0u);
 }
 
 // Corner `q` of a quad: on the surface's plane where one of its two sides `ends_at_edge`,
@@ -357,16 +369,14 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
-    // The first texel's point: a run's texels lie in its plane.
-    let on = frame_point(fr, face, uv, d);
     let fe = ends_at_edge(bits);
     let le = ends_at_edge(last_bits);
     let ae = select(le, fe, column);
     let be = select(fe, le, column);
-    let c0 = corner_at(fr, face, q0, on, geo.xyz, d, fe.x || fe.z);
-    let c1 = corner_at(fr, face, q1, on, geo.xyz, d, ae.y || ae.z);
-    let c2 = corner_at(fr, face, q2, on, geo.xyz, d, le.y || le.w);
-    let c3 = corner_at(fr, face, q3, on, geo.xyz, d, be.x || be.w);
+    let c0 = corner_at(fr, face, q0, p, geo.xyz, d, fe.x || fe.z);
+    let c1 = corner_at(fr, face, q1, p, geo.xyz, d, ae.y || ae.z);
+    let c2 = corner_at(fr, face, q2, p, geo.xyz, d, le.y || le.w);
+    let c3 = corner_at(fr, face, q3, p, geo.xyz, d, be.x || be.w);
     let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, c0, c1, c2, c3);
     out.c0 = vec4(c0, bitcast<f32>(key));
     out.c1 = vec4(c1, bitcast<f32>(colour));
