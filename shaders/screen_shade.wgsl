@@ -35,6 +35,8 @@ struct ScreenGlobals {
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(1) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
+@group(1) @binding(3) var<uniform> bvh_fields: BvhFields;
+@group(1) @binding(4) var bvh_field_data: texture_2d_array<f32>;
 
 const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
 

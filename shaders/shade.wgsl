@@ -88,6 +88,8 @@ const WORK_QUEUE: u32 = 64u;
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(1) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
+@group(1) @binding(3) var<uniform> bvh_fields: BvhFields;
+@group(1) @binding(4) var bvh_field_data: texture_2d_array<f32>;
 
 // The texel frame of the face being lit: its own origin, the slot's orthographic frame (a
 // cube when the slot's view says none).
@@ -516,7 +518,8 @@ fn light_texel(t: vec2<u32>) {
                 t_max = plane_depth(normal, p, er) - skip - offset / length(dir);
             }
         }
-        let hit = bvh_any_hit(origin, dir, t_max);
+        // An edge ray's hit, if any, lies near the silhouette, at its far end.
+        let hit = bvh_any_hit_from(origin, dir, t_max, i >= lights);
         if i < lights {
             if !hit {
                 light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;

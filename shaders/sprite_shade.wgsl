@@ -25,6 +25,8 @@
 @group(2) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(2) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(2) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
+@group(2) @binding(3) var<uniform> bvh_fields: BvhFields;
+@group(2) @binding(4) var bvh_field_data: texture_2d_array<f32>;
 
 #include "lib/sprite.wgsl"
 #include "lib/sprite_view.wgsl"

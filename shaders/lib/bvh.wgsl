@@ -9,12 +9,18 @@
 //   @group(G) @binding(B1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 //   @group(G) @binding(B2) var<storage, read> bvh_instances: array<BvhInstance>;
 //
-// filled from `GpuBvh::upload` (buffers `bvh::nodes` and `bvh::triangles`) and
-// `GpuScene::bvh_instances`. The static scene's tree has its root at node 0; each animated
+//   @group(G) @binding(B3) var<uniform> bvh_fields: BvhFields;
+//   @group(G) @binding(B4) var bvh_field_data: texture_2d_array<f32>;
+//
+// filled from `GpuBvh::upload` (buffers `bvh::nodes` and `bvh::triangles`),
+// `GpuScene::bvh_instances` and the terrains' heightfields (`crates/render/src/bvh/field.rs`:
+// a terrain casts through its max-height quadtree, not through triangles in the tree). The static scene's tree has its root at node 0; each animated
 // object's tree follows it, built in the object's base pose, and its instance record carries
 // rays from where the object is now into that pose; last, a top-level tree over the casters'
 // bounds now, rebuilt each frame, whose leaves name instance records (record 0 is a header
 // holding the top-level root).
+
+#include "lib/constants.wgsl"
 
 // Traversal stack entries. The builder merges subtrees deeper than this into leaves, so
 // the stack cannot overflow; if it ever did, the ray counts as hit (shadowed).
@@ -101,12 +107,127 @@ fn bvh_leaf_hit(node: BvhNode, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) ->
     return false;
 }
 
+// 112 bytes (crates/render/src/bvh/field.rs `GpuField`): a terrain's heights and the
+// levels of its max-height quadtree in `bvh_field_data`.
+struct BvhField {
+    corner: vec3<f32>,
+    levels: u32,
+    inv_step: vec2<f32>,
+    cells: vec2<u32>,
+    heights_at: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    level_at: array<vec4<u32>, 4>,
+}
+
+struct BvhFields {
+    count: u32,
+    pad0: u32,
+    pad1: u32,
+    pad2: u32,
+    fields: array<BvhField, BVH_MAX_FIELDS>,
+}
+
+// Float `i` of the fields' flat data.
+fn field_load(i: u32) -> f32 {
+    let w = FIELD_DATA_WIDTH;
+    return textureLoad(bvh_field_data, vec2(i % w, (i / w) % w), i / (w * w), 0).r;
+}
+
+fn field_height(f: BvhField, x: u32, z: u32) -> f32 {
+    return field_load(f.heights_at + z * (f.cells.x + 1u) + x);
+}
+
+// Whether the ray (in the field's grid space) crosses cell (x, z)'s two triangles, split as
+// the terrain mesh splits it.
+fn field_cell_hit(f: BvhField, x: u32, z: u32, o: vec3<f32>, d: vec3<f32>, t_max: f32) -> bool {
+    let fx = f32(x);
+    let fz = f32(z);
+    let a = vec3(fx, field_height(f, x, z), fz);
+    let b = vec3(fx + 1.0, field_height(f, x + 1u, z), fz);
+    let c = vec3(fx, field_height(f, x, z + 1u), fz + 1.0);
+    let e = vec3(fx + 1.0, field_height(f, x + 1u, z + 1u), fz + 1.0);
+    return bvh_triangle_hit(BvhTriangle(a, 0u, c - a, 0u, b - a, 0u), o, d, t_max)
+        || bvh_triangle_hit(BvhTriangle(b, 0u, c - b, 0u, e - b, 0u), o, d, t_max);
+}
+
+// Whether the ray crosses field `f`'s surface at t in (BVH_T_MIN, t_max): the quadtree
+// walked nearest child first (farthest first if `far_first`), a node skipped where the ray
+// passes above its highest height (`HeightField::hit` on the CPU, step for step).
+fn field_hit(f: BvhField, origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool) -> bool {
+    let inv_step = vec3(f.inv_step.x, 1.0, f.inv_step.y);
+    let o = (origin - f.corner) * inv_step;
+    let d = dir * inv_step;
+    let safe = select(d.xz, vec2<f32>(BVH_DIR_EPS), abs(d.xz) < vec2<f32>(BVH_DIR_EPS));
+    let inv = 1.0 / safe;
+    let nx = select(0u, 1u, (d.x < 0.0) != far_first);
+    let nz = select(0u, 1u, (d.z < 0.0) != far_first);
+    var stack: array<u32, FIELD_STACK>;
+    stack[0] = (f.levels - 1u) << 28u;
+    var sp = 1u;
+    while sp > 0u {
+        sp -= 1u;
+        let key = stack[sp];
+        let k = key >> 28u;
+        let ij = vec2((key >> 14u) & 0x3fffu, key & 0x3fffu);
+        let lo = vec2<f32>(ij << vec2(k)) - FIELD_NODE_MARGIN;
+        let hi = vec2<f32>(min((ij + 1u) << vec2(k), f.cells)) + FIELD_NODE_MARGIN;
+        let t0 = (lo - o.xz) * inv;
+        let t1 = (hi - o.xz) * inv;
+        let near = max(max(min(t0.x, t1.x), min(t0.y, t1.y)), 0.0);
+        let far = min(min(max(t0.x, t1.x), max(t0.y, t1.y)), t_max);
+        if near > far {
+            continue;
+        }
+        let y = min(o.y + d.y * near, o.y + d.y * far);
+        let dims = (f.cells + (1u << k) - 1u) >> vec2(k);
+        let top = field_load(f.level_at[k / 4u][k % 4u] + ij.y * dims.x + ij.x);
+        if y > top + 1e-4 * (1.0 + abs(top)) {
+            continue;
+        }
+        if k == 0u {
+            if field_cell_hit(f, ij.x, ij.y, o, d, t_max) {
+                return true;
+            }
+            continue;
+        }
+        let child = (f.cells + (1u << (k - 1u)) - 1u) >> vec2(k - 1u);
+        // Farthest child first, so the nearest is taken next (or the other way round).
+        for (var c = 0u; c < 4u; c++) {
+            let a = select(1u - nx, nx, (c & 1u) != 0u);
+            let b = select(1u - nz, nz, c >= 2u);
+            let cij = 2u * ij + vec2(a, b);
+            if cij.x < child.x && cij.y < child.y {
+                if sp == FIELD_STACK {
+                    return true;
+                }
+                stack[sp] = ((k - 1u) << 28u) | (cij.x << 14u) | cij.y;
+                sp += 1u;
+            }
+        }
+    }
+    return false;
+}
+
 // Whether the ray `origin + t * dir` hits any triangle at t in (1e-4, t_max): the static
-// scene's or an animated object's where it is now. `dir` need not be unit length (t is in
+// scene's, a terrain's, or an animated object's where it is now. `dir` need not be unit length (t is in
 // units of it); `t_max` must be finite (1e30 for "no limit").
 fn bvh_any_hit(origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    return bvh_any_hit_from(origin, dir, t_max, false);
+}
+
+// `bvh_any_hit`, the terrains walked from the ray's far end first when `far_first`: the
+// same answer, found sooner for a ray that expects its hit near `t_max` (an edge ray
+// toward a silhouette).
+fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool) -> bool {
     if bvh_tree_hit(0u, origin, dir, t_max) {
         return true;
+    }
+    for (var i = 0u; i < min(bvh_fields.count, BVH_MAX_FIELDS); i++) {
+        if field_hit(bvh_fields.fields[i], origin, dir, t_max, far_first) {
+            return true;
+        }
     }
     // Record 0 is the header: its `root` is the top-level tree over the casters' bounds.
     let top = bvh_instances[0].root;

@@ -61,6 +61,8 @@ use obvhs::bvh2::reinsertion::ReinsertionOptimizer;
 use obvhs::ploc::PlocBuilder;
 use obvhs::triangle::Triangle;
 
+pub mod field;
+
 /// Entries of the traversal stack (`BVH_STACK_SIZE` in WGSL); also the depth at which the
 /// builder merges deeper subtrees into a leaf.
 pub const STACK_SIZE: usize = 32;

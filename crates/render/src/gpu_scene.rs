@@ -57,6 +57,54 @@ fn transform_bounds(m: glam::Mat4, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
+/// The uniform block of the terrains `cast` (indices into `scene.terrains`, all walkable)
+/// and the texture holding their heights and quadtrees.
+fn upload_fields(
+    ctx: &GpuContext,
+    scene: &SceneInput,
+    cast: &[usize],
+) -> (wgpu::Buffer, wgpu::TextureView) {
+    use crate::bvh::field::{self, HeightField};
+    let fields: Vec<HeightField> = (cast.iter())
+        .filter_map(|&t| {
+            let t = &scene.terrains[t];
+            HeightField::new(t.corner, t.size, t.samples, &t.heights)
+        })
+        .collect();
+    let (block, mut data) = field::pack(&fields.iter().collect::<Vec<_>>());
+    let extent = field::data_extent(data.len());
+    let texels = extent.width * extent.height * extent.depth_or_array_layers;
+    data.resize(texels as usize, 0.0);
+    let texture = ctx.device.create_texture_with_data(
+        &ctx.queue,
+        &wgpu::TextureDescriptor {
+            label: Some("scene::field_data"),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&data),
+    );
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("scene::field_data"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let buffer = ctx
+        .device
+        .create_buffer_init(&wgpu::util::BufferInitDescriptor {
+            label: Some("scene::bvh_fields"),
+            contents: bytemuck::bytes_of(&block),
+            usage: wgpu::BufferUsages::UNIFORM,
+        });
+    (buffer, view)
+}
+
 /// The largest axis scale of `m`.
 fn max_scale(m: glam::Mat4) -> f32 {
     let (scale, _, _) = m.to_scale_rotation_translation();
@@ -533,6 +581,13 @@ pub struct GpuScene {
     pub sprites: Option<crate::sprites::GpuSprites>,
     /// Terrain heights and gradient stops (at least one word).
     pub terrain_data: wgpu::Buffer,
+    /// The shadow-casting terrains walked as heightfields: their records
+    /// ([`crate::bvh::field::GpuFields`]) and data (`r32float`, a flat list).
+    pub bvh_fields: wgpu::Buffer,
+    /// View of the fields' data texture.
+    pub field_data: wgpu::TextureView,
+    /// Terrains walked as heightfields by the shadow rays.
+    pub shadow_fields: usize,
 }
 
 fn pack_colour(c: [f32; 4]) -> u32 {
@@ -553,6 +608,9 @@ impl GpuScene {
         let mut animated_index: Vec<Option<u32>> = vec![None; scene.objects.len()];
         let mut animated: Vec<AnimatedObject> = Vec::new();
         let mut animated_casters: Vec<(usize, Vec<[Vec3; 3]>)> = Vec::new();
+        // Terrains whose shadows and edge rays walk their heights rather than triangles.
+        let walked = crate::bvh::field::walked_terrains(&scene.terrains);
+        let mut cast_fields: Vec<usize> = Vec::new();
         for &i in &scene.animated {
             let terrain = scene.objects.get(i).and_then(|o| o.material.terrain);
             if i < scene.objects.len() && terrain.is_none() && animated_index[i].is_none() {
@@ -581,6 +639,10 @@ impl GpuScene {
                 .filter(|&t| t < scene.terrains.len())
                 .map_or(0, |t| FLAG_TERRAIN | ((t as u32) << 8));
             let moving = animated_index[index].filter(|_| terrain == 0);
+            let field = m.terrain.filter(|&t| walked.get(t) == Some(&true));
+            if let Some(t) = field.filter(|t| m.casts_shadows && !cast_fields.contains(t)) {
+                cast_fields.push(t);
+            }
             let animated_flag = moving.map_or(0, |i| FLAG_ANIMATED | (i << 8));
             let ranges_before = ranges.len();
             let mut own_casters: Vec<[Vec3; 3]> = Vec::new();
@@ -679,7 +741,7 @@ impl GpuScene {
                         grad_v: gv.to_array(),
                     });
                 }
-                if m.casts_shadows && level0 {
+                if m.casts_shadows && level0 && field.is_none() {
                     match moving {
                         None => casters.push(world),
                         Some(_) => own_casters.push(world),
@@ -757,6 +819,7 @@ impl GpuScene {
             .extend(std::iter::repeat_n(BvhNode::zeroed(), 2 * casters_n));
         let instances = vec![GpuBvhInstance::NONE; 1 + casters_n];
         let (bvh_nodes, bvh_triangles) = bvh.upload(&ctx.device);
+        let (bvh_fields, field_data) = upload_fields(ctx, scene, &cast_fields);
         let storage = |label, contents: &[u8], usage| {
             ctx.device
                 .create_buffer_init(&wgpu::util::BufferInitDescriptor {
@@ -816,6 +879,9 @@ impl GpuScene {
                 bytemuck::cast_slice(&terrain_data),
                 wgpu::BufferUsages::STORAGE,
             ),
+            bvh_fields,
+            field_data,
+            shadow_fields: cast_fields.len(),
         };
         // The casters at their base poses until a frame says otherwise.
         scene.set_poses(&ctx.queue, &[]);
@@ -823,11 +889,13 @@ impl GpuScene {
     }
 
     /// What the shadow BVH group binds ([`crate::passes::bvh_layout`]).
-    pub fn bvh_resources(&self) -> [wgpu::BindingResource<'_>; 3] {
+    pub fn bvh_resources(&self) -> [wgpu::BindingResource<'_>; 5] {
         [
             self.bvh_nodes.as_entire_binding(),
             self.bvh_triangles.as_entire_binding(),
             self.bvh_instances.as_entire_binding(),
+            self.bvh_fields.as_entire_binding(),
+            wgpu::BindingResource::TextureView(&self.field_data),
         ]
     }
 

@@ -102,8 +102,15 @@ pub fn frame(input: &FrameInput) -> Result<(), RenderError> {
 pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderError> {
     let tris = |o: &crate::input::ObjectInput| (o.mesh.indices.len() / 3) as u64;
     let total: u64 = scene.objects.iter().map(tris).sum();
+    // Terrains walked as heightfields put no triangles in the tree.
+    let walked = crate::bvh::field::walked_terrains(&scene.terrains);
     let casters: u64 = (scene.objects.iter())
         .filter(|o| o.material.casts_shadows)
+        .filter(|o| {
+            o.material
+                .terrain
+                .is_none_or(|t| walked.get(t) != Some(&true))
+        })
         .map(tris)
         .sum();
     let largest = scene.objects.iter().max_by_key(|o| tris(o));

@@ -8,11 +8,12 @@
 //! legitimately differ; with them excluded the comparison is exact.
 
 use glam::{DVec3, EulerRot, Mat4, Quat, Vec3};
+use texel_render::bvh::field::{self, HeightField};
 use texel_render::bvh::{
     BvhNode, BvhTriangle, GpuBvh, T_MIN, any_hit_brute, any_hit_cpu, build_bvh,
 };
 use texel_render::context::{GpuContext, test_context};
-use texel_render::shader::SOURCES;
+use texel_render::shader::{SOURCES, constants_wgsl};
 use texel_render::target::read_buffer;
 use texel_scene::TriMesh;
 use texel_scene::primitives::{box_mesh, cylinder};
@@ -34,6 +35,8 @@ struct Ray {
 @group(0) @binding(2) var<storage, read> rays: array<Ray>;
 @group(0) @binding(3) var<storage, read_write> out: array<u32>;
 @group(0) @binding(4) var<storage, read> bvh_instances: array<BvhInstance>;
+@group(0) @binding(5) var<uniform> bvh_fields: BvhFields;
+@group(0) @binding(6) var bvh_field_data: texture_2d_array<f32>;
 
 @compute @workgroup_size(64)
 fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
@@ -42,6 +45,16 @@ fn trace(@builtin(global_invocation_id) id: vec3<u32>) {
     }
     let r = rays[id.x];
     out[id.x] = select(0u, 1u, bvh_any_hit(r.origin, r.dir, r.t_max));
+}
+
+// `trace` with the terrains walked from the rays' far ends.
+@compute @workgroup_size(64)
+fn trace_far(@builtin(global_invocation_id) id: vec3<u32>) {
+    if id.x >= arrayLength(&rays) {
+        return;
+    }
+    let r = rays[id.x];
+    out[id.x] = select(0u, 1u, bvh_any_hit_from(r.origin, r.dir, r.t_max, true));
 }
 
 // Writes back every field of node i and triangle i (nodes first, 8 words each, then
@@ -301,10 +314,12 @@ fn storage(ctx: &GpuContext, label: &str, bytes: &[u8], usage: wgpu::BufferUsage
         })
 }
 
-/// Runs `entry` of `TEST_SHADER` over `threads` invocations and returns `out`.
+/// Runs `entry` of `TEST_SHADER` over `threads` invocations, with `fields` walked beside
+/// `bvh`, and returns `out`.
 fn run(
     ctx: &GpuContext,
     bvh: &GpuBvh,
+    fields: &[&HeightField],
     rays: &[GpuRay],
     out_words: usize,
     entry: &str,
@@ -315,7 +330,9 @@ fn run(
         .find(|(name, _)| *name == "lib/bvh.wgsl")
         .expect("lib/bvh.wgsl is in shader::SOURCES")
         .1;
-    let source = TEST_SHADER.replace("#include \"lib/bvh.wgsl\"", lib);
+    let source = TEST_SHADER
+        .replace("#include \"lib/bvh.wgsl\"", lib)
+        .replace("#include \"lib/constants.wgsl\"", &constants_wgsl());
     assert!(!source.contains("#include"));
     let device = &ctx.device;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);
@@ -341,6 +358,26 @@ fn run(
             entry_layout(2, true),
             entry_layout(3, false),
             entry_layout(4, true),
+            wgpu::BindGroupLayoutEntry {
+                binding: 5,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Buffer {
+                    ty: wgpu::BufferBindingType::Uniform,
+                    has_dynamic_offset: false,
+                    min_binding_size: None,
+                },
+                count: None,
+            },
+            wgpu::BindGroupLayoutEntry {
+                binding: 6,
+                visibility: wgpu::ShaderStages::COMPUTE,
+                ty: wgpu::BindingType::Texture {
+                    sample_type: wgpu::TextureSampleType::Float { filterable: false },
+                    view_dimension: wgpu::TextureViewDimension::D2Array,
+                    multisampled: false,
+                },
+                count: None,
+            },
         ],
     });
     let pipeline_layout = device.create_pipeline_layout(&wgpu::PipelineLayoutDescriptor {
@@ -379,17 +416,60 @@ fn run(
         bytemuck::bytes_of(&texel_render::gpu_scene::GpuBvhInstance::NONE),
         usage,
     );
+    let (block, mut data) = field::pack(fields);
+    let extent = field::data_extent(data.len());
+    data.resize(
+        (extent.width * extent.height * extent.depth_or_array_layers) as usize,
+        0.0,
+    );
+    let block = storage(
+        ctx,
+        "bvh_gpu::fields",
+        bytemuck::bytes_of(&block),
+        wgpu::BufferUsages::UNIFORM,
+    );
+    let texture = {
+        use wgpu::util::DeviceExt;
+        device.create_texture_with_data(
+            &ctx.queue,
+            &wgpu::TextureDescriptor {
+                label: Some("bvh_gpu::field_data"),
+                size: extent,
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: wgpu::TextureFormat::R32Float,
+                usage: wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            },
+            wgpu::util::TextureDataOrder::LayerMajor,
+            bytemuck::cast_slice(&data),
+        )
+    };
+    let view = texture.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    let mut entries: Vec<wgpu::BindGroupEntry> = [&nodes, &triangles, &rays, &out, &instances]
+        .iter()
+        .enumerate()
+        .map(|(i, b)| wgpu::BindGroupEntry {
+            binding: i as u32,
+            resource: b.as_entire_binding(),
+        })
+        .collect();
+    entries.push(wgpu::BindGroupEntry {
+        binding: 5,
+        resource: block.as_entire_binding(),
+    });
+    entries.push(wgpu::BindGroupEntry {
+        binding: 6,
+        resource: wgpu::BindingResource::TextureView(&view),
+    });
     let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
         label: Some("bvh_gpu::bind"),
         layout: &layout,
-        entries: &[&nodes, &triangles, &rays, &out, &instances]
-            .iter()
-            .enumerate()
-            .map(|(i, b)| wgpu::BindGroupEntry {
-                binding: i as u32,
-                resource: b.as_entire_binding(),
-            })
-            .collect::<Vec<_>>(),
+        entries: &entries,
     });
     let mut enc = device.create_command_encoder(&Default::default());
     {
@@ -455,7 +535,7 @@ fn gpu_shadow_rays_match_cpu_traversal_and_brute_force() {
     );
     rays.extend_from_slice(&ambiguous);
 
-    let gpu = run(&ctx, &bvh, &rays, rays.len(), "trace", rays.len());
+    let gpu = run(&ctx, &bvh, &[], &rays, rays.len(), "trace", rays.len());
     let mut mismatches = Vec::new();
     let mut ambiguous_gpu_differs = 0;
     for (i, r) in rays.iter().enumerate() {
@@ -500,6 +580,7 @@ fn gpu_layout_matches_rust_structs() {
     let gpu = run(
         &ctx,
         &bvh,
+        &[],
         &[random_ray(&mut rng, &tris)],
         words,
         "copy_layout",
@@ -517,6 +598,130 @@ fn gpu_empty_scene_hits_nothing() {
     let mut rng = Rng(9);
     let tris = scene(&mut rng);
     let rays: Vec<GpuRay> = (0..256).map(|_| random_ray(&mut rng, &tris)).collect();
-    let gpu = run(&ctx, &bvh, &rays, rays.len(), "trace", rays.len());
+    let gpu = run(&ctx, &bvh, &[], &rays, rays.len(), "trace", rays.len());
     assert_eq!(gpu, vec![0; rays.len()]);
+}
+
+/// A hilly field of 65 × 49 samples (cells of 0.5 × 0.75), its corner off the origin.
+fn hills(rng: &mut Rng) -> HeightField {
+    let (w, d) = (65u32, 49u32);
+    let heights: Vec<f32> = (0..w * d)
+        .map(|i| {
+            let (x, z) = ((i % w) as f32, (i / w) as f32);
+            let ridge = if (x as u32 / 9 + z as u32 / 6).is_multiple_of(5) {
+                1.5
+            } else {
+                0.0
+            };
+            2.5 * (x * 0.21).sin() * (z * 0.17).cos() + ridge + rng.range(-0.1, 0.1)
+        })
+        .collect();
+    HeightField::new(
+        Vec3::new(-16.0, 0.5, -18.0),
+        glam::Vec2::new(32.0, 36.0),
+        glam::UVec2::new(w, d),
+        &heights,
+    )
+    .expect("a valid field")
+}
+
+/// A terrain walked as a heightfield on the GPU (`field_hit` in `lib/bvh.wgsl`) answers as
+/// its CPU walk, as brute force over its triangles, and as the f64 classification: shadow
+/// rays, rays skimming the hills from one surface point toward another (the probes' edge
+/// rays), and random rays.
+#[test]
+fn gpu_heightfield_rays_match_cpu_walk_and_brute_force() {
+    let Some(ctx) = test_context() else { return };
+    let mut rng = Rng(0xfee1_600d_1234_5678);
+    let f = hills(&mut rng);
+    let tris = f.triangles();
+    let stored: Vec<BvhTriangle> = (tris.iter().enumerate())
+        .map(|(i, t)| BvhTriangle::new(i as u32, t))
+        .collect();
+    let on = |rng: &mut Rng| {
+        let t = &tris[rng.index(tris.len())];
+        let (mut a, mut b) = (rng.next(), rng.next());
+        if a + b > 1.0 {
+            (a, b) = (1.0 - a, 1.0 - b);
+        }
+        t[0] + (t[1] - t[0]) * a + (t[2] - t[0]) * b
+    };
+    let (mut rays, mut want, mut ambiguous) = (Vec::new(), Vec::new(), 0);
+    while rays.len() < 2048 {
+        let (origin, dir, t_max) = match rng.index(3) {
+            0 => {
+                let o = on(&mut rng) + Vec3::Y * rng.range(0.01, 0.05);
+                let sun = Vec3::new(
+                    rng.range(-1.0, 1.0),
+                    rng.range(0.05, 1.0),
+                    rng.range(-1.0, 1.0),
+                );
+                (o, sun.normalize(), 1e4)
+            }
+            1 => {
+                let o = on(&mut rng) + Vec3::Y * rng.range(0.2, 2.0);
+                (o, on(&mut rng) - o, rng.range(0.5, 1.2))
+            }
+            _ => (
+                rng.vec(Vec3::new(-20.0, -1.0, -22.0), Vec3::new(20.0, 6.0, 22.0)),
+                rng.vec(Vec3::splat(-1.0), Vec3::ONE),
+                if rng.next() < 0.3 {
+                    1e30
+                } else {
+                    rng.range(0.1, 50.0)
+                },
+            ),
+        };
+        match certain_answer(&stored, origin, dir, t_max) {
+            Some(hit) => {
+                rays.push(GpuRay {
+                    origin: origin.to_array(),
+                    t_max,
+                    dir: dir.to_array(),
+                    pad: 0,
+                });
+                want.push(hit);
+            }
+            None => ambiguous += 1,
+        }
+    }
+    let hits = want.iter().filter(|&&h| h).count();
+    assert!(
+        hits > rays.len() / 5 && hits < rays.len() * 4 / 5,
+        "{hits} hits: test too weak"
+    );
+    assert!(ambiguous < rays.len() / 20, "{ambiguous} ambiguous rays");
+    let empty = build_bvh(&[]);
+    let gpu = run(&ctx, &empty, &[&f], &rays, rays.len(), "trace", rays.len());
+    let mut mismatches = Vec::new();
+    for (i, r) in rays.iter().enumerate() {
+        let (o, d) = (Vec3::from(r.origin), Vec3::from(r.dir));
+        let cpu = f.hit(o, d, r.t_max);
+        let brute = any_hit_brute(&tris, o, d, r.t_max);
+        if gpu[i] != u32::from(want[i]) || cpu != want[i] || brute != want[i] {
+            mismatches.push(format!(
+                "ray {i} {r:?}: expected {} gpu {} cpu {cpu} brute {brute}",
+                want[i], gpu[i]
+            ));
+        }
+    }
+    println!(
+        "{}: {} certain field rays ({hits} hit) agree; {ambiguous} ambiguous redrawn",
+        ctx.describe(),
+        rays.len()
+    );
+    assert!(mismatches.is_empty(), "{}", mismatches.join("\n"));
+    let far = run(
+        &ctx,
+        &empty,
+        &[&f],
+        &rays,
+        rays.len(),
+        "trace_far",
+        rays.len(),
+    );
+    assert_eq!(far, gpu, "walked from the far end, the same answers");
+    // A field beside the tree: the tree's answer stands where the field has none.
+    let gpu_none = run(&ctx, &empty, &[], &rays, rays.len(), "trace", rays.len());
+    assert_eq!(gpu_none, vec![0; rays.len()]);
 }

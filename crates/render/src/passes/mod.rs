@@ -117,6 +117,16 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         ("shade.wgsl", "ShadeFace", shade::SHADE_FACE_SIZE),
         (
             "shade.wgsl",
+            "BvhField",
+            size_of::<crate::bvh::field::GpuField>(),
+        ),
+        (
+            "shade.wgsl",
+            "BvhFields",
+            size_of::<crate::bvh::field::GpuFields>(),
+        ),
+        (
+            "shade.wgsl",
             "ShadeGlobals",
             size_of::<shade::ShadeGlobals>(),
         ),
@@ -337,8 +347,8 @@ pub(crate) fn bind_group(
 }
 
 /// The layout of the shadow BVH group every ray-tracing pass binds (`lib/bvh.wgsl`: nodes,
-/// triangles, animated instances; [`crate::gpu_scene::GpuScene::bvh_resources`]), visible to
-/// `stages`.
+/// triangles, animated instances, the terrains' field records and data;
+/// [`crate::gpu_scene::GpuScene::bvh_resources`]), visible to `stages`.
 pub(crate) fn bvh_layout(
     device: &wgpu::Device,
     label: &str,
@@ -346,6 +356,12 @@ pub(crate) fn bvh_layout(
 ) -> wgpu::BindGroupLayout {
     device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
         label: Some(label),
-        entries: &[0, 1, 2].map(|b| entry(b, stages, storage(true))),
+        entries: &[
+            entry(0, stages, storage(true)),
+            entry(1, stages, storage(true)),
+            entry(2, stages, storage(true)),
+            entry(3, stages, uniform(false)),
+            entry(4, stages, texture(FLOAT, ARRAY)),
+        ],
     })
 }
