@@ -1,7 +1,10 @@
 // Capture: rasterizes the scene into one cube face of a probe. Per texel: world normal and
 // Chebyshev depth from the probe origin (geo), object index + 1 (ids; 0 = sky), albedo (×
 // the texture, sampled for the probe texel's footprint) and object flags, the normal-mapped
-// normal when the surface has a normal map (shading). Crates/render/src/passes/capture.rs.
+// normal when the surface has a normal map (shading). Then `colour_terrain` colours the
+// face's terrain texels, once each (in the fragment stage the colour of a distant terrain's
+// tiny triangles was worked out for whole blocks of pixels the triangle barely touched).
+// Crates/render/src/passes/capture.rs.
 
 #include "lib/common.wgsl"
 #include "lib/texture.wgsl"
@@ -24,6 +27,8 @@ struct FaceParams {
     right: vec4<f32>,
     down: vec4<f32>,
     forward: vec4<f32>,
+    // The texels drawn: columns x..z, rows y..w (the eye's faces: the view's part).
+    rect: vec4<u32>,
 }
 
 fn capture_frame() -> ProbeFrame {
@@ -149,8 +154,8 @@ fn fs(in: VsOut) -> FsOut {
     out.id = in.object + 1u;
     out.albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
     if (obj.flags & FLAG_TERRAIN) != 0u {
-        let terrain = terrain_colour(terrains[obj.flags >> 8u], centre, face.band_origin.xyz, f32(face.n));
-        out.albedo = vec4(out.albedo.rgb * terrain, out.albedo.a);
+        // Coloured by `terrain_colour` once the face is drawn.
+        out.albedo = terrain_albedo(obj, vec3(1.0));
     }
     if face.mode == 1u {
         out.albedo = vec4(density_colour(s, t), out.albedo.a);
@@ -160,4 +165,38 @@ fn fs(in: VsOut) -> FsOut {
         out.shading = pack4x8snorm(vec4(surface_shading_normal(s, n, in.grad_u, in.grad_v, t), 1.0));
     }
     return out;
+}
+
+// A terrain texel's albedo: the material's albedo × the terrain's colour there, and the
+// object flags.
+fn terrain_albedo(obj: Object, colour: vec3<f32>) -> vec4<f32> {
+    return vec4(obj.albedo * colour, f32(obj.flags & 0xffu) / 255.0);
+}
+
+// The face just drawn (this capture's layer of the slot).
+@group(1) @binding(0) var drawn_geo: texture_2d<f32>;
+@group(1) @binding(1) var drawn_ids: texture_2d<u32>;
+@group(1) @binding(2) var drawn_albedo: texture_storage_2d<rgba8unorm, write>;
+
+// Colours the terrain texels of the face just drawn, inside `face.rect`: the terrain pixel
+// holding the point on the texel's centre ray at its stored depth (bands from
+// `face.band_origin`).
+@compute @workgroup_size(8, 8)
+fn colour_terrain(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let t = gid.xy + face.rect.xy;
+    if any(t >= min(face.rect.zw, vec2(face.n))) {
+        return;
+    }
+    let id = textureLoad(drawn_ids, t, 0).r;
+    if id == 0u {
+        return;
+    }
+    let obj = objects[id - 1u];
+    if (obj.flags & FLAG_TERRAIN) == 0u {
+        return;
+    }
+    let pixel = vec2<f32>(t) + 0.5;
+    let centre = pixel_start(pixel) + pixel_ray(pixel) * textureLoad(drawn_geo, t, 0).w;
+    let colour = terrain_colour(terrains[obj.flags >> 8u], centre, face.band_origin.xyz, f32(face.n));
+    textureStore(drawn_albedo, t, terrain_albedo(obj, colour));
 }

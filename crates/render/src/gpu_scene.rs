@@ -577,6 +577,8 @@ pub struct GpuScene {
     pub animated: Vec<AnimatedObject>,
     /// Terrain records (at least one).
     pub terrains: wgpu::Buffer,
+    /// Terrains in the scene (records in use).
+    pub terrain_count: usize,
     /// The sprites, if the scene has any.
     pub sprites: Option<crate::sprites::GpuSprites>,
     /// Terrain heights and gradient stops (at least one word).
@@ -869,6 +871,7 @@ impl GpuScene {
             ),
             animated,
             tlas_root,
+            terrain_count: scene.terrains.len(),
             terrains: storage(
                 "scene::terrains",
                 bytemuck::cast_slice(&gpu_terrains),

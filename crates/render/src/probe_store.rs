@@ -123,7 +123,14 @@ impl SlotTextures {
             n,
             geo: LayeredTexture::new(ctx, &name("geo"), n, GEO_FORMAT, gbuf),
             ids: LayeredTexture::new(ctx, &name("ids"), n, ID_FORMAT, gbuf),
-            albedo: LayeredTexture::new(ctx, &name("albedo"), n, ALBEDO_FORMAT, gbuf),
+            // Also written by the capture's terrain colouring.
+            albedo: LayeredTexture::new(
+                ctx,
+                &name("albedo"),
+                n,
+                ALBEDO_FORMAT,
+                gbuf | U::STORAGE_BINDING,
+            ),
             shading: LayeredTexture::new(ctx, &name("shading"), n, SHADING_FORMAT, gbuf),
             depth: LayeredTexture::new(ctx, &name("depth"), n, DEPTH_FORMAT, U::RENDER_ATTACHMENT),
             lit: LayeredTexture::new(

@@ -5,7 +5,10 @@ use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
 use super::raster::{self, RasterDraw, RasterTargets};
-use super::{UNIFORM_STRIDE, bind_group, entry, uniform, uniform_buffer};
+use super::{
+    FLOAT, UINT, UNIFORM_STRIDE, bind_group, entry, storage_texture, texture, uniform,
+    uniform_buffer,
+};
 use texel_probes::visibility::TexelRect;
 
 use crate::gpu_scene::GpuScene;
@@ -34,6 +37,8 @@ struct FaceParams {
     right: [f32; 4],
     down: [f32; 4],
     forward: [f32; 4],
+    /// The texels drawn: columns `rect[0]..rect[2]`, rows `rect[1]..rect[3]`.
+    rect: [u32; 4],
 }
 
 /// The view-projection a capture rasterizes `c` with.
@@ -67,23 +72,47 @@ pub struct CapturePass {
     pipeline: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
+    /// `colour_terrain`: the drawn face's terrain texels coloured once each.
+    terrain: wgpu::ComputePipeline,
+    drawn_layout: wgpu::BindGroupLayout,
 }
 
 impl CapturePass {
     /// Builds the pipeline.
     pub fn new(device: &wgpu::Device) -> Result<Self, shader::ShaderError> {
         let module = shader::module(device, "capture.wgsl")?;
-        let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
+        let all = wgpu::ShaderStages::VERTEX_FRAGMENT | wgpu::ShaderStages::COMPUTE;
+        let scene_entries = raster::scene_layout_entries().map(|mut e| {
+            e.visibility = all;
+            e
+        });
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("capture::layout"),
-            entries: &[
-                [entry(0, vf, uniform(true))].as_slice(),
-                &raster::scene_layout_entries(),
-            ]
-            .concat(),
+            entries: &[[entry(0, all, uniform(true))].as_slice(), &scene_entries].concat(),
         });
         let targets = [GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT, SHADING_FORMAT];
         let pipeline = raster::pipeline(device, "capture", &module, &layout, &targets);
+        let c = wgpu::ShaderStages::COMPUTE;
+        let d2 = wgpu::TextureViewDimension::D2;
+        let drawn_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("capture::drawn_layout"),
+            entries: &[
+                entry(0, c, texture(FLOAT, d2)),
+                entry(1, c, texture(UINT, d2)),
+                entry(
+                    2,
+                    c,
+                    storage_texture(wgpu::StorageTextureAccess::WriteOnly, ALBEDO_FORMAT, d2),
+                ),
+            ],
+        });
+        let terrain = super::compute_pipeline(
+            device,
+            "capture::terrain",
+            &module,
+            "colour_terrain",
+            &[&layout, &drawn_layout],
+        );
         let faces = uniform_buffer(
             device,
             "capture::faces",
@@ -95,6 +124,8 @@ impl CapturePass {
             pipeline,
             layout,
             faces,
+            terrain,
+            drawn_layout,
         })
     }
 
@@ -134,6 +165,7 @@ impl CapturePass {
                 right: axis(|o| o.right),
                 down: axis(|o| o.down),
                 forward: axis(|o| o.forward),
+                rect: drawn_rect(rects.get(i).copied().flatten(), store.slot(c.slot).n),
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
@@ -184,5 +216,40 @@ impl CapturePass {
             };
             raster::record(encoder, "capture::face", &targets, scene, &draw);
         }
+        if mode == CaptureMode::TextureDensity || scene.terrain_count == 0 {
+            return;
+        }
+        let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
+            label: Some("capture::terrain"),
+            timestamp_writes: None,
+        });
+        pass.set_pipeline(&self.terrain);
+        for (i, c) in captures.iter().enumerate() {
+            let slot = store.slot(c.slot);
+            let f = c.face.index();
+            let drawn = bind_group(
+                device,
+                "capture::drawn",
+                &self.drawn_layout,
+                &[
+                    wgpu::BindingResource::TextureView(&slot.geo.layer_views[f]),
+                    wgpu::BindingResource::TextureView(&slot.ids.layer_views[f]),
+                    wgpu::BindingResource::TextureView(&slot.albedo.layer_views[f]),
+                ],
+            );
+            let r = drawn_rect(rects.get(i).copied().flatten(), slot.n);
+            let (w, h) = (r[2].saturating_sub(r[0]), r[3].saturating_sub(r[1]));
+            if w == 0 || h == 0 {
+                continue;
+            }
+            pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
+            pass.set_bind_group(1, &drawn, &[]);
+            pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
+        }
     }
+}
+
+/// The texels a capture draws, `[x0, y0, x1, y1]`: its rectangle, or the whole face.
+fn drawn_rect(rect: Option<TexelRect>, n: u32) -> [u32; 4] {
+    rect.map_or([0, 0, n, n], |r| [r.x0, r.y0, r.x1.min(n), r.y1.min(n)])
 }
