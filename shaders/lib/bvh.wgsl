@@ -163,9 +163,42 @@ fn field_hit(f: BvhField, origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_fir
     let inv = 1.0 / safe;
     let nx = select(0u, 1u, (d.x < 0.0) != far_first);
     let nz = select(0u, 1u, (d.z < 0.0) != far_first);
+    // Start: the part of the ray over the cells and below the highest height, and the
+    // finest level whose nodes cover that part two by two at most (`HeightField::start`).
+    let cells = vec2<f32>(f.cells);
+    let s0 = (vec2(-FIELD_NODE_MARGIN) - o.xz) * inv;
+    let s1 = (cells + FIELD_NODE_MARGIN - o.xz) * inv;
+    var near = max(max(min(s0.x, s1.x), min(s0.y, s1.y)), 0.0);
+    var far = min(min(max(s0.x, s1.x), max(s0.y, s1.y)), t_max);
+    let highest = field_load(f.level_at[(f.levels - 1u) / 4u][(f.levels - 1u) % 4u]);
+    let ceiling = highest + 1e-4 * (1.0 + abs(highest));
+    if d.y > 0.0 {
+        far = min(far, (ceiling - o.y) / d.y);
+    } else if d.y < 0.0 {
+        near = max(near, (ceiling - o.y) / d.y);
+    } else if o.y > ceiling {
+        return false;
+    }
+    if near > far {
+        return false;
+    }
+    let a = o.xz + d.xz * near;
+    let b = o.xz + d.xz * far;
+    let last = cells - 1.0;
+    let lo = vec2<u32>(clamp(floor(min(a, b) - FIELD_NODE_MARGIN), vec2(0.0), last));
+    let hi = vec2<u32>(clamp(floor(max(a, b) + FIELD_NODE_MARGIN), vec2(0.0), last));
+    var level = 0u;
+    while level + 1u < f.levels && any((hi >> vec2(level)) - (lo >> vec2(level)) > vec2(1u)) {
+        level += 1u;
+    }
     var stack: array<u32, FIELD_STACK>;
-    stack[0] = (f.levels - 1u) << 28u;
-    var sp = 1u;
+    var sp = 0u;
+    for (var j = lo.y >> level; j <= hi.y >> level; j++) {
+        for (var i = lo.x >> level; i <= hi.x >> level; i++) {
+            stack[sp] = (level << 28u) | (i << 14u) | j;
+            sp += 1u;
+        }
+    }
     while sp > 0u {
         sp -= 1u;
         let key = stack[sp];

@@ -162,6 +162,46 @@ impl HeightField {
         out
     }
 
+    /// Where a walk starts: the part of the ray over the field's cells and below its highest
+    /// height, and the finest level whose nodes cover that part's cells two by two at most
+    /// (that level and its first and last node along X and Z), or `None` when no part is
+    /// left. A ray that climbs away from the hills (toward a light) or runs a short way
+    /// (an edge ray) starts a few levels above the cells, not at the root.
+    fn start(&self, o: Vec3, d: Vec3, inv: Vec2, t_max: f32) -> Option<(u32, UVec2, UVec2)> {
+        let oxz = Vec2::new(o.x, o.z);
+        let cells = self.cells.as_vec2();
+        let (t0, t1) = (
+            (Vec2::splat(-NODE_MARGIN) - oxz) * inv,
+            (cells + NODE_MARGIN - oxz) * inv,
+        );
+        let mut near = t0.min(t1).max_element().max(0.0);
+        let mut far = t0.max(t1).min_element().min(t_max);
+        let top = self.levels[self.levels.len() - 1][0];
+        let top = top + height_margin(top);
+        if d.y > 0.0 {
+            far = far.min((top - o.y) / d.y);
+        } else if d.y < 0.0 {
+            near = near.max((top - o.y) / d.y);
+        } else if o.y > top {
+            return None;
+        }
+        if near > far {
+            return None;
+        }
+        let dxz = Vec2::new(d.x, d.z);
+        let (a, b) = (oxz + dxz * near, oxz + dxz * far);
+        let last = (self.cells - 1).as_vec2();
+        let cell = |p: Vec2| p.floor().clamp(Vec2::ZERO, last).as_uvec2();
+        let (lo, hi) = (cell(a.min(b) - NODE_MARGIN), cell(a.max(b) + NODE_MARGIN));
+        let mut k = 0;
+        while k + 1 < self.levels.len() as u32
+            && ((hi.x >> k) - (lo.x >> k) > 1 || (hi.y >> k) - (lo.y >> k) > 1)
+        {
+            k += 1;
+        }
+        Some((k, lo >> k, hi >> k))
+    }
+
     /// The ray in grid space: origin and direction.
     fn to_grid(&self, origin: Vec3, dir: Vec3) -> (Vec3, Vec3) {
         let inv = self.step.recip();
@@ -190,8 +230,16 @@ impl HeightField {
         let inv = safe.recip();
         let oxz = Vec2::new(o.x, o.z);
         let mut stack = [0u32; FIELD_STACK];
-        stack[0] = node_key(self.levels.len() as u32 - 1, 0, 0);
-        let mut sp = 1;
+        let Some((k, lo, hi)) = self.start(o, d, inv, t_max) else {
+            return false;
+        };
+        let mut sp = 0;
+        for j in lo.y..=hi.y {
+            for i in lo.x..=hi.x {
+                stack[sp] = node_key(k, i, j);
+                sp += 1;
+            }
+        }
         while sp > 0 {
             sp -= 1;
             let (k, i, j) = node_parts(stack[sp]);
