@@ -71,30 +71,8 @@ fn upload_fields(
             HeightField::new(t.corner, t.size, t.samples, &t.heights)
         })
         .collect();
-    let (block, mut data) = field::pack(&fields.iter().collect::<Vec<_>>());
-    let extent = field::data_extent(data.len());
-    let texels = extent.width * extent.height * extent.depth_or_array_layers;
-    data.resize(texels as usize, 0.0);
-    let texture = ctx.device.create_texture_with_data(
-        &ctx.queue,
-        &wgpu::TextureDescriptor {
-            label: Some("scene::field_data"),
-            size: extent,
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::R32Float,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[],
-        },
-        wgpu::util::TextureDataOrder::LayerMajor,
-        bytemuck::cast_slice(&data),
-    );
-    let view = texture.create_view(&wgpu::TextureViewDescriptor {
-        label: Some("scene::field_data"),
-        dimension: Some(wgpu::TextureViewDimension::D2Array),
-        ..Default::default()
-    });
+    let (block, data) = field::pack(&fields.iter().collect::<Vec<_>>());
+    let view = field::upload_data(&ctx.device, &ctx.queue, &data);
     let buffer = ctx
         .device
         .create_buffer_init(&wgpu::util::BufferInitDescriptor {

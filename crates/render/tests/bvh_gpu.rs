@@ -416,40 +416,14 @@ fn run(
         bytemuck::bytes_of(&texel_render::gpu_scene::GpuBvhInstance::NONE),
         usage,
     );
-    let (block, mut data) = field::pack(fields);
-    let extent = field::data_extent(data.len());
-    data.resize(
-        (extent.width * extent.height * extent.depth_or_array_layers) as usize,
-        0.0,
-    );
+    let (block, data) = field::pack(fields);
     let block = storage(
         ctx,
         "bvh_gpu::fields",
         bytemuck::bytes_of(&block),
         wgpu::BufferUsages::UNIFORM,
     );
-    let texture = {
-        use wgpu::util::DeviceExt;
-        device.create_texture_with_data(
-            &ctx.queue,
-            &wgpu::TextureDescriptor {
-                label: Some("bvh_gpu::field_data"),
-                size: extent,
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: wgpu::TextureFormat::R32Float,
-                usage: wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            },
-            wgpu::util::TextureDataOrder::LayerMajor,
-            bytemuck::cast_slice(&data),
-        )
-    };
-    let view = texture.create_view(&wgpu::TextureViewDescriptor {
-        dimension: Some(wgpu::TextureViewDimension::D2Array),
-        ..Default::default()
-    });
+    let view = field::upload_data(device, &ctx.queue, &data);
     let mut entries: Vec<wgpu::BindGroupEntry> = [&nodes, &triangles, &rays, &out, &instances]
         .iter()
         .enumerate()

@@ -401,5 +401,37 @@ pub fn data_extent(len: usize) -> wgpu::Extent3d {
     }
 }
 
+/// The data texture for `data` (from [`pack`]): `r32float`, [`data_extent`] in size, the
+/// rest zero; its view as the 2D array `bvh_field_data` binds.
+pub fn upload_data(device: &wgpu::Device, queue: &wgpu::Queue, data: &[f32]) -> wgpu::TextureView {
+    use wgpu::util::DeviceExt;
+    let extent = data_extent(data.len());
+    let mut texels = data.to_vec();
+    texels.resize(
+        (extent.width * extent.height * extent.depth_or_array_layers) as usize,
+        0.0,
+    );
+    let texture = device.create_texture_with_data(
+        queue,
+        &wgpu::TextureDescriptor {
+            label: Some("bvh::field_data"),
+            size: extent,
+            mip_level_count: 1,
+            sample_count: 1,
+            dimension: wgpu::TextureDimension::D2,
+            format: wgpu::TextureFormat::R32Float,
+            usage: wgpu::TextureUsages::TEXTURE_BINDING,
+            view_formats: &[],
+        },
+        wgpu::util::TextureDataOrder::LayerMajor,
+        bytemuck::cast_slice(&texels),
+    );
+    texture.create_view(&wgpu::TextureViewDescriptor {
+        label: Some("bvh::field_data"),
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    })
+}
+
 #[cfg(test)]
 mod tests;

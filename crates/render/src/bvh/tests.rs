@@ -3,17 +3,17 @@
 
 use super::*;
 
-/// Xorshift64*: deterministic and dependency-free.
-struct Rng(u64);
+/// Xorshift64*: deterministic and dependency-free (the field tests draw from it too).
+pub(super) struct Rng(pub(super) u64);
 
 impl Rng {
-    fn next(&mut self) -> f32 {
+    pub(super) fn next(&mut self) -> f32 {
         self.0 ^= self.0 >> 12;
         self.0 ^= self.0 << 25;
         self.0 ^= self.0 >> 27;
         (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 / (1u64 << 24) as f32
     }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
+    pub(super) fn range(&mut self, lo: f32, hi: f32) -> f32 {
         lo + (hi - lo) * self.next()
     }
     fn vec(&mut self, lo: f32, hi: f32) -> Vec3 {

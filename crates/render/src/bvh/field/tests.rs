@@ -3,21 +3,7 @@
 //! quadtree's maxima, the world triangles against the terrain mesh's, and bad input.
 
 use super::*;
-
-/// Xorshift64*: deterministic and dependency-free.
-struct Rng(u64);
-
-impl Rng {
-    fn next(&mut self) -> f32 {
-        self.0 ^= self.0 >> 12;
-        self.0 ^= self.0 << 25;
-        self.0 ^= self.0 >> 27;
-        (self.0.wrapping_mul(0x2545_f491_4f6c_dd1d) >> 40) as f32 / (1u64 << 24) as f32
-    }
-    fn range(&mut self, lo: f32, hi: f32) -> f32 {
-        lo + (hi - lo) * self.next()
-    }
-}
+use crate::bvh::tests::Rng;
 
 /// A bumpy field of `w` × `d` samples: smooth hills plus noise, some cliffs.
 fn field(rng: &mut Rng, w: u32, d: u32, size: Vec2) -> HeightField {
