@@ -229,3 +229,29 @@ fn packing_places_every_field_after_the_last() {
     let e = data_extent(5);
     assert_eq!((e.height, e.depth_or_array_layers), (1, 1));
 }
+
+#[test]
+fn the_first_walkable_terrains_are_walked_the_rest_keep_their_triangles() {
+    let terrain = |h: f32| crate::input::TerrainInput {
+        corner: Vec3::ZERO,
+        size: Vec2::ONE,
+        samples: UVec2::new(2, 2),
+        heights: std::sync::Arc::new(vec![h; 4]),
+        max_height: 1.0,
+        gradient: vec![(0.0, Vec3::ONE)],
+        displacement: None,
+        paint: None,
+        pixel_density: 1.0,
+        band_distance: 1.0,
+        band_transition: 0.0,
+    };
+    let mut terrains = vec![terrain(f32::NAN)];
+    terrains.extend((0..MAX_FIELDS + 1).map(|_| terrain(0.5)));
+    let walked = walked_terrains(&terrains);
+    assert!(
+        !walked[0],
+        "a NaN height: its triangles (the BVH drops NaN ones)"
+    );
+    assert!(walked[1..=MAX_FIELDS].iter().all(|&w| w));
+    assert!(!walked[MAX_FIELDS + 1], "past MAX_FIELDS: triangles");
+}

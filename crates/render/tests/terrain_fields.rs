@@ -1,0 +1,152 @@
+//! A terrain's shadows through its heightfield (`bvh/field`) against the same terrain's
+//! triangles in the BVH: a hilly terrain under a low sun, rendered with the terrain walked as
+//! a field and again with it the ninth terrain (past `MAX_FIELDS`, so its triangles go into
+//! the tree), must give the same frame.
+
+mod common;
+
+use std::sync::Arc;
+
+use glam::{Mat4, UVec2, Vec2, Vec3};
+use texel_render::bvh::field::MAX_FIELDS;
+use texel_render::context::test_context;
+use texel_render::frame::Renderer;
+use texel_render::gpu_scene::GpuScene;
+use texel_render::input::{
+    Camera, MaterialInput, ObjectInput, SceneInput, Schedule, SunInput, TerrainInput,
+};
+use texel_scene::terrain::Heightfield;
+
+/// A terrain of `n` × `n` samples over `size`, centred at `at`, with heights from `h`, as
+/// the runtime builds one (translation-only transform, level-0 mesh from `lod_mesh`).
+fn terrain(
+    at: Vec3,
+    size: f32,
+    n: u32,
+    id: u32,
+    index: usize,
+    h: impl Fn(f32, f32) -> f32,
+) -> (ObjectInput, TerrainInput) {
+    let heights: Vec<f32> = (0..n * n)
+        .map(|i| {
+            h(
+                (i % n) as f32 / (n - 1) as f32,
+                (i / n) as f32 / (n - 1) as f32,
+            )
+        })
+        .collect();
+    let field = Heightfield {
+        width: n,
+        depth: n,
+        heights: heights.clone(),
+    };
+    let mesh = Arc::new(field.lod_mesh(Vec2::splat(size), 1.0));
+    let object = ObjectInput {
+        mesh,
+        transform: Mat4::from_translation(at),
+        material: MaterialInput {
+            albedo: Vec3::ONE,
+            terrain: Some(index),
+            ..Default::default()
+        },
+        id,
+    };
+    let input = TerrainInput {
+        corner: at - Vec3::new(0.5 * size, 0.0, 0.5 * size),
+        size: Vec2::splat(size),
+        samples: UVec2::splat(n),
+        heights: Arc::new(heights),
+        max_height: 4.0,
+        gradient: vec![
+            (0.0, Vec3::new(0.3, 0.5, 0.2)),
+            (1.0, Vec3::new(0.7, 0.7, 0.6)),
+        ],
+        displacement: None,
+        paint: None,
+        pixel_density: 4.0,
+        band_distance: 8.0,
+        band_transition: 0.3,
+    };
+    (object, input)
+}
+
+/// Hills under a low sun; `decoys` small flat terrains first (far below, out of sight), so
+/// the hills are terrain `decoys`.
+fn hills_scene(decoys: usize) -> SceneInput {
+    let mut scene = SceneInput {
+        suns: vec![SunInput {
+            direction: Vec3::new(-0.8, -0.35, -0.2),
+            colour: Vec3::splat(1.2),
+        }],
+        ..Default::default()
+    };
+    for i in 0..decoys {
+        let at = Vec3::new(i as f32 * 10.0, -500.0, 0.0);
+        let (o, t) = terrain(at, 4.0, 3, 100 + i as u32, i, |_, _| 0.0);
+        scene.objects.push(o);
+        scene.terrains.push(t);
+    }
+    let (o, t) = terrain(Vec3::ZERO, 40.0, 65, 1, decoys, |u, v| {
+        let (x, z) = (u * 12.0, v * 12.0);
+        2.0 + 1.5 * (x.sin() * z.cos()) + 0.8 * (0.7 * x + 1.3 * z).sin()
+    });
+    scene.objects.push(o);
+    scene.terrains.push(t);
+    scene
+}
+
+#[test]
+fn a_terrains_shadows_through_its_heights_match_its_triangles() {
+    let Some(ctx) = test_context() else { return };
+    let size = UVec2::new(192, 108);
+    let cam = Camera::looking(Vec3::new(-6.0, 7.0, 12.0), Vec3::new(0.4, -0.45, -1.0));
+    let grid = Vec3::new(-6.0, 7.0, 12.0);
+    let mut frames = Vec::new();
+    for decoys in [0, MAX_FIELDS] {
+        let scene = hills_scene(decoys);
+        let gpu = GpuScene::upload(&ctx, &scene).expect("upload");
+        let hills_triangles = scene.objects.last().unwrap().mesh.pieces.iter();
+        let level0: u32 = hills_triangles
+            .filter(|p| p.lod == 0)
+            .map(|p| p.triangles)
+            .sum();
+        if decoys == 0 {
+            assert_eq!(
+                (gpu.shadow_fields, gpu.shadow_triangles),
+                (1, 0),
+                "the hills walked as a field"
+            );
+        } else {
+            // The decoys are fields; the ninth terrain's level 0 is in the tree.
+            assert_eq!(gpu.shadow_fields, MAX_FIELDS);
+            assert_eq!(gpu.shadow_triangles, level0 as usize);
+        }
+        let mut r = Renderer::headless(&ctx).unwrap();
+        r.set_scene(&ctx, &scene).expect("scene");
+        let input = common::frame(cam, grid, 64, size, Schedule::Ours);
+        let (_, px) = r.render_offscreen(&ctx, &input).unwrap();
+        common::save_png(&format!("terrain_fields_{decoys}.png"), &px, size);
+        frames.push(px);
+    }
+    let pixels = (size.x * size.y) as usize;
+    let differ = (0..pixels)
+        .filter(|&i| frames[0][i * 4..i * 4 + 3] != frames[1][i * 4..i * 4 + 3])
+        .count();
+    // Shadowed and lit texels both present, so the test can fail.
+    let lum: Vec<u32> = (0..pixels)
+        .map(|i| {
+            frames[0][i * 4..i * 4 + 3]
+                .iter()
+                .map(|&c| u32::from(c))
+                .sum()
+        })
+        .collect();
+    let (lo, hi) = (lum.iter().min().unwrap(), lum.iter().max().unwrap());
+    assert!(hi - lo > 150, "a frame with light and shade: {lo}..{hi}");
+    // The same triangles, walked two ways: only rays that graze a triangle's edge within
+    // rounding may differ.
+    assert!(
+        differ * 1000 <= pixels,
+        "{differ} of {pixels} pixels differ between the field and the BVH"
+    );
+}
