@@ -114,7 +114,9 @@ impl MainJob {
 /// also runs criterion benches (once, in test mode), and criterion rejects
 /// `--test-threads` as an unknown argument, while both ignore or honour the
 /// variable correctly. `TEXEL_REQUIRE_GPU=1` makes GPU tests fail instead of
-/// skipping when no adapter exists.
+/// skipping when no adapter exists. `--no-fail-fast`: a failing test binary does
+/// not hide the others' results (a SwiftShader failure in one crate's tests had
+/// left the later crates untested in that step).
 fn test_steps() -> Vec<Step> {
     let test_env = vec![
         ("RUST_TEST_THREADS".to_owned(), "1".to_owned()),
@@ -133,12 +135,12 @@ fn test_steps() -> Vec<Step> {
             "warnings",
         ]),
         Step {
-            args: strings(&["test", "--workspace", "--all-targets"]),
+            args: strings(&["test", "--workspace", "--all-targets", "--no-fail-fast"]),
             env: test_env.clone(),
             needs_display: true,
         },
         Step {
-            args: strings(&["test", "--workspace", "--doc"]),
+            args: strings(&["test", "--workspace", "--doc", "--no-fail-fast"]),
             env: test_env.clone(),
             needs_display: false,
         },
@@ -151,6 +153,7 @@ fn test_steps() -> Vec<Step> {
                 "test",
                 "--workspace",
                 "--tests",
+                "--no-fail-fast",
                 "--",
                 "--skip",
                 "golden_images",
@@ -373,7 +376,7 @@ fn usage(topic: Option<Sub>) -> String {
              \x20 run [-- ARGS]    Set up, then run the main job:\n\
              \x20                    {default_run}\n\
              \x20 test             Set up, then fmt check, clippy, tests (and benches in test\n\
-             \x20                  mode) and doc tests; stops at the first failure\n\
+             \x20                  mode) and doc tests; stops after the first failing step\n\
              \x20 help [COMMAND]   Print this help or a command's help\n\
              \n\
              Options:\n\
@@ -413,7 +416,8 @@ fn usage(topic: Option<Sub>) -> String {
                  \n\
                  Usage: cargo xtask test\n\
                  \n\
-                 Steps, in order (stops at the first failure):\n\
+                 Steps, in order (stops after the first failing step; a test step runs every\n\
+                 test binary, failing or not):\n\
                  {}\n\
                  \n\
                  GPU tests run one at a time (RUST_TEST_THREADS=1; criterion benches reject\n\
