@@ -1,11 +1,12 @@
 // Background: a fullscreen triangle drawn after the splats with a depth test. Each pixel shows
-// the eye probe's lit texel in its view direction (the sky where the eye probe saw none),
-// sRGB-encoded like the splats, at the depth of the eye's surface pushed back by half its
-// distance (`GAP_DEPTH`; under an orthographic camera at the far plane). So it shades the
-// pixels no quad covered, and also those where the quad that landed lies far behind what the
-// eye sees: gaps between a stable probe's quads that the camera, off the probe's origin, sees
-// into (a wall a cell from the probe, seen from its neighbour face at a grazing angle, is
-// drawn as quads standing across it like the slats of a blind).
+// the eye probe's lit texel in its view direction (the sky where the eye probe saw none;
+// past a silhouette's edge, the texel beyond it: `eye_texel`), sRGB-encoded like the
+// splats, at the depth of the eye's surface pushed back by half its distance (`GAP_DEPTH`;
+// under an orthographic camera at the far plane). So it shades the pixels no quad covered,
+// and also those where the quad that landed lies far behind what the eye sees: gaps between
+// a stable probe's quads that the camera, off the probe's origin, sees into (a wall a cell
+// from the probe, seen from its neighbour face at a grazing angle, is drawn as quads
+// standing across it like the slats of a blind).
 // crates/render/src/passes/background.rs.
 
 #include "lib/common.wgsl"
@@ -38,6 +39,37 @@ struct FsOut {
     @builtin(frag_depth) depth: f32,
 }
 
+// The eye texel that shows direction `uv` of face `face` (n texels per edge): the texel
+// holding it, or its neighbour where `uv` lies past the edge the shade pass found on that
+// side toward the sky or a farther surface (`side_edge`), as the texel's quad ends there. The
+// nearest texel alone drew every silhouette half a texel out where no stable quad covered
+// the sky beside it (the eye's texels along a silhouette, and the sky past it).
+fn eye_texel(uv: vec2<f32>, n: u32, face: u32) -> vec2<u32> {
+    let t = texel_of_uv(uv, n);
+    if textureLoad(eye_ids, t, face, 0).r == 0u {
+        return t;
+    }
+    let bits = u32(textureLoad(eye_lit, t, face, 0).a);
+    // Where `uv` lies from the texel's centre, in texels.
+    let g = (uv * 0.5 + 0.5) * f32(n) - (vec2<f32>(t) + 0.5);
+    let toward = select(vec2(1), vec2(-1), g < vec2(0.0));
+    // The side toward `uv` along x (left 0, right 1) and along y (up 2, down 3).
+    let kx = select(1u, 0u, g.x < 0.0);
+    let ky = select(3u, 2u, g.y < 0.0);
+    var q = vec2<i32>(t);
+    if side_code(bits, kx) >= 2u && abs(g.x) > side_edge(bits, kx) {
+        q.x += toward.x;
+    }
+    if side_code(bits, ky) >= 2u && abs(g.y) > side_edge(bits, ky) {
+        q.y += toward.y;
+    }
+    // Past the face's edge: the texel itself (its neighbour there lies on another face).
+    if any(q < vec2(0)) || any(q >= vec2(i32(n))) {
+        return t;
+    }
+    return vec2<u32>(q);
+}
+
 @fragment
 fn fs(in: FullscreenOut) -> FsOut {
     let e = eye_ray(in.ndc);
@@ -45,7 +77,7 @@ fn fs(in: FullscreenOut) -> FsOut {
     if e.face > 5u || (eye.draw_mask & (1u << e.face)) == 0u {
         return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
     }
-    let t = texel_of_uv(e.uv, eye.n);
+    let t = eye_texel(e.uv, eye.n, e.face);
     let lit = textureLoad(eye_lit, t, e.face, 0);
     var key = 0u;
     var colour = lit.rgb;

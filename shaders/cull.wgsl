@@ -90,16 +90,6 @@ const NEARER_HALF: f32 = 1.5;
 // edges and sides toward nearer surfaces reaching under them: ortho_pan 0.0116 (at faces of
 // 64, 0.0385 -> 0.0207, naive 0.0342), iso_orbit 0.0096; shimmer 0.0000 and 0.0037.
 
-// Side `k`'s kind from its two bits: 0 nearer, 1 similar, 2 farther, 3 sky.
-fn side_code(bits: u32, k: u32) -> u32 {
-    return ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
-}
-
-// Where side `k`'s edge lies, in texels from the centre (`SIMILAR_EDGE_AT`).
-fn side_edge(bits: u32, k: u32) -> f32 {
-    return f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
-}
-
 fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
     let code = side_code(bits, k);
     if code == 0u {

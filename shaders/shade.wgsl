@@ -242,8 +242,8 @@ fn covered_colour(p: vec3<f32>, id: u32) -> vec4<f32> {
 }
 
 // Settles a texel that needs no lighting and returns false: a sky texel; an eye texel whose
-// quad cannot reach the view (cleared: never drawn nor seen); one a stable probe shows (its
-// colour copied). Returns true for the rest.
+// quad cannot reach the view (cleared: never drawn nor seen); one inside its surface that a
+// stable probe shows (its colour copied). Returns true for the rest.
 fn needs_light(t: vec2<u32>) -> bool {
     let n = sf.n;
     let me = load(sf.face, t);
@@ -260,8 +260,14 @@ fn needs_light(t: vec2<u32>) -> bool {
             textureStore(lit_out, t, sf.face, vec4(0.0));
             return false;
         }
+        // A texel on a silhouette (a neighbour of another object or the sky) is lit anyway:
+        // its edges are searched, where the background pass ends its pixels.
+        var inside = true;
+        for (var k = 0u; k < 4u; k++) {
+            inside = inside && neighbour(t, NEIGHBOURS[k]).id == me.id;
+        }
         let copied = covered_colour(p, me.id);
-        if copied.a >= 0.0 {
+        if inside && copied.a >= 0.0 {
             textureStore(lit_out, t, sf.face, copied);
             return false;
         }

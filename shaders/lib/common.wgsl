@@ -230,5 +230,16 @@ const SIMILAR_EDGE_AT: u32 = 9u;
 // or hide its plane (shade.wgsl), not its own surface past a convex crease: its quad's
 // sides toward them end on its plane (cull.wgsl `ends_at_edge`).
 const SIMILAR_APART: u32 = 0x200000u;
+// Side `k`'s kind (left, right, up, down) in lit texel neighbour `bits`, from its two bits
+// (k and 4 + k): 0 nearer, 1 similar, 2 farther, 3 sky.
+fn side_code(bits: u32, k: u32) -> u32 {
+    return ((bits >> k) & 1u) | (((bits >> (4u + k)) & 1u) << 1u);
+}
+
+// Where side `k`'s edge lies, in texels from the centre (`SIMILAR_EDGE_AT`).
+fn side_edge(bits: u32, k: u32) -> f32 {
+    return f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
+}
+
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.
 const RUN_COLUMN: u32 = 0x10000u;

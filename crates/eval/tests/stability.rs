@@ -211,7 +211,8 @@ fn silhouettes_are_tighter_than_low_resolution_rendering() {
 /// quad's corners on that side onto the plane, so an off-probe camera sees the edge where it
 /// is. Strafing behind the pillar (320×180, faces of 128, where a texel spans two pixels), the
 /// floor's junction with the long wall and the architrave's far edge had each been a whole
-/// row off across the frame.
+/// row off across the frame. Where no stable quad covers a pixel, the eye's fill ends at the
+/// same edges (it had drawn the eye's silhouette texels whole, half a texel out).
 #[test]
 fn junctions_and_edges_against_farther_walls_are_as_tight_as_low_resolution_rendering() {
     let Some(r) = run_sized(
@@ -224,12 +225,13 @@ fn junctions_and_edges_against_farther_walls_are_as_tight_as_low_resolution_rend
         return;
     };
     let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
-    // Measured: coverage error 0.0059 against naive's 0.0090 on lavapipe, 0.0076 on SwiftShader
-    // (there the floor's junction is found but the architrave's far edge is still a row off
-    // along the frame); 0.0108 with quads ending at the texel's depth and junctions
-    // unsearched, 0.0099 with the junctions searched alone.
+    // Measured: coverage error 0.0026 against naive's 0.0090 on lavapipe, 0.0027 on
+    // SwiftShader, since the eye's fill (background.wgsl `eye_texel`) ends where the shade
+    // pass found each silhouette's edge, as its quads do; 0.0059 (SwiftShader 0.0076) while
+    // it drew every eye texel whole, 0.0108 with quads ending at the texel's depth and
+    // junctions unsearched, 0.0099 with the junctions searched alone.
     assert!(
-        splat.coverage_error < 0.95 * naive.coverage_error,
+        splat.coverage_error < 0.5 * naive.coverage_error,
         "{} against {}",
         splat.coverage_error,
         naive.coverage_error
