@@ -108,10 +108,10 @@ fn half_size(bits: u32, k: u32, cos_theta: f32) -> f32 {
     return edge;
 }
 
-// `half_size`, or for an orthographic probe (`exact`) exactly half a texel toward a similar
-// neighbour; a silhouette side ends at the edge the shade pass found, and a side toward a
-// nearer surface reaches under it (so no gap opens where that surface's edge is short of
-// half a texel; under the orthographic camera it stays hidden behind it).
+// `half_size`, or for an orthographic or eye probe (`exact`) exactly half a texel toward a
+// similar neighbour; a silhouette side ends at the edge the shade pass found, and a side
+// toward a nearer surface reaches under it (so no gap opens where that surface's edge is
+// short of half a texel; seen along the probe's rays it stays hidden behind it).
 fn quad_half(bits: u32, k: u32, cos_theta: f32, exact: bool) -> f32 {
     if exact {
         let code = side_code(bits, k);
@@ -335,7 +335,12 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // straight silhouette along a run is met at both ends; a run's texels share the kinds of
     // the sides across it (runs.wgsl `joins`), and its end side is the last texel's.
     let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
-    let exact = fr.half > 0.0;
+    // The eye probe lies at the camera: seen from its own origin its texel squares meet
+    // without gaps, and its silhouettes do not roll, so its quads are exact too. Measured
+    // (wall_graze, faces of 64, 320×180): coverage error 0.0238 -> 0.0228, the eye's pixels
+    // over the reference's sky 5,907 -> 3,972 over the path (its pillars' curved silhouettes
+    // had grown by up to a quarter texel).
+    let exact = fr.half > 0.0 || s.role == ROLE_EYE;
     let h = 2.0 / f32(s.n);
     // Half sizes toward left, right, up and down at the first and the last texel.
     let first_halves = quad_halves(bits, cos_theta, exact);

@@ -260,19 +260,28 @@ fn needs_light(t: vec2<u32>) -> bool {
             textureStore(lit_out, t, sf.face, vec4(0.0));
             return false;
         }
-        // A texel on a silhouette (a neighbour of another object or the sky) is lit anyway:
-        // its edges are searched, where the background pass ends its pixels.
-        var inside = true;
-        for (var k = 0u; k < 4u; k++) {
-            inside = inside && neighbour(t, NEIGHBOURS[k]).id == me.id;
-        }
+        // A texel on a silhouette is lit anyway: its edges are searched, where the
+        // background pass ends its pixels.
         let copied = covered_colour(p, me.id);
-        if inside && copied.a >= 0.0 {
+        if copied.a >= 0.0 && !on_silhouette(t, me.id) {
             textureStore(lit_out, t, sf.face, copied);
             return false;
         }
     }
     return true;
+}
+
+// Whether texel `t` of object `id` has a neighbour in its face of another object or the sky
+// (past the face's edge, not looked at: the border is rare, and such a texel is only
+// copied rather than searched).
+fn on_silhouette(t: vec2<u32>, id: u32) -> bool {
+    for (var k = 0u; k < 4u; k++) {
+        let q = vec2<i32>(t) + NEIGHBOURS[k];
+        if all(q >= vec2(0)) && all(q < vec2(i32(sf.n))) && textureLoad(id_tex, vec2<u32>(q), sf.face, 0).r != id {
+            return true;
+        }
+    }
+    return false;
 }
 
 // A lit colour rounded to a half float's 10 bits of mantissa: posterization fixes the
