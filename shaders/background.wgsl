@@ -1,6 +1,6 @@
 // Background: a fullscreen triangle drawn after the splats with a depth test. Each pixel shows
 // the eye probe's lit texel in its view direction (the sky where the eye probe saw none;
-// past a silhouette's edge, the texel beyond it: `eye_texel`), sRGB-encoded like the
+// past a silhouette's edge, the texel beyond it: `past_edge`), sRGB-encoded like the
 // splats, at the depth of the eye's surface pushed back by half its distance (`GAP_DEPTH`;
 // under an orthographic camera at the far plane). So it shades the pixels no quad covered,
 // and also those where the quad that landed lies far behind what the eye sees: gaps between
@@ -39,35 +39,34 @@ struct FsOut {
     @builtin(frag_depth) depth: f32,
 }
 
-// The eye texel that shows direction `uv` of face `face` (n texels per edge): the texel
-// holding it, or its neighbour where `uv` lies past the edge the shade pass found on that
-// side toward the sky or a farther surface (`side_edge`), as the texel's quad ends there. The
-// nearest texel alone drew every silhouette half a texel out where no stable quad covered
-// the sky beside it (the eye's texels along a silhouette, and the sky past it).
-fn eye_texel(uv: vec2<f32>, n: u32, face: u32) -> vec2<u32> {
-    let t = texel_of_uv(uv, n);
-    if textureLoad(eye_ids, t, face, 0).r == 0u {
-        return t;
-    }
-    let bits = u32(textureLoad(eye_lit, t, face, 0).a);
+// Where direction `uv` of a face of n texels lies past the edge the shade pass found on a
+// side of texel `t` toward the sky or a farther surface (`side_edge`, from the texel's lit
+// bits), the step to the neighbour beyond it, as the texel's quad ends there; zero
+// elsewhere. Without it the nearest texel alone drew every silhouette half a texel out where
+// no stable quad covered the sky beside it (the eye's texels along a silhouette, and the
+// sky past it).
+fn past_edge(uv: vec2<f32>, n: u32, t: vec2<u32>, bits: u32) -> vec2<i32> {
     // Where `uv` lies from the texel's centre, in texels.
     let g = (uv * 0.5 + 0.5) * f32(n) - (vec2<f32>(t) + 0.5);
     let toward = select(vec2(1), vec2(-1), g < vec2(0.0));
     // The side toward `uv` along x (left 0, right 1) and along y (up 2, down 3).
     let kx = select(1u, 0u, g.x < 0.0);
     let ky = select(3u, 2u, g.y < 0.0);
-    var q = vec2<i32>(t);
-    if side_code(bits, kx) >= 2u && abs(g.x) > side_edge(bits, kx) {
-        q.x += toward.x;
+    let step_x = side_code(bits, kx) >= 2u && abs(g.x) > side_edge(bits, kx);
+    let step_y = side_code(bits, ky) >= 2u && abs(g.y) > side_edge(bits, ky);
+    var step = select(vec2(0), toward, vec2(step_x, step_y));
+    // Past a cut corner's line (`corner_cut`: through the two sides' edges), though short of
+    // both edges: toward the side it lies farther past.
+    let past = abs(g) / vec2(side_edge(bits, kx), side_edge(bits, ky));
+    if !step_x && !step_y && corner_cut(bits, kx, ky) && past.x + past.y > 1.0 {
+        step = select(vec2(0, toward.y), vec2(toward.x, 0), past.x > past.y);
     }
-    if side_code(bits, ky) >= 2u && abs(g.y) > side_edge(bits, ky) {
-        q.y += toward.y;
-    }
-    // Past the face's edge: the texel itself (its neighbour there lies on another face).
+    // Past the face's edge: no step (the neighbour there lies on another face).
+    let q = vec2<i32>(t) + step;
     if any(q < vec2(0)) || any(q >= vec2(i32(n))) {
-        return t;
+        return vec2(0);
     }
-    return vec2<u32>(q);
+    return step;
 }
 
 @fragment
@@ -77,12 +76,21 @@ fn fs(in: FullscreenOut) -> FsOut {
     if e.face > 5u || (eye.draw_mask & (1u << e.face)) == 0u {
         return FsOut(vec4(linear_to_srgb(view.sky.rgb), 1.0), 0u, NDC_FAR);
     }
-    let t = eye_texel(e.uv, eye.n, e.face);
-    let lit = textureLoad(eye_lit, t, e.face, 0);
+    var t = texel_of_uv(e.uv, eye.n);
+    var id = textureLoad(eye_ids, t, e.face, 0).r;
+    var lit = textureLoad(eye_lit, t, e.face, 0);
+    if id != 0u {
+        let step = past_edge(e.uv, eye.n, t, u32(lit.a));
+        if any(step != vec2(0)) {
+            t = vec2<u32>(vec2<i32>(t) + step);
+            id = textureLoad(eye_ids, t, e.face, 0).r;
+            lit = textureLoad(eye_lit, t, e.face, 0);
+        }
+    }
     var key = 0u;
     var colour = lit.rgb;
     var depth = NDC_FAR;
-    if textureLoad(eye_ids, t, e.face, 0).r != 0u {
+    if id != 0u {
         key = texel_key(view.eye_slot, e.face, t, view.max_n) + 1u;
         let d = textureLoad(eye_geo, t, e.face, 0).w;
         let p = eye_point(e, d);

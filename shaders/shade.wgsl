@@ -501,7 +501,16 @@ fn light_texel(t: vec2<u32>) {
     // Edge rays start halfway to the surface (nothing nearer lies on this texel's ray, and
     // the traversal skips the boxes before it).
     let skip = 0.5 * d;
-    let rays = lights + EDGE_STEPS * countOneBits(left);
+    let side_rays = EDGE_STEPS * countOneBits(left);
+    // Corner rays (`CORNER_CUT_LEFT`), after the sides' search: bit j where the corner of
+    // side j (left, right) with `corner_side` has both sides searched as silhouettes (not
+    // where a neighbour hides the plane: there the edge is a junction, not the surface's
+    // end).
+    let open = left & ~hidden;
+    let ky = corner_side(similar);
+    let corners = select(0u, open & 3u, ((open >> ky) & 1u) != 0u);
+    var corners_left = corners;
+    let rays = lights + side_rays + countOneBits(corners);
     for (var i = 0u; i < rays; i++) {
         var origin = start;
         var dir: vec3<f32>;
@@ -516,6 +525,18 @@ fn light_texel(t: vec2<u32>) {
             }
             dir = r.dir;
             t_max = light_reach(r, offset);
+        } else if i >= lights + side_rays {
+            // A ray three quarters of the way from the centre to the corner where the two
+            // sides' edges meet: a slanting edge through the two edges' crossings passes
+            // nearer the centre (at half the way), a box's corner lies at the corner.
+            k = firstTrailingBit(corners_left);
+            corners_left &= corners_left - 1u;
+            let at = vec2(side_edge(edges, k), side_edge(edges, ky));
+            let toward = vec2(f32(NEIGHBOURS[k].x), f32(NEIGHBOURS[ky].y));
+            let cr = probe_ray(fr, uv + toward * at * (1.5 / f32(n)));
+            dir = cr.dir;
+            origin = cr.start + dir * skip;
+            t_max = min(edge_reach(t, d, similar, k), edge_reach(t, d, similar, ky)) - skip;
         } else {
             if step == 0u {
                 k = firstTrailingBit(left);
@@ -538,6 +559,12 @@ fn light_texel(t: vec2<u32>) {
         if i < lights {
             if !hit {
                 light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
+            }
+            continue;
+        }
+        if i >= lights + side_rays {
+            if !hit {
+                similar |= select(CORNER_CUT_LEFT, CORNER_CUT_RIGHT, k == 1u);
             }
             continue;
         }

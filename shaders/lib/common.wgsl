@@ -230,6 +230,14 @@ const SIMILAR_EDGE_AT: u32 = 9u;
 // or hide its plane (shade.wgsl), not its own surface past a convex crease: its quad's
 // sides toward them end on its plane (cull.wgsl `ends_at_edge`).
 const SIMILAR_APART: u32 = 0x200000u;
+// In a lit texel's neighbour bits: the corner where its left (`CORNER_CUT_LEFT`) or right
+// (`CORNER_CUT_RIGHT`) side's edge meets its up side's (or, where up is no silhouette, its
+// down side's) is cut: the surface's edge runs across it (a slanting silhouette), where a
+// ray three quarters of the way to the corner missed the surface (shade.wgsl, the corner
+// rays); a box's corner is kept. `corner_side` says which of up and down it is.
+const CORNER_CUT_LEFT: u32 = 0x400000u;
+const CORNER_CUT_RIGHT: u32 = 0x800000u;
+
 // Side `k`'s kind (left, right, up, down) in lit texel neighbour `bits`, from its two bits
 // (k and 4 + k): 0 nearer, 1 similar, 2 farther, 3 sky.
 fn side_code(bits: u32, k: u32) -> u32 {
@@ -239,6 +247,25 @@ fn side_code(bits: u32, k: u32) -> u32 {
 // Where side `k`'s edge lies, in texels from the centre (`SIMILAR_EDGE_AT`).
 fn side_edge(bits: u32, k: u32) -> f32 {
     return f32(((bits >> (SIMILAR_EDGE_AT + 3u * k)) & 7u) + 1u) / 8.0;
+}
+
+// Whether side `k` (left, right, up, down) of a texel with neighbour `bits` is a searched
+// silhouette side: its edge was found (farther geometry or the sky past it).
+fn silhouette_side(bits: u32, k: u32) -> bool {
+    return side_code(bits, k) >= 2u;
+}
+
+// The horizontal side (up 2, down 3) whose edge a left or right corner cut meets
+// (`CORNER_CUT_LEFT`): up where up is a silhouette side, else down.
+fn corner_side(bits: u32) -> u32 {
+    return select(3u, 2u, silhouette_side(bits, 2u));
+}
+
+// Whether the corner between side `kx` (left 0, right 1) and side `ky` (up 2, down 3) is
+// cut (`CORNER_CUT_LEFT`).
+fn corner_cut(bits: u32, kx: u32, ky: u32) -> bool {
+    let bit = select(CORNER_CUT_LEFT, CORNER_CUT_RIGHT, kx == 1u);
+    return (bits & bit) != 0u && corner_side(bits) == ky;
 }
 
 // In a run's length (runs.wgsl's runs texture): the run goes down a column.
