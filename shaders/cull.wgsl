@@ -200,13 +200,12 @@ fn corner_at(fr: ProbeFrame, face: u32, q: vec2<f32>, on: vec3<f32>, nrm: vec3<f
 // depth) as a sawtooth of wedges along the junction. On the junction line the two planes
 // meet, so the corner is where the edge is in the world, from every viewpoint. Measured at
 // faces of 64, 320×180: coverage error on wall_graze 0.0228 -> 0.0222 (naive 0.0213),
-// occluder_pass 0.0060 -> 0.0035; its cost, one more load per such side, about 3 ms of
-// culling a frame on terrain_walk at 1280×720 (lavapipe), where hills end against farther
-// chunks.
+// occluder_pass 0.0060 -> 0.0035; its cost, one more load per such side, about 2 ms of
+// culling a frame on terrain_walk at 1280×720 (lavapipe: 9.2–10.2 -> 12.0–12.2 ms in
+// alternated runs), where hills end against farther chunks.
 fn clip_behind(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, k: u32, p: vec3<f32>, c: vec3<f32>) -> vec3<f32> {
     let n = view.slots[slot].n;
-    let step = select(select(vec2(0, 1), vec2(0, -1), k == 2u), select(vec2(1, 0), vec2(-1, 0), k == 0u), k < 2u);
-    let q = vec2<i32>(t) + step;
+    let q = vec2<i32>(t) + NEIGHBOURS[k];
     if any(q < vec2(0)) || any(q >= vec2(i32(n))) {
         return c;
     }
@@ -220,6 +219,27 @@ fn clip_behind(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, k: u32, p: ve
         return c;
     }
     return p + (c - p) * (front / (front - behind));
+}
+
+// The corner of a quad where side `kx` (left 0, right 1) of texel `t` meets its side `ky`
+// (up 2, down 3), all from that one texel (the first or last of a run) and its `bits`:
+// `halves` (`quad_halves`, in face coordinates) out from its centre, less where a slanting
+// edge runs across it (`cut_scale`: a rectangle's corner there lay outside the surface on
+// every texel along the edge, so slanting silhouettes erred outward); on the surface's
+// plane where either side `ends_at_edge`, and then not behind the texel past that side
+// (`clip_behind`).
+fn quad_corner(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, bits: u32, halves: vec4<f32>, kx: u32, ky: u32, p: vec3<f32>, nrm: vec3<f32>, d: f32) -> vec3<f32> {
+    let out = vec2(f32(NEIGHBOURS[kx].x) * halves[kx], f32(NEIGHBOURS[ky].y) * halves[ky]);
+    let q = texel_center_uv(t, view.slots[slot].n) + out * cut_scale(bits, kx, ky);
+    let ends = ends_at_edge(bits);
+    var c = corner_at(fr, face, q, p, nrm, d, ends[kx] || ends[ky]);
+    if ends[kx] {
+        c = clip_behind(slot, face, fr, t, kx, p, c);
+    }
+    if ends[ky] {
+        c = clip_behind(slot, face, fr, t, ky, p, c);
+    }
+    return c;
 }
 
 // Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
@@ -394,58 +414,17 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // Corners 0-3: top-left (the first texel's), top-right (the last's in a row run, the
     // first's in a column run), bottom-right (the last's), bottom-left (the first's in a row
     // run, the last's in a column run).
-    let a_uv = select(uv_last, uv, column);
-    let a = select(l, f, column);
-    let b_uv = select(uv, uv_last, column);
-    let b = select(f, l, column);
-    // A corner cut where a slanting edge runs across it (`CORNER_CUT_LEFT`) lies 0.6 of the
-    // way out (`cut_scale`), just past the line through the two sides' edges: a rectangle's
-    // corner there lay outside the surface on every texel along the edge, so slanting
-    // silhouettes erred outward.
+    let a_t = select(last, t, column);
+    let b_t = select(t, last, column);
     let a_bits = select(last_bits, bits, column);
     let b_bits = select(bits, last_bits, column);
-    let q0 = uv + vec2(-f.x, -f.z) * cut_scale(bits, 0u, 2u);
-    let q1 = a_uv + vec2(a.y, -a.z) * cut_scale(a_bits, 1u, 2u);
-    let q2 = uv_last + vec2(l.y, l.w) * cut_scale(last_bits, 1u, 3u);
-    let q3 = b_uv + vec2(-b.x, b.w) * cut_scale(b_bits, 0u, 3u);
+    let c0 = quad_corner(slot, face, fr, t, bits, f, 0u, 2u, p, geo.xyz, d);
+    let c1 = quad_corner(slot, face, fr, a_t, a_bits, select(l, f, column), 1u, 2u, p, geo.xyz, d);
+    let c2 = quad_corner(slot, face, fr, last, last_bits, l, 1u, 3u, p, geo.xyz, d);
+    let c3 = quad_corner(slot, face, fr, b_t, b_bits, select(f, l, column), 0u, 3u, p, geo.xyz, d);
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var out: Splat;
-    let fe = ends_at_edge(bits);
-    let le = ends_at_edge(last_bits);
-    let ae = select(le, fe, column);
-    let be = select(fe, le, column);
-    var c0 = corner_at(fr, face, q0, p, geo.xyz, d, fe.x || fe.z);
-    var c1 = corner_at(fr, face, q1, p, geo.xyz, d, ae.y || ae.z);
-    var c2 = corner_at(fr, face, q2, p, geo.xyz, d, le.y || le.w);
-    var c3 = corner_at(fr, face, q3, p, geo.xyz, d, be.x || be.w);
-    // The texels whose sides meet at corners 1 and 3.
-    let a_t = select(last, t, column);
-    let b_t = select(t, last, column);
-    if fe.x {
-        c0 = clip_behind(slot, face, fr, t, 0u, p, c0);
-    }
-    if fe.z {
-        c0 = clip_behind(slot, face, fr, t, 2u, p, c0);
-    }
-    if ae.y {
-        c1 = clip_behind(slot, face, fr, a_t, 1u, p, c1);
-    }
-    if ae.z {
-        c1 = clip_behind(slot, face, fr, a_t, 2u, p, c1);
-    }
-    if le.y {
-        c2 = clip_behind(slot, face, fr, last, 1u, p, c2);
-    }
-    if le.w {
-        c2 = clip_behind(slot, face, fr, last, 3u, p, c2);
-    }
-    if be.x {
-        c3 = clip_behind(slot, face, fr, b_t, 0u, p, c3);
-    }
-    if be.w {
-        c3 = clip_behind(slot, face, fr, b_t, 3u, p, c3);
-    }
     let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, c0, c1, c2, c3);
     out.c0 = vec4(c0, bitcast<f32>(key));
     out.c1 = vec4(c1, bitcast<f32>(colour));

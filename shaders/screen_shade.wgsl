@@ -38,7 +38,6 @@ struct ScreenGlobals {
 @group(1) @binding(3) var<uniform> bvh_fields: BvhFields;
 @group(1) @binding(4) var bvh_field_data: texture_2d_array<f32>;
 
-const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
 
 // The direction from the eye to `p` (the view axis for an orthographic camera).
 fn view_ray(p: vec3<f32>) -> vec3<f32> {

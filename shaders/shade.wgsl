@@ -99,8 +99,6 @@ fn face_frame() -> ProbeFrame {
     return f;
 }
 
-// Offsets of the four neighbours, in the order of the similar bits: left, right, up, down.
-const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
 
 struct Sample {
     geo: vec4<f32>,

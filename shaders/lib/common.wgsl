@@ -238,6 +238,9 @@ const SIMILAR_APART: u32 = 0x200000u;
 const CORNER_CUT_LEFT: u32 = 0x400000u;
 const CORNER_CUT_RIGHT: u32 = 0x800000u;
 
+// Offsets of the four neighbours, in the order of the similar bits: left, right, up, down.
+const NEIGHBOURS = array<vec2<i32>, 4>(vec2(-1, 0), vec2(1, 0), vec2(0, -1), vec2(0, 1));
+
 // Side `k`'s kind (left, right, up, down) in lit texel neighbour `bits`, from its two bits
 // (k and 4 + k): 0 nearer, 1 similar, 2 farther, 3 sky.
 fn side_code(bits: u32, k: u32) -> u32 {

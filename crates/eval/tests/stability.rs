@@ -81,14 +81,35 @@ fn splat_and_naive(level: &str, path: &str, face_res: u32) -> Option<(RunRecord,
 fn splat_and_naive_sized(
     level: &str,
     path: &str,
-    (face_res, size): (u32, UVec2),
+    sized: (u32, UVec2),
+) -> Option<(RunRecord, RunRecord)> {
+    let level = assets().join("levels").join(format!("{level}.ron"));
+    let path = assets().join("paths").join(format!("{path}.ron"));
+    splat_and_naive_files(level, path, sized)
+}
+
+/// [`splat_and_naive_sized`] on a level and a path given as files.
+fn splat_and_naive_files(
+    level: PathBuf,
+    path: PathBuf,
+    sized: (u32, UVec2),
 ) -> Option<(RunRecord, RunRecord)> {
     let methods = [Method::Splat, Method::Naive];
-    let r = run_sized(level, path, &methods, (face_res, size), false)?;
+    let r = run_files(level, path, &methods, sized, false)?;
     Some((
         find(&r, Method::Splat).clone(),
         find(&r, Method::Naive).clone(),
     ))
+}
+
+/// Asserts that splat's coverage error is below `factor` times naive's.
+fn assert_coverage_below(splat: &RunRecord, naive: &RunRecord, factor: f64) {
+    assert!(
+        splat.coverage_error < factor * naive.coverage_error,
+        "splat {} against naive {} (bound {factor}x)",
+        splat.coverage_error,
+        naive.coverage_error
+    );
 }
 
 fn find(records: &[RunRecord], m: Method) -> &RunRecord {
@@ -229,12 +250,7 @@ fn along_the_wall_at_faces_of_64_silhouettes_are_as_tight_as_naive() {
     // on SwiftShader); 0.0222 with the junction's corners clipped but no corner cut, 0.0228
     // with neither, 0.0238 with the eye's quads grown, 0.0255 with the eye's texels drawn
     // whole too. Holes 0.0006 (0.0003 with every corner whole).
-    assert!(
-        splat.coverage_error < naive.coverage_error,
-        "{} against {}",
-        splat.coverage_error,
-        naive.coverage_error
-    );
+    assert_coverage_below(&splat, &naive, 1.0);
     assert!(splat.hole_rate < 0.001, "{}", splat.hole_rate);
 }
 
@@ -247,25 +263,17 @@ fn along_the_wall_at_faces_of_64_silhouettes_are_as_tight_as_naive() {
 #[test]
 fn slanting_silhouettes_are_as_tight_as_low_resolution_rendering() {
     let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
-    let Some(r) = run_files(
+    let Some((splat, naive)) = splat_and_naive_files(
         data.join("slanted_edges.ron"),
         data.join("slanted_strafe.ron"),
-        &[Method::Splat, Method::Naive],
         (64, UVec2::new(320, 180)),
-        false,
     ) else {
         return;
     };
-    let (splat, naive) = (find(&r, Method::Splat), find(&r, Method::Naive));
     // Measured on lavapipe: coverage error 0.0158 against naive's 0.0186 (0.0202 with every
     // corner whole), holes 0.0012 against 0.0047 (0.0007 whole; 0.0015 with cut corners on
     // the line itself rather than 0.6 of the way out).
-    assert!(
-        splat.coverage_error < 0.95 * naive.coverage_error,
-        "{} against {}",
-        splat.coverage_error,
-        naive.coverage_error
-    );
+    assert_coverage_below(&splat, &naive, 0.95);
     assert!(splat.hole_rate < 0.002, "{}", splat.hole_rate);
     assert!(splat.hole_rate * 2.0 < naive.hole_rate);
 }
@@ -281,12 +289,7 @@ fn silhouettes_are_tighter_than_low_resolution_rendering() {
     };
     // Measured: coverage error 0.0517 against naive's 0.0642 (0.0691 with every silhouette
     // half a texel out); holes 0.0028 against 0.0121.
-    assert!(
-        splat.coverage_error < 0.9 * naive.coverage_error,
-        "{} against {}",
-        splat.coverage_error,
-        naive.coverage_error
-    );
+    assert_coverage_below(&splat, &naive, 0.9);
     assert!(splat.hole_rate * 2.0 < naive.hole_rate);
 }
 
@@ -312,12 +315,7 @@ fn junctions_and_edges_against_farther_walls_are_as_tight_as_low_resolution_rend
     // 0.0059 (SwiftShader 0.0076) while
     // it drew every eye texel whole, 0.0108 with quads ending at the texel's depth and
     // junctions unsearched, 0.0099 with the junctions searched alone.
-    assert!(
-        splat.coverage_error < 0.5 * naive.coverage_error,
-        "{} against {}",
-        splat.coverage_error,
-        naive.coverage_error
-    );
+    assert_coverage_below(&splat, &naive, 0.5);
     assert!(splat.hole_rate < 0.001, "{}", splat.hole_rate);
 }
 
