@@ -361,6 +361,36 @@ fn hides_plane(me: Sample, p: vec3<f32>, nb: Sample, nr: ProbeRay) -> bool {
     return dot(me.geo.xyz, nr.dir) < 0.0 && nb.geo.w < 0.999 * plane_depth(me.geo.xyz, p, nr);
 }
 
+// Whether the farther neighbour on side `k` (at depth `nd`) of a texel of the terrain that
+// field `field` walks (the texel's point `p`) shows that surface going on, nothing of it
+// hidden between them: the terrain under the straight way from `p` to the neighbour's
+// point, sampled at its quarters, lies in order across the side, each sample's place along
+// it past the one before (a slope seen at a grazing angle, or a fold between two
+// triangles); behind a crest the samples fall back behind `p`. There a search would only
+// move the seam between two quads of one surface to where the depth passes halfway; it is
+// left halfway. On a hilly terrain seen from eye height most farther neighbours are such:
+// on terrain_walk the search's rays over the field were about 20 of the pass's 50 ms
+// (1280×720, faces of 128), 6-9 without them, coverage and shimmer as before.
+fn terrain_goes_on(fr: ProbeFrame, uv: vec2<f32>, k: u32, p: vec3<f32>, nd: f32, field: u32) -> bool {
+    if field >= BVH_MAX_FIELDS {
+        return false;
+    }
+    let f = bvh_fields.fields[field];
+    let step = vec2<f32>(NEIGHBOURS[k]) * (2.0 / f32(sf.n));
+    let q = frame_point(fr, sf.face, uv + step, nd);
+    var at = 0.0;
+    for (var i = 1u; i < 4u; i++) {
+        let xz = mix(p.xz, q.xz, 0.25 * f32(i));
+        let m = vec3(xz.x, field_surface_y(f, xz), xz.y);
+        let place = dot(frame_uv_on(fr, sf.face, m) - uv, step) / dot(step, step);
+        if !(place > at) {
+            return false;
+        }
+        at = place;
+    }
+    return at < 1.0;
+}
+
 // Whether object `id` (1-based) has its triangles in the BVH.
 fn in_bvh(id: u32) -> bool {
     return id != 0u && id <= arrayLength(&objects) && (objects[id - 1u].flags & FLAG_IN_BVH) != 0u;
@@ -405,6 +435,12 @@ fn light_texel(t: vec2<u32>) {
     // A farther neighbour is not this surface turning a convex crease (`SIMILAR_APART`).
     var apart = false;
     let me_in_bvh = (flags & FLAG_IN_BVH) != 0u;
+    // The field that walks this texel's terrain, if it is one (`terrain_goes_on`).
+    let object_flags = objects[me.id - 1u].flags;
+    var field = BVH_MAX_FIELDS;
+    if me_in_bvh && (object_flags & FLAG_TERRAIN) != 0u {
+        field = field_of_terrain(object_flags >> 8u);
+    }
     // Depth step between neighbours on a surface tilted ~37° from the face plane.
     let tolerance = frame_texel_size(fr, d, n, ray) / length(ray) * 0.75;
     for (var k = 0u; k < 4u; k++) {
@@ -429,7 +465,9 @@ fn light_texel(t: vec2<u32>) {
             // Searched for its edge, unless the surface goes on there: against the neighbour
             // where it hides the plane, else against this surface.
             let nr = toward_ray(fr, uv, k, 1.0);
-            if hides_plane(me, p, nb, nr) {
+            if nb.id == me.id && terrain_goes_on(fr, uv, k, p, nb.geo.w, field) {
+                // Nothing to search: the edge lies halfway.
+            } else if hides_plane(me, p, nb, nr) {
                 if in_bvh(nb.id) {
                     seek |= 1u << k;
                     hidden |= 1u << k;

@@ -115,7 +115,8 @@ struct BvhField {
     inv_step: vec2<f32>,
     cells: vec2<u32>,
     heights_at: u32,
-    pad0: u32,
+    // The terrain (index into the scene's terrains, as in an object's flags) it walks.
+    terrain: u32,
     pad1: u32,
     pad2: u32,
     level_at: array<vec4<u32>, 4>,
@@ -137,6 +138,33 @@ fn field_load(i: u32) -> f32 {
 
 fn field_height(f: BvhField, x: u32, z: u32) -> f32 {
     return field_load(f.heights_at + z * (f.cells.x + 1u) + x);
+}
+
+// The field walking terrain `terrain`, or BVH_MAX_FIELDS if none does.
+fn field_of_terrain(terrain: u32) -> u32 {
+    for (var i = 0u; i < min(bvh_fields.count, BVH_MAX_FIELDS); i++) {
+        if bvh_fields.fields[i].terrain == terrain {
+            return i;
+        }
+    }
+    return BVH_MAX_FIELDS;
+}
+
+// The world height of field `f`'s surface at world `xz` (clamped to its cells), on the
+// triangles `field_cell_hit` crosses.
+fn field_surface_y(f: BvhField, xz: vec2<f32>) -> f32 {
+    let cells = vec2<f32>(f.cells);
+    let g = clamp((xz - f.corner.xz) * f.inv_step, vec2(0.0), cells);
+    let i = vec2<u32>(min(floor(g), cells - 1.0));
+    let r = g - vec2<f32>(i);
+    let h10 = field_height(f, i.x + 1u, i.y);
+    let h01 = field_height(f, i.x, i.y + 1u);
+    if r.x + r.y <= 1.0 {
+        let h00 = field_height(f, i.x, i.y);
+        return f.corner.y + h00 + r.x * (h10 - h00) + r.y * (h01 - h00);
+    }
+    let h11 = field_height(f, i.x + 1u, i.y + 1u);
+    return f.corner.y + h11 + (1.0 - r.x) * (h01 - h11) + (1.0 - r.y) * (h10 - h11);
 }
 
 // Whether the ray (in the field's grid space) crosses cell (x, z)'s two triangles, split as

@@ -121,6 +121,18 @@ fn frame_locate(f: ProbeFrame, p: vec3<f32>) -> FrameHit {
     return FrameHit(fu.face, fu.uv, chebyshev(q));
 }
 
+// Face coordinates of world point `m` on face `face` of frame `f`, past the face's edge
+// where its plane goes on (a point behind a cube face's plane lands far outside).
+fn frame_uv_on(f: ProbeFrame, face: u32, m: vec3<f32>) -> vec2<f32> {
+    let w = m - f.origin;
+    if f.half > 0.0 {
+        return vec2(dot(w, f.right), dot(w, f.down)) / f.half;
+    }
+    let axis = cube_dir(face, 0.0, 0.0);
+    let s = w / max(dot(w, axis), 1e-6);
+    return vec2(dot(s, cube_dir(face, 1.0, 0.0) - axis), dot(s, cube_dir(face, 0.0, 1.0) - axis));
+}
+
 // --- colour ---
 
 fn srgb_to_linear(c: vec3<f32>) -> vec3<f32> {

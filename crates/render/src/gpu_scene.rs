@@ -65,13 +65,13 @@ fn upload_fields(
     cast: &[usize],
 ) -> (wgpu::Buffer, wgpu::TextureView) {
     use crate::bvh::field::{self, HeightField};
-    let fields: Vec<HeightField> = (cast.iter())
-        .filter_map(|&t| {
-            let t = &scene.terrains[t];
-            HeightField::new(t.corner, t.size, t.samples, &t.heights)
+    let fields: Vec<(usize, HeightField)> = (cast.iter())
+        .filter_map(|&i| {
+            let t = &scene.terrains[i];
+            HeightField::new(t.corner, t.size, t.samples, &t.heights).map(|f| (i, f))
         })
         .collect();
-    let (block, data) = field::pack(&fields.iter().collect::<Vec<_>>());
+    let (block, data) = field::pack(&fields.iter().map(|(i, f)| (*i, f)).collect::<Vec<_>>());
     let view = field::upload_data(&ctx.device, &ctx.queue, &data);
     let buffer = ctx
         .device

@@ -237,6 +237,31 @@ impl Renderer {
     }
 }
 
+impl Renderer {
+    /// The six lit faces' neighbour bits of `slot` (`n × n` per face, rows top to bottom, in
+    /// [`texel_probes::cube::Face`] order): the similar bits, silhouette edges and corner cuts
+    /// the shade pass found and the cull pass reads (`lib/common.wgsl`).
+    pub fn read_lit_bits(
+        &self,
+        ctx: &GpuContext,
+        slot: Slot,
+    ) -> Result<(u32, Vec<Vec<u32>>), GpuError> {
+        let textures = self.store.slot(slot);
+        let faces = (0..6)
+            .map(|layer| {
+                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 16).map(
+                    |raw| {
+                        raw.chunks_exact(16)
+                            .map(|t| f32::from_le_bytes([t[12], t[13], t[14], t[15]]) as u32)
+                            .collect()
+                    },
+                )
+            })
+            .collect::<Result<_, _>>()?;
+        Ok((textures.n, faces))
+    }
+}
+
 /// `Rgba32Float` texels (linear colour) to opaque sRGB8 RGBA (the lit texture's alpha holds
 /// neighbour bits, not coverage, so it is dropped).
 fn rgba32f_to_srgb8(raw: &[u8]) -> Vec<u8> {

@@ -416,7 +416,8 @@ fn run(
         bytemuck::bytes_of(&texel_render::gpu_scene::GpuBvhInstance::NONE),
         usage,
     );
-    let (block, data) = field::pack(fields);
+    let indexed: Vec<_> = fields.iter().copied().enumerate().collect();
+    let (block, data) = field::pack(&indexed);
     let block = storage(
         ctx,
         "bvh_gpu::fields",

@@ -344,7 +344,9 @@ pub struct GpuField {
     pub cells: [u32; 2],
     /// Where the heights start in the data.
     pub heights_at: u32,
-    _pad: [u32; 3],
+    /// The terrain (index into `SceneInput::terrains`) whose heights these are.
+    pub terrain: u32,
+    _pad: [u32; 2],
     /// Where each level starts in the data.
     pub level_at: [u32; MAX_LEVELS],
 }
@@ -363,12 +365,13 @@ pub struct GpuFields {
 const _: () = assert!(size_of::<GpuField>() == 112 && size_of::<GpuFields>() == 16 + 8 * 112);
 
 /// The fields' records and their data, one flat list (at least one float: bindings need
-/// something).
-pub fn pack(fields: &[&HeightField]) -> (GpuFields, Vec<f32>) {
+/// something); each field with the index of the terrain it walks.
+pub fn pack(fields: &[(usize, &HeightField)]) -> (GpuFields, Vec<f32>) {
     let mut block = GpuFields::zeroed();
-    let mut data = Vec::with_capacity(fields.iter().map(|f| f.data_len()).sum::<usize>().max(1));
-    for (slot, f) in block.fields.iter_mut().zip(fields) {
+    let mut data = Vec::with_capacity(fields.iter().map(|f| f.1.data_len()).sum::<usize>().max(1));
+    for (slot, &(terrain, f)) in block.fields.iter_mut().zip(fields) {
         let mut rec = GpuField {
+            terrain: terrain as u32,
             corner: f.corner.to_array(),
             levels: f.levels.len() as u32,
             inv_step: f.step.recip().to_array(),

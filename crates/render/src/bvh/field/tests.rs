@@ -207,8 +207,9 @@ fn packing_places_every_field_after_the_last() {
         field(&mut rng, 9, 5, Vec2::new(4.0, 2.0)),
         field(&mut rng, 3, 3, Vec2::ONE),
     );
-    let (block, data) = pack(&[&a, &b]);
+    let (block, data) = pack(&[(3, &a), (0, &b)]);
     assert_eq!(block.count, 2);
+    assert_eq!((block.fields[0].terrain, block.fields[1].terrain), (3, 0));
     assert_eq!(data.len(), a.data_len() + b.data_len());
     let (ra, rb) = (block.fields[0], block.fields[1]);
     assert_eq!(ra.heights_at, 0);
