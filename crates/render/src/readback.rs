@@ -235,9 +235,7 @@ impl Renderer {
             .collect::<Result<_, _>>()?;
         Ok((textures.n, faces))
     }
-}
 
-impl Renderer {
     /// The six lit faces' neighbour bits of `slot` (`n × n` per face, rows top to bottom, in
     /// [`texel_probes::cube::Face`] order): the similar bits, silhouette edges and corner cuts
     /// the shade pass found and the cull pass reads (`lib/common.wgsl`).
