@@ -226,14 +226,7 @@ impl Renderer {
         ctx: &GpuContext,
         slot: Slot,
     ) -> Result<(u32, Vec<Vec<u8>>), GpuError> {
-        let textures = self.store.slot(slot);
-        let faces = (0..6)
-            .map(|layer| {
-                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 16)
-                    .map(|raw| rgba32f_to_srgb8(&raw))
-            })
-            .collect::<Result<_, _>>()?;
-        Ok((textures.n, faces))
+        self.read_lit_layers(ctx, slot, rgba32f_to_srgb8)
     }
 
     /// The six lit faces' neighbour bits of `slot` (`n × n` per face, rows top to bottom, in
@@ -244,16 +237,26 @@ impl Renderer {
         ctx: &GpuContext,
         slot: Slot,
     ) -> Result<(u32, Vec<Vec<u32>>), GpuError> {
+        self.read_lit_layers(ctx, slot, |raw| {
+            raw.chunks_exact(16)
+                .map(|t| f32::from_le_bytes([t[12], t[13], t[14], t[15]]) as u32)
+                .collect()
+        })
+    }
+
+    /// The six layers of `slot`'s lit texture (`Rgba32Float`), each converted by `convert`,
+    /// and the slot's face resolution.
+    fn read_lit_layers<T>(
+        &self,
+        ctx: &GpuContext,
+        slot: Slot,
+        convert: impl Fn(&[u8]) -> Vec<T>,
+    ) -> Result<(u32, Vec<Vec<T>>), GpuError> {
         let textures = self.store.slot(slot);
         let faces = (0..6)
             .map(|layer| {
-                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 16).map(
-                    |raw| {
-                        raw.chunks_exact(16)
-                            .map(|t| f32::from_le_bytes([t[12], t[13], t[14], t[15]]) as u32)
-                            .collect()
-                    },
-                )
+                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 16)
+                    .map(|raw| convert(&raw))
             })
             .collect::<Result<_, _>>()?;
         Ok((textures.n, faces))
