@@ -14,7 +14,7 @@ use crate::read::{FileKind, ReadError, read_bounded};
 #[non_exhaustive]
 pub enum TextureError {
     /// The file could not be read.
-    #[error("{}: cannot read texture: {source}", path.display())]
+    #[error("{}: cannot read image: {source}", path.display())]
     Io {
         /// The file.
         path: PathBuf,

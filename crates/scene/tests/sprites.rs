@@ -405,7 +405,7 @@ const IMAGE_CATALOGUE: &[(&str, usize, usize, &str)] = &[
         "sprite_missing_sheet.ron",
         25,
         29,
-        "sprites/no_such_sheet.png: cannot read texture",
+        "sprites/no_such_sheet.png: cannot read image",
     ),
     (
         "sprite_broken_sheet.ron",
