@@ -9,18 +9,6 @@
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
 
-struct Splat {
-    // xyz: corner; c0.w key + 1 of the first texel, c1.w packed sRGB colour, c2.w role |
-    // texels << 8 | SPLAT_COLUMN for a column run | the owner-miss bits of its corners
-    // (`owner_miss_bits`), c3.w how far the quad reaches past the
-    // centres of its first and last texel along the run, in texels, halved (pack2x16unorm) (all
-    // bitcast).
-    c0: vec4<f32>,
-    c1: vec4<f32>,
-    c2: vec4<f32>,
-    c3: vec4<f32>,
-}
-
 struct DrawArgs {
     index_count: u32,
     instance_count: atomic<u32>,
@@ -423,13 +411,22 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     let c2 = quad_corner(slot, face, fr, last, last_bits, l, 1u, 3u, p, geo.xyz, d);
     let c3 = quad_corner(slot, face, fr, b_t, b_bits, select(f, l, column), 0u, 3u, p, geo.xyz, d);
     let key = texel_key(slot, face, t, view.max_n) + 1u;
-    let colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
+    var colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
+    var reach = pack2x16unorm(0.5 * vec2(start_half, end_half));
+    // A one-texel quad of a terrain: the splat pass colours its pixels from the terrain
+    // (splat.wgsl `terrain_splat`); a run keeps its texels' colour.
+    let terrain = lit_terrain(lit.rgb);
+    let object = load_id(slot, t, face) - 1u;
+    if terrain != 0xffffffffu && texels == 1u && object < SPLAT_TERRAIN_OBJECTS {
+        colour = (colour & 0xffffffu) | (SPLAT_TERRAIN_ALPHA << 24u);
+        reach = terrain | (object << SPLAT_TERRAIN_OBJECT_AT);
+    }
     var out: Splat;
     let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, c0, c1, c2, c3);
     out.c0 = vec4(c0, bitcast<f32>(key));
     out.c1 = vec4(c1, bitcast<f32>(colour));
     out.c2 = vec4(c2, bitcast<f32>(shape));
-    out.c3 = vec4(c3, bitcast<f32>(pack2x16unorm(0.5 * vec2(start_half, end_half))));
+    out.c3 = vec4(c3, bitcast<f32>(reach));
     let index = atomicAdd(&args.instance_count, 1u);
     if index < arrayLength(&splats) {
         splats[index] = out;

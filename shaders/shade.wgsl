@@ -526,6 +526,9 @@ fn light_texel(t: vec2<u32>) {
     let start = p + lit_normal * offset;
     var light = globals.ambient.rgb;
     let lights = select(light_count(), 0u, emissive);
+    // Bit i: light i is not shadowed here, or was not traced (behind the texel's normal, or
+    // out of a point light's reach), which a terrain pixel decides by its own normal.
+    var unshadowed = 0xffffffffu;
     let search = globals.edges != 0u && seek != 0u;
     var edges = EDGES_UNKNOWN;
     // The sides left to search (bit k: side k), the one searched now, its bisection's
@@ -596,6 +599,8 @@ fn light_texel(t: vec2<u32>) {
         if i < lights {
             if !hit {
                 light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
+            } else {
+                unshadowed &= ~(1u << i);
             }
             continue;
         }
@@ -629,7 +634,11 @@ fn light_texel(t: vec2<u32>) {
     } else if lighten {
         shift = 1.0;
     }
-    textureStore(lit_out, t, sf.face, vec4(half_precision(posterize(colour, globals.bands, shift)), f32(similar)));
+    var lit = half_precision(posterize(colour, globals.bands, shift));
+    if !emissive && (object_flags & FLAG_TERRAIN) != 0u && lights <= TERRAIN_LIGHTS {
+        lit = lit_with_terrain(lit, unshadowed, shift);
+    }
+    textureStore(lit_out, t, sf.face, vec4(lit, f32(similar)));
     // The cull pass draws exactly the eye texels lit this frame.
     if sf.view_cull != 0u {
         list_push(sf.face, n, t);

@@ -4,22 +4,17 @@
 // and previous split the screen with complementary 4×4 Bayer patterns while a crossfade
 // runs, each keeping behind its own the pixels of the other's it can fill (`FadeFsOut`).
 // Writes the colour (sRGB-encoded, into a plain unorm target: no per-pixel encode) and the
-// texel key of every pixel.
+// texel key of every pixel. A one-texel quad of a terrain shows, pixel by pixel, the terrain
+// pixel its view ray meets (`terrain_splat`), as the full-resolution raster does.
 // crates/render/src/passes/splat.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
-#include "lib/slots.wgsl"
-
-struct Splat {
-    c0: vec4<f32>,
-    c1: vec4<f32>,
-    c2: vec4<f32>,
-    c3: vec4<f32>,
-}
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 @group(0) @binding(1) var<storage, read> splats: array<Splat>;
+// Each terrain quad's terrain pixels (terrain_splat.wgsl), at its splat's index.
+@group(0) @binding(2) var<storage, read> terrain_splats: array<TerrainSplat>;
 
 // Few varyings: a CPU rasterizer sets each one up per triangle.
 struct VsOut {
@@ -30,6 +25,9 @@ struct VsOut {
     @location(2) @interpolate(flat) run: u32,
     // Texel coordinate along a run quad (texel i spans [i, i + 1)).
     @location(3) along: f32,
+    // A terrain quad's cells and span (`terrain_span`); zero cells for any other quad.
+    @location(4) @interpolate(flat) cells: vec4<u32>,
+    @location(5) span: vec3<f32>,
 }
 
 @vertex
@@ -58,6 +56,9 @@ fn run_vertex(vi: u32, ii: u32) -> VsOut {
     let reach = 2.0 * unpack2x16unorm(bitcast<u32>(s.c3.w));
     let at_start = select(vi == 0u || vi == 3u, vi <= 1u, column);
     out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
+    let tq = terrain_of(s, ii);
+    out.cells = tq.cells;
+    out.span = terrain_span(tq, corner_world(s, vi));
     return out;
 }
 
@@ -79,6 +80,9 @@ fn texel_vertex(vi: u32, ii: u32) -> TexelIn {
     out.colour = splat_colour(s);
     out.key = bitcast<u32>(s.c0.w);
     out.run = role << 9u;
+    let tq = terrain_of(s, ii);
+    out.cells = tq.cells;
+    out.span = terrain_span(tq, corner_world(s, vi));
     return out;
 }
 
@@ -124,6 +128,47 @@ fn splat_colour(s: Splat) -> vec3<f32> {
     return unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb;
 }
 
+// What terrain quad `ii` (splat `s`) shows; a zero grid for any other quad.
+fn terrain_of(s: Splat, ii: u32) -> TerrainSplat {
+    if (bitcast<u32>(s.c1.w) >> 24u) != SPLAT_TERRAIN_ALPHA || ii >= arrayLength(&terrain_splats) {
+        return TerrainSplat();
+    }
+    return terrain_splats[ii];
+}
+
+// A terrain quad's corner at `world`: where its view ray meets the terrain's plane, in cells
+// of the quad's block (0..2 across it), times the ray's rate toward the plane (xy), and that
+// rate (z). Both are affine in `world` on the quad, so interpolated across it they give
+// each pixel's own point on the plane with one division (`pixel_colour`).
+fn terrain_span(t: TerrainSplat, world: vec3<f32>) -> vec3<f32> {
+    if t.cells.x == 0u {
+        return vec3(0.0);
+    }
+    var o = view.camera.xyz;
+    var dir = world - o;
+    if view.ortho != 0u {
+        o = world;
+        dir = view.forward.xyz;
+    }
+    let rate = dot(dir, t.plane.xyz);
+    if abs(rate) <= 1e-12 {
+        return vec3(0.0);
+    }
+    let hit = o + dir * ((t.plane.w - dot(t.plane.xyz, o)) / rate);
+    return vec3((hit.xz - t.grid.xy) / t.grid.z * rate, rate);
+}
+
+// The sRGB-encoded colour of a pixel of a quad of `colour`; a terrain quad's (non-zero
+// `cells`) is the colour of the cell its view ray meets (`terrain_span`).
+fn pixel_colour(colour: vec3<f32>, cells: vec4<u32>, span: vec3<f32>) -> vec3<f32> {
+    if cells.x == 0u {
+        return colour;
+    }
+    let ij = clamp(floor(span.xy / span.z), vec2(0.0), vec2(1.0));
+    let row = select(cells.xy, cells.zw, ij.y > 0.5);
+    return unpack4x8unorm(select(row.x, row.y, ij.x > 0.5)).rgb;
+}
+
 struct FsOut {
     @location(0) colour: vec4<f32>,
     @location(1) key: u32,
@@ -161,6 +206,8 @@ struct TexelIn {
     @location(0) @interpolate(flat) colour: vec3<f32>,
     @location(1) @interpolate(flat) key: u32,
     @location(2) @interpolate(flat) run: u32,
+    @location(3) @interpolate(flat) cells: vec4<u32>,
+    @location(4) span: vec3<f32>,
 }
 
 // The key of the texel under this pixel of a run quad.
@@ -183,6 +230,8 @@ struct FadeOut {
     // 1 where the stable probe that owns the pixel cannot see the quad (cull.wgsl
     // `owner_misses`, decided at the corners once per quad), 0 where it can.
     @location(5) owner_misses: f32,
+    @location(6) @interpolate(flat) cells: vec4<u32>,
+    @location(7) span: vec3<f32>,
 }
 
 // Whether the probe that owns a crossfade's pixel cannot see corner `vi` of splat `ii`, as
@@ -196,25 +245,25 @@ fn corner_owner_misses(vi: u32, ii: u32) -> f32 {
     return f32((shape >> (SPLAT_OWNER_MISSES + vi)) & 1u);
 }
 
-fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
-    if ii >= arrayLength(&splats) {
-        return vec3(0.0);
-    }
-    return corner_world(splats[ii], vi);
-}
-
 @vertex
 fn vs_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
     let v = run_vertex(vi, ii);
     let world = splat_world(vi, ii);
-    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, world, corner_owner_misses(vi, ii));
+    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, world, corner_owner_misses(vi, ii), v.cells, v.span);
 }
 
 @vertex
 fn vs_texel_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
     let v = texel_vertex(vi, ii);
     let world = splat_world(vi, ii);
-    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, world, corner_owner_misses(vi, ii));
+    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, world, corner_owner_misses(vi, ii), v.cells, v.span);
+}
+
+fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
+    if ii >= arrayLength(&splats) {
+        return vec3(0.0);
+    }
+    return corner_world(splats[ii], vi);
 }
 
 // Whether the grid probe draws the face that would show world point `p`.
@@ -252,15 +301,15 @@ fn faded_out_partial(run: u32, pixel: vec2<f32>, p: vec3<f32>) -> bool {
 // Without a crossfade: no discard, so the depth test can run before the shader.
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    return FsOut(vec4(in.colour, 1.0), pixel_key(in));
+    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), pixel_key(in));
 }
 
 // During a crossfade.
 @fragment
 fn fs_dither(in: FadeOut) -> FadeFsOut {
     let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
-    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
-    return FadeFsOut(vec4(in.colour, 1.0), pixel_key(v), z);
+    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.span);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), pixel_key(v), z);
 }
 
 // During a crossfade toward a grid probe that misses faces.
@@ -268,21 +317,21 @@ fn fs_dither(in: FadeOut) -> FadeFsOut {
 fn fs_dither_partial(in: FadeOut) -> FadeFsOut {
     let handed = faded_out_partial(in.run, in.clip.xy, in.world);
     let z = fade_depth(in.clip.z, handed, in.owner_misses);
-    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along);
-    return FadeFsOut(vec4(in.colour, 1.0), pixel_key(v), z);
+    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.span);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), pixel_key(v), z);
 }
 
 // One texel per quad, without a crossfade.
 @fragment
 fn fs_texel(in: TexelIn) -> FsOut {
-    return FsOut(vec4(in.colour, 1.0), in.key);
+    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), in.key);
 }
 
 // One texel per quad, during a crossfade.
 @fragment
 fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
     let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
-    return FadeFsOut(vec4(in.colour, 1.0), in.key, z);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), in.key, z);
 }
 
 // One texel per quad, during a crossfade toward a grid probe that misses faces.
@@ -290,5 +339,5 @@ fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
 fn fs_texel_dither_partial(in: FadeOut) -> FadeFsOut {
     let handed = faded_out_partial(in.run, in.clip.xy, in.world);
     let z = fade_depth(in.clip.z, handed, in.owner_misses);
-    return FadeFsOut(vec4(in.colour, 1.0), in.key, z);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), in.key, z);
 }

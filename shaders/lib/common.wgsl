@@ -216,6 +216,36 @@ const FLAG_TERRAIN: u32 = 4u;
 // Its triangles are in the static BVH (crates/render/src/gpu_scene.rs `FLAG_IN_BVH`).
 const FLAG_IN_BVH: u32 = 16u;
 
+// --- a terrain texel's lit colour (shade.wgsl writes it, cull.wgsl reads it) ---
+
+// The splat pass colours each screen pixel of a terrain texel's quad from the terrain pixel
+// under it (splat.wgsl `terrain_splat`), lit with the texel's shadows and outline: the shade
+// pass hands those on in the low 13 mantissa bits of the lit colour's red and green, which
+// its half-precision rounding leaves zero (readers of the colour see it within 2^-11): red
+// holds a marker bit and bit i set where light i reaches the texel (the first
+// `TERRAIN_LIGHTS`), green the outline's band shift + 1.
+const TERRAIN_LIGHTS: u32 = 12u;
+const TERRAIN_MARK: u32 = 0x1000u;
+
+// Half-precision colour `c` (every channel's low 13 bits zero) carrying `unshadowed` and
+// `shift`; channels are kept normal floats (at least 2^-14), which no driver flushes.
+fn lit_with_terrain(c: vec3<f32>, unshadowed: u32, shift: f32) -> vec3<f32> {
+    var bits = bitcast<vec3<u32>>(max(c, vec3(exp2(-14.0))));
+    bits.x |= TERRAIN_MARK | (unshadowed & ((1u << TERRAIN_LIGHTS) - 1u));
+    bits.y |= u32(clamp(shift + 1.0, 0.0, 2.0));
+    return bitcast<vec3<f32>>(bits);
+}
+
+// What `lit_with_terrain` put in lit colour `c`: the lights that reach it (bits 0-11) and
+// the shift + 1 (bits 12-13); 0xffffffff where `c` carries nothing.
+fn lit_terrain(c: vec3<f32>) -> u32 {
+    let bits = bitcast<vec3<u32>>(c);
+    if (bits.x & TERRAIN_MARK) == 0u {
+        return 0xffffffffu;
+    }
+    return (bits.x & ((1u << TERRAIN_LIGHTS) - 1u)) | ((bits.y & 3u) << TERRAIN_LIGHTS);
+}
+
 // --- splat keys: a dense index over (slot, face, texel) with faces of `max_n` texels ---
 
 fn texel_key(slot: u32, face: u32, t: vec2<u32>, max_n: u32) -> u32 {

@@ -68,6 +68,36 @@ const SPLAT_COLUMN: u32 = 0x80000000u;
 // 0-3 (cull.wgsl `owner_miss_bits`).
 const SPLAT_OWNER_MISSES: u32 = 16u;
 
+// One quad of the cull pass's list, drawn by the splat pass (crates/render/src/passes/cull.rs
+// `SPLAT_BYTES`). xyz: corner; c0.w key + 1 of the first texel, c1.w packed sRGB colour,
+// c2.w role | texels << 8 | SPLAT_COLUMN for a column run | the owner-miss bits of its
+// corners (cull.wgsl `owner_miss_bits`), c3.w how far the quad reaches past the centres of
+// its first and last texel along the run, in texels, halved (pack2x16unorm) (all bitcast).
+// A one-texel quad of a terrain has the alpha byte of its colour SPLAT_TERRAIN_ALPHA, and
+// c3.w its texel's `lit_terrain` | object index << SPLAT_TERRAIN_OBJECT_AT instead.
+struct Splat {
+    c0: vec4<f32>,
+    c1: vec4<f32>,
+    c2: vec4<f32>,
+    c3: vec4<f32>,
+}
+
+const SPLAT_TERRAIN_ALPHA: u32 = 0xfeu;
+const SPLAT_TERRAIN_OBJECT_AT: u32 = 14u;
+// Objects past this index keep their texels' colour.
+const SPLAT_TERRAIN_OBJECTS: u32 = 0x3ffffu;
+
+// What a terrain quad shows (terrain_splat.wgsl, one per splat of the list, written for the
+// terrain quads only): the packed sRGB colours of the 2 × 2 terrain pixels nearest its
+// texel's point (x first, then z), their grid (the block's corner on X and Z, the pixel
+// size, w 1) and the terrain's plane there (unit normal, offset), which each screen pixel's
+// view ray meets (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
+struct TerrainSplat {
+    cells: vec4<u32>,
+    grid: vec4<f32>,
+    plane: vec4<f32>,
+}
+
 // Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
 // cells below fade_t, the previous probe the rest.
 fn draws_pixels(role: u32) -> bool {

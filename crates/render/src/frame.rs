@@ -20,6 +20,7 @@ use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
 use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::sprites::SpritePass;
+use crate::passes::terrain_splat::TerrainSplatPass;
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
@@ -131,6 +132,7 @@ pub struct Renderer {
     edges_owed: [FaceMask; 3],
     pub(crate) cull: CullPass,
     splat: SplatPass,
+    terrain_splat: TerrainSplatPass,
     /// Whether every splat pipeline has been drawn with once (`SplatPass::warm_up`).
     splat_warm: bool,
     background: BackgroundPass,
@@ -178,6 +180,7 @@ impl Renderer {
             edges_owed: [FaceMask::EMPTY; 3],
             cull: CullPass::new(d)?,
             splat: SplatPass::new(d, colour.remove_srgb_suffix())?,
+            terrain_splat: TerrainSplatPass::new(d)?,
             splat_warm: false,
             background: BackgroundPass::new(d, colour.remove_srgb_suffix())?,
             moving: MovingPass::new(d, colour.remove_srgb_suffix())?,
@@ -362,7 +365,7 @@ impl Renderer {
         if let Some(binds) = &sprites {
             stages.run("sprite shade", |enc| self.sprites.shade(enc, binds));
         }
-        let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded.stable);
+        let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded);
         let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::with_capacity(4);
         let pixels_marched = match self.display {
             Display::Splat => {
@@ -371,7 +374,14 @@ impl Renderer {
                 let list = stages.run("cull", |enc| {
                     (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
                 });
-                let splat_binds = self.splat.bind_groups(ctx, &self.view, list, store);
+                if scene.terrain_count > 0 {
+                    stages.run("terrain splats", |enc| {
+                        let globals = self.shade.globals();
+                        (self.terrain_splat).record(ctx, enc, &self.view, scene, globals, list);
+                    });
+                }
+                let terrain = self.terrain_splat.records();
+                let splat_bind = (self.splat).bind_group(ctx, &self.view, list, terrain);
                 let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
                 let fade = match input.previous {
                     Some(_) if input.fade_t >= 1.0 => Fade::None,
@@ -384,10 +394,10 @@ impl Renderer {
                 stages.run("splat", |enc| {
                     let mut pass = begin_draw(enc, draw_target, screen, true);
                     if !self.splat_warm {
-                        self.splat.warm_up(&mut pass, &splat_binds);
+                        self.splat.warm_up(&mut pass, &splat_bind);
                         self.splat_warm = true;
                     }
-                    self.splat.draw(&mut pass, &splat_binds, list, runs, fade);
+                    self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
                 });
                 if let Some(binds) = &moving {
                     stages.run("moving", |enc| {
@@ -441,7 +451,7 @@ impl Renderer {
                 self.present.record(ctx, enc, frame, target, size, output);
             }
         });
-        copies.push((shaded.texels, 4));
+        copies.push((self.shade.texels_lit(), 4));
         copies.push((&self.visible.bits, self.visible.bytes()));
         let timed = stages.finish(&copies)?;
         let (head, rest) = timed.readback.split_at(copies[0].1 as usize);

@@ -19,6 +19,14 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/lighting.wgsl"),
     ),
     (
+        "lib/lights.wgsl",
+        include_str!("../../../shaders/lib/lights.wgsl"),
+    ),
+    (
+        "lib/shade_globals.wgsl",
+        include_str!("../../../shaders/lib/shade_globals.wgsl"),
+    ),
+    (
         "lib/texture.wgsl",
         include_str!("../../../shaders/lib/texture.wgsl"),
     ),
@@ -84,6 +92,10 @@ pub const SOURCES: &[(&str, &str)] = &[
     ("shade.wgsl", include_str!("../../../shaders/shade.wgsl")),
     ("cull.wgsl", include_str!("../../../shaders/cull.wgsl")),
     ("splat.wgsl", include_str!("../../../shaders/splat.wgsl")),
+    (
+        "terrain_splat.wgsl",
+        include_str!("../../../shaders/terrain_splat.wgsl"),
+    ),
     ("march.wgsl", include_str!("../../../shaders/march.wgsl")),
     (
         "visible.wgsl",

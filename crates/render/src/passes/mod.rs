@@ -13,6 +13,7 @@ pub mod runs;
 pub mod shade;
 pub mod splat;
 pub mod sprites;
+pub mod terrain_splat;
 pub mod visible;
 
 /// Stride of per-face uniform records addressed with dynamic offsets.

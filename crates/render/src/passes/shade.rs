@@ -83,14 +83,6 @@ pub struct ShadeInputs<'a> {
     pub edges: bool,
 }
 
-/// What the shade pass produces.
-pub struct Shaded<'a> {
-    /// Per slot ([`Slot::index`]), the stable faces lit (whole or at their edges).
-    pub stable: [FaceMask; 3],
-    /// Its first `u32` counts the texels lit, on the GPU.
-    pub texels: &'a wgpu::Buffer,
-}
-
 /// `Sun` in `shaders/lib/lighting.wgsl`: direction toward the light, colour × intensity.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
@@ -236,23 +228,32 @@ impl ShadePass {
     }
 
     /// Records the shade jobs (view-culled jobs read the frame's view: its frustum and the
-    /// stable probes) and returns what they light.
+    /// stable probes) and returns, per slot ([`Slot::index`]), the stable faces they light
+    /// (whole or at their edges).
     pub fn record(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         jobs: &[ShadeJob],
         inputs: &ShadeInputs<'_>,
-    ) -> Shaded<'_> {
+    ) -> [FaceMask; 3] {
         let mut stable = [FaceMask::EMPTY; 3];
         for j in jobs.iter().filter(|j| j.slot != Slot::Eye) {
             stable[j.slot.index()].insert(j.face);
         }
         self.dispatch(ctx, encoder, jobs, inputs);
-        Shaded {
-            stable,
-            texels: &self.work,
-        }
+        stable
+    }
+
+    /// Its first `u32` counts the texels the last [`ShadePass::record`] lit, on the GPU.
+    pub fn texels_lit(&self) -> &wgpu::Buffer {
+        &self.work
+    }
+
+    /// The frame's globals (`shaders/lib/shade_globals.wgsl`), written by
+    /// [`ShadePass::record`]: the splat pass lights terrain pixels with them.
+    pub fn globals(&self) -> &wgpu::Buffer {
+        &self.globals
     }
 
     fn dispatch(

@@ -1,8 +1,7 @@
 //! Splat: draws the culled texels as indexed, instanced world-space quads (`shaders/splat.wgsl`).
 
 use crate::context::GpuContext;
-use crate::passes::cull::{SplatList, probe_textures_bind_group, probe_textures_layout};
-use crate::probe_store::ProbeStore;
+use crate::passes::cull::SplatList;
 use wgpu::util::DeviceExt;
 
 use super::{RenderSpec, bind_group, entry, render_pipeline, storage, uniform};
@@ -31,8 +30,6 @@ pub struct SplatPass {
     /// By (runs, [`Fade`]): quads that may span runs write each pixel's own texel key.
     pipelines: [[wgpu::RenderPipeline; 3]; 2],
     layout: wgpu::BindGroupLayout,
-    /// Every slot's textures (a crossfade's kept-behind pixels look at the owner's).
-    slots_layout: wgpu::BindGroupLayout,
     indices: wgpu::Buffer,
 }
 
@@ -46,9 +43,12 @@ impl SplatPass {
         let vf = wgpu::ShaderStages::VERTEX_FRAGMENT;
         let layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("splat::layout"),
-            entries: &[entry(0, vf, uniform(false)), entry(1, vf, storage(true))],
+            entries: &[
+                entry(0, vf, uniform(false)),
+                entry(1, vf, storage(true)),
+                entry(2, wgpu::ShaderStages::VERTEX, storage(true)),
+            ],
         });
-        let slots_layout = probe_textures_layout(device, wgpu::ShaderStages::VERTEX);
         let pipeline_for = |vertex, fragment| {
             render_pipeline(
                 device,
@@ -56,7 +56,7 @@ impl SplatPass {
                     owner: "splat",
                     module: &module,
                     vertex,
-                    layouts: &[&layout, &slots_layout],
+                    layouts: &[&layout],
                     vertex_buffers: &[],
                     fragment,
                     targets: &[colour, KEY_FORMAT],
@@ -84,45 +84,40 @@ impl SplatPass {
         Ok(SplatPass {
             pipelines,
             layout,
-            slots_layout,
             indices,
         })
     }
 
-    /// The bind groups: the view globals and the splat list (group 0), every slot's
-    /// textures (group 1).
-    pub fn bind_groups(
+    /// The bind group: the view globals, the splat list and what its terrain quads show
+    /// (`terrain`: [`crate::passes::terrain_splat::TerrainSplatPass::records`]).
+    pub fn bind_group(
         &self,
         ctx: &GpuContext,
         view: &wgpu::Buffer,
         list: SplatList<'_>,
-        store: &ProbeStore,
-    ) -> [wgpu::BindGroup; 2] {
-        [
-            bind_group(
-                &ctx.device,
-                "splat::bind",
-                &self.layout,
-                &[view.as_entire_binding(), list.splats.as_entire_binding()],
-            ),
-            probe_textures_bind_group(&ctx.device, &self.slots_layout, store),
-        ]
+        terrain: &wgpu::Buffer,
+    ) -> wgpu::BindGroup {
+        let resources = [
+            view.as_entire_binding(),
+            list.splats.as_entire_binding(),
+            terrain.as_entire_binding(),
+        ];
+        bind_group(&ctx.device, "splat::bind", &self.layout, &resources)
     }
 
-    /// Draws the cull pass's `list` (`binds` from [`SplatPass::bind_groups`] over it); `runs`
+    /// Draws the cull pass's `list` (`bind` from [`SplatPass::bind_group`] over it); `runs`
     /// when some quads may span several texels; `fade` how grid and previous share the
     /// pixels.
     pub fn draw(
         &self,
         pass: &mut wgpu::RenderPass<'_>,
-        binds: &[wgpu::BindGroup; 2],
+        bind: &wgpu::BindGroup,
         list: SplatList<'_>,
         runs: bool,
         fade: Fade,
     ) {
         pass.set_pipeline(&self.pipelines[usize::from(runs)][fade as usize]);
-        pass.set_bind_group(0, &binds[0], &[]);
-        pass.set_bind_group(1, &binds[1], &[]);
+        pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed_indirect(list.args, 0);
     }
@@ -133,9 +128,8 @@ impl SplatPass {
     /// than on the first frame of the first crossfade. Measured on walk_cells at 1280×720,
     /// faces of 128: that frame's splat 12–17 ms, against 5–6 ms on the fade's next frame
     /// with the same quads.
-    pub fn warm_up(&self, pass: &mut wgpu::RenderPass<'_>, binds: &[wgpu::BindGroup; 2]) {
-        pass.set_bind_group(0, &binds[0], &[]);
-        pass.set_bind_group(1, &binds[1], &[]);
+    pub fn warm_up(&self, pass: &mut wgpu::RenderPass<'_>, bind: &wgpu::BindGroup) {
+        pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         for pipeline in self.pipelines.iter().flatten() {
             pass.set_pipeline(pipeline);

@@ -1,0 +1,16 @@
+// The shade pass's per-frame globals (crates/render/src/passes/shade.rs `ShadeGlobals`):
+// lights, ambient, sky, posterization bands. Read by the shade pass, and by the splat pass
+// to colour terrain pixels (splat.wgsl `terrain_splat`).
+
+struct ShadeGlobals {
+    suns: array<Sun, 4>,
+    ambient: vec4<f32>,
+    sky: vec4<f32>,
+    sun_count: u32,
+    point_count: u32,
+    bands: u32,
+    // 1: search silhouettes' edges (our schedule's, not the paper's).
+    edges: u32,
+    // Where each slot's part of the light queue starts in `work` (after WORK_QUEUE).
+    queue_base: vec4<u32>,
+}
