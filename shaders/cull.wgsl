@@ -417,7 +417,7 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // (splat.wgsl `terrain_splat`); a run keeps its texels' colour.
     let terrain = lit_terrain(lit.rgb);
     let object = load_id(slot, t, face) - 1u;
-    if terrain != 0xffffffffu && texels == 1u && object < SPLAT_TERRAIN_OBJECTS {
+    if terrain != NO_TERRAIN && texels == 1u && object < SPLAT_TERRAIN_OBJECTS {
         colour = (colour & 0xffffffu) | (SPLAT_TERRAIN_ALPHA << 24u);
         reach = terrain | (object << SPLAT_TERRAIN_OBJECT_AT);
     }

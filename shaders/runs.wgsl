@@ -56,7 +56,10 @@ fn joins(head: Texel, prev: Texel, next: Texel, n: u32, fore: u32, back: u32, si
     let tolerance = head.geo.w * (2.0 / f32(n)) * DEPTH_TOLERANCE;
     // Across the run, its texels share both their similar and their silhouette bits.
     let sides_all = sides | (sides << 4u);
+    // A terrain texel is drawn alone: the splat pass colours its pixels from the terrain
+    // (splat.wgsl `pixel_colour`), which a run's quad could not hold.
     return head.id != 0u && next.id == head.id
+        && lit_terrain(head.lit.rgb) == NO_TERRAIN
         && all(next.lit.rgb == head.lit.rgb)
         && (prev_bits & fore) != 0u && (next_bits & back) != 0u
         && (next_bits & sides_all) == (head_bits & sides_all)

@@ -237,11 +237,12 @@ fn lit_with_terrain(c: vec3<f32>, unshadowed: u32, shift: f32) -> vec3<f32> {
 }
 
 // What `lit_with_terrain` put in lit colour `c`: the lights that reach it (bits 0-11) and
-// the shift + 1 (bits 12-13); 0xffffffff where `c` carries nothing.
+// the shift + 1 (bits 12-13); NO_TERRAIN where `c` carries nothing.
+const NO_TERRAIN: u32 = 0xffffffffu;
 fn lit_terrain(c: vec3<f32>) -> u32 {
     let bits = bitcast<vec3<u32>>(c);
     if (bits.x & TERRAIN_MARK) == 0u {
-        return 0xffffffffu;
+        return NO_TERRAIN;
     }
     return (bits.x & ((1u << TERRAIN_LIGHTS) - 1u)) | ((bits.y & 3u) << TERRAIN_LIGHTS);
 }

@@ -84,6 +84,54 @@ fn a_flat_terrain_face_holds_one_colour_per_world_cell() {
     assert!(distinct.len() > 5, "only {} colours", distinct.len());
 }
 
+/// The terrain pixel a screen pixel shows does not depend on the probe that drew it
+/// (`shaders/terrain_splat.wgsl`): one view of a flat terrain, drawn through grid probes at
+/// two origins (the level's probe cells 1 and 1.37 units), shows the same colour on nearly
+/// every pixel. Drawn texel by texel, each probe drew the terrain pixels' edges on its own
+/// texel grid, and the two views differed along every edge.
+#[test]
+fn terrain_pixels_on_screen_do_not_depend_on_the_probe() {
+    let dir = tempfile::tempdir().unwrap();
+    let level = flat_terrain_level(dir.path(), 2.0);
+    let text = std::fs::read_to_string(&level).unwrap();
+    let other = dir.path().join("flat_other_cells.ron");
+    std::fs::write(&other, text.replace("cell_size: 1.0", "cell_size: 1.37")).unwrap();
+    let size = UVec2::new(160, 90);
+    let c = cam(0.3, 1.6, 0.2, 0.0, -30.0);
+    let (mut images, mut origins) = (Vec::new(), Vec::new());
+    for l in [&level, &other] {
+        let Some(mut h) = Harness::new(l.to_str().unwrap(), size, 64) else {
+            return;
+        };
+        h.settle(c);
+        let (input, _, px) = h.frame(c, DT);
+        origins.push(input.grid.origin);
+        images.push(px);
+    }
+    assert_ne!(origins[0], origins[1], "the two probes sit apart");
+    // The lower half of the view: ground near both probes, in their finest band (farther,
+    // each probe coarsens the pixels where its own texels outgrow them, as it should).
+    let row = (size.x * 4) as usize;
+    let half = row * (size.y / 2) as usize;
+    let (a, b) = (&images[0][half..], &images[1][half..]);
+    let pixels = a.len() / 4;
+    let differ = (a.chunks_exact(4).zip(b.chunks_exact(4)))
+        .filter(|(p, q)| {
+            p.iter()
+                .zip(q.iter())
+                .take(3)
+                .any(|(x, y)| x.abs_diff(*y) > 2)
+        })
+        .count();
+    let colours: std::collections::HashSet<_> =
+        a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect();
+    assert!(colours.len() >= 5, "only {} colours", colours.len());
+    assert!(
+        differ * 200 < pixels,
+        "{differ} of {pixels} pixels differ between the two probes' views"
+    );
+}
+
 /// A grid probe captured again from elsewhere in its cell, after both stable slots held
 /// other probes, lights every terrain texel exactly as before: bands are measured from the
 /// probe origin, never the camera.
