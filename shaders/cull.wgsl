@@ -414,7 +414,7 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     var colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var reach = pack2x16unorm(0.5 * vec2(start_half, end_half));
     // A one-texel quad of a terrain: the splat pass colours its pixels from the terrain
-    // (splat.wgsl `terrain_splat`); a run keeps its texels' colour.
+    // (terrain_splat.wgsl); a run keeps its texels' colour.
     let terrain = lit_terrain(lit.rgb);
     let object = load_id(slot, t, face) - 1u;
     if terrain != NO_TERRAIN && texels == 1u && object < SPLAT_TERRAIN_OBJECTS {

@@ -5,7 +5,7 @@
 // runs, each keeping behind its own the pixels of the other's it can fill (`FadeFsOut`).
 // Writes the colour (sRGB-encoded, into a plain unorm target: no per-pixel encode) and the
 // texel key of every pixel. A one-texel quad of a terrain shows, pixel by pixel, the terrain
-// pixel its view ray meets (`terrain_splat`), as the full-resolution raster does.
+// pixel its view ray meets (terrain_splat.wgsl), as the full-resolution raster does.
 // crates/render/src/passes/splat.rs.
 
 #include "lib/common.wgsl"
@@ -128,7 +128,7 @@ fn splat_colour(s: Splat) -> vec3<f32> {
     return unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb;
 }
 
-// What terrain quad `ii` (splat `s`) shows; a zero grid for any other quad.
+// What terrain quad `ii` (splat `s`) shows; zero cells for any other quad.
 fn terrain_of(s: Splat, ii: u32) -> TerrainSplat {
     if (bitcast<u32>(s.c1.w) >> 24u) != SPLAT_TERRAIN_ALPHA || ii >= arrayLength(&terrain_splats) {
         return TerrainSplat();

@@ -219,7 +219,7 @@ const FLAG_IN_BVH: u32 = 16u;
 // --- a terrain texel's lit colour (shade.wgsl writes it, cull.wgsl reads it) ---
 
 // The splat pass colours each screen pixel of a terrain texel's quad from the terrain pixel
-// under it (splat.wgsl `terrain_splat`), lit with the texel's shadows and outline: the shade
+// under it (terrain_splat.wgsl), lit with the texel's shadows and outline: the shade
 // pass hands those on in the low 13 mantissa bits of the lit colour's red and green, which
 // its half-precision rounding leaves zero (readers of the colour see it within 2^-11): red
 // holds a marker bit and bit i set where light i reaches the texel (the first

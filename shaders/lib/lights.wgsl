@@ -1,5 +1,5 @@
 // Lights as rays from a point: directional suns and point lights with (1 − d/r)² falloff,
-// without shadows (lib/lighting.wgsl traces those through the BVH; the splat pass takes a
+// without shadows (lib/lighting.wgsl traces those through the BVH; the terrain splats pass takes a
 // terrain texel's). The includer declares `globals` (with `sun_count`,
 // `suns: array<Sun, N>`, `point_count`) and `points: array<PointLight>`, and includes
 // lib/common.wgsl.

@@ -1,6 +1,6 @@
 // The shade pass's per-frame globals (crates/render/src/passes/shade.rs `ShadeGlobals`):
-// lights, ambient, sky, posterization bands. Read by the shade pass, and by the splat pass
-// to colour terrain pixels (splat.wgsl `terrain_splat`).
+// lights, ambient, sky, posterization bands. Read by the shade pass, and by the terrain
+// splats pass to colour terrain pixels (terrain_splat.wgsl).
 
 struct ShadeGlobals {
     suns: array<Sun, 4>,

@@ -298,13 +298,14 @@ impl ShadePass {
             self.work = work_buffer(device, total);
         }
         encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
-        if jobs.is_empty() {
-            return;
-        }
+        // Written every frame, jobs or not: the terrain splats pass lights with them too.
         let mut g = globals(scene, look);
         g.queue_base = queue_base;
         g.edges = u32::from(edges);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
+        if jobs.is_empty() {
+            return;
+        }
         let args: Vec<[u32; 4]> = Slot::ALL.iter().map(|_| [0, 1, 1, 0]).collect();
         queue.write_buffer(&self.job_args, 0, bytemuck::cast_slice(&args));
         for j in jobs.iter().filter(|j| j.view_cull && !j.border) {
