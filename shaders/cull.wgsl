@@ -416,10 +416,12 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // A one-texel quad of a terrain: the splat pass colours its pixels from the terrain
     // (terrain_splat.wgsl); a run keeps its texels' colour.
     let terrain = lit_terrain(lit.rgb);
-    let object = load_id(slot, t, face) - 1u;
-    if terrain != NO_TERRAIN && texels == 1u && object < SPLAT_TERRAIN_OBJECTS {
-        colour = (colour & 0xffffffu) | (SPLAT_TERRAIN_ALPHA << 24u);
-        reach = terrain | (object << SPLAT_TERRAIN_OBJECT_AT);
+    if terrain != NO_TERRAIN && texels == 1u {
+        let object = load_id(slot, t, face) - 1u;
+        if object < SPLAT_TERRAIN_OBJECTS {
+            colour = (colour & 0xffffffu) | (SPLAT_TERRAIN_ALPHA << 24u);
+            reach = terrain | (object << SPLAT_TERRAIN_OBJECT_AT);
+        }
     }
     var out: Splat;
     let shape = s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column) | owner_miss_bits(s.role, c0, c1, c2, c3);

@@ -9,6 +9,7 @@
 #include "lib/lighting.wgsl"
 #include "lib/lists.wgsl"
 #include "lib/view.wgsl"
+#include "lib/shade_globals.wgsl"
 
 struct ShadeFace {
     origin: vec3<f32>,
@@ -24,19 +25,6 @@ struct ShadeFace {
     _pad0: u32,
     // First texel of the dispatch (the eye's faces: only the part the view can see).
     rect_min: vec2<u32>,
-}
-
-struct ShadeGlobals {
-    suns: array<Sun, 4>,
-    ambient: vec4<f32>,
-    sky: vec4<f32>,
-    sun_count: u32,
-    point_count: u32,
-    bands: u32,
-    // 1: search silhouettes' edges (our schedule's, not the paper's).
-    edges: u32,
-    // Where each slot's part of the light queue starts in `work` (after WORK_QUEUE).
-    queue_base: vec4<u32>,
 }
 
 // A job's record at its 256-byte uniform stride.

@@ -58,7 +58,7 @@ fn run_vertex(vi: u32, ii: u32) -> VsOut {
     out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
     let tq = terrain_of(s, ii);
     out.cells = tq.cells;
-    out.span = terrain_span(tq, corner_world(s, vi));
+    out.span = terrain_span(tq, splat_corner(s, vi));
     return out;
 }
 
@@ -82,23 +82,13 @@ fn texel_vertex(vi: u32, ii: u32) -> TexelIn {
     out.run = role << 9u;
     let tq = terrain_of(s, ii);
     out.cells = tq.cells;
-    out.span = terrain_span(tq, corner_world(s, vi));
+    out.span = terrain_span(tq, splat_corner(s, vi));
     return out;
-}
-
-// World position of corner `vi` of splat `s`.
-fn corner_world(s: Splat, vi: u32) -> vec3<f32> {
-    switch vi {
-        case 0u: { return s.c0.xyz; }
-        case 1u: { return s.c1.xyz; }
-        case 2u: { return s.c2.xyz; }
-        default: { return s.c3.xyz; }
-    }
 }
 
 // Clip position of corner `vi` of splat `s`.
 fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
-    var clip = view.view_proj * vec4(corner_world(s, vi), 1.0);
+    var clip = view.view_proj * vec4(splat_corner(s, vi), 1.0);
     // Overlapping coplanar quads (tight expansion toward similar neighbours) would tie in
     // depth and be resolved by draw order, which the cull pass's atomics leave unspecified,
     // and by the rasterizer's depth rounding, which differs between drivers; a per-texel
@@ -130,7 +120,7 @@ fn splat_colour(s: Splat) -> vec3<f32> {
 
 // What terrain quad `ii` (splat `s`) shows; zero cells for any other quad.
 fn terrain_of(s: Splat, ii: u32) -> TerrainSplat {
-    if (bitcast<u32>(s.c1.w) >> 24u) != SPLAT_TERRAIN_ALPHA || ii >= arrayLength(&terrain_splats) {
+    if !is_terrain_splat(s) || ii >= arrayLength(&terrain_splats) {
         return TerrainSplat();
     }
     return terrain_splats[ii];
@@ -144,18 +134,8 @@ fn terrain_span(t: TerrainSplat, world: vec3<f32>) -> vec3<f32> {
     if t.cells.x == 0u {
         return vec3(0.0);
     }
-    var o = view.camera.xyz;
-    var dir = world - o;
-    if view.ortho != 0u {
-        o = world;
-        dir = view.forward.xyz;
-    }
-    let rate = dot(dir, t.plane.xyz);
-    if abs(rate) <= 1e-12 {
-        return vec3(0.0);
-    }
-    let hit = o + dir * ((t.plane.w - dot(t.plane.xyz, o)) / rate);
-    return vec3((hit.xz - t.grid.xy) / t.grid.z * rate, rate);
+    let hit = view_ray_plane(t.plane, world);
+    return vec3((hit.xz - t.grid.xy) / t.grid.z * hit.w, hit.w);
 }
 
 // The sRGB-encoded colour of a pixel of a quad of `colour`; a terrain quad's (non-zero
@@ -263,7 +243,7 @@ fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
     if ii >= arrayLength(&splats) {
         return vec3(0.0);
     }
-    return corner_world(splats[ii], vi);
+    return splat_corner(splats[ii], vi);
 }
 
 // Whether the grid probe draws the face that would show world point `p`.

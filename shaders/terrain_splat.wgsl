@@ -53,7 +53,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let s = splats[ii];
-    if (bitcast<u32>(s.c1.w) >> 24u) != SPLAT_TERRAIN_ALPHA {
+    if !is_terrain_splat(s) {
         return;
     }
     records[ii] = terrain_splat(s, bitcast<u32>(s.c2.w) & 0xffu);
@@ -95,7 +95,7 @@ fn terrain_splat(s: Splat, role: u32) -> TerrainSplat {
     var lo = vec2(1e30);
     var hi = vec2(-1e30);
     for (var k = 0u; k < 4u; k++) {
-        let h = plane_hit(out.plane, corner(s, k)).xz - tr.corner.xz;
+        let h = view_ray_plane(out.plane, splat_corner(s, k)).xz - tr.corner.xz;
         lo = min(lo, h);
         hi = max(hi, h);
     }
@@ -113,44 +113,19 @@ fn terrain_splat(s: Splat, role: u32) -> TerrainSplat {
             out.cells[k] = out.cells[same];
             continue;
         }
-        let cell = base + at;
-        let lit = terrain_lit_pixel(tr, obj.albedo, TerrainPixel((cell + 0.5) * size, size), shadows, shift);
+        let lit = terrain_lit_pixel(tr, obj.albedo, base + at, size, shadows, shift);
         out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(hazed(lit, dist)), 1.0));
     }
-    out.grid = vec4(tr.corner.xz + base * size, size, 1.0);
+    out.grid = vec4(tr.corner.xz + base * size, size, 0.0);
     return out;
 }
 
-fn corner(s: Splat, k: u32) -> vec3<f32> {
-    switch k {
-        case 0u: { return s.c0.xyz; }
-        case 1u: { return s.c1.xyz; }
-        case 2u: { return s.c2.xyz; }
-        default: { return s.c3.xyz; }
-    }
-}
-
-// Where the view ray through `world` meets `plane` (unit normal, offset): splat.wgsl
-// `pixel_colour` finds each pixel's terrain pixel so.
-fn plane_hit(plane: vec4<f32>, world: vec3<f32>) -> vec3<f32> {
-    var o = view.camera.xyz;
-    var dir = world - o;
-    if view.ortho != 0u {
-        o = world;
-        dir = view.forward.xyz;
-    }
-    let rate = dot(dir, plane.xyz);
-    if abs(rate) <= 1e-12 {
-        return world;
-    }
-    return o + dir * ((plane.w - dot(plane.xyz, o)) / rate);
-}
-
-// Terrain pixel `px` of `tr` lit from its centre by the lights in `reach` (bit i: light i),
-// posterized with `shift`.
-fn terrain_lit_pixel(tr: Terrain, albedo: vec3<f32>, px: TerrainPixel, reach: u32, shift: f32) -> vec3<f32> {
+// Terrain pixel `cell` (of size `size`) of `tr`, lit from its centre by the lights in `reach`
+// (bit i: light i), posterized with `shift`.
+fn terrain_lit_pixel(tr: Terrain, albedo: vec3<f32>, cell: vec2<f32>, size: f32, reach: u32, shift: f32) -> vec3<f32> {
+    let px = TerrainPixel((cell + 0.5) * size, size);
     let colour = albedo * terrain_pixel_colour(tr, px);
-    let centre = vec3(tr.corner.x + px.centre.x, tr.corner.y + terrain_height(tr, px.centre), tr.corner.z + px.centre.y);
+    let centre = terrain_cell_point(tr, cell, size);
     let normal = terrain_normal(tr, px.centre);
     var light = globals.ambient.rgb;
     for (var i = 0u; i < light_count(); i++) {
@@ -165,4 +140,3 @@ fn terrain_lit_pixel(tr: Terrain, albedo: vec3<f32>, px: TerrainPixel, reach: u3
     }
     return posterize(colour * light, globals.bands, shift);
 }
-

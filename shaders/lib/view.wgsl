@@ -87,15 +87,47 @@ const SPLAT_TERRAIN_OBJECT_AT: u32 = 14u;
 // Objects past this index keep their texels' colour.
 const SPLAT_TERRAIN_OBJECTS: u32 = 0x3ffffu;
 
+// World position of corner `k` (0-3) of splat `s`.
+fn splat_corner(s: Splat, k: u32) -> vec3<f32> {
+    switch k {
+        case 0u: { return s.c0.xyz; }
+        case 1u: { return s.c1.xyz; }
+        case 2u: { return s.c2.xyz; }
+        default: { return s.c3.xyz; }
+    }
+}
+
+// Whether splat `s` is a one-texel terrain quad (its pixels show the terrain's).
+fn is_terrain_splat(s: Splat) -> bool {
+    return (bitcast<u32>(s.c1.w) >> 24u) == SPLAT_TERRAIN_ALPHA;
+}
+
 // What a terrain quad shows (terrain_splat.wgsl, one per splat of the list, written for the
 // terrain quads only): the packed sRGB colours of the 2 × 2 terrain pixels nearest its
 // texel's point (x first, then z), their grid (the block's corner on X and Z, the pixel
-// size, w 1) and the terrain's plane there (unit normal, offset), which each screen pixel's
-// view ray meets (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
+// size; w unused) and the terrain's plane there (unit normal, offset), which each screen
+// pixel's view ray meets (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
 struct TerrainSplat {
     cells: vec4<u32>,
     grid: vec4<f32>,
     plane: vec4<f32>,
+}
+
+// Where the view ray through `world` meets `plane` (unit normal, offset) — xyz — and the
+// ray's rate toward the plane (w: its direction, `world` − camera or the orthographic view
+// axis, dotted with the normal); w 0 where the ray runs along the plane (xyz is then `world`).
+fn view_ray_plane(plane: vec4<f32>, world: vec3<f32>) -> vec4<f32> {
+    var o = view.camera.xyz;
+    var dir = world - o;
+    if view.ortho != 0u {
+        o = world;
+        dir = view.forward.xyz;
+    }
+    let rate = dot(dir, plane.xyz);
+    if abs(rate) <= 1e-12 {
+        return vec4(world, 0.0);
+    }
+    return vec4(o + dir * ((plane.w - dot(plane.xyz, o)) / rate), rate);
 }
 
 // Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer
