@@ -83,6 +83,9 @@ fn centre_depth(world: vec3<f32>, pixel: vec2<f32>, pdx: vec3<f32>, pdy: vec3<f3
     return t;
 }
 
+// The texel-density debug colour of an untextured surface.
+const UNTEXTURED_DENSITY: vec3<f32> = vec3(0.35);
+
 // The texel-density debug colour: green where a probe texel (an art pixel) spans one texture
 // pixel (within a factor √2), blue where the texture is magnified (a texture pixel spans
 // several art pixels), red where minified, deeper the further from 1:1 (up to 2^3); grey
@@ -93,7 +96,7 @@ fn density_colour(s: Surface, t: SurfaceUv) -> vec3<f32> {
         index = s.normal;
     }
     if index == NO_TEXTURE {
-        return vec3(0.35);
+        return UNTEXTURED_DENSITY;
     }
     let lod = tex_lod(tex_infos[index], t.dx, t.dy);
     if abs(lod) <= 0.5 {
@@ -164,6 +167,50 @@ fn fs(in: VsOut) -> FsOut {
     if s.normal != NO_TEXTURE {
         out.shading = pack4x8snorm(vec4(surface_shading_normal(s, n, in.grad_u, in.grad_v, t), 1.0));
     }
+    return out;
+}
+
+// What the vertex stage of a plain terrain chunk (crates/render/src/gpu_scene.rs
+// `DrawRange::terrain`: no texture, no normal map) reads, and passes on: its point and object
+// alone. The fragment finds the rest on the heightmap, so lavapipe, whose cost per triangle
+// grows with the varyings it sets up, draws the terrain's many small triangles at half the
+// cost of `vs`.
+struct PointVertex {
+    @location(0) position: vec3<f32>,
+    @location(1) object: u32,
+}
+
+struct TerrainVsOut {
+    @builtin(position) clip: vec4<f32>,
+    @location(0) world: vec3<f32>,
+    @location(1) @interpolate(flat) object: u32,
+}
+
+@vertex
+fn vs_terrain(v: PointVertex) -> TerrainVsOut {
+    return TerrainVsOut(face.view_proj * vec4(v.position, 1.0), v.position, v.object);
+}
+
+// `fs` for a plain terrain: the full-detail surface's point on the texel's centre ray and
+// its normal there (what `fs` stores for a terrain at any level), the object, and the
+// material's albedo (coloured by `colour_terrain` once the face is drawn).
+@fragment
+fn fs_terrain(in: TerrainVsOut) -> FsOut {
+    let depth0 = centre_depth(in.world, in.clip.xy, dpdx(in.world), dpdy(in.world));
+    let obj = objects[in.object];
+    let tr = terrains[obj.flags >> 8u];
+    let o = pixel_start(in.clip.xy);
+    let ray = pixel_ray(in.clip.xy);
+    let depth = terrain_level0_hit(tr, o, ray, depth0);
+    let centre = o + ray * depth;
+    var out: FsOut;
+    out.geo = vec4(surface_normal(terrain_normal(tr, centre.xz - tr.corner.xz)), depth);
+    out.id = in.object + 1u;
+    out.albedo = terrain_albedo(obj, vec3(1.0));
+    if face.mode == 1u {
+        out.albedo = vec4(UNTEXTURED_DENSITY, out.albedo.a);
+    }
+    out.shading = 0u;
     return out;
 }
 

@@ -355,6 +355,9 @@ pub struct DrawRange {
     pub max_lod: u32,
     /// World distance between samples at level 0.
     pub spacing: f32,
+    /// An untextured terrain's triangles: a capture draws them with its terrain pipeline
+    /// (`shaders/capture.wgsl` `vs_terrain`), which reads the surface from the heightmap.
+    pub terrain: bool,
 }
 
 impl DrawRange {
@@ -471,11 +474,26 @@ pub enum LodFrom {
 /// Measured on `terrain_hills` `terrain_walk` at 1280×720, faces of 128 (lavapipe):
 /// captures 50 → 33 ms a frame, the frame's median 94–97 → 73–76 ms.
 pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<(u32, u32)> {
-    let wanted = |r: &DrawRange| match lod {
-        LodFrom::Full => r.lod == 0,
-        LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
-        LodFrom::Eye(origin, n) => r.lod == chunk_lod_within(r, origin, n, EYE_LOD_SAMPLE_TEXELS),
-        LodFrom::Texel(size) => r.lod == lod_for_texel(r, size),
+    visible_runs_where(ranges, view_proj, lod, |_| true)
+}
+
+/// [`visible_runs`] of the ranges `keep` accepts.
+pub fn visible_runs_where(
+    ranges: &[DrawRange],
+    view_proj: &glam::Mat4,
+    lod: LodFrom,
+    keep: impl Fn(&DrawRange) -> bool,
+) -> Vec<(u32, u32)> {
+    let wanted = |r: &DrawRange| {
+        keep(r)
+            && match lod {
+                LodFrom::Full => r.lod == 0,
+                LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
+                LodFrom::Eye(origin, n) => {
+                    r.lod == chunk_lod_within(r, origin, n, EYE_LOD_SAMPLE_TEXELS)
+                }
+                LodFrom::Texel(size) => r.lod == lod_for_texel(r, size),
+            }
     };
     let visible = ranges
         .iter()
@@ -647,6 +665,8 @@ impl GpuScene {
                 };
                 part_surfaces.push(textures.surface(maps));
             }
+            // Its surface comes from the heightmap alone (no texture, no normal map).
+            let plain_terrain = terrain != 0 && own == 0 && part_surfaces.iter().all(|&s| s == 0);
             let mut piece = 0usize;
             let mut piece_start = 0u32;
             for (t, tri) in o.mesh.indices.chunks_exact(3).enumerate() {
@@ -684,6 +704,7 @@ impl GpuScene {
                         lod,
                         max_lod,
                         spacing,
+                        terrain: plain_terrain,
                     });
                 }
                 let level0 = lod_piece.is_none_or(|p| p.lod == 0);
@@ -945,6 +966,18 @@ impl GpuScene {
         ]
     }
 
+    /// The vertex buffer's point and object index alone (locations 0 and 1), for a vertex
+    /// stage that needs nothing else (`shaders/capture.wgsl` `vs_terrain`).
+    pub fn point_vertex_layout() -> wgpu::VertexBufferLayout<'static> {
+        const ATTRS: [wgpu::VertexAttribute; 2] =
+            wgpu::vertex_attr_array![0 => Float32x3, 1 => Uint32];
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<Vertex>() as u64,
+            step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &ATTRS,
+        }
+    }
+
     /// The vertex layout of [`Vertex`].
     pub fn vertex_layout() -> wgpu::VertexBufferLayout<'static> {
         const ATTRS: [wgpu::VertexAttribute; 8] = wgpu::vertex_attr_array![
@@ -977,6 +1010,7 @@ mod tests {
             lod: 0,
             max_lod: 0,
             spacing: 0.0,
+            terrain: false,
         };
         (camera.projection(1.0) * camera.view(), r)
     }
@@ -1023,6 +1057,7 @@ mod tests {
             lod,
             max_lod: 4,
             spacing: 0.25,
+            terrain: true,
         };
         assert_eq!(chunk_lod(&chunk(0), Vec3::ZERO, 64), 1);
         let eye = chunk_lod_within(&chunk(0), Vec3::ZERO, 64, EYE_LOD_SAMPLE_TEXELS);

@@ -256,6 +256,7 @@ impl GBufferPass {
             offsets: &[],
             scissor: None,
             runs: Some(&runs),
+            first: None,
         };
         raster::record(encoder, "baselines::gbuffer::pass", &targets, scene, &draw);
         let Some(sprites) = &scene.sprites else {

@@ -70,6 +70,9 @@ pub struct CapturePass {
     /// origin (stable slots measure from their own origin).
     pub eye_band_origin: glam::Vec3,
     pipeline: wgpu::RenderPipeline,
+    /// Plain terrain chunks (`vs_terrain`, `fs_terrain`): the point and object alone pass
+    /// to the fragments, which read the surface from the heightmap.
+    terrain_raster: wgpu::RenderPipeline,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
     /// `colour_terrain`: the drawn face's terrain texels coloured once each.
@@ -92,6 +95,18 @@ impl CapturePass {
         });
         let targets = [GEO_FORMAT, ID_FORMAT, ALBEDO_FORMAT, SHADING_FORMAT];
         let pipeline = raster::pipeline(device, "capture", &module, &layout, &targets);
+        let spec = raster::RasterSpec {
+            owner: "capture::terrain_raster",
+            module: &module,
+            layout: &layout,
+            targets: &targets,
+        };
+        let terrain_raster = raster::pipeline_with(
+            device,
+            &spec,
+            ("vs_terrain", "fs_terrain"),
+            GpuScene::point_vertex_layout(),
+        );
         let c = wgpu::ShaderStages::COMPUTE;
         let d2 = wgpu::TextureViewDimension::D2;
         let drawn_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -122,6 +137,7 @@ impl CapturePass {
             mode: CaptureMode::Surface,
             eye_band_origin: glam::Vec3::ZERO,
             pipeline,
+            terrain_raster,
             layout,
             faces,
             terrain,
@@ -194,7 +210,11 @@ impl CapturePass {
                 }
                 None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
             };
-            let runs = crate::gpu_scene::visible_runs(&scene.ranges, &view_proj, lod);
+            let runs_where = |terrain: bool| {
+                let keep = |r: &crate::gpu_scene::DrawRange| r.terrain == terrain;
+                crate::gpu_scene::visible_runs_where(&scene.ranges, &view_proj, lod, keep)
+            };
+            let (terrain_runs, runs) = (runs_where(true), runs_where(false));
             let f = c.face.index();
             let clear = wgpu::Color::TRANSPARENT;
             let targets = RasterTargets {
@@ -213,6 +233,7 @@ impl CapturePass {
                 offsets: &[(i as u64 * UNIFORM_STRIDE) as u32],
                 scissor: rects.get(i).copied().flatten(),
                 runs: Some(&runs),
+                first: Some((&self.terrain_raster, &terrain_runs)),
             };
             raster::record(encoder, "capture::face", &targets, scene, &draw);
         }

@@ -20,17 +20,42 @@ pub(crate) fn pipeline(
     layout: &wgpu::BindGroupLayout,
     targets: &[wgpu::TextureFormat],
 ) -> wgpu::RenderPipeline {
-    let vertex_buffers = [Some(GpuScene::vertex_layout())];
+    let spec = RasterSpec {
+        owner,
+        module,
+        layout,
+        targets,
+    };
+    pipeline_with(device, &spec, ("vs", "fs"), GpuScene::vertex_layout())
+}
+
+/// What every pipeline of one scene raster shares.
+pub(crate) struct RasterSpec<'a> {
+    pub(crate) owner: &'a str,
+    pub(crate) module: &'a wgpu::ShaderModule,
+    pub(crate) layout: &'a wgpu::BindGroupLayout,
+    pub(crate) targets: &'a [wgpu::TextureFormat],
+}
+
+/// A scene-raster pipeline over the entry points `(vertex, fragment)` and the vertex
+/// buffer's attributes `vertices` lists (see [`pipeline`]).
+pub(crate) fn pipeline_with(
+    device: &wgpu::Device,
+    spec: &RasterSpec<'_>,
+    (vertex, fragment): (&str, &str),
+    vertices: wgpu::VertexBufferLayout<'_>,
+) -> wgpu::RenderPipeline {
+    let vertex_buffers = [Some(vertices)];
     render_pipeline(
         device,
         RenderSpec {
-            owner,
-            module,
-            vertex: "vs",
-            layouts: &[layout],
+            owner: spec.owner,
+            module: spec.module,
+            vertex,
+            layouts: &[spec.layout],
             vertex_buffers: &vertex_buffers,
-            fragment: "fs",
-            targets,
+            fragment,
+            targets: spec.targets,
             depth: Some((DEPTH_FORMAT, true, wgpu::CompareFunction::Less)),
         },
     )
@@ -71,6 +96,10 @@ pub(crate) struct RasterDraw<'a> {
     /// Draw only these vertex runs `(first, count)` (the ranges the view may see); `None`
     /// draws every triangle.
     pub(crate) runs: Option<&'a [(u32, u32)]>,
+    /// Runs drawn first, with their own pipeline (a capture's plain terrain chunks, whose
+    /// vertex stage passes only the point and the object: lavapipe's cost per triangle
+    /// grows with the varyings it sets up).
+    pub(crate) first: Option<(&'a wgpu::RenderPipeline, &'a [(u32, u32)])>,
 }
 
 /// Records one render pass that clears `targets` and draws every triangle of `scene`.
@@ -121,9 +150,15 @@ pub(crate) fn record(
     if let Some(r) = draw.scissor {
         pass.set_scissor_rect(r.x0, r.y0, r.x1 - r.x0, r.y1 - r.y0);
     }
-    pass.set_pipeline(draw.pipeline);
     pass.set_bind_group(0, draw.bind, draw.offsets);
     pass.set_vertex_buffer(0, scene.vertices.slice(..));
+    if let Some((pipeline, runs)) = draw.first.filter(|(_, runs)| !runs.is_empty()) {
+        pass.set_pipeline(pipeline);
+        for &(first, count) in runs {
+            pass.draw(first..first + count, 0..1);
+        }
+    }
+    pass.set_pipeline(draw.pipeline);
     match draw.runs {
         Some(runs) => {
             for &(first, count) in runs {
