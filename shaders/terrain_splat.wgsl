@@ -1,7 +1,10 @@
 // Terrain splats: for each one-texel terrain quad of the cull pass's list, the terrain pixels
 // it shows (lib/view.wgsl `TerrainSplat`), which the splat pass's fragments pick from by
 // where their view ray meets the terrain: a terrain's pixels then follow the world rather
-// than each probe's texel grid. Once per quad, between cull and splat.
+// than each probe's texel grid. Once per quad, between cull and splat. What a texel shows
+// depends on the camera only through the haze, so each record is kept, unhazed, in a cache
+// indexed by the texel's key and stamped with what it was made from (`record_stamp`): a
+// texel drawn again with the same point, lights and probe takes its record from there.
 // crates/render/src/passes/terrain_splat.rs.
 
 #include "lib/common.wgsl"
@@ -35,6 +38,8 @@ const GROUP: u32 = 64u;
 @group(0) @binding(8) var<storage, read> points: array<PointLight>;
 @group(0) @binding(9) var<storage, read> splats: array<Splat>;
 @group(0) @binding(10) var<storage, read> args: DrawArgs;
+// One record per splat of the list (at its index), then the cache: one per texel key
+// (`texel_key`), at the list's capacity plus the key, where the buffer holds it.
 @group(0) @binding(11) var<storage, read_write> records: array<TerrainSplat>;
 // Its own group: bound only while `size` writes it, not while `main` is dispatched by it.
 @group(1) @binding(0) var<storage, read_write> dispatch: DispatchArgs;
@@ -49,24 +54,104 @@ fn size() {
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ii = gid.x;
-    if ii >= min(args.instance_count, min(arrayLength(&splats), arrayLength(&records))) {
+    let capacity = arrayLength(&splats);
+    if ii >= min(args.instance_count, min(capacity, arrayLength(&records))) {
         return;
     }
     let s = splats[ii];
     if !is_terrain_splat(s) {
         return;
     }
-    records[ii] = terrain_splat(s, bitcast<u32>(s.c2.w) & 0xffu);
+    let probe = splat_probe(bitcast<u32>(s.c2.w) & 0xffu);
+    let stamp = record_stamp(s, probe);
+    let at = capacity + bitcast<u32>(s.c0.w) - 1u;
+    let cached = at < arrayLength(&records);
+    var r: TerrainSplat;
+    if cached && bitcast<u32>(records[at].grid.w) == stamp {
+        r = records[at];
+    } else {
+        r = terrain_splat(s, probe);
+        r.grid.w = bitcast<f32>(stamp);
+        if cached {
+            records[at] = r;
+        }
+    }
+    records[ii] = hazed_record(r, s);
 }
 
-// The terrain pixels splat `s` (drawn by a probe of `role`) shows, if it is a one-texel quad
-// of a terrain (cull.wgsl). A terrain pixel is at least a probe texel, so the quad's pixels
-// mostly lie in the 2 × 2 block of pixels toward which its point lies in its own pixel;
+// Where a probe measures terrain bands from, and its texels per face edge.
+struct BandProbe {
+    origin: vec3<f32>,
+    n: u32,
+}
+
+// The probe of `role`: the grid probe's origin for the eye, as in its capture.
+fn splat_probe(role: u32) -> BandProbe {
+    var p = BandProbe(view.slots[view.grid_slot].origin, view.slots[view.eye_slot].n);
+    if role != ROLE_EYE {
+        for (var k = 0u; k < 3u; k++) {
+            if view.slots[k].role == role {
+                p = BandProbe(view.slots[k].origin, view.slots[k].n);
+            }
+        }
+    }
+    return p;
+}
+
+// What a terrain quad's record is made from, hashed: its texel's point (the corners' mean),
+// its lights, outline and object (c3.w), and its probe. Never 0, which a cleared cache holds.
+// The frame's lights, colours and heights are not in it: the pass clears the cache when
+// those change (terrain_splat.rs).
+fn record_stamp(s: Splat, p: BandProbe) -> u32 {
+    let mid = 0.25 * (s.c0.xyz + s.c1.xyz + s.c2.xyz + s.c3.xyz);
+    var h = 0x9e3779b9u;
+    let words = array<u32, 8>(
+        bitcast<u32>(s.c3.w), bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
+        bitcast<u32>(p.origin.x), bitcast<u32>(p.origin.y), bitcast<u32>(p.origin.z), p.n,
+    );
+    for (var k = 0u; k < 8u; k++) {
+        h = hash_u32(h ^ words[k]);
+    }
+    return max(h, 1u);
+}
+
+// A 32-bit integer hash (a multiply-xorshift finalizer).
+fn hash_u32(x: u32) -> u32 {
+    var h = x;
+    h ^= h >> 16u;
+    h *= 0x7feb352du;
+    h ^= h >> 15u;
+    h *= 0x846ca68bu;
+    h ^= h >> 16u;
+    return h;
+}
+
+// Record `r` of splat `s` as seen from the camera: its cells through the haze at the
+// texel's point on the plane.
+fn hazed_record(r: TerrainSplat, s: Splat) -> TerrainSplat {
+    if view.haze <= 0.0 {
+        return r;
+    }
+    let mid = 0.25 * (s.c0.xyz + s.c1.xyz + s.c2.xyz + s.c3.xyz);
+    let n = r.plane.xyz;
+    let y = (r.plane.w - n.x * mid.x - n.z * mid.z) / n.y;
+    let dist = length(vec3(mid.x, y, mid.z) - view.camera.xyz);
+    var out = r;
+    for (var k = 0u; k < 4u; k++) {
+        let c = srgb_to_linear(unpack4x8unorm(r.cells[k]).rgb);
+        out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(hazed(c, dist)), 1.0));
+    }
+    return out;
+}
+
+// The terrain pixels splat `s` shows (unhazed), if it is a one-texel quad of a terrain
+// (cull.wgsl) drawn by `probe`. A terrain pixel is at least a probe texel, so the quad's
+// pixels lie in the 2 × 2 block of pixels toward which its point lies in its own pixel;
 // each is coloured and lit as the shade pass would light it from its centre (its colour, the
 // terrain's normal there), with the texel's shadows and outline. Pixels of the terrain
 // follow the world, not each probe's texel grid: a crossfade's two probes show the same
 // pixel under each screen pixel, where each had drawn its own texels' steps.
-fn terrain_splat(s: Splat, role: u32) -> TerrainSplat {
+fn terrain_splat(s: Splat, probe: BandProbe) -> TerrainSplat {
     var out: TerrainSplat;
     let word = bitcast<u32>(s.c3.w);
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
@@ -76,45 +161,16 @@ fn terrain_splat(s: Splat, role: u32) -> TerrainSplat {
     let at = terrain_plane(tr, q);
     let point = vec3(tr.corner.x + q.x, tr.corner.y + at.height, tr.corner.z + q.y);
     let normal = normalize(vec3(-at.slope.x, 1.0, -at.slope.y));
-    // Bands from the probe's band origin (the grid probe's for the eye, as in its capture).
-    var origin = view.slots[view.grid_slot].origin;
-    var n = view.slots[view.eye_slot].n;
-    if role != ROLE_EYE {
-        for (var k = 0u; k < 3u; k++) {
-            if view.slots[k].role == role {
-                origin = view.slots[k].origin;
-                n = view.slots[k].n;
-            }
-        }
-    }
-    let size = terrain_pixel(tr, point, origin, f32(n)).size;
+    let size = terrain_pixel(tr, point, probe.origin, f32(probe.n)).size;
     out.plane = vec4(normal, dot(normal, point));
-    // The cells the quad's pixels can meet: its corners seen from the camera on the plane
-    // (their hits bound every pixel's), within the 2 × 2 block toward which the point lies
-    // in its own cell; each cell the block does not need repeats its neighbour's colour.
-    var lo = vec2(1e30);
-    var hi = vec2(-1e30);
-    for (var k = 0u; k < 4u; k++) {
-        let h = view_ray_plane(out.plane, splat_corner(s, k)).xz - tr.corner.xz;
-        lo = min(lo, h);
-        hi = max(hi, h);
-    }
     let g = q / size;
     let base = floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5));
-    let first = clamp(floor(lo / size), base, base + 1.0) - base;
-    let last = clamp(floor(hi / size), base, base + 1.0) - base;
     let shadows = word & ((1u << TERRAIN_LIGHTS) - 1u);
     let shift = f32((word >> TERRAIN_LIGHTS) & 3u) - 1.0;
-    let dist = length(point - view.camera.xyz);
     for (var k = 0u; k < 4u; k++) {
-        let at = clamp(vec2(f32(k & 1u), f32(k >> 1u)), first, last);
-        let same = u32(at.x) + 2u * u32(at.y);
-        if same < k {
-            out.cells[k] = out.cells[same];
-            continue;
-        }
-        let lit = terrain_lit_pixel(tr, obj.albedo, base + at, size, shadows, shift);
-        out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(hazed(lit, dist)), 1.0));
+        let cell = base + vec2(f32(k & 1u), f32(k >> 1u));
+        let lit = terrain_lit_pixel(tr, obj.albedo, cell, size, shadows, shift);
+        out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(lit), 1.0));
     }
     out.grid = vec4(tr.corner.xz + base * size, size, 0.0);
     return out;

@@ -105,7 +105,8 @@ fn is_terrain_splat(s: Splat) -> bool {
 // What a terrain quad shows (terrain_splat.wgsl, one per splat of the list, written for the
 // terrain quads only): the packed sRGB colours of the 2 × 2 terrain pixels nearest its
 // texel's point (x first, then z), their grid (the block's corner on X and Z, the pixel
-// size; w unused) and the terrain's plane there (unit normal, offset), which each screen
+// size; w the stamp of what it was made from, terrain_splat.wgsl `record_stamp`) and the
+// terrain's plane there (unit normal, offset), which each screen
 // pixel's view ray meets (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
 struct TerrainSplat {
     cells: vec4<u32>,

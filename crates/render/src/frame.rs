@@ -220,6 +220,7 @@ impl Renderer {
         let uploaded =
             GpuScene::upload(ctx, scene).map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
         self.scene = Some(uploaded);
+        self.terrain_splat.forget();
         Ok(())
     }
 
@@ -376,8 +377,9 @@ impl Renderer {
                 });
                 if scene.terrain_count > 0 {
                     stages.run("terrain splats", |enc| {
-                        let globals = self.shade.globals();
-                        (self.terrain_splat).record(ctx, enc, &self.view, scene, globals, list);
+                        let shade = (self.shade.globals(), self.shade.globals_key());
+                        let n = globals.max_n;
+                        (self.terrain_splat).record(ctx, enc, &self.view, scene, shade, list, n);
                     });
                 }
                 let terrain = self.terrain_splat.records();

@@ -247,3 +247,63 @@ fn the_lean_terrain_capture_stores_what_the_full_capture_does() {
         "{differ} of {texels} texels lit differently by the lean and the full capture"
     );
 }
+
+/// The terrain splats pass keeps each texel's terrain pixels in a cache (terrain_splat.rs),
+/// stamped with the texel's point, lights and probe but not with the frame's light, colours
+/// or heights: a change of ambient light, of haze, or a new scene (other colours) must show
+/// on the terrain's pixels exactly as a renderer that never saw the old ones draws them.
+#[test]
+fn cached_terrain_pixels_follow_the_light_the_haze_and_the_scene() {
+    let Some(ctx) = test_context() else { return };
+    let size = UVec2::new(192, 108);
+    let cam = Camera::looking(Vec3::new(-6.0, 7.0, 12.0), Vec3::new(0.4, -0.45, -1.0));
+    let grid = Vec3::new(-6.0, 7.0, 12.0);
+    let fresh = |scene: &SceneInput, input: &texel_render::input::FrameInput| {
+        let mut r = Renderer::headless(&ctx).unwrap();
+        r.set_scene(&ctx, scene).expect("scene");
+        r.render_offscreen(&ctx, input).unwrap().1
+    };
+    let differ = |a: &[u8], b: &[u8]| {
+        (a.chunks_exact(4).zip(b.chunks_exact(4)))
+            .filter(|(p, q)| p[..3] != q[..3])
+            .count()
+    };
+    let scene = hills_scene(0);
+    let mut input = common::frame(cam, grid, 64, size, Schedule::Ours);
+    let mut warm = Renderer::headless(&ctx).unwrap();
+    warm.set_scene(&ctx, &scene).expect("scene");
+    let (_, first) = warm.render_offscreen(&ctx, &input).unwrap();
+    // The same frame again comes from the cache, as it was made.
+    let (_, again) = warm.render_offscreen(&ctx, &input).unwrap();
+    assert_eq!(differ(&first, &again), 0, "the cached frame differs");
+    input.look.ambient *= 3.0;
+    let (_, brighter) = warm.render_offscreen(&ctx, &input).unwrap();
+    let bright = input.clone();
+    input.look.haze = 0.05;
+    let (_, hazed) = warm.render_offscreen(&ctx, &input).unwrap();
+    let mut other = scene.clone();
+    let t = other.terrains.last_mut().unwrap();
+    t.gradient = vec![
+        (0.0, Vec3::new(0.6, 0.2, 0.2)),
+        (1.0, Vec3::new(0.9, 0.8, 0.3)),
+    ];
+    warm.set_scene(&ctx, &other).expect("scene");
+    let (_, recoloured) = warm.render_offscreen(&ctx, &input).unwrap();
+    let pixels = (size.x * size.y) as usize;
+    for (what, shown, scene, look, was) in [
+        ("ambient", &brighter, &scene, &bright, &first),
+        ("haze", &hazed, &scene, &input, &brighter),
+        ("gradient", &recoloured, &other, &input, &hazed),
+    ] {
+        let changed = differ(shown, was);
+        assert!(
+            changed * 4 > pixels,
+            "{what}: only {changed} pixels changed"
+        );
+        let wrong = differ(shown, &fresh(scene, look));
+        assert_eq!(
+            wrong, 0,
+            "{what}: {wrong} pixels differ from a fresh renderer's"
+        );
+    }
+}

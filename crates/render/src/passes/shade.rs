@@ -134,6 +134,9 @@ pub struct ShadePass {
     /// not be storage and indirect arguments in one dispatch).
     job_args: wgpu::Buffer,
     args_layout: wgpu::BindGroupLayout,
+    /// The globals last written, less what changes with the jobs (see
+    /// [`ShadePass::globals_key`]).
+    globals_key: Vec<u8>,
 }
 
 /// Bytes of one slot's record in `job_args`: x, y, z workgroups and padding.
@@ -224,6 +227,7 @@ impl ShadePass {
             bvh_layout,
             faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_JOBS as u64),
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
+            globals_key: Vec::new(),
         })
     }
 
@@ -251,9 +255,15 @@ impl ShadePass {
     }
 
     /// The frame's globals (`shaders/lib/shade_globals.wgsl`), written by
-    /// [`ShadePass::record`]: the splat pass lights terrain pixels with them.
+    /// [`ShadePass::record`]: the terrain splats pass lights terrain pixels with them.
     pub fn globals(&self) -> &wgpu::Buffer {
         &self.globals
+    }
+
+    /// The bytes of the globals [`ShadePass::record`] last wrote, less the jobs' queue and
+    /// the edge search (the same key: the same lights, ambient, sky and bands).
+    pub fn globals_key(&self) -> &[u8] {
+        &self.globals_key
     }
 
     fn dispatch(
@@ -300,6 +310,7 @@ impl ShadePass {
         encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
         // Written every frame, jobs or not: the terrain splats pass lights with them too.
         let mut g = globals(scene, look);
+        self.globals_key = bytemuck::bytes_of(&g).to_vec();
         g.queue_base = queue_base;
         g.edges = u32::from(edges);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));

@@ -1,5 +1,8 @@
 //! Terrain splats: what each one-texel terrain quad of the cull pass's list shows, pixel by
-//! pixel (`shaders/terrain_splat.wgsl`), written between cull and splat.
+//! pixel (`shaders/terrain_splat.wgsl`), written between cull and splat. The records are
+//! kept per texel in a cache behind the list's (stamped with what each was made from), which
+//! is cleared when what no stamp holds changes: the scene, or the shade pass's globals
+//! (lights, ambient, bands).
 
 use crate::context::GpuContext;
 use crate::gpu_scene::GpuScene;
@@ -24,14 +27,48 @@ pub struct TerrainSplatPass {
     size_layout: wgpu::BindGroupLayout,
     dispatch: wgpu::Buffer,
     dispatch_bind: wgpu::BindGroup,
+    /// One record per splat of the list, then the cache (see [`Layout`]).
     records: wgpu::Buffer,
+    /// How `records` is laid out.
+    layout_now: Layout,
+    /// The cache must be cleared before the next pass (a new scene or new globals).
+    stale: bool,
+    /// The shade pass's globals the cache was made with (`ShadePass::globals_key`).
+    globals_key: Option<Vec<u8>>,
 }
 
-fn record_buffer(device: &wgpu::Device, splats: u64) -> wgpu::Buffer {
+/// How the records buffer is laid out: `splats` records (the list's capacity), then one per
+/// texel key (`texel_key` in `lib/common.wgsl`: 3 slots × 6 faces × `max_n`²) when the
+/// buffer can hold them, else none (every record is made again each frame).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+struct Layout {
+    splats: u64,
+    cache: u64,
+}
+
+impl Layout {
+    /// For a list of `splats` records and faces of at most `max_n` texels, within a binding
+    /// of at most `limit` bytes.
+    fn new(splats: u64, max_n: u32, limit: u64) -> Self {
+        let keys = 3 * 6 * u64::from(max_n) * u64::from(max_n);
+        let cache = if (splats + keys) * RECORD_BYTES <= limit {
+            keys
+        } else {
+            0
+        };
+        Layout { splats, cache }
+    }
+
+    fn bytes(self) -> u64 {
+        (self.splats + self.cache).max(1) * RECORD_BYTES
+    }
+}
+
+fn record_buffer(device: &wgpu::Device, layout: Layout) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("terrain_splat::records"),
-        size: splats.max(1) * RECORD_BYTES,
-        usage: wgpu::BufferUsages::STORAGE,
+        size: layout.bytes(),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
     })
 }
@@ -92,30 +129,56 @@ impl TerrainSplatPass {
             size_layout,
             dispatch,
             dispatch_bind,
-            records: record_buffer(device, 1),
+            records: record_buffer(device, Layout::new(1, 0, 0)),
+            layout_now: Layout::new(1, 0, 0),
+            stale: false,
+            globals_key: None,
         })
     }
 
-    /// One record per splat `list` can hold (written for its terrain quads only).
+    /// One record per splat `list` can hold (written for its terrain quads only), at its
+    /// index; the cache after them.
     pub fn records(&self) -> &wgpu::Buffer {
         &self.records
     }
 
-    /// Records the pass over `list`, lit with the shade pass's `shade_globals`; grows the
-    /// records to the list's capacity first.
+    /// Forgets every cached record (a new scene: other heights, colours, objects).
+    pub fn forget(&mut self) {
+        self.stale = true;
+    }
+
+    /// Records the pass over `list`, lit with the shade pass's `shade_globals` (whose
+    /// contents, as far as a record depends on them, are `globals_key`), for faces of at
+    /// most `max_n` texels; lays the records out for the list's capacity first.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         view: &wgpu::Buffer,
         scene: &GpuScene,
-        shade_globals: &wgpu::Buffer,
+        (shade_globals, globals_key): (&wgpu::Buffer, &[u8]),
         list: SplatList<'_>,
+        max_n: u32,
     ) {
         let splats = list.splats.size() / SPLAT_BYTES;
-        if self.records.size() < splats * RECORD_BYTES {
-            self.records = record_buffer(&ctx.device, splats);
+        let limits = ctx.device.limits();
+        let limit = (limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
+        let layout = Layout::new(splats, max_n, limit);
+        if layout != self.layout_now {
+            // A new buffer starts zeroed: an empty cache.
+            self.records = record_buffer(&ctx.device, layout);
+            self.layout_now = layout;
+            self.stale = false;
         }
+        if self.globals_key.as_deref() != Some(globals_key) {
+            self.globals_key = Some(globals_key.to_vec());
+            self.stale = true;
+        }
+        if self.stale && layout.cache > 0 {
+            encoder.clear_buffer(&self.records, layout.splats * RECORD_BYTES, None);
+        }
+        self.stale = false;
         let [objects, atlas, infos, _surfaces, terrains, terrain_data] = scene.raster_resources();
         // Bindings as `lib/texture.wgsl` and `lib/terrain.wgsl` number them, less the
         // surfaces (binding 4), which no terrain reads.
@@ -155,5 +218,23 @@ impl TerrainSplatPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.dispatch, 0);
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn the_cache_follows_the_list_where_the_binding_holds_it() {
+        // Faces of 128: 3 × 6 × 128² keys after 1000 records.
+        let l = Layout::new(1000, 128, 128 << 20);
+        assert_eq!((l.splats, l.cache), (1000, 294_912));
+        assert_eq!(l.bytes(), (1000 + 294_912) * RECORD_BYTES);
+        // Faces of 1024 would need 906 MB: no cache, the list's records alone.
+        let l = Layout::new(1000, 1024, 128 << 20);
+        assert_eq!((l.splats, l.cache), (1000, 0));
+        assert_eq!(l.bytes(), 1000 * RECORD_BYTES);
+        assert_eq!(Layout::new(0, 0, 0).bytes(), RECORD_BYTES);
     }
 }
