@@ -20,7 +20,7 @@ use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
 use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::sprites::SpritePass;
-use crate::passes::terrain_splat::TerrainSplatPass;
+use crate::passes::terrain_splat::{TerrainSplatInputs, TerrainSplatPass};
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
@@ -377,9 +377,15 @@ impl Renderer {
                 });
                 if scene.terrain_count > 0 {
                     stages.run("terrain splats", |enc| {
-                        let shade = (self.shade.globals(), self.shade.globals_key());
-                        let n = globals.max_n;
-                        (self.terrain_splat).record(ctx, enc, &self.view, scene, shade, list, n);
+                        let inputs = TerrainSplatInputs {
+                            view: &self.view,
+                            scene,
+                            shade_globals: self.shade.globals(),
+                            globals_key: self.shade.globals_key(),
+                            list,
+                            max_n: globals.max_n,
+                        };
+                        (self.terrain_splat).record(ctx, enc, &inputs);
                     });
                 }
                 let terrain = self.terrain_splat.records();

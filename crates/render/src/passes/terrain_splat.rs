@@ -18,6 +18,23 @@ pub const RECORD_BYTES: u64 = 48;
 const GROUP: u64 = 64;
 const _: () = assert!(MAX_SPLATS.div_ceil(GROUP) <= 65535);
 
+/// What the terrain splat pass reads.
+#[derive(Clone, Copy)]
+pub struct TerrainSplatInputs<'a> {
+    /// The frame's view.
+    pub view: &'a wgpu::Buffer,
+    /// The scene (objects, terrains, textures, point lights).
+    pub scene: &'a GpuScene,
+    /// The shade pass's globals, which light the terrain's pixels.
+    pub shade_globals: &'a wgpu::Buffer,
+    /// Their contents as far as a record depends on them (`ShadePass::globals_key`).
+    pub globals_key: &'a [u8],
+    /// The cull pass's list.
+    pub list: SplatList<'a>,
+    /// Texels per face edge of the largest slot (the texel keys' stride).
+    pub max_n: u32,
+}
+
 /// The terrain splat pass.
 pub struct TerrainSplatPass {
     pipeline: wgpu::ComputePipeline,
@@ -147,20 +164,22 @@ impl TerrainSplatPass {
         self.stale = true;
     }
 
-    /// Records the pass over `list`, lit with the shade pass's `shade_globals` (whose
-    /// contents, as far as a record depends on them, are `globals_key`), for faces of at
-    /// most `max_n` texels; lays the records out for the list's capacity first.
-    #[allow(clippy::too_many_arguments)]
+    /// Records the pass over `inputs.list`; lays the records out for the list's capacity
+    /// first, and clears the cache when the globals' key differs from the last one's.
     pub fn record(
         &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        view: &wgpu::Buffer,
-        scene: &GpuScene,
-        (shade_globals, globals_key): (&wgpu::Buffer, &[u8]),
-        list: SplatList<'_>,
-        max_n: u32,
+        inputs: &TerrainSplatInputs<'_>,
     ) {
+        let TerrainSplatInputs {
+            view,
+            scene,
+            shade_globals,
+            globals_key,
+            list,
+            max_n,
+        } = *inputs;
         let splats = list.splats.size() / SPLAT_BYTES;
         let limits = ctx.device.limits();
         let limit = (limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
