@@ -63,20 +63,21 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let probe = splat_probe(bitcast<u32>(s.c2.w) & 0xffu);
-    let stamp = record_stamp(s, probe);
+    let mid = splat_mid(s);
+    let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
     let at = capacity + bitcast<u32>(s.c0.w) - 1u;
     let cached = at < arrayLength(&records);
     var r: TerrainSplat;
     if cached && bitcast<u32>(records[at].grid.w) == stamp {
         r = records[at];
     } else {
-        r = terrain_splat(s, probe);
+        r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe);
         r.grid.w = bitcast<f32>(stamp);
         if cached {
             records[at] = r;
         }
     }
-    records[ii] = hazed_record(r, s);
+    records[ii] = hazed_record(r, mid);
 }
 
 // Where a probe measures terrain bands from, and its texels per face edge.
@@ -87,26 +88,21 @@ struct BandProbe {
 
 // The probe of `role`: the grid probe's origin for the eye, as in its capture.
 fn splat_probe(role: u32) -> BandProbe {
-    var p = BandProbe(view.slots[view.grid_slot].origin, view.slots[view.eye_slot].n);
-    if role != ROLE_EYE {
-        for (var k = 0u; k < 3u; k++) {
-            if view.slots[k].role == role {
-                p = BandProbe(view.slots[k].origin, view.slots[k].n);
-            }
-        }
+    let k = select(role_slot(role), 3u, role == ROLE_EYE);
+    if k < 3u {
+        return BandProbe(view.slots[k].origin, view.slots[k].n);
     }
-    return p;
+    return BandProbe(view.slots[view.grid_slot].origin, view.slots[view.eye_slot].n);
 }
 
-// What a terrain quad's record is made from, hashed: its texel's point (the corners' mean),
-// its lights, outline and object (c3.w), and its probe. Never 0, which a cleared cache holds.
-// The frame's lights, colours and heights are not in it: the pass clears the cache when
-// those change (terrain_splat.rs).
-fn record_stamp(s: Splat, p: BandProbe) -> u32 {
-    let mid = 0.25 * (s.c0.xyz + s.c1.xyz + s.c2.xyz + s.c3.xyz);
+// What a terrain quad's record is made from, hashed: its lights, outline and object (`word`,
+// the splat's c3.w), its texel's point `mid` and its probe. Never 0, which a cleared cache
+// holds. The frame's lights, colours and heights are not in it: the pass clears the cache
+// when those change (terrain_splat.rs).
+fn record_stamp(word: u32, mid: vec3<f32>, p: BandProbe) -> u32 {
     var h = 0x9e3779b9u;
     let words = array<u32, 8>(
-        bitcast<u32>(s.c3.w), bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
+        word, bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
         bitcast<u32>(p.origin.x), bitcast<u32>(p.origin.y), bitcast<u32>(p.origin.z), p.n,
     );
     for (var k = 0u; k < 8u; k++) {
@@ -126,13 +122,12 @@ fn hash_u32(x: u32) -> u32 {
     return h;
 }
 
-// Record `r` of splat `s` as seen from the camera: its cells through the haze at the
-// texel's point on the plane.
-fn hazed_record(r: TerrainSplat, s: Splat) -> TerrainSplat {
+// Record `r` of a quad whose texel point is `mid`, as seen from the camera: its cells
+// through the haze at that point's place on the plane.
+fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
     if view.haze <= 0.0 {
         return r;
     }
-    let mid = 0.25 * (s.c0.xyz + s.c1.xyz + s.c2.xyz + s.c3.xyz);
     let n = r.plane.xyz;
     let y = (r.plane.w - n.x * mid.x - n.z * mid.z) / n.y;
     let dist = length(vec3(mid.x, y, mid.z) - view.camera.xyz);
@@ -144,19 +139,17 @@ fn hazed_record(r: TerrainSplat, s: Splat) -> TerrainSplat {
     return out;
 }
 
-// The terrain pixels splat `s` shows (unhazed), if it is a one-texel quad of a terrain
-// (cull.wgsl) drawn by `probe`. A terrain pixel is at least a probe texel, so the quad's
+// The terrain pixels (unhazed) a one-texel quad of a terrain (cull.wgsl) shows, with its
+// lights, outline and object `word`, its texel point `mid`, drawn by `probe`. A terrain pixel is at least a probe texel, so the quad's
 // pixels lie in the 2 × 2 block of pixels toward which its point lies in its own pixel;
 // each is coloured and lit as the shade pass would light it from its centre (its colour, the
 // terrain's normal there), with the texel's shadows and outline. Pixels of the terrain
 // follow the world, not each probe's texel grid: a crossfade's two probes show the same
 // pixel under each screen pixel, where each had drawn its own texels' steps.
-fn terrain_splat(s: Splat, probe: BandProbe) -> TerrainSplat {
+fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandProbe) -> TerrainSplat {
     var out: TerrainSplat;
-    let word = bitcast<u32>(s.c3.w);
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
     let tr = terrains[obj.flags >> 8u];
-    let mid = 0.25 * (s.c0.xyz + s.c1.xyz + s.c2.xyz + s.c3.xyz);
     let q = clamp(mid.xz - tr.corner.xz, vec2(0.0), tr.size);
     let at = terrain_plane(tr, q);
     let point = vec3(tr.corner.x + q.x, tr.corner.y + at.height, tr.corner.z + q.y);

@@ -20,19 +20,6 @@ struct SpriteGlobals {
     _pad1: u32,
 }
 
-// The slot whose origin a sprite drawn for `role` turns toward.
-fn role_slot(role: u32) -> u32 {
-    if role == ROLE_GRID {
-        return view.grid_slot;
-    }
-    for (var s = 1u; s < 3u; s++) {
-        if view.slots[s].role == ROLE_PREVIOUS {
-            return s;
-        }
-    }
-    return 3u;
-}
-
 // Sprite `s` as drawn for `role`: toward that probe's origin, or the camera.
 fn quad_for(s: Sprite, role: u32) -> SpriteQuad {
     let grid = view.slots[view.grid_slot];

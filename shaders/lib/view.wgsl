@@ -97,6 +97,11 @@ fn splat_corner(s: Splat, k: u32) -> vec3<f32> {
     }
 }
 
+// The middle of splat `s` (its corners' mean): a one-texel quad's texel point.
+fn splat_mid(s: Splat) -> vec3<f32> {
+    return 0.25 * (s.c0.xyz + s.c1.xyz + s.c2.xyz + s.c3.xyz);
+}
+
 // Whether splat `s` is a one-texel terrain quad (its pixels show the terrain's).
 fn is_terrain_splat(s: Splat) -> bool {
     return (bitcast<u32>(s.c1.w) >> 24u) == SPLAT_TERRAIN_ALPHA;
@@ -106,8 +111,8 @@ fn is_terrain_splat(s: Splat) -> bool {
 // terrain quads only): the packed sRGB colours of the 2 × 2 terrain pixels nearest its
 // texel's point (x first, then z), their grid (the block's corner on X and Z, the pixel
 // size; w the stamp of what it was made from, terrain_splat.wgsl `record_stamp`) and the
-// terrain's plane there (unit normal, offset), which each screen
-// pixel's view ray meets (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
+// terrain's plane there (unit normal, offset), which each screen pixel's view ray meets
+// (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
 struct TerrainSplat {
     cells: vec4<u32>,
     grid: vec4<f32>,
@@ -129,6 +134,19 @@ fn view_ray_plane(plane: vec4<f32>, world: vec3<f32>) -> vec4<f32> {
         return vec4(world, 0.0);
     }
     return vec4(o + dir * ((plane.w - dot(plane.xyz, o)) / rate), rate);
+}
+
+// The slot of the stable probe drawn for `role` (grid or previous), 3 when none is.
+fn role_slot(role: u32) -> u32 {
+    if role == ROLE_GRID {
+        return view.grid_slot;
+    }
+    for (var s = 1u; s < 3u; s++) {
+        if view.slots[s].role == ROLE_PREVIOUS {
+            return s;
+        }
+    }
+    return 3u;
 }
 
 // Whether a stable probe's quads can win any pixel this frame: the grid draws the Bayer

@@ -474,43 +474,46 @@ pub enum LodFrom {
 /// Measured on `terrain_hills` `terrain_walk` at 1280×720, faces of 128 (lavapipe):
 /// captures 50 → 33 ms a frame, the frame's median 94–97 → 73–76 ms.
 pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<(u32, u32)> {
-    visible_runs_where(ranges, view_proj, lod, |_| true)
+    merge_runs(visible_ranges(ranges, view_proj, lod).into_iter())
 }
 
-/// [`visible_runs`] of the ranges `keep` accepts.
-pub fn visible_runs_where(
+/// [`visible_runs`] split by [`DrawRange::terrain`]: the plain terrain's runs, then the rest
+/// (each in the order `visible_runs` draws them).
+pub fn visible_runs_by_kind(
     ranges: &[DrawRange],
     view_proj: &glam::Mat4,
     lod: LodFrom,
-    keep: impl Fn(&DrawRange) -> bool,
-) -> Vec<(u32, u32)> {
-    let wanted = |r: &DrawRange| {
-        keep(r)
-            && match lod {
-                LodFrom::Full => r.lod == 0,
-                LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
-                LodFrom::Eye(origin, n) => {
-                    r.lod == chunk_lod_within(r, origin, n, EYE_LOD_SAMPLE_TEXELS)
-                }
-                LodFrom::Texel(size) => r.lod == lod_for_texel(r, size),
-            }
+) -> [Vec<(u32, u32)>; 2] {
+    let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =
+        (visible_ranges(ranges, view_proj, lod).into_iter()).partition(|r| r.terrain);
+    [terrain, rest].map(|r| merge_runs(r.into_iter()))
+}
+
+/// The ranges [`visible_runs`] draws, in its order.
+fn visible_ranges<'a>(
+    ranges: &'a [DrawRange],
+    view_proj: &glam::Mat4,
+    lod: LodFrom,
+) -> Vec<&'a DrawRange> {
+    let wanted = |r: &DrawRange| match lod {
+        LodFrom::Full => r.lod == 0,
+        LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
+        LodFrom::Eye(origin, n) => r.lod == chunk_lod_within(r, origin, n, EYE_LOD_SAMPLE_TEXELS),
+        LodFrom::Texel(size) => r.lod == lod_for_texel(r, size),
     };
-    let visible = ranges
+    let mut visible: Vec<&DrawRange> = ranges
         .iter()
-        .filter(|r| wanted(r) && r.may_be_visible(view_proj));
-    match lod {
-        LodFrom::Probe(origin, _) | LodFrom::Eye(origin, _) => {
-            let mut near_first: Vec<&DrawRange> = visible.collect();
-            let distance = |r: &DrawRange| (origin.clamp(r.min, r.max) - origin).length_squared();
-            near_first.sort_by(|a, b| {
-                distance(a)
-                    .total_cmp(&distance(b))
-                    .then(a.first.cmp(&b.first))
-            });
-            merge_runs(near_first.into_iter())
-        }
-        _ => merge_runs(visible),
+        .filter(|r| wanted(r) && r.may_be_visible(view_proj))
+        .collect();
+    if let LodFrom::Probe(origin, _) | LodFrom::Eye(origin, _) = lod {
+        let distance = |r: &DrawRange| (origin.clamp(r.min, r.max) - origin).length_squared();
+        visible.sort_by(|a, b| {
+            distance(a)
+                .total_cmp(&distance(b))
+                .then(a.first.cmp(&b.first))
+        });
     }
+    visible
 }
 
 /// Why a scene does not fit the device.
@@ -1042,6 +1045,29 @@ mod tests {
             visible_runs(&ranges, &view_proj, LodFrom::Probe(Vec3::ZERO, 64)),
             vec![(3, 3), (9, 3), (6, 3), (0, 3)]
         );
+    }
+
+    #[test]
+    fn a_capture_splits_plain_terrain_runs_from_the_rest() {
+        let (view_proj, r) = down_z();
+        let terrain = |first, z| DrawRange {
+            terrain: true,
+            ..r(first, z)
+        };
+        // Buffer order: terrain, terrain, object, terrain; nearest first within each kind,
+        // and neighbours of different kinds never merged.
+        let ranges = [
+            terrain(0, -9.0),
+            terrain(3, -3.0),
+            r(6, -4.0),
+            terrain(9, -5.0),
+        ];
+        let lod = LodFrom::Probe(Vec3::ZERO, 64);
+        let [plain, rest] = visible_runs_by_kind(&ranges, &view_proj, lod);
+        assert_eq!(plain, vec![(3, 3), (9, 3), (0, 3)]);
+        assert_eq!(rest, vec![(6, 3)]);
+        // Drawn together, the middle three are one run.
+        assert_eq!(visible_runs(&ranges, &view_proj, lod), vec![(3, 9), (0, 3)]);
     }
 
     #[test]

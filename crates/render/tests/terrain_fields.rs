@@ -97,12 +97,19 @@ fn hills_scene(decoys: usize) -> SceneInput {
     scene
 }
 
+/// One frame over the hills from above their slope (192×108, faces of 64), the grid probe
+/// at the camera: every face of the eye and the grid probe captured.
+fn hills_frame() -> texel_render::input::FrameInput {
+    let at = Vec3::new(-6.0, 7.0, 12.0);
+    let cam = Camera::looking(at, Vec3::new(0.4, -0.45, -1.0));
+    common::frame(cam, at, 64, UVec2::new(192, 108), Schedule::Ours)
+}
+
 #[test]
 fn a_terrains_shadows_through_its_heights_match_its_triangles() {
     let Some(ctx) = test_context() else { return };
-    let size = UVec2::new(192, 108);
-    let cam = Camera::looking(Vec3::new(-6.0, 7.0, 12.0), Vec3::new(0.4, -0.45, -1.0));
-    let grid = Vec3::new(-6.0, 7.0, 12.0);
+    let input = hills_frame();
+    let size = input.size;
     let (mut frames, mut lit, mut bits) = (Vec::new(), Vec::new(), Vec::new());
     for decoys in [0, MAX_FIELDS] {
         let scene = hills_scene(decoys);
@@ -125,7 +132,6 @@ fn a_terrains_shadows_through_its_heights_match_its_triangles() {
         }
         let mut r = Renderer::headless(&ctx).unwrap();
         r.set_scene(&ctx, &scene).expect("scene");
-        let input = common::frame(cam, grid, 64, size, Schedule::Ours);
         let (_, px) = r.render_offscreen(&ctx, &input).unwrap();
         common::save_png(&format!("terrain_fields_{decoys}.png"), &px, size);
         frames.push(px);
@@ -215,9 +221,7 @@ fn grey_texture() -> texel_geom::texture::TextureRef {
 #[test]
 fn the_lean_terrain_capture_stores_what_the_full_capture_does() {
     let Some(ctx) = test_context() else { return };
-    let size = UVec2::new(192, 108);
-    let cam = Camera::looking(Vec3::new(-6.0, 7.0, 12.0), Vec3::new(0.4, -0.45, -1.0));
-    let grid = Vec3::new(-6.0, 7.0, 12.0);
+    let input = hills_frame();
     let mut lit = Vec::new();
     for textured in [false, true] {
         let mut scene = hills_scene(0);
@@ -230,7 +234,6 @@ fn the_lean_terrain_capture_stores_what_the_full_capture_does() {
         assert_eq!(lean > 0, !textured, "{lean} ranges drawn as plain terrain");
         let mut r = Renderer::headless(&ctx).unwrap();
         r.set_scene(&ctx, &scene).expect("scene");
-        let input = common::frame(cam, grid, 64, size, Schedule::Ours);
         r.render_offscreen(&ctx, &input).unwrap();
         lit.push(r.read_lit_faces(&ctx, Slot::StableA).unwrap().1.concat());
     }
@@ -255,9 +258,8 @@ fn the_lean_terrain_capture_stores_what_the_full_capture_does() {
 #[test]
 fn cached_terrain_pixels_follow_the_light_the_haze_and_the_scene() {
     let Some(ctx) = test_context() else { return };
-    let size = UVec2::new(192, 108);
-    let cam = Camera::looking(Vec3::new(-6.0, 7.0, 12.0), Vec3::new(0.4, -0.45, -1.0));
-    let grid = Vec3::new(-6.0, 7.0, 12.0);
+    let mut input = hills_frame();
+    let size = input.size;
     let fresh = |scene: &SceneInput, input: &texel_render::input::FrameInput| {
         let mut r = Renderer::headless(&ctx).unwrap();
         r.set_scene(&ctx, scene).expect("scene");
@@ -269,7 +271,6 @@ fn cached_terrain_pixels_follow_the_light_the_haze_and_the_scene() {
             .count()
     };
     let scene = hills_scene(0);
-    let mut input = common::frame(cam, grid, 64, size, Schedule::Ours);
     let mut warm = Renderer::headless(&ctx).unwrap();
     warm.set_scene(&ctx, &scene).expect("scene");
     let (_, first) = warm.render_offscreen(&ctx, &input).unwrap();

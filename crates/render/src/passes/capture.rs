@@ -210,11 +210,8 @@ impl CapturePass {
                 }
                 None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
             };
-            let runs_where = |terrain: bool| {
-                let keep = |r: &crate::gpu_scene::DrawRange| r.terrain == terrain;
-                crate::gpu_scene::visible_runs_where(&scene.ranges, &view_proj, lod, keep)
-            };
-            let (terrain_runs, runs) = (runs_where(true), runs_where(false));
+            let [terrain_runs, runs] =
+                crate::gpu_scene::visible_runs_by_kind(&scene.ranges, &view_proj, lod);
             let f = c.face.index();
             let clear = wgpu::Color::TRANSPARENT;
             let targets = RasterTargets {

@@ -101,7 +101,7 @@ pub(crate) fn gpu_suns(scene: &GpuScene) -> ([Sun; MAX_SUNS], u32) {
     (suns, scene.suns.len().min(MAX_SUNS) as u32)
 }
 
-/// `ShadeGlobals` in `shaders/shade.wgsl`.
+/// `ShadeGlobals` in `shaders/lib/shade_globals.wgsl`.
 #[repr(C)]
 #[derive(Clone, Copy, Pod, Zeroable)]
 pub struct ShadeGlobals {
@@ -136,7 +136,7 @@ pub struct ShadePass {
     args_layout: wgpu::BindGroupLayout,
     /// The globals last written, less what changes with the jobs (see
     /// [`ShadePass::globals_key`]).
-    globals_key: Vec<u8>,
+    globals_key: ShadeGlobals,
 }
 
 /// Bytes of one slot's record in `job_args`: x, y, z workgroups and padding.
@@ -227,7 +227,7 @@ impl ShadePass {
             bvh_layout,
             faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_JOBS as u64),
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
-            globals_key: Vec::new(),
+            globals_key: ShadeGlobals::zeroed(),
         })
     }
 
@@ -260,9 +260,9 @@ impl ShadePass {
         &self.globals
     }
 
-    /// The bytes of the globals [`ShadePass::record`] last wrote, less the jobs' queue and
-    /// the edge search (the same key: the same lights, ambient, sky and bands).
-    pub fn globals_key(&self) -> &[u8] {
+    /// The globals [`ShadePass::record`] last wrote, less the jobs' queue and the edge
+    /// search (equal bytes: the same lights, ambient, sky and bands).
+    pub fn globals_key(&self) -> &ShadeGlobals {
         &self.globals_key
     }
 
@@ -310,7 +310,7 @@ impl ShadePass {
         encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
         // Written every frame, jobs or not: the terrain splats pass lights with them too.
         let mut g = globals(scene, look);
-        self.globals_key = bytemuck::bytes_of(&g).to_vec();
+        self.globals_key = g;
         g.queue_base = queue_base;
         g.edges = u32::from(edges);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));

@@ -7,6 +7,7 @@
 use crate::context::GpuContext;
 use crate::gpu_scene::GpuScene;
 use crate::passes::cull::{MAX_SPLATS, SPLAT_BYTES, SplatList};
+use crate::passes::shade::ShadeGlobals;
 use crate::shader;
 
 use super::{ARRAY, FLOAT, bind_group, compute_pipeline, entry, storage, texture, uniform};
@@ -28,7 +29,7 @@ pub struct TerrainSplatInputs<'a> {
     /// The shade pass's globals, which light the terrain's pixels.
     pub shade_globals: &'a wgpu::Buffer,
     /// Their contents as far as a record depends on them (`ShadePass::globals_key`).
-    pub globals_key: &'a [u8],
+    pub globals_key: &'a ShadeGlobals,
     /// The cull pass's list.
     pub list: SplatList<'a>,
     /// Texels per face edge of the largest slot (the texel keys' stride).
@@ -51,7 +52,7 @@ pub struct TerrainSplatPass {
     /// The cache must be cleared before the next pass (a new scene or new globals).
     stale: bool,
     /// The shade pass's globals the cache was made with (`ShadePass::globals_key`).
-    globals_key: Option<Vec<u8>>,
+    globals_key: Option<ShadeGlobals>,
 }
 
 /// How the records buffer is laid out: `splats` records (the list's capacity), then one per
@@ -190,8 +191,9 @@ impl TerrainSplatPass {
             self.layout_now = layout;
             self.stale = false;
         }
-        if self.globals_key.as_deref() != Some(globals_key) {
-            self.globals_key = Some(globals_key.to_vec());
+        let key = bytemuck::bytes_of(globals_key);
+        if self.globals_key.as_ref().map(bytemuck::bytes_of) != Some(key) {
+            self.globals_key = Some(*globals_key);
             self.stale = true;
         }
         if self.stale && layout.cache > 0 {
