@@ -25,9 +25,9 @@ struct VsOut {
     @location(2) @interpolate(flat) run: u32,
     // Texel coordinate along a run quad (texel i spans [i, i + 1)).
     @location(3) along: f32,
-    // A terrain quad's cells and span (`terrain_span`); zero cells for any other quad.
+    // A terrain quad's cells and sides (`terrain_sides`); zero cells for any other quad.
     @location(4) @interpolate(flat) cells: vec4<u32>,
-    @location(5) span: vec3<f32>,
+    @location(5) sides: vec2<f32>,
 }
 
 @vertex
@@ -58,7 +58,7 @@ fn run_vertex(vi: u32, ii: u32) -> VsOut {
     out.along = select(f32(texels) - 0.5 + reach.y, 0.5 - reach.x, at_start);
     let tq = terrain_of(s, ii);
     out.cells = tq.cells;
-    out.span = terrain_span(tq, splat_corner(s, vi));
+    out.sides = terrain_sides(tq, splat_corner(s, vi));
     return out;
 }
 
@@ -82,7 +82,7 @@ fn texel_vertex(vi: u32, ii: u32) -> TexelIn {
     out.run = role << 9u;
     let tq = terrain_of(s, ii);
     out.cells = tq.cells;
-    out.span = terrain_span(tq, splat_corner(s, vi));
+    out.sides = terrain_sides(tq, splat_corner(s, vi));
     return out;
 }
 
@@ -126,27 +126,43 @@ fn terrain_of(s: Splat, ii: u32) -> TerrainSplat {
     return terrain_splats[ii];
 }
 
-// A terrain quad's corner at `world`: where its view ray meets the terrain's plane, in cells
-// of the quad's block (0..2 across it), times the ray's rate toward the plane (xy), and that
-// rate (z). Both are affine in `world` on the quad, so interpolated across it they give
-// each pixel's own point on the plane with one division (`pixel_colour`).
-fn terrain_span(t: TerrainSplat, world: vec3<f32>) -> vec3<f32> {
+// A terrain quad's corner at `world`: on which side of its block's two inner edges (the
+// lines between its cells, x = size and z = size from the block's corner) the view ray
+// through `world` meets the terrain, positive past the edge. The ray meets the ground past
+// an edge when it is still above the ground where it crosses the edge's vertical plane and
+// runs toward it: with the ground along the edge `h = a + b·t` (`TerrainSplat::edges`),
+// `(o.y + t·d.y − h) · d.x` at the crossing `t = (size − o.x) / d.x` is
+// `(o.y − a − b·o.z)·d.x + (size − o.x)·(d.y − b·d.z)` (and likewise along z). Both are
+// affine in `world` on the quad (the ray's origin is the camera, or `world` itself under an
+// orthographic view), so interpolated across it they give each pixel's own sides
+// (`pixel_colour`). They depend only on the ground along the edge, not on the texel the quad
+// comes from: two probes' quads over one screen pixel pick the same terrain pixel.
+fn terrain_sides(t: TerrainSplat, world: vec3<f32>) -> vec2<f32> {
     if t.cells.x == 0u {
-        return vec3(0.0);
+        return vec2(0.0);
     }
-    let hit = view_ray_plane(t.plane, world);
-    return vec3((hit.xz - t.grid.xy) / t.grid.z * hit.w, hit.w);
+    var o = view.camera.xyz;
+    var d = world - o;
+    if view.ortho != 0u {
+        o = world;
+        d = view.forward.xyz;
+    }
+    o -= vec3(t.grid.x, 0.0, t.grid.y);
+    let size = t.grid.z;
+    let e = t.edges;
+    let along_x = (o.y - e.x - e.y * o.z) * d.x + (size - o.x) * (d.y - e.y * d.z);
+    let along_z = (o.y - e.z - e.w * o.x) * d.z + (size - o.z) * (d.y - e.w * d.x);
+    return vec2(along_x, along_z);
 }
 
 // The sRGB-encoded colour of a pixel of a quad of `colour`; a terrain quad's (non-zero
-// `cells`) is the colour of the cell its view ray meets (`terrain_span`).
-fn pixel_colour(colour: vec3<f32>, cells: vec4<u32>, span: vec3<f32>) -> vec3<f32> {
+// `cells`) is the colour of the cell its view ray meets (`terrain_sides`).
+fn pixel_colour(colour: vec3<f32>, cells: vec4<u32>, sides: vec2<f32>) -> vec3<f32> {
     if cells.x == 0u {
         return colour;
     }
-    let ij = clamp(floor(span.xy / span.z), vec2(0.0), vec2(1.0));
-    let row = select(cells.xy, cells.zw, ij.y > 0.5);
-    return unpack4x8unorm(select(row.x, row.y, ij.x > 0.5)).rgb;
+    let row = select(cells.xy, cells.zw, sides.y > 0.0);
+    return unpack4x8unorm(select(row.x, row.y, sides.x > 0.0)).rgb;
 }
 
 struct FsOut {
@@ -187,7 +203,7 @@ struct TexelIn {
     @location(1) @interpolate(flat) key: u32,
     @location(2) @interpolate(flat) run: u32,
     @location(3) @interpolate(flat) cells: vec4<u32>,
-    @location(4) span: vec3<f32>,
+    @location(4) sides: vec2<f32>,
 }
 
 // The key of the texel under this pixel of a run quad.
@@ -211,7 +227,7 @@ struct FadeOut {
     // `owner_misses`, decided at the corners once per quad), 0 where it can.
     @location(5) owner_misses: f32,
     @location(6) @interpolate(flat) cells: vec4<u32>,
-    @location(7) span: vec3<f32>,
+    @location(7) sides: vec2<f32>,
 }
 
 // Whether the probe that owns a crossfade's pixel cannot see corner `vi` of splat `ii`, as
@@ -229,14 +245,14 @@ fn corner_owner_misses(vi: u32, ii: u32) -> f32 {
 fn vs_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
     let v = run_vertex(vi, ii);
     let world = splat_world(vi, ii);
-    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, world, corner_owner_misses(vi, ii), v.cells, v.span);
+    return FadeOut(v.clip, v.colour, v.key, v.run, v.along, world, corner_owner_misses(vi, ii), v.cells, v.sides);
 }
 
 @vertex
 fn vs_texel_fade(@builtin(vertex_index) vi: u32, @builtin(instance_index) ii: u32) -> FadeOut {
     let v = texel_vertex(vi, ii);
     let world = splat_world(vi, ii);
-    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, world, corner_owner_misses(vi, ii), v.cells, v.span);
+    return FadeOut(v.clip, v.colour, v.key, v.run, 0.5, world, corner_owner_misses(vi, ii), v.cells, v.sides);
 }
 
 fn splat_world(vi: u32, ii: u32) -> vec3<f32> {
@@ -281,15 +297,15 @@ fn faded_out_partial(run: u32, pixel: vec2<f32>, p: vec3<f32>) -> bool {
 // Without a crossfade: no discard, so the depth test can run before the shader.
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), pixel_key(in));
+    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), pixel_key(in));
 }
 
 // During a crossfade.
 @fragment
 fn fs_dither(in: FadeOut) -> FadeFsOut {
     let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
-    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.span);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), pixel_key(v), z);
+    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.sides);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), pixel_key(v), z);
 }
 
 // During a crossfade toward a grid probe that misses faces.
@@ -297,21 +313,21 @@ fn fs_dither(in: FadeOut) -> FadeFsOut {
 fn fs_dither_partial(in: FadeOut) -> FadeFsOut {
     let handed = faded_out_partial(in.run, in.clip.xy, in.world);
     let z = fade_depth(in.clip.z, handed, in.owner_misses);
-    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.span);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), pixel_key(v), z);
+    let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.sides);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), pixel_key(v), z);
 }
 
 // One texel per quad, without a crossfade.
 @fragment
 fn fs_texel(in: TexelIn) -> FsOut {
-    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), in.key);
+    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), in.key);
 }
 
 // One texel per quad, during a crossfade.
 @fragment
 fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
     let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), in.key, z);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), in.key, z);
 }
 
 // One texel per quad, during a crossfade toward a grid probe that misses faces.
@@ -319,5 +335,5 @@ fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
 fn fs_texel_dither_partial(in: FadeOut) -> FadeFsOut {
     let handed = faded_out_partial(in.run, in.clip.xy, in.world);
     let z = fade_depth(in.clip.z, handed, in.owner_misses);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.span), 1.0), in.key, z);
+    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), in.key, z);
 }

@@ -123,14 +123,12 @@ fn hash_u32(x: u32) -> u32 {
 }
 
 // Record `r` of a quad whose texel point is `mid`, as seen from the camera: its cells
-// through the haze at that point's place on the plane.
+// through the haze at that point.
 fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
     if view.haze <= 0.0 {
         return r;
     }
-    let n = r.plane.xyz;
-    let y = (r.plane.w - n.x * mid.x - n.z * mid.z) / n.y;
-    let dist = length(vec3(mid.x, y, mid.z) - view.camera.xyz);
+    let dist = length(mid - view.camera.xyz);
     var out = r;
     for (var k = 0u; k < 4u; k++) {
         let c = srgb_to_linear(unpack4x8unorm(r.cells[k]).rgb);
@@ -151,13 +149,21 @@ fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandProbe) -> TerrainSplat {
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
     let tr = terrains[obj.flags >> 8u];
     let q = clamp(mid.xz - tr.corner.xz, vec2(0.0), tr.size);
-    let at = terrain_plane(tr, q);
-    let point = vec3(tr.corner.x + q.x, tr.corner.y + at.height, tr.corner.z + q.y);
-    let normal = normalize(vec3(-at.slope.x, 1.0, -at.slope.y));
+    let point = vec3(tr.corner.x + q.x, tr.corner.y + terrain_height(tr, q), tr.corner.z + q.y);
     let size = terrain_pixel(tr, point, probe.origin, f32(probe.n)).size;
-    out.plane = vec4(normal, dot(normal, point));
     let g = q / size;
     let base = floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5));
+    // The ground along the inner edges, through its heights at the edges' two cell middles
+    // (points of the world's pixel grid, which a neighbouring block on that edge shares).
+    let inner = (base + 1.0) * size;
+    let first = (base + 0.5) * size;
+    let hx0 = terrain_height(tr, vec2(inner.x, first.y));
+    let hx1 = terrain_height(tr, vec2(inner.x, first.y + size));
+    let hz0 = terrain_height(tr, vec2(first.x, inner.y));
+    let hz1 = terrain_height(tr, vec2(first.x + size, inner.y));
+    let bx = (hx1 - hx0) / size;
+    let bz = (hz1 - hz0) / size;
+    out.edges = vec4(tr.corner.y + hx0 - 0.5 * size * bx, bx, tr.corner.y + hz0 - 0.5 * size * bz, bz);
     let shadows = word & ((1u << TERRAIN_LIGHTS) - 1u);
     let shift = f32((word >> TERRAIN_LIGHTS) & 3u) - 1.0;
     for (var k = 0u; k < 4u; k++) {

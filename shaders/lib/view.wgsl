@@ -111,12 +111,14 @@ fn is_terrain_splat(s: Splat) -> bool {
 // terrain quads only): the packed sRGB colours of the 2 × 2 terrain pixels nearest its
 // texel's point (x first, then z), their grid (the block's corner on X and Z, the pixel
 // size; w the stamp of what it was made from, terrain_splat.wgsl `record_stamp`) and the
-// terrain's plane there (unit normal, offset), which each screen pixel's view ray meets
+// ground along the block's two inner edges, which each screen pixel's view ray is tested
+// against (splat.wgsl `terrain_sides`): from the block's corner, the height along x = size
+// is `edges.x + edges.y · z` and along z = size `edges.z + edges.w · x`
 // (crates/render/src/passes/terrain_splat.rs `RECORD_BYTES`).
 struct TerrainSplat {
     cells: vec4<u32>,
     grid: vec4<f32>,
-    plane: vec4<f32>,
+    edges: vec4<f32>,
 }
 
 // Where the view ray through `world` meets `plane` (unit normal, offset) — xyz — and the
