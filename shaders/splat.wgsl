@@ -141,13 +141,9 @@ fn terrain_sides(t: TerrainSplat, world: vec3<f32>) -> vec2<f32> {
     if t.cells.x == 0u {
         return vec2(0.0);
     }
-    var o = view.camera.xyz;
-    var d = world - o;
-    if view.ortho != 0u {
-        o = world;
-        d = view.forward.xyz;
-    }
-    o -= vec3(t.grid.x, 0.0, t.grid.y);
+    let ray = view_ray_through(world);
+    let o = ray.origin - vec3(t.grid.x, 0.0, t.grid.y);
+    let d = ray.dir;
     let size = t.grid.z;
     let e = t.edges;
     let along_x = (o.y - e.x - e.y * o.z) * d.x + (size - o.x) * (d.y - e.y * d.z);

@@ -121,21 +121,19 @@ struct TerrainSplat {
     edges: vec4<f32>,
 }
 
-// Where the view ray through `world` meets `plane` (unit normal, offset) — xyz — and the
-// ray's rate toward the plane (w: its direction, `world` − camera or the orthographic view
-// axis, dotted with the normal); w 0 where the ray runs along the plane (xyz is then `world`).
-fn view_ray_plane(plane: vec4<f32>, world: vec3<f32>) -> vec4<f32> {
-    var o = view.camera.xyz;
-    var dir = world - o;
+// The view ray through `world`: from the camera toward it (`dir` = `world` − camera), or
+// under an orthographic view from `world` itself along the view axis. Both are affine in
+// `world`.
+struct ViewRay {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+}
+
+fn view_ray_through(world: vec3<f32>) -> ViewRay {
     if view.ortho != 0u {
-        o = world;
-        dir = view.forward.xyz;
+        return ViewRay(world, view.forward.xyz);
     }
-    let rate = dot(dir, plane.xyz);
-    if abs(rate) <= 1e-12 {
-        return vec4(world, 0.0);
-    }
-    return vec4(o + dir * ((plane.w - dot(plane.xyz, o)) / rate), rate);
+    return ViewRay(view.camera.xyz, world - view.camera.xyz);
 }
 
 // The slot of the stable probe drawn for `role` (grid or previous), 3 when none is.
