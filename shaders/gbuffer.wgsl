@@ -15,7 +15,7 @@ struct Camera {
     axis: vec4<f32>,
     // Clip → world, for the rays through neighbouring pixels (texture footprints).
     inv_view_proj: mat4x4<f32>,
-    // Target size in pixels (xy).
+    // Target size in pixels (xy); z 1 under an orthographic camera.
     size: vec4<f32>,
     // The camera position (bands of terrain pixels are measured from it).
     eye: vec4<f32>,
@@ -72,8 +72,11 @@ fn fs(in: VsOut) -> FsOut {
     var albedo = surface_albedo(obj, in.colour, surface_texture_colour(s, t));
     if (obj.flags & FLAG_TERRAIN) != 0u {
         // Screen methods measure bands from the camera, with no texel bound: the seed's own
-        // method.
-        let terrain = terrain_colour(terrains[obj.flags >> 8u], centre, camera.eye.xyz, 1.0e9);
+        // method. An orthographic camera takes none (its finest pixels everywhere), as an
+        // orthographic probe's texels do.
+        let ortho = select(0.0, 1.0e-9, camera.size.z > 0.5);
+        let sizing = BandFrom(camera.eye.xyz, 1.0e9, ortho);
+        let terrain = terrain_colour(terrains[obj.flags >> 8u], centre, sizing);
         albedo = vec4(albedo.rgb * terrain, albedo.a);
     }
     out.ids = vec2(in.object + 1u, pack4x8unorm(albedo));

@@ -80,30 +80,31 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     records[ii] = hazed_record(r, mid);
 }
 
-// Where a probe measures terrain bands from, and its texels per face edge.
-struct BandProbe {
-    origin: vec3<f32>,
-    n: u32,
-}
-
-// The probe of `role`: the grid probe's origin for the eye, as in its capture.
-fn splat_probe(role: u32) -> BandProbe {
-    let k = select(role_slot(role), 3u, role == ROLE_EYE);
+// What the probe of `role` sizes terrain pixels for (lib/terrain.wgsl `BandFrom`): the grid
+// probe's origin for the eye, as in its capture (capture.wgsl `colour_terrain`).
+fn splat_probe(role: u32) -> BandFrom {
+    var k = select(role_slot(role), 3u, role == ROLE_EYE);
+    var origin = view.slots[view.grid_slot].origin;
     if k < 3u {
-        return BandProbe(view.slots[k].origin, view.slots[k].n);
+        origin = view.slots[k].origin;
+    } else {
+        k = view.eye_slot;
     }
-    return BandProbe(view.slots[view.grid_slot].origin, view.slots[view.eye_slot].n);
+    let n = f32(view.slots[k].n);
+    let half = view.slots[k].half;
+    return BandFrom(origin, n, select(0.0, 2.0 * half / n, half > 0.0));
 }
 
 // What a terrain quad's record is made from, hashed: its lights, outline and object (`word`,
 // the splat's c3.w), its texel's point `mid` and its probe. Never 0, which a cleared cache
 // holds. The frame's lights, colours and heights are not in it: the pass clears the cache
 // when those change (terrain_splat.rs).
-fn record_stamp(word: u32, mid: vec3<f32>, p: BandProbe) -> u32 {
+fn record_stamp(word: u32, mid: vec3<f32>, p: BandFrom) -> u32 {
     var h = 0x9e3779b9u;
     let words = array<u32, 8>(
         word, bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
-        bitcast<u32>(p.origin.x), bitcast<u32>(p.origin.y), bitcast<u32>(p.origin.z), p.n,
+        bitcast<u32>(p.origin.x), bitcast<u32>(p.origin.y), bitcast<u32>(p.origin.z),
+        bitcast<u32>(p.n) ^ bitcast<u32>(p.ortho_texel),
     );
     for (var k = 0u; k < 8u; k++) {
         h = hash_u32(h ^ words[k]);
@@ -144,13 +145,13 @@ fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
 // terrain's normal there), with the texel's shadows and outline. Pixels of the terrain
 // follow the world, not each probe's texel grid: a crossfade's two probes show the same
 // pixel under each screen pixel, where each had drawn its own texels' steps.
-fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandProbe) -> TerrainSplat {
+fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandFrom) -> TerrainSplat {
     var out: TerrainSplat;
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
     let tr = terrains[obj.flags >> 8u];
     let q = clamp(mid.xz - tr.corner.xz, vec2(0.0), tr.size);
     let point = vec3(tr.corner.x + q.x, tr.corner.y + terrain_height(tr, q), tr.corner.z + q.y);
-    let size = terrain_pixel(tr, point, probe.origin, f32(probe.n)).size;
+    let size = terrain_pixel(tr, point, probe).size;
     let g = q / size;
     let base = floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5));
     // The ground along the inner edges, through its heights at the edges' two cell middles

@@ -147,11 +147,26 @@ fn terrain_distance_band(t: Terrain, d: f32) -> u32 {
     return u32(max(ceil(log2(d / t.band_distance)), 0.0));
 }
 
-// The band at distance `d` from a probe of `n` texels per face edge: raised until a pixel is
-// at least the probe texel there (2d/n).
-fn terrain_band(t: Terrain, d: f32, n: f32) -> u32 {
-    let texel = 2.0 * d / n;
+// What a terrain's pixels are sized for: the probe (or camera) at `origin` with `n` texels
+// per face edge, whose texel at distance d is 2d/n (a huge `n`: no texel bound); or, where
+// `ortho_texel` > 0, an orthographic probe, whose texels are that size at every distance, so
+// its pixels are the finest no smaller than a texel, with no distance bands: on screen they
+// keep one size without them.
+struct BandFrom {
+    origin: vec3<f32>,
+    n: f32,
+    ortho_texel: f32,
+}
+
+// The band at distance `d` from `from`'s origin: the distance band (none under an
+// orthographic probe), raised until a pixel is at least the probe texel there.
+fn terrain_band(t: Terrain, d: f32, sizing: BandFrom) -> u32 {
+    var texel = 2.0 * d / sizing.n;
     var b = terrain_distance_band(t, d);
+    if sizing.ortho_texel > 0.0 {
+        texel = sizing.ortho_texel;
+        b = 0u;
+    }
     for (var k = 0u; k < 30u; k++) {
         if exp2(f32(b)) / t.pixel_density >= texel {
             break;
@@ -203,9 +218,9 @@ struct TerrainPixel {
     size: f32,
 }
 
-// The terrain pixel of `t` holding world point `p`, with bands measured from `origin` for a
-// probe of `n` texels per face edge (a huge `n`: no texel bound).
-fn terrain_pixel(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> TerrainPixel {
+// The terrain pixel of `t` holding world point `p`, sized for `from`.
+fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
+    let origin = sizing.origin;
     let q = p.xz - t.corner.xz;
     // The finest band whose own cell containing p is far enough to belong to it.
     var b = 0u;
@@ -213,7 +228,7 @@ fn terrain_pixel(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> Terrain
     var cell = floor(q / s);
     var d = distance(terrain_cell_point(t, cell, s), origin);
     for (var k = 0u; k < 30u; k++) {
-        if terrain_band(t, d, n) <= b {
+        if terrain_band(t, d, sizing) <= b {
             break;
         }
         b += 1u;
@@ -224,7 +239,7 @@ fn terrain_pixel(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> Terrain
     // Toward the band's far end, a Bayer share of its cells takes the next band's pixel.
     let end = terrain_band_end(t, b);
     let start = select(end * 0.5, 0.0, b == 0u);
-    let width = t.band_transition * (end - start);
+    let width = select(t.band_transition * (end - start), 0.0, sizing.ortho_texel > 0.0);
     if width > 0.0 {
         let ramp = clamp((d - (end - width)) / width, 0.0, 1.0);
         let i = vec2<i32>(cell);
@@ -257,6 +272,6 @@ fn terrain_pixel_colour(t: Terrain, px: TerrainPixel) -> vec3<f32> {
 }
 
 // The colour of terrain `t` at world point `p` (see `terrain_pixel`).
-fn terrain_colour(t: Terrain, p: vec3<f32>, origin: vec3<f32>, n: f32) -> vec3<f32> {
-    return terrain_pixel_colour(t, terrain_pixel(t, p, origin, n));
+fn terrain_colour(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> vec3<f32> {
+    return terrain_pixel_colour(t, terrain_pixel(t, p, sizing));
 }

@@ -160,6 +160,18 @@ impl Terrain {
         b
     }
 
+    /// The band of every point under an orthographic probe whose texels are `texel` world
+    /// units: the finest whose pixel is at least a texel. There are no distance bands: an
+    /// orthographic view shows a pixel at one size on screen wherever it lies
+    /// (`shaders/lib/terrain.wgsl` `BandFrom`).
+    pub fn ortho_band(&self, texel: f32) -> u32 {
+        let mut b = 0;
+        while self.cell_size(b) < texel && b < 30 {
+            b += 1;
+        }
+        b
+    }
+
     /// World size of a terrain pixel in band `b`: `2^b / pixel_density`.
     pub fn cell_size(&self, band: u32) -> f32 {
         (1u64 << band.min(62)) as f32 / self.pixel_density
@@ -497,6 +509,13 @@ mod tests {
                 assert!(t.cell_size(b) >= 2.0 * d / n as f32 * 0.9999);
                 last = b;
             }
+        }
+        // Under an orthographic probe: the finest pixel no smaller than its texel, however
+        // far (`t`'s nearest pixel is an eighth of a unit).
+        for (texel, band) in [(0.1, 0), (0.125, 0), (0.13, 1), (0.25, 1), (0.9, 3)] {
+            let b = t.ortho_band(texel);
+            assert_eq!(b, band, "texel {texel}");
+            assert!(t.cell_size(b) >= texel && (b == 0 || t.cell_size(b - 1) < texel));
         }
         assert_eq!(t.distance_band(6.0), 0);
         assert_eq!(t.distance_band(6.1), 1);

@@ -136,6 +136,9 @@ pub struct RasterCamera {
     pub eye: Vec3,
     /// Unit view axis.
     pub axis: Vec3,
+    /// Whether the camera is orthographic (terrain pixels then take no distance bands, as
+    /// under an orthographic probe).
+    pub ortho: bool,
     /// The point sprites turn toward, and the face resolution their matched size and
     /// snapping follow (the reference: the frame's grid probe; a baseline: its camera).
     pub sprite_eye: (Vec3, u32),
@@ -215,13 +218,19 @@ impl GBufferPass {
             view_proj,
             eye,
             axis,
+            ortho,
             sprite_eye,
         } = *camera;
         let cam = CameraUniform {
             view_proj: view_proj.to_cols_array_2d(),
             axis: axis.extend(axis.dot(eye)).to_array(),
             inv_view_proj: view_proj.inverse().to_cols_array_2d(),
-            size: [targets.size.x as f32, targets.size.y as f32, 0.0, 0.0],
+            size: [
+                targets.size.x as f32,
+                targets.size.y as f32,
+                f32::from(u8::from(ortho)),
+                0.0,
+            ],
             eye: eye.extend(1.0).to_array(),
         };
         queue.write_buffer(&self.camera, 0, bytemuck::bytes_of(&cam));

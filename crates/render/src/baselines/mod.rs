@@ -339,6 +339,7 @@ impl BaselineRenderer {
             view_proj,
             eye: eye.position,
             axis: eye.axis,
+            ortho: eye.ortho,
             // Screen-space methods turn sprites toward their camera.
             sprite_eye: (eye.position, view.face_res),
         };
@@ -444,6 +445,7 @@ impl BaselineRenderer {
             view_proj: vp,
             eye: camera.position,
             axis: camera.forward.normalize(),
+            ortho: camera.ortho_height.is_some(),
             sprite_eye,
         };
         self.gbuffer.record(ctx, &mut enc, &screen, scene, &camera);
