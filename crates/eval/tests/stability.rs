@@ -463,7 +463,9 @@ fn terrain_walk_stays_well_below_naive() {
     let Some((splat, naive)) = splat_and_naive("terrain_hills", "terrain_walk", 48) else {
         return;
     };
-    // Measured at 48 on 160x90: splat 0.029 (max 0.066), naive 0.126; holes 0.0025 on both
+    // Measured at 48 on 160x90: splat 0.0176 (max 0.034; 0.029 and 0.066 before terrain
+    // pixels were drawn pixel by pixel), naive 0.126; splat's holes 0.0007 (2026-12-01 on
+    // lavapipe). Earlier: holes 0.0025 on both
     // drivers (naive's 0.0050: at this size a texel is big, and where a hill's crest falls
     // short of its texel's square against the sky, the sky shows; 0.0022 while flat
     // surfaces' silhouettes against the sky grew too, 0.0037 with the crests' exact).
