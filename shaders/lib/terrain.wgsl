@@ -236,8 +236,10 @@ fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
         cell = floor(q / s);
         d = distance(terrain_cell_point(t, cell, s), origin);
     }
-    // Toward the band's far end, a Bayer share of its cells takes the next band's pixel.
-    let end = terrain_band_end(t, b);
+    // Toward the band's far end, a Bayer share of its cells takes the next band's pixel. The
+    // band ends where its distances do or where the probe's texel (2d/n) outgrows its pixel,
+    // whichever is nearer: the texel's bound is a band change like the distance's.
+    let end = min(terrain_band_end(t, b), 0.5 * sizing.n * s);
     let start = select(end * 0.5, 0.0, b == 0u);
     let width = select(t.band_transition * (end - start), 0.0, sizing.ortho_texel > 0.0);
     if width > 0.0 {

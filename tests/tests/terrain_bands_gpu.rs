@@ -7,8 +7,11 @@ use texel_tests::Harness;
 
 /// Fine pixels per world unit.
 const DENSITY: f32 = 4.0;
-/// Band 0 ends here; its last half is the transition.
+/// Band 0 ends here (by distance, or where a probe of [`TEXEL_BOUND_N`] texels outgrows its
+/// pixels); its last half is the transition.
 const BAND_DISTANCE: f32 = 12.0;
+/// Faces whose texel (2d/n) reaches a fine pixel at [`BAND_DISTANCE`].
+const TEXEL_BOUND_N: u32 = (2.0 * BAND_DISTANCE * DENSITY) as u32;
 const TRANSITION: f32 = 0.5;
 
 /// A flat terrain whose colour tells a fine (band 0) pixel from a coarser one. The
@@ -16,7 +19,7 @@ const TRANSITION: f32 = 0.5;
 /// columns alternate 1, 0. A fine cell's centre falls in an odd column (0: dark), a band-1
 /// cell's centre (and any coarser's) in an even one (1: white). The terrain is shifted by an
 /// eighth of a cell so no centre lies on a column edge.
-fn banded_level(dir: &std::path::Path) -> (std::path::PathBuf, f32) {
+fn banded_level(dir: &std::path::Path, band_distance: f32) -> (std::path::PathBuf, f32) {
     let s = 1.0 / DENSITY;
     let shift = s / 8.0;
     let heights = texel_scene::texture::encode_heightmap(4, 4, &[0; 16]);
@@ -34,7 +37,7 @@ fn banded_level(dir: &std::path::Path) -> (std::path::PathBuf, f32) {
          terrain: (size: (200.0, 200.0), heightmap: File(path: \"flat.png\"), max_height: 1.0, \
          gradient: [(at: 0.0, colour: (0.05, 0.05, 0.05)), (at: 0.5, colour: (1.0, 1.0, 1.0))], \
          displacement: (path: \"columns.png\", strength: 1.0, tile_size: {tile:?}), \
-         pixel_density: {DENSITY:?}, band_distance: {BAND_DISTANCE:?}, \
+         pixel_density: {DENSITY:?}, band_distance: {band_distance:?}, \
          band_transition: {TRANSITION:?}, casts_shadows: false, outlined: false)),\n \
          (directional_light: (direction: (0.0, -1.0, 0.0), colour: (1.0, 1.0, 1.0), \
          intensity: 1.0))])\n",
@@ -54,9 +57,25 @@ fn bayer_share(ramp: f32) -> f64 {
 #[test]
 fn a_band_transition_promotes_the_bayer_share_of_fine_cells() {
     let dir = tempfile::tempdir().unwrap();
-    let (level, shift) = banded_level(dir.path());
+    let (level, shift) = banded_level(dir.path(), BAND_DISTANCE);
+    promotes_the_bayer_share(&level, shift, 128);
+}
+
+/// Where the probe's texel ends a band (its distance bands lie far beyond the view), the
+/// band's end is Bayer-promoted as a distance band's is; it had switched in one step.
+#[test]
+fn a_texel_bound_band_transition_promotes_the_bayer_share_too() {
+    let dir = tempfile::tempdir().unwrap();
+    let (level, shift) = banded_level(dir.path(), 1000.0);
+    promotes_the_bayer_share(&level, shift, TEXEL_BOUND_N);
+}
+
+/// Asserts that `level`'s terrain (shifted by `shift`) drawn with faces of `n` texels holds
+/// one pixel per fine cell, band 1 past [`BAND_DISTANCE`] and, inside band 0's transition,
+/// the share of promoted cells the Bayer ramp predicts.
+fn promotes_the_bayer_share(level: &std::path::Path, shift: f32, n: u32) {
     let size = UVec2::new(128, 72);
-    let Some(mut h) = Harness::new(level.to_str().unwrap(), size, 128) else {
+    let Some(mut h) = Harness::new(level.to_str().unwrap(), size, n) else {
         return;
     };
     let camera = Camera::from_yaw_pitch(Vec3::new(0.3, 8.3, 0.2), 0.0, -60.0);
