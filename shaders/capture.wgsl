@@ -244,8 +244,7 @@ fn colour_terrain(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let pixel = vec2<f32>(t) + 0.5;
     let centre = pixel_start(pixel) + pixel_ray(pixel) * textureLoad(drawn_geo, t, 0).w;
-    let n = f32(face.n);
-    let sizing = BandFrom(face.band_origin.xyz, n, select(0.0, 2.0 * face.half / n, face.half > 0.0));
+    let sizing = band_from(face.band_origin.xyz, f32(face.n), face.half);
     let colour = terrain_colour(terrains[obj.flags >> 8u], centre, sizing);
     textureStore(drawn_albedo, t, terrain_albedo(obj, colour));
 }

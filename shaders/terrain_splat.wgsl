@@ -90,9 +90,7 @@ fn splat_probe(role: u32) -> BandFrom {
     } else {
         k = view.eye_slot;
     }
-    let n = f32(view.slots[k].n);
-    let half = view.slots[k].half;
-    return BandFrom(origin, n, select(0.0, 2.0 * half / n, half > 0.0));
+    return band_from(origin, f32(view.slots[k].n), view.slots[k].half);
 }
 
 // What a terrain quad's record is made from, hashed: its lights, outline and object (`word`,
@@ -101,12 +99,12 @@ fn splat_probe(role: u32) -> BandFrom {
 // when those change (terrain_splat.rs).
 fn record_stamp(word: u32, mid: vec3<f32>, p: BandFrom) -> u32 {
     var h = 0x9e3779b9u;
-    let words = array<u32, 8>(
+    let words = array<u32, 9>(
         word, bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
         bitcast<u32>(p.origin.x), bitcast<u32>(p.origin.y), bitcast<u32>(p.origin.z),
-        bitcast<u32>(p.n) ^ bitcast<u32>(p.ortho_texel),
+        bitcast<u32>(p.n), bitcast<u32>(p.ortho_texel),
     );
-    for (var k = 0u; k < 8u; k++) {
+    for (var k = 0u; k < 9u; k++) {
         h = hash_u32(h ^ words[k]);
     }
     return max(h, 1u);

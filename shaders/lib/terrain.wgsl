@@ -158,7 +158,13 @@ struct BandFrom {
     ortho_texel: f32,
 }
 
-// The band at distance `d` from `from`'s origin: the distance band (none under an
+// The sizing of a probe at `origin` with `n` texels per face edge and, for an orthographic
+// probe, face half-extent `half` (0 for a perspective cube).
+fn band_from(origin: vec3<f32>, n: f32, half: f32) -> BandFrom {
+    return BandFrom(origin, n, select(0.0, 2.0 * half / n, half > 0.0));
+}
+
+// The band at distance `d` from `sizing`'s origin: the distance band (none under an
 // orthographic probe), raised until a pixel is at least the probe texel there.
 fn terrain_band(t: Terrain, d: f32, sizing: BandFrom) -> u32 {
     var texel = 2.0 * d / sizing.n;
@@ -218,7 +224,7 @@ struct TerrainPixel {
     size: f32,
 }
 
-// The terrain pixel of `t` holding world point `p`, sized for `from`.
+// The terrain pixel of `t` holding world point `p`, sized for `sizing`.
 fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
     let origin = sizing.origin;
     let q = p.xz - t.corner.xz;

@@ -166,6 +166,53 @@ fn an_orthographic_probe_holds_the_finest_pixels_its_texels_allow() {
     );
 }
 
+/// How two views of one camera differ, drawn through the grid probes of two levels.
+struct TwoProbeViews {
+    /// Pixels compared.
+    pixels: usize,
+    /// Of those, pixels whose colour differs by more than 2 in some channel.
+    differ: usize,
+}
+
+/// Camera `c` drawn at 160 × 90 (faces of 64) through `level` and through `other` (the same
+/// terrain on another probe grid), compared on the rows below `num/den` of the height; the
+/// probes must sit apart and the compared part show at least 5 colours. `None` without a GPU.
+fn two_probe_views(
+    level: &std::path::Path,
+    other: &std::path::Path,
+    c: Camera,
+    num: u32,
+    den: u32,
+) -> Option<TwoProbeViews> {
+    let size = UVec2::new(160, 90);
+    let (mut images, mut origins) = (Vec::new(), Vec::new());
+    for l in [level, other] {
+        let mut h = Harness::new(l.to_str().unwrap(), size, 64)?;
+        h.settle(c);
+        let (input, _, px) = h.frame(c, DT);
+        origins.push(input.grid.origin);
+        images.push(px);
+    }
+    assert_ne!(origins[0], origins[1], "the two probes sit apart");
+    let start = (size.x * 4 * (size.y * num / den)) as usize;
+    let (a, b) = (&images[0][start..], &images[1][start..]);
+    let differ = (a.chunks_exact(4).zip(b.chunks_exact(4)))
+        .filter(|(p, q)| {
+            p.iter()
+                .zip(q.iter())
+                .take(3)
+                .any(|(x, y)| x.abs_diff(*y) > 2)
+        })
+        .count();
+    let colours: std::collections::HashSet<_> =
+        a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect();
+    assert!(colours.len() >= 5, "only {} colours", colours.len());
+    Some(TwoProbeViews {
+        pixels: a.len() / 4,
+        differ,
+    })
+}
+
 /// The terrain pixel a screen pixel shows does not depend on the probe that drew it
 /// (`shaders/terrain_splat.wgsl`): one view of a flat terrain, drawn through grid probes at
 /// two origins (the level's probe cells 1 and 1.37 units), shows the same colour on nearly
@@ -178,36 +225,13 @@ fn terrain_pixels_on_screen_do_not_depend_on_the_probe() {
     let text = std::fs::read_to_string(&level).unwrap();
     let other = dir.path().join("flat_other_cells.ron");
     std::fs::write(&other, text.replace("cell_size: 1.0", "cell_size: 1.37")).unwrap();
-    let size = UVec2::new(160, 90);
-    let c = cam(0.3, 1.6, 0.2, 0.0, -30.0);
-    let (mut images, mut origins) = (Vec::new(), Vec::new());
-    for l in [&level, &other] {
-        let Some(mut h) = Harness::new(l.to_str().unwrap(), size, 64) else {
-            return;
-        };
-        h.settle(c);
-        let (input, _, px) = h.frame(c, DT);
-        origins.push(input.grid.origin);
-        images.push(px);
-    }
-    assert_ne!(origins[0], origins[1], "the two probes sit apart");
     // The lower half of the view: ground near both probes, in their finest band (farther,
     // each probe coarsens the pixels where its own texels outgrow them, as it should).
-    let row = (size.x * 4) as usize;
-    let half = row * (size.y / 2) as usize;
-    let (a, b) = (&images[0][half..], &images[1][half..]);
-    let pixels = a.len() / 4;
-    let differ = (a.chunks_exact(4).zip(b.chunks_exact(4)))
-        .filter(|(p, q)| {
-            p.iter()
-                .zip(q.iter())
-                .take(3)
-                .any(|(x, y)| x.abs_diff(*y) > 2)
-        })
-        .count();
-    let colours: std::collections::HashSet<_> =
-        a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect();
-    assert!(colours.len() >= 5, "only {} colours", colours.len());
+    let Some(TwoProbeViews { pixels, differ }) =
+        two_probe_views(&level, &other, cam(0.3, 1.6, 0.2, 0.0, -30.0), 1, 2)
+    else {
+        return;
+    };
     assert!(
         differ * 200 < pixels,
         "{differ} of {pixels} pixels differ between the two probes' views"
@@ -238,35 +262,12 @@ fn terrain_pixels_on_rolling_ground_do_not_depend_on_the_probe() {
     let text = std::fs::read_to_string(&level).unwrap();
     let other = dir.path().join("rolling_other_cells.ron");
     std::fs::write(&other, text.replace("cell_size: 1.0", "cell_size: 1.37")).unwrap();
-    let size = UVec2::new(160, 90);
-    let c = cam(0.3, 4.5, 0.2, 0.0, -30.0);
-    let (mut images, mut origins) = (Vec::new(), Vec::new());
-    for l in [&level, &other] {
-        let Some(mut h) = Harness::new(l.to_str().unwrap(), size, 64) else {
-            return;
-        };
-        h.settle(c);
-        let (input, _, px) = h.frame(c, DT);
-        origins.push(input.grid.origin);
-        images.push(px);
-    }
-    assert_ne!(origins[0], origins[1], "the two probes sit apart");
     // The nearest third of the view, in the finest band from both probes.
-    let row = (size.x * 4) as usize;
-    let half = row * (size.y * 2 / 3) as usize;
-    let (a, b) = (&images[0][half..], &images[1][half..]);
-    let pixels = a.len() / 4;
-    let differ = (a.chunks_exact(4).zip(b.chunks_exact(4)))
-        .filter(|(p, q)| {
-            p.iter()
-                .zip(q.iter())
-                .take(3)
-                .any(|(x, y)| x.abs_diff(*y) > 2)
-        })
-        .count();
-    let colours: std::collections::HashSet<_> =
-        a.chunks_exact(4).map(|c| [c[0], c[1], c[2]]).collect();
-    assert!(colours.len() >= 5, "only {} colours", colours.len());
+    let Some(TwoProbeViews { pixels, differ }) =
+        two_probe_views(&level, &other, cam(0.3, 4.5, 0.2, 0.0, -30.0), 2, 3)
+    else {
+        return;
+    };
     assert!(
         differ * 55 < pixels,
         "{differ} of {pixels} pixels differ between the two probes' views"
