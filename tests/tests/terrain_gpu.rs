@@ -174,19 +174,23 @@ struct TwoProbeViews {
     differ: usize,
 }
 
-/// Camera `c` drawn at 160 × 90 (faces of 64) through `level` and through `other` (the same
-/// terrain on another probe grid), compared on the rows below `num/den` of the height; the
-/// probes must sit apart and the compared part show at least 5 colours. `None` without a GPU.
+/// Camera `c` drawn at 160 × 90 (faces of 64) through `level` (probe cells of 1) and through
+/// a copy of it beside it with probe cells of 1.37, compared on the rows below `num/den` of
+/// the height; the probes must sit apart and the compared part show at least 5 colours.
+/// `None` without a GPU.
 fn two_probe_views(
     level: &std::path::Path,
-    other: &std::path::Path,
     c: Camera,
     num: u32,
     den: u32,
 ) -> Option<TwoProbeViews> {
+    let text = std::fs::read_to_string(level).unwrap();
+    assert!(text.contains("cell_size: 1.0"), "{}", level.display());
+    let other = level.with_file_name("other_cells.ron");
+    std::fs::write(&other, text.replace("cell_size: 1.0", "cell_size: 1.37")).unwrap();
     let size = UVec2::new(160, 90);
     let (mut images, mut origins) = (Vec::new(), Vec::new());
-    for l in [level, other] {
+    for l in [level, other.as_path()] {
         let mut h = Harness::new(l.to_str().unwrap(), size, 64)?;
         h.settle(c);
         let (input, _, px) = h.frame(c, DT);
@@ -222,13 +226,10 @@ fn two_probe_views(
 fn terrain_pixels_on_screen_do_not_depend_on_the_probe() {
     let dir = tempfile::tempdir().unwrap();
     let level = flat_terrain_level(dir.path(), 2.0);
-    let text = std::fs::read_to_string(&level).unwrap();
-    let other = dir.path().join("flat_other_cells.ron");
-    std::fs::write(&other, text.replace("cell_size: 1.0", "cell_size: 1.37")).unwrap();
     // The lower half of the view: ground near both probes, in their finest band (farther,
     // each probe coarsens the pixels where its own texels outgrow them, as it should).
     let Some(TwoProbeViews { pixels, differ }) =
-        two_probe_views(&level, &other, cam(0.3, 1.6, 0.2, 0.0, -30.0), 1, 2)
+        two_probe_views(&level, cam(0.3, 1.6, 0.2, 0.0, -30.0), 1, 2)
     else {
         return;
     };
@@ -259,12 +260,9 @@ fn terrain_pixels_on_rolling_ground_do_not_depend_on_the_probe() {
         })
         .collect();
     let level = terrain_level(dir.path(), 2.0, side, &heights, 2.5);
-    let text = std::fs::read_to_string(&level).unwrap();
-    let other = dir.path().join("rolling_other_cells.ron");
-    std::fs::write(&other, text.replace("cell_size: 1.0", "cell_size: 1.37")).unwrap();
     // The nearest third of the view, in the finest band from both probes.
     let Some(TwoProbeViews { pixels, differ }) =
-        two_probe_views(&level, &other, cam(0.3, 4.5, 0.2, 0.0, -30.0), 2, 3)
+        two_probe_views(&level, cam(0.3, 4.5, 0.2, 0.0, -30.0), 2, 3)
     else {
         return;
     };
