@@ -85,7 +85,7 @@ pub struct Harness {
 
 impl Harness {
     /// Loads `level` (relative to the repository) for an output of `size` with faces of
-    /// `face_res` texels; `None` when there is no GPU and `TEXEL_REQUIRE_GPU` is unset.
+    /// `face_res` texels; `None` only when there is no GPU and `TEXEL_ALLOW_NO_GPU` is set.
     pub fn new(level: &str, size: UVec2, face_res: u32) -> Option<Harness> {
         let ctx = texel_render::context::test_context()?;
         let mut loaded = load_level(&repo_root().join(level)).expect("level loads");

@@ -3,8 +3,8 @@
 //! window, then the frame that refines it at the still resolution.
 //!
 //! `cargo bench -p texel_editor --bench edit_stall` measures; `cargo test --benches` runs each
-//! benchmark once as a smoke test. Without a GPU adapter it measures nothing (and says so),
-//! unless `TEXEL_REQUIRE_GPU` is set, when it fails like the GPU tests.
+//! benchmark once as a smoke test. Without a GPU adapter it fails like the GPU tests, unless
+//! `TEXEL_ALLOW_NO_GPU` is set, when it measures nothing (and says so).
 
 use std::hint::black_box;
 use std::time::{Duration, Instant};

@@ -12,7 +12,7 @@ use std::time::{Duration, Instant};
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{UVec2, Vec3};
-use texel_render::context::GpuContext;
+use texel_render::context::test_context;
 use texel_render::input::Schedule;
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::CameraPath;
@@ -57,8 +57,8 @@ fn level_with_boxes(n: usize, frozen: bool) -> LoadedLevel {
 }
 
 fn walk(c: &mut Criterion) {
-    let Ok(ctx) = GpuContext::headless() else {
-        eprintln!("moving bench: no GPU adapter, nothing measured");
+    // Without an adapter this fails, unless TEXEL_ALLOW_NO_GPU opts out.
+    let Some(ctx) = test_context() else {
         return;
     };
     // `cargo test --benches` runs each case once to see it works: there the frames are

@@ -19,7 +19,7 @@ use std::time::{Duration, Instant};
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{UVec2, Vec2, Vec3};
 use texel_probes::probe_set::Slot;
-use texel_render::context::GpuContext;
+use texel_render::context::{GpuContext, test_context};
 use texel_render::input::{Camera, Schedule};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::CameraPath;
@@ -118,8 +118,8 @@ fn ahead(camera: &Camera) -> Vec2 {
 }
 
 fn walk(c: &mut Criterion) {
-    let Ok(ctx) = GpuContext::headless() else {
-        eprintln!("terrain bench: no GPU adapter, nothing measured");
+    // Without an adapter this fails, unless TEXEL_ALLOW_NO_GPU opts out.
+    let Some(ctx) = test_context() else {
         return;
     };
     let size = UVec2::new(1280, 720);
@@ -160,8 +160,8 @@ fn walk(c: &mut Criterion) {
 }
 
 fn dabs(c: &mut Criterion) {
-    let Ok(ctx) = GpuContext::headless() else {
-        eprintln!("terrain bench: no GPU adapter, nothing measured");
+    // Without an adapter this fails, unless TEXEL_ALLOW_NO_GPU opts out.
+    let Some(ctx) = test_context() else {
         return;
     };
     let size = UVec2::new(1280, 720);

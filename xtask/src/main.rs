@@ -113,17 +113,13 @@ impl MainJob {
 /// `RUST_TEST_THREADS=1` rather than `-- --test-threads=1`: `--all-targets`
 /// also runs criterion benches (once, in test mode), and criterion rejects
 /// `--test-threads` as an unknown argument, while both ignore or honour the
-/// variable correctly. `TEXEL_REQUIRE_GPU=1` makes GPU tests fail instead of
-/// skipping when no adapter exists. `--no-fail-fast`: a failing test binary does
+/// variable correctly. GPU and window tests fail when no adapter or display exists
+/// (`TEXEL_ALLOW_NO_GPU` / `TEXEL_ALLOW_NO_DISPLAY` would skip them; CI never sets
+/// them). `--no-fail-fast`: a failing test binary does
 /// not hide the others' results (a SwiftShader failure in one crate's tests had
 /// left the later crates untested in that step).
 fn test_steps() -> Vec<Step> {
-    let test_env = vec![
-        ("RUST_TEST_THREADS".to_owned(), "1".to_owned()),
-        ("TEXEL_REQUIRE_GPU".to_owned(), "1".to_owned()),
-        // Window tests fail instead of skipping when no display could be provided.
-        ("TEXEL_REQUIRE_DISPLAY".to_owned(), "1".to_owned()),
-    ];
+    let test_env = vec![("RUST_TEST_THREADS".to_owned(), "1".to_owned())];
     vec![
         Step::cargo(&["fmt", "--all", "--", "--check"]),
         Step::cargo(&[
@@ -421,7 +417,7 @@ fn usage(topic: Option<Sub>) -> String {
                  {}\n\
                  \n\
                  GPU tests run one at a time (RUST_TEST_THREADS=1; criterion benches reject\n\
-                 `-- --test-threads=1`) and fail without an adapter (TEXEL_REQUIRE_GPU=1).\n\
+                 `-- --test-threads=1`) and fail without an adapter or a display.\n\
                  Environment: WGPU_BACKEND=vulkan unless set; XDG_RUNTIME_DIR set to a fresh\n\
                  private directory unless set; when DISPLAY is unset and Xvfb exists,\n\
                  \x20 Xvfb :99 {}\n\

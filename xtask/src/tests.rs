@@ -220,9 +220,9 @@ fn test_steps_are_in_order_with_their_environment() {
         [
             "cargo fmt --all -- --check",
             "cargo clippy --workspace --all-targets -- -D warnings",
-            "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 cargo test --workspace --all-targets --no-fail-fast",
-            "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 cargo test --workspace --doc --no-fail-fast",
-            "RUST_TEST_THREADS=1 TEXEL_REQUIRE_GPU=1 TEXEL_REQUIRE_DISPLAY=1 \
+            "RUST_TEST_THREADS=1 cargo test --workspace --all-targets --no-fail-fast",
+            "RUST_TEST_THREADS=1 cargo test --workspace --doc --no-fail-fast",
+            "RUST_TEST_THREADS=1 \
              VK_ICD_FILENAMES=/usr/lib/chromium/vk_swiftshader_icd.json \
              TEXEL_EXPECT_ADAPTER=SwiftShader cargo test --workspace --tests --no-fail-fast -- --skip golden_images \
              --skip plays_five_frames_of_the_stone_circle_and_exits",
