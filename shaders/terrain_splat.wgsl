@@ -3,8 +3,9 @@
 // where their view ray meets the terrain: a terrain's pixels then follow the world rather
 // than each probe's texel grid. Once per quad, between cull and splat. What a texel shows
 // depends on the camera only through the haze, so each record is kept, unhazed, in a cache
-// indexed by the texel's key and stamped with what it was made from (`record_stamp`): a
-// texel drawn again with the same point, lights and probe takes its record from there.
+// slot of the texel's key (`cache_slot`), stamped with what it was made from (`record_stamp`)
+// and sealed with its contents (`sealed`): a texel drawn again with the same point, lights
+// and probe takes its record from there.
 // crates/render/src/passes/terrain_splat.rs.
 
 #include "lib/common.wgsl"
@@ -44,40 +45,111 @@ const GROUP: u32 = 64u;
 // Its own group: bound only while `size` writes it, not while `main` is dispatched by it.
 @group(1) @binding(0) var<storage, read_write> dispatch: DispatchArgs;
 
-// The dispatch of `main`: one invocation per quad of the list.
+// The dispatch of `main`: one invocation per quad of the list; and an empty queue of misses.
 @compute @workgroup_size(1)
 fn size() {
     let quads = min(args.instance_count, arrayLength(&splats));
     dispatch = DispatchArgs((quads + GROUP - 1u) / GROUP, 1u, 1u);
+    misses.quads = quads;
+    atomicStore(&misses.count, 0u);
 }
 
+// The quads whose record was not in the cache, made by `make` in a dispatch of their own:
+// a miss among hits would keep its whole SIMD group waiting (lavapipe runs 8 lanes, a GPU
+// 32 or 64), and misses are few and scattered (the eye's texels, a new probe's faces).
+// `quads` is the list's count as `size` found it (so `main` binds no `args`: a stage has 8
+// storage buffers in WebGPU's limits).
+struct Misses {
+    quads: u32,
+    count: atomic<u32>,
+    at: array<u32>,
+}
+
+@group(0) @binding(12) var<storage, read_write> misses: Misses;
+
+// Each quad of the list: its record from the cache, hazed, or its index queued for `make`.
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ii = gid.x;
     let capacity = arrayLength(&splats);
-    if ii >= min(args.instance_count, min(capacity, arrayLength(&records))) {
+    if ii >= min(misses.quads, arrayLength(&records)) {
         return;
     }
     let s = splats[ii];
     if !is_terrain_splat(s) {
         return;
     }
-    let probe = splat_probe(bitcast<u32>(s.c2.w) & 0xffu);
-    let mid = splat_mid(s);
-    let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
-    let at = capacity + bitcast<u32>(s.c0.w) - 1u;
-    let cached = at < arrayLength(&records);
-    var r: TerrainSplat;
-    if cached && bitcast<u32>(records[at].grid.w) == stamp {
-        r = records[at];
-    } else {
-        r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe);
-        r.grid.w = bitcast<f32>(stamp);
-        if cached {
-            records[at] = r;
+    let slots = arrayLength(&records) - capacity;
+    if slots > 0u {
+        let mid = splat_mid(s);
+        let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, splat_probe(splat_role(s)));
+        let r = records[capacity + cache_slot(bitcast<u32>(s.c0.w), slots)];
+        if bitcast<u32>(r.grid.w) == sealed(stamp, r) {
+            records[ii] = hazed_record(r, mid);
+            return;
         }
     }
+    let k = atomicAdd(&misses.count, 1u);
+    if k < arrayLength(&misses.at) {
+        misses.at[k] = ii;
+    }
+}
+
+// The dispatch of `make`: one invocation per queued miss.
+@compute @workgroup_size(1)
+fn size_misses() {
+    let n = min(atomicLoad(&misses.count), arrayLength(&misses.at));
+    dispatch = DispatchArgs((n + GROUP - 1u) / GROUP, 1u, 1u);
+}
+
+// Each queued miss: its record made, sealed into its cache slot, and hazed into the list's.
+@compute @workgroup_size(64)
+fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
+        return;
+    }
+    let ii = misses.at[gid.x];
+    let capacity = arrayLength(&splats);
+    let s = splats[ii];
+    let mid = splat_mid(s);
+    let probe = splat_probe(splat_role(s));
+    let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
+    var r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe);
+    r.grid.w = bitcast<f32>(sealed(stamp, r));
+    let slots = arrayLength(&records) - capacity;
+    if slots > 0u {
+        records[capacity + cache_slot(bitcast<u32>(s.c0.w), slots)] = r;
+    }
     records[ii] = hazed_record(r, mid);
+}
+
+fn splat_role(s: Splat) -> u32 {
+    return bitcast<u32>(s.c2.w) & 0xffu;
+}
+
+// The cache slot of texel key `key` (1-based) among `slots`: its own where there is one per
+// key (3 slots × 6 faces × max_n²), else a hash of it. Two keys sharing a slot may both
+// write it in one pass; `sealed` tells a record so overwritten, or torn between the two.
+fn cache_slot(key: u32, slots: u32) -> u32 {
+    let keys = 18u * view.max_n * view.max_n;
+    if slots == 0u || keys <= slots {
+        return key - 1u;
+    }
+    return hash_u32(key) % slots;
+}
+
+// A record's stamp sealed with its contents: `stamp` (what it is made from) hashed with
+// every word of `r` but the stamp's own. Never 0, which a cleared cache holds.
+fn sealed(stamp: u32, r: TerrainSplat) -> u32 {
+    var h = stamp;
+    for (var k = 0u; k < 4u; k++) {
+        h = hash_u32(h ^ r.cells[k]);
+        h = hash_u32(h ^ bitcast<u32>(r.edges[k]));
+    }
+    for (var k = 0u; k < 3u; k++) {
+        h = hash_u32(h ^ bitcast<u32>(r.grid[k]));
+    }
+    return max(h, 1u);
 }
 
 // What the probe of `role` sizes terrain pixels for (lib/terrain.wgsl `BandFrom`): the grid

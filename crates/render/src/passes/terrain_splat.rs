@@ -1,8 +1,9 @@
 //! Terrain splats: what each one-texel terrain quad of the cull pass's list shows, pixel by
 //! pixel (`shaders/terrain_splat.wgsl`), written between cull and splat. The records are
-//! kept per texel in a cache behind the list's (stamped with what each was made from), which
-//! is cleared when what no stamp holds changes: the scene, or the shade pass's globals
-//! (lights, ambient, bands).
+//! kept per texel in a cache behind the list's (stamped with what each was made from, sealed
+//! with its contents), which is cleared when what no stamp holds changes: the scene, or the
+//! shade pass's globals (lights, ambient, bands). A first dispatch takes each quad's record
+//! from the cache or queues the quad as a miss; a second makes the misses' records.
 
 use crate::context::GpuContext;
 use crate::gpu_scene::GpuScene;
@@ -38,8 +39,20 @@ pub struct TerrainSplatInputs<'a> {
 
 /// The terrain splat pass.
 pub struct TerrainSplatPass {
+    /// `main`: each quad's record from the cache, or its index queued as a miss.
     pipeline: wgpu::ComputePipeline,
     size_pipeline: wgpu::ComputePipeline,
+    /// `make`: the queued misses' records, in a dispatch of their own.
+    make_pipeline: wgpu::ComputePipeline,
+    /// `size_misses`: `make`'s dispatch from the queue's count.
+    size_misses_pipeline: wgpu::ComputePipeline,
+    make_dispatch: wgpu::Buffer,
+    make_dispatch_bind: wgpu::BindGroup,
+    /// `size_misses`'s group 0: only the queue.
+    misses_layout: wgpu::BindGroupLayout,
+    /// The queue of misses: the list's count, the misses' count, then one splat index per
+    /// quad of the list at most.
+    misses: wgpu::Buffer,
     layout: wgpu::BindGroupLayout,
     /// `size`'s group 0: only the splats and their count.
     size_layout: wgpu::BindGroupLayout,
@@ -55,22 +68,33 @@ pub struct TerrainSplatPass {
     globals_key: Option<ShadeGlobals>,
 }
 
-/// How the records buffer is laid out: `splats` records (the list's capacity), then one per
-/// texel key (`texel_key` in `lib/common.wgsl`: 3 slots × 6 faces × `max_n`²) when the
-/// buffer can hold them, else none (every record is made again each frame).
+/// How the records buffer is laid out: `splats` records (the list's capacity), then the
+/// cache: one slot per texel key (`texel_key` in `lib/common.wgsl`: 3 slots × 6 faces ×
+/// `max_n`²) where the binding holds them and they fit in [`CACHE_SLOTS_MAX`], else as many
+/// slots as do, each key at a hash of it (`cache_slot` in `terrain_splat.wgsl`), where a
+/// record whose checksum fails is made again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Layout {
     splats: u64,
     cache: u64,
 }
 
+/// The cache's slots at most: 2²¹ records, 96 MiB (faces of 128 need 294,912 slots, of 256
+/// 1,179,648; faces of 512 would need 4.7 M and share these slots by hash).
+pub const CACHE_SLOTS_MAX: u64 = 1 << 21;
+
+/// Fewer slots than this: no cache (a hashed cache that small would mostly collide).
+const CACHE_SLOTS_MIN: u64 = 1 << 12;
+
 impl Layout {
     /// For a list of `splats` records and faces of at most `max_n` texels, within a binding
     /// of at most `limit` bytes.
     fn new(splats: u64, max_n: u32, limit: u64) -> Self {
         let keys = 3 * 6 * u64::from(max_n) * u64::from(max_n);
-        let cache = if (splats + keys) * RECORD_BYTES <= limit {
-            keys
+        let room = (limit / RECORD_BYTES).saturating_sub(splats);
+        let cache = keys.min(room).min(CACHE_SLOTS_MAX);
+        let cache = if cache >= CACHE_SLOTS_MIN.min(keys) {
+            cache
         } else {
             0
         };
@@ -80,6 +104,15 @@ impl Layout {
     fn bytes(self) -> u64 {
         (self.splats + self.cache).max(1) * RECORD_BYTES
     }
+}
+
+fn miss_buffer(device: &wgpu::Device, splats: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("terrain_splat::misses"),
+        size: 4 * (2 + splats.max(1)),
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
 }
 
 fn record_buffer(device: &wgpu::Device, layout: Layout) -> wgpu::Buffer {
@@ -108,19 +141,36 @@ impl TerrainSplatPass {
                 entry(7, c, uniform(false)),
                 entry(8, c, storage(true)),
                 entry(9, c, storage(true)),
-                entry(10, c, storage(true)),
                 entry(11, c, storage(false)),
+                entry(12, c, storage(false)),
             ],
         });
         let size_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::size_layout"),
-            entries: &[entry(9, c, storage(true)), entry(10, c, storage(true))],
+            entries: &[
+                entry(9, c, storage(true)),
+                entry(10, c, storage(true)),
+                entry(12, c, storage(false)),
+            ],
         });
         let dispatch_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::dispatch_layout"),
             entries: &[entry(0, c, storage(false))],
         });
         let pipeline = compute_pipeline(device, "terrain_splat", &module, "main", &[&layout]);
+        let make_pipeline =
+            compute_pipeline(device, "terrain_splat::make", &module, "make", &[&layout]);
+        let misses_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("terrain_splat::misses_layout"),
+            entries: &[entry(12, c, storage(false))],
+        });
+        let size_misses_pipeline = compute_pipeline(
+            device,
+            "terrain_splat::size_misses",
+            &module,
+            "size_misses",
+            &[&misses_layout, &dispatch_layout],
+        );
         let size_pipeline = compute_pipeline(
             device,
             "terrain_splat::size",
@@ -140,9 +190,27 @@ impl TerrainSplatPass {
             &dispatch_layout,
             &[dispatch.as_entire_binding()],
         );
+        let make_dispatch = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("terrain_splat::make_dispatch"),
+            size: 12,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+            mapped_at_creation: false,
+        });
+        let make_dispatch_bind = bind_group(
+            device,
+            "terrain_splat::make_dispatch_bind",
+            &dispatch_layout,
+            &[make_dispatch.as_entire_binding()],
+        );
         Ok(TerrainSplatPass {
             pipeline,
             size_pipeline,
+            make_pipeline,
+            size_misses_pipeline,
+            make_dispatch,
+            make_dispatch_bind,
+            misses_layout,
+            misses: miss_buffer(device, 1),
             layout,
             size_layout,
             dispatch,
@@ -188,6 +256,7 @@ impl TerrainSplatPass {
         if layout != self.layout_now {
             // A new buffer starts zeroed: an empty cache.
             self.records = record_buffer(&ctx.device, layout);
+            self.misses = miss_buffer(&ctx.device, layout.splats);
             self.layout_now = layout;
             self.stale = false;
         }
@@ -215,18 +284,28 @@ impl TerrainSplatPass {
             (9, list.splats.as_entire_binding()),
             (10, list.args.as_entire_binding()),
             (11, self.records.as_entire_binding()),
+            (12, self.misses.as_entire_binding()),
         ];
         let entries =
             resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
+        // `main`, `size_misses` and `make` read the list's count from the queue that `size`
+        // wrote it to, not from `args` (binding 10), which only `size` binds.
+        let pick = |keep: fn(u32) -> bool| -> Vec<wgpu::BindGroupEntry<'_>> {
+            entries
+                .iter()
+                .filter(|e| keep(e.binding))
+                .cloned()
+                .collect()
+        };
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::bind"),
             layout: &self.layout,
-            entries: &entries,
+            entries: &pick(|b| b != 10),
         });
         let size_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::size_bind"),
             layout: &self.size_layout,
-            entries: &entries[8..10],
+            entries: &pick(|b| matches!(b, 9 | 10 | 12)),
         });
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("terrain_splat"),
@@ -239,6 +318,18 @@ impl TerrainSplatPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.dispatch, 0);
+        let misses_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("terrain_splat::misses_bind"),
+            layout: &self.misses_layout,
+            entries: &pick(|b| b == 12),
+        });
+        pass.set_pipeline(&self.size_misses_pipeline);
+        pass.set_bind_group(0, &misses_bind, &[]);
+        pass.set_bind_group(1, &self.make_dispatch_bind, &[]);
+        pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.make_pipeline);
+        pass.set_bind_group(0, &bind, &[]);
+        pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
     }
 }
 
@@ -248,12 +339,19 @@ mod tests {
 
     #[test]
     fn the_cache_follows_the_list_where_the_binding_holds_it() {
-        // Faces of 128: 3 × 6 × 128² keys after 1000 records.
+        // Faces of 128: 3 × 6 × 128² keys after 1000 records, one slot each.
         let l = Layout::new(1000, 128, 128 << 20);
         assert_eq!((l.splats, l.cache), (1000, 294_912));
         assert_eq!(l.bytes(), (1000 + 294_912) * RECORD_BYTES);
-        // Faces of 1024 would need 906 MB: no cache, the list's records alone.
+        // Faces of 1024 would need 906 MB: the keys share the most slots allowed.
         let l = Layout::new(1000, 1024, 128 << 20);
+        assert_eq!((l.splats, l.cache), (1000, CACHE_SLOTS_MAX));
+        // A binding of 64 MiB holds fewer slots than that: as many as it holds.
+        let l = Layout::new(1000, 1024, 64 << 20);
+        assert_eq!(l.cache, (64 << 20) / RECORD_BYTES - 1000);
+        assert!(l.bytes() <= 64 << 20);
+        // Room for a few slots only: no cache.
+        let l = Layout::new(1000, 1024, 1100 * RECORD_BYTES);
         assert_eq!((l.splats, l.cache), (1000, 0));
         assert_eq!(l.bytes(), 1000 * RECORD_BYTES);
         assert_eq!(Layout::new(0, 0, 0).bytes(), RECORD_BYTES);
