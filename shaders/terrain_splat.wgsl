@@ -127,12 +127,12 @@ fn splat_role(s: Splat) -> u32 {
     return bitcast<u32>(s.c2.w) & 0xffu;
 }
 
-// The cache slot of texel key `key` (1-based) among `slots`: its own where there is one per
-// key (3 slots × 6 faces × max_n²), else a hash of it. Two keys sharing a slot may both
-// write it in one pass; `sealed` tells a record so overwritten, or torn between the two.
+// The cache slot of texel key `key` (1-based) among `slots` (> 0): its own where there is
+// one per key (3 slots × 6 faces × max_n²), else a hash of it. Two keys sharing a slot may
+// both write it in one pass; `sealed` tells a record so overwritten, or torn between the two.
 fn cache_slot(key: u32, slots: u32) -> u32 {
     let keys = 18u * view.max_n * view.max_n;
-    if slots == 0u || keys <= slots {
+    if keys <= slots {
         return key - 1u;
     }
     return hash_u32(key) % slots;

@@ -17,8 +17,6 @@ use texel_probes::probe_set::Slot;
 pub const SPLAT_BYTES: u64 = 64;
 /// Most splats one frame may hold (128 MiB of records, the binding limit lavapipe has).
 pub const MAX_SPLATS: u64 = (128 << 20) / SPLAT_BYTES;
-/// Bytes of `listed`'s indirect dispatch arguments (three u32 workgroup counts).
-const DISPATCH_BYTES: u64 = 12;
 
 /// `wgpu`'s indexed indirect arguments.
 #[repr(C)]
@@ -130,18 +128,8 @@ impl CullPass {
             "listed_args",
             &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
         );
-        let dispatch = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("cull::dispatch"),
-            size: DISPATCH_BYTES,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            mapped_at_creation: false,
-        });
-        let dispatch_bind = bind_group(
-            device,
-            "cull::dispatch_bind",
-            &dispatch_layout,
-            &[dispatch.as_entire_binding()],
-        );
+        let (dispatch, dispatch_bind) =
+            super::dispatch_args(device, "cull::dispatch", &dispatch_layout);
         let starts = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::starts"),
             size: 4 * 19,

@@ -326,6 +326,23 @@ pub(crate) fn compute_pipeline(
 }
 
 /// A bind group binding `resources[i]` at binding `i`.
+/// An indirect dispatch's arguments (x, y, z workgroups) that a compute stage writes: the
+/// buffer and its bind group in `layout`, which holds it at binding 0.
+pub(crate) fn dispatch_args(
+    device: &wgpu::Device,
+    label: &str,
+    layout: &wgpu::BindGroupLayout,
+) -> (wgpu::Buffer, wgpu::BindGroup) {
+    let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some(label),
+        size: 12,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
+        mapped_at_creation: false,
+    });
+    let bind = bind_group(device, label, layout, &[buffer.as_entire_binding()]);
+    (buffer, bind)
+}
+
 pub(crate) fn bind_group(
     device: &wgpu::Device,
     label: &str,

@@ -11,7 +11,7 @@ use crate::passes::cull::{MAX_SPLATS, SPLAT_BYTES, SplatList};
 use crate::passes::shade::ShadeGlobals;
 use crate::shader;
 
-use super::{ARRAY, FLOAT, bind_group, compute_pipeline, entry, storage, texture, uniform};
+use super::{ARRAY, FLOAT, compute_pipeline, entry, storage, texture, uniform};
 
 /// Bytes of one record (`TerrainSplat` in `shaders/lib/view.wgsl`): four packed colours, the
 /// pixels' grid, the terrain's plane.
@@ -50,9 +50,7 @@ pub struct TerrainSplatPass {
     make_dispatch_bind: wgpu::BindGroup,
     /// `size_misses`'s group 0: only the queue.
     misses_layout: wgpu::BindGroupLayout,
-    /// The queue of misses: the list's count, the misses' count, then one splat index per
-    /// quad of the list at most.
-    misses: wgpu::Buffer,
+    misses: Misses,
     layout: wgpu::BindGroupLayout,
     /// `size`'s group 0: only the splats and their count.
     size_layout: wgpu::BindGroupLayout,
@@ -80,7 +78,8 @@ struct Layout {
 }
 
 /// The cache's slots at most: 2²¹ records, 96 MiB (faces of 128 need 294,912 slots, of 256
-/// 1,179,648; faces of 512 would need 4.7 M and share these slots by hash).
+/// 1,179,648; faces of 496, a 1280×720 view's at pixel size 2.5, would need 4.4 M and share
+/// these slots by hash).
 pub const CACHE_SLOTS_MAX: u64 = 1 << 21;
 
 /// Fewer slots than this: no cache (a hashed cache that small would mostly collide).
@@ -106,13 +105,31 @@ impl Layout {
     }
 }
 
-fn miss_buffer(device: &wgpu::Device, splats: u64) -> wgpu::Buffer {
-    device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("terrain_splat::misses"),
-        size: 4 * (2 + splats.max(1)),
-        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
-        mapped_at_creation: false,
-    })
+/// The queue of misses (`Misses` in the shader: the list's count, the misses' count, then
+/// one splat index per quad of the list at most) and `size_misses`'s bind group over it.
+struct Misses {
+    buffer: wgpu::Buffer,
+    bind: wgpu::BindGroup,
+}
+
+impl Misses {
+    fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, splats: u64) -> Self {
+        let buffer = device.create_buffer(&wgpu::BufferDescriptor {
+            label: Some("terrain_splat::misses"),
+            size: 4 * (2 + splats.max(1)),
+            usage: wgpu::BufferUsages::STORAGE,
+            mapped_at_creation: false,
+        });
+        let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("terrain_splat::misses_bind"),
+            layout,
+            entries: &[wgpu::BindGroupEntry {
+                binding: 12,
+                resource: buffer.as_entire_binding(),
+            }],
+        });
+        Misses { buffer, bind }
+    }
 }
 
 fn record_buffer(device: &wgpu::Device, layout: Layout) -> wgpu::Buffer {
@@ -178,30 +195,11 @@ impl TerrainSplatPass {
             "size",
             &[&size_layout, &dispatch_layout],
         );
-        let dispatch = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("terrain_splat::dispatch"),
-            size: 12,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            mapped_at_creation: false,
-        });
-        let dispatch_bind = bind_group(
-            device,
-            "terrain_splat::dispatch_bind",
-            &dispatch_layout,
-            &[dispatch.as_entire_binding()],
-        );
-        let make_dispatch = device.create_buffer(&wgpu::BufferDescriptor {
-            label: Some("terrain_splat::make_dispatch"),
-            size: 12,
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::INDIRECT,
-            mapped_at_creation: false,
-        });
-        let make_dispatch_bind = bind_group(
-            device,
-            "terrain_splat::make_dispatch_bind",
-            &dispatch_layout,
-            &[make_dispatch.as_entire_binding()],
-        );
+        let (dispatch, dispatch_bind) =
+            super::dispatch_args(device, "terrain_splat::dispatch", &dispatch_layout);
+        let (make_dispatch, make_dispatch_bind) =
+            super::dispatch_args(device, "terrain_splat::make_dispatch", &dispatch_layout);
+        let misses = Misses::new(device, &misses_layout, 1);
         Ok(TerrainSplatPass {
             pipeline,
             size_pipeline,
@@ -210,7 +208,7 @@ impl TerrainSplatPass {
             make_dispatch,
             make_dispatch_bind,
             misses_layout,
-            misses: miss_buffer(device, 1),
+            misses,
             layout,
             size_layout,
             dispatch,
@@ -256,7 +254,7 @@ impl TerrainSplatPass {
         if layout != self.layout_now {
             // A new buffer starts zeroed: an empty cache.
             self.records = record_buffer(&ctx.device, layout);
-            self.misses = miss_buffer(&ctx.device, layout.splats);
+            self.misses = Misses::new(&ctx.device, &self.misses_layout, layout.splats);
             self.layout_now = layout;
             self.stale = false;
         }
@@ -284,12 +282,12 @@ impl TerrainSplatPass {
             (9, list.splats.as_entire_binding()),
             (10, list.args.as_entire_binding()),
             (11, self.records.as_entire_binding()),
-            (12, self.misses.as_entire_binding()),
+            (12, self.misses.buffer.as_entire_binding()),
         ];
         let entries =
             resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
-        // `main`, `size_misses` and `make` read the list's count from the queue that `size`
-        // wrote it to, not from `args` (binding 10), which only `size` binds.
+        // `main` and `make` read the list's count from the queue that `size` wrote it to, not
+        // from `args` (binding 10), which only `size` binds.
         let pick = |keep: fn(u32) -> bool| -> Vec<wgpu::BindGroupEntry<'_>> {
             entries
                 .iter()
@@ -318,13 +316,8 @@ impl TerrainSplatPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.dispatch, 0);
-        let misses_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("terrain_splat::misses_bind"),
-            layout: &self.misses_layout,
-            entries: &pick(|b| b == 12),
-        });
         pass.set_pipeline(&self.size_misses_pipeline);
-        pass.set_bind_group(0, &misses_bind, &[]);
+        pass.set_bind_group(0, &self.misses.bind, &[]);
         pass.set_bind_group(1, &self.make_dispatch_bind, &[]);
         pass.dispatch_workgroups(1, 1, 1);
         pass.set_pipeline(&self.make_pipeline);
