@@ -624,3 +624,37 @@ fn coarse_terrain_levels_store_points_on_the_full_detail_surface() {
         "{on} of {checked} terrain texels on the full-detail surface (worst {worst} of depth)"
     );
 }
+
+/// The terrain splats' record cache where keys share slots by hash, as at faces of 496 and
+/// more (a 1280×720 view's): here faces of 64 in 4096 slots, 18 keys a slot. A run over the
+/// hills, crossing cells (both stable probes' and the eye's records fill the slots and
+/// overwrite one another), draws every frame exactly as the same run through a cache of one
+/// slot per key. A record served to a key it was not made for would show.
+#[test]
+fn a_cache_whose_keys_share_slots_draws_what_one_slot_per_key_draws() {
+    let size = UVec2::new(160, 90);
+    let level = "assets/levels/terrain_hills.ron";
+    let (Some(mut shared), Some(mut own)) =
+        (Harness::new(level, size, 64), Harness::new(level, size, 64))
+    else {
+        return;
+    };
+    shared.session.renderer_mut().set_terrain_cache_slots(4096);
+    let keys = 3 * 6 * 64 * 64;
+    let mut colours = std::collections::HashSet::new();
+    for i in 0..24 {
+        // 6 units/s, a one-unit cell every five frames, turning a little.
+        let t = i as f32 * DT;
+        let c = cam(-8.0 + 0.5 * t, 7.2, 40.0 - 6.0 * t, -15.0 + 10.0 * t, -8.0);
+        let (_, _, a) = shared.frame(c, DT);
+        let (_, _, b) = own.frame(c, DT);
+        assert_eq!(shared.renderer().terrain_cache_slots(), 4096);
+        assert_eq!(own.renderer().terrain_cache_slots(), keys);
+        let differ = (a.chunks_exact(4).zip(b.chunks_exact(4)))
+            .filter(|(p, q)| p != q)
+            .count();
+        assert_eq!(differ, 0, "frame {i}: {differ} pixels differ");
+        colours.extend(a.chunks_exact(4).map(|p| [p[0], p[1], p[2]]));
+    }
+    assert!(colours.len() > 50, "{} colours", colours.len());
+}

@@ -224,6 +224,18 @@ impl Renderer {
         Ok(())
     }
 
+    /// Caps the terrain splats' record cache at `slots` slots (at most
+    /// [`crate::passes::terrain_splat::CACHE_SLOTS_MAX`]), so that a test's small faces share
+    /// slots by hash as large faces' keys do; the next frame lays the cache out again, empty.
+    pub fn set_terrain_cache_slots(&mut self, slots: u64) {
+        self.terrain_splat.set_cache_slots_max(slots);
+    }
+
+    /// Slots of the terrain splats' record cache as the last frame laid it out (0: none).
+    pub fn terrain_cache_slots(&self) -> u64 {
+        self.terrain_splat.cache_slots()
+    }
+
     /// Whether our schedule draws each run of alike texels of a stable probe with one quad
     /// (on by default; off draws one quad per texel, for comparison).
     pub fn set_runs(&mut self, on: bool) {

@@ -64,6 +64,8 @@ pub struct TerrainSplatPass {
     stale: bool,
     /// The shade pass's globals the cache was made with (`ShadePass::globals_key`).
     globals_key: Option<ShadeGlobals>,
+    /// The cache's slots at most ([`CACHE_SLOTS_MAX`] unless a test asks for fewer).
+    slots_max: u64,
 }
 
 /// How the records buffer is laid out: `splats` records (the list's capacity), then the
@@ -87,11 +89,11 @@ const CACHE_SLOTS_MIN: u64 = 1 << 12;
 
 impl Layout {
     /// For a list of `splats` records and faces of at most `max_n` texels, within a binding
-    /// of at most `limit` bytes.
-    fn new(splats: u64, max_n: u32, limit: u64) -> Self {
+    /// of at most `limit` bytes and at most `slots_max` cache slots.
+    fn new(splats: u64, max_n: u32, limit: u64, slots_max: u64) -> Self {
         let keys = 3 * 6 * u64::from(max_n) * u64::from(max_n);
         let room = (limit / RECORD_BYTES).saturating_sub(splats);
-        let cache = keys.min(room).min(CACHE_SLOTS_MAX);
+        let cache = keys.min(room).min(slots_max);
         let cache = if cache >= CACHE_SLOTS_MIN.min(keys) {
             cache
         } else {
@@ -213,10 +215,11 @@ impl TerrainSplatPass {
             size_layout,
             dispatch,
             dispatch_bind,
-            records: record_buffer(device, Layout::new(1, 0, 0)),
-            layout_now: Layout::new(1, 0, 0),
+            records: record_buffer(device, Layout::new(1, 0, 0, CACHE_SLOTS_MAX)),
+            layout_now: Layout::new(1, 0, 0, CACHE_SLOTS_MAX),
             stale: false,
             globals_key: None,
+            slots_max: CACHE_SLOTS_MAX,
         })
     }
 
@@ -224,6 +227,18 @@ impl TerrainSplatPass {
     /// index; the cache after them.
     pub fn records(&self) -> &wgpu::Buffer {
         &self.records
+    }
+
+    /// Caps the cache at `slots` slots (at most [`CACHE_SLOTS_MAX`]), so that a test can make
+    /// the keys of small faces share slots by hash, as those of large faces do; the next
+    /// pass lays the records out again, with an empty cache.
+    pub fn set_cache_slots_max(&mut self, slots: u64) {
+        self.slots_max = slots.min(CACHE_SLOTS_MAX);
+    }
+
+    /// Slots of the cache as laid out by the last pass (0: no cache).
+    pub fn cache_slots(&self) -> u64 {
+        self.layout_now.cache
     }
 
     /// Forgets every cached record (a new scene: other heights, colours, objects).
@@ -250,7 +265,7 @@ impl TerrainSplatPass {
         let splats = list.splats.size() / SPLAT_BYTES;
         let limits = ctx.device.limits();
         let limit = (limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
-        let layout = Layout::new(splats, max_n, limit);
+        let layout = Layout::new(splats, max_n, limit, self.slots_max);
         if layout != self.layout_now {
             // A new buffer starts zeroed: an empty cache.
             self.records = record_buffer(&ctx.device, layout);
@@ -333,20 +348,23 @@ mod tests {
     #[test]
     fn the_cache_follows_the_list_where_the_binding_holds_it() {
         // Faces of 128: 3 × 6 × 128² keys after 1000 records, one slot each.
-        let l = Layout::new(1000, 128, 128 << 20);
+        let l = Layout::new(1000, 128, 128 << 20, CACHE_SLOTS_MAX);
         assert_eq!((l.splats, l.cache), (1000, 294_912));
         assert_eq!(l.bytes(), (1000 + 294_912) * RECORD_BYTES);
         // Faces of 1024 would need 906 MB: the keys share the most slots allowed.
-        let l = Layout::new(1000, 1024, 128 << 20);
+        let l = Layout::new(1000, 1024, 128 << 20, CACHE_SLOTS_MAX);
         assert_eq!((l.splats, l.cache), (1000, CACHE_SLOTS_MAX));
         // A binding of 64 MiB holds fewer slots than that: as many as it holds.
-        let l = Layout::new(1000, 1024, 64 << 20);
+        let l = Layout::new(1000, 1024, 64 << 20, CACHE_SLOTS_MAX);
         assert_eq!(l.cache, (64 << 20) / RECORD_BYTES - 1000);
         assert!(l.bytes() <= 64 << 20);
         // Room for a few slots only: no cache.
-        let l = Layout::new(1000, 1024, 1100 * RECORD_BYTES);
+        let l = Layout::new(1000, 1024, 1100 * RECORD_BYTES, CACHE_SLOTS_MAX);
         assert_eq!((l.splats, l.cache), (1000, 0));
         assert_eq!(l.bytes(), 1000 * RECORD_BYTES);
-        assert_eq!(Layout::new(0, 0, 0).bytes(), RECORD_BYTES);
+        assert_eq!(Layout::new(0, 0, 0, CACHE_SLOTS_MAX).bytes(), RECORD_BYTES);
+        // A cap below the keys (a test's): the keys share that many slots.
+        let l = Layout::new(1000, 64, 128 << 20, CACHE_SLOTS_MIN);
+        assert_eq!((l.splats, l.cache), (1000, CACHE_SLOTS_MIN));
     }
 }
