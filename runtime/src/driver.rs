@@ -24,7 +24,7 @@ use texel_probes::grid::{
 };
 use texel_probes::ortho::OrthoFrame;
 use texel_probes::placement::Placements;
-use texel_probes::probe_set::{FadeConfig, ProbeSet, Role, TransitionEvent};
+use texel_probes::probe_set::{FadeConfig, FadeDirection, ProbeSet, Role, TransitionEvent};
 use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
 use texel_probes::visibility::{
     CameraView, REFERENCE_EYE_FACE_DEG, REFERENCE_STABLE_FACE_DEG, TexelRect, face_box_rect,
@@ -484,6 +484,20 @@ impl FrameDriver {
             })
             .collect();
         self.scheduler.commit(&plan);
+        // The fade moves before the frame is drawn: this frame's captures are done by the
+        // time it splats, so readiness already counts them (a crossing's trigger frame still
+        // draws at 0: `advance_fade` leaves it alone there).
+        let direction = probes.fade_direction();
+        let finished = match &mut self.probes {
+            Some(p) => p.advance_fade(plan.readiness()),
+            None => false,
+        };
+        let fade_t = match (finished, direction) {
+            // Back in the previous cell: the previous probe draws every pixel; from the next
+            // frame on it is the grid probe.
+            (true, Some(FadeDirection::TowardPrevious)) => 0.0,
+            _ => self.probes.as_ref().map_or(1.0, ProbeSet::fade_t),
+        };
         let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
         // An orthographic probe's texel is an art pixel of the level's face resolution.
         let n = match ortho {
@@ -491,6 +505,11 @@ impl FrameDriver {
             None => plan.grid.probe.face_resolution,
         };
         let internal = internal_size(self.size, n, camera.fov_y);
+        // A fade that ended toward the grid probe leaves the previous one nothing to draw.
+        let previous = match (finished, direction) {
+            (true, Some(FadeDirection::TowardGrid)) => None,
+            _ => plan.previous.as_ref().map(view),
+        };
         let mut input = FrameInput {
             camera: pixel_snapped(camera, internal),
             size: self.size,
@@ -498,8 +517,8 @@ impl FrameDriver {
             look: self.level.look,
             eye: view(&plan.eye),
             grid: view(&plan.grid),
-            previous: plan.previous.as_ref().map(view),
-            fade_t: probes.fade_t(),
+            previous,
+            fade_t,
             prefetch: plan.prefetch.as_ref().map(|p| ProbeView {
                 draw: FaceMask::EMPTY,
                 ..view(p)
@@ -512,9 +531,6 @@ impl FrameDriver {
             sprites: Vec::new(),
         };
         self.animate(&mut input, dt);
-        if let Some(p) = &mut self.probes {
-            p.advance_fade(plan.readiness());
-        }
         self.frame_index += 1;
         self.fade_frame += 1;
         Ok(input)
@@ -1167,6 +1183,42 @@ mod tests {
             stable, 0,
             "the crossing at frame {frame} captured {stable} faces"
         );
+    }
+
+    /// What a fast walk's frames draw through a crossing: the trigger frame leaves every
+    /// pixel to the previous probe (fade 0), and the very next frame, its grid probe
+    /// prefetched, already hands pixels over; the frame the fade reaches 1 draws the grid
+    /// probe alone. (The fade used to move only after a frame was drawn, so each crossing held
+    /// at 0 for two frames, both drawing both probes' quads, and ended a frame late.)
+    #[test]
+    fn a_crossing_hands_pixels_over_from_the_frame_after_its_trigger() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
+            .expect("level loads");
+        let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
+        let dt = 1.0 / 30.0;
+        let mut drawn = Vec::new();
+        for i in 0..30 {
+            // 6 units/s toward -z: a cell every five frames.
+            let camera =
+                Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, 13.4 - 0.2 * i as f32), 0.0, -5.0);
+            let input = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+            drawn.push((input.previous.is_some(), input.fade_t));
+        }
+        let trigger = (drawn.iter())
+            .position(|&(previous, _)| previous)
+            .expect("the walk crosses a cell");
+        assert_eq!(drawn[trigger].1, 0.0, "the trigger frame: {drawn:?}");
+        let (previous, t) = drawn[trigger + 1];
+        assert!(
+            previous && t > 0.0 && t <= 0.5,
+            "the frame after it: {drawn:?}"
+        );
+        let end = (trigger..drawn.len())
+            .find(|&i| !drawn[i].0)
+            .expect("the fade ends");
+        assert_eq!(drawn[end].1, 1.0, "{drawn:?}");
+        assert!(end - trigger <= 3, "frames with both probes: {drawn:?}");
     }
 
     /// The animation clock: each frame poses the moving objects at the time the frames'

@@ -15,7 +15,8 @@
 //!
 //! A frame:
 //! `grid::resolve_grid` → `ProbeSet::begin_frame` → `Scheduler::plan` → (GPU work) →
-//! `Scheduler::commit` → `ProbeSet::advance_fade(plan.readiness())`.
+//! `Scheduler::commit` → `ProbeSet::advance_fade(plan.readiness())` → draw at the
+//! `fade_t` it leaves (the plan's captures come before the splats).
 
 pub mod bayer;
 pub mod cube;

@@ -10,7 +10,8 @@
 //!
 //! **Frame protocol.** [`ProbeSet::begin_frame`] (camera, snapped key, dt) handles cell
 //! changes; the scheduler then plans captures; [`ProbeSet::advance_fade`] with the plan's
-//! [`Readiness`] moves the fade. [`ProbeSet::update`] does both for callers without a
+//! [`Readiness`] (which counts the plan's captures) moves the fade, and the frame is drawn
+//! at the `fade_t` it leaves. [`ProbeSet::update`] does both for callers without a
 //! scheduler.
 //!
 //! **Speed.** `fade_t` moves at `max(1 / fade_seconds, smoothed_speed / (fade_cells ·

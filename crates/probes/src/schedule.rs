@@ -29,8 +29,8 @@
 //!   crossing itself captures (almost) nothing.
 //!
 //! Frame order: `ProbeSet::begin_frame` → [`Scheduler::plan`] (→ [`Scheduler::prefetch`]) →
-//! render the plan →
-//! [`Scheduler::commit`] → `ProbeSet::advance_fade(plan.readiness())`.
+//! [`Scheduler::commit`] → `ProbeSet::advance_fade(plan.readiness())` → capture the plan's
+//! faces, then splat at the `fade_t` that left (readiness counts this frame's captures).
 
 use std::fmt;
 
