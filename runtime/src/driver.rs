@@ -492,11 +492,13 @@ impl FrameDriver {
             Some(p) => p.advance_fade(plan.readiness()),
             None => false,
         };
-        let fade_t = match (finished, direction) {
+        let (fade_t, keep_previous) = match (finished, direction) {
+            // Ended toward the grid probe: it draws every pixel, the previous one none.
+            (true, Some(FadeDirection::TowardGrid)) => (1.0, false),
             // Back in the previous cell: the previous probe draws every pixel; from the next
             // frame on it is the grid probe.
-            (true, Some(FadeDirection::TowardPrevious)) => 0.0,
-            _ => self.probes.as_ref().map_or(1.0, ProbeSet::fade_t),
+            (true, Some(FadeDirection::TowardPrevious)) => (0.0, true),
+            _ => (self.probes.as_ref().map_or(1.0, ProbeSet::fade_t), true),
         };
         let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
         // An orthographic probe's texel is an art pixel of the level's face resolution.
@@ -505,11 +507,7 @@ impl FrameDriver {
             None => plan.grid.probe.face_resolution,
         };
         let internal = internal_size(self.size, n, camera.fov_y);
-        // A fade that ended toward the grid probe leaves the previous one nothing to draw.
-        let previous = match (finished, direction) {
-            (true, Some(FadeDirection::TowardGrid)) => None,
-            _ => plan.previous.as_ref().map(view),
-        };
+        let previous = plan.previous.as_ref().filter(|_| keep_previous).map(view);
         let mut input = FrameInput {
             camera: pixel_snapped(camera, internal),
             size: self.size,
@@ -1131,14 +1129,23 @@ mod tests {
     use super::*;
     use texel_probes::probe_set::Slot;
 
+    /// A frame driver at 320 × 180 on the bundled level `name`.
+    fn driver_on(name: &str) -> FrameDriver {
+        FrameDriver::new(&bundled_level(name), UVec2::new(320, 180), 1.2).expect("driver")
+    }
+
+    /// The bundled level `name` (`assets/levels/NAME.ron`), loaded.
+    fn bundled_level(name: &str) -> LoadedLevel {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
+        crate::load::load_level(&root.join(format!("assets/levels/{name}.ron")))
+            .expect("level loads")
+    }
+
     /// Frames of a walk through `path` (camera position per frame, looking down -z) on
     /// stone_circle: faces prefetched before the first crossing, and that crossing's frame
     /// with the stable faces it still captured.
     fn first_crossing_of(path: impl Fn(f32) -> Vec3) -> (usize, (usize, usize)) {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
-            .expect("level loads");
-        let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
+        let mut driver = driver_on("stone_circle");
         let dt = 1.0 / 30.0;
         let mut prefetched = 0;
         for i in 0..60 {
@@ -1192,10 +1199,7 @@ mod tests {
     /// at 0 for two frames, both drawing both probes' quads, and ended a frame late.)
     #[test]
     fn a_crossing_hands_pixels_over_from_the_frame_after_its_trigger() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
-            .expect("level loads");
-        let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
+        let mut driver = driver_on("stone_circle");
         let dt = 1.0 / 30.0;
         let mut drawn = Vec::new();
         for i in 0..30 {
@@ -1221,15 +1225,47 @@ mod tests {
         assert!(end - trigger <= 3, "frames with both probes: {drawn:?}");
     }
 
+    /// A camera that steps over a cell boundary and straight back: the fade turns toward the
+    /// previous probe and ends there at once. That frame draws fade 0 with both probes (the
+    /// previous one owns every pixel), and from the next the same probe, in the same slot,
+    /// is the grid probe alone: no pixel changes owner.
+    #[test]
+    fn a_fade_that_ends_back_in_the_cell_it_left_keeps_the_previous_probe_drawing() {
+        let mut driver = driver_on("stone_circle");
+        let dt = 1.0 / 30.0;
+        // The cell boundary at z = 12.5: two frames past it, then back.
+        let zs = [13.0, 13.0, 13.0, 12.9, 12.8, 12.4, 12.8, 12.9, 13.0];
+        let drawn: Vec<_> = (zs.iter())
+            .map(|&z| {
+                let camera = Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, z), 0.0, -5.0);
+                driver.frame(camera, dt, Schedule::Ours).expect("frame")
+            })
+            .collect();
+        let home = drawn[0].grid;
+        let crossing = &drawn[5];
+        let previous = crossing
+            .previous
+            .expect("the step over the boundary starts a fade");
+        assert_eq!((previous.origin, previous.slot), (home.origin, home.slot));
+        assert_eq!(crossing.fade_t, 0.0);
+        let back = &drawn[6];
+        assert_eq!(back.fade_t, 0.0, "the frame the fade ends back home");
+        let previous = back.previous.expect("the previous probe draws that frame");
+        assert_eq!((previous.origin, previous.slot), (home.origin, home.slot));
+        for (i, input) in drawn.iter().enumerate().skip(7) {
+            assert!(input.previous.is_none(), "frame {i}: no fade runs");
+            assert_eq!(input.fade_t, 1.0);
+            let grid = (input.grid.origin, input.grid.slot);
+            assert_eq!(grid, (home.origin, home.slot), "frame {i}");
+        }
+    }
+
     /// The animation clock: each frame poses the moving objects at the time the frames'
     /// `dt` add up to (the same poses `Animation` gives), a paused clock stands still, and
     /// the faces whose view a moved object's shadow may change are lit again, as rectangles.
     #[test]
     fn frames_pose_moving_objects_by_the_sum_of_their_dt() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let level = crate::load::load_level(&root.join("assets/levels/moving_parts.ron"))
-            .expect("level loads");
-        let mut driver = FrameDriver::new(&level, UVec2::new(320, 180), 1.2).expect("driver");
+        let mut driver = driver_on("moving_parts");
         let animation = driver.level.animation.clone();
         assert_eq!(
             animation.poses(0.0).len(),
@@ -1271,9 +1307,7 @@ mod tests {
     /// frame, where ours captures only what its frustum test needs, once.
     #[test]
     fn the_paper_schedule_captures_the_reference_faces_every_frame() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
-            .expect("level loads");
+        let level = bundled_level("stone_circle");
         let camera = Camera::from_yaw_pitch(Vec3::new(0.2, 1.6, 13.0), 0.0, 0.0);
         let behind = Face::ALL
             .into_iter()
@@ -1319,9 +1353,7 @@ mod tests {
     /// camera's plane, and a turn within half a step keeps the grid's direction.
     #[test]
     fn orthographic_probes_stand_on_a_texel_lattice_and_hold_the_view() {
-        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("..");
-        let level = crate::load::load_level(&root.join("assets/levels/stone_circle.ron"))
-            .expect("level loads");
+        let level = bundled_level("stone_circle");
         let size = UVec2::new(320, 180);
         let mut driver = FrameDriver::new(&level, size, 1.2).expect("driver");
         let camera = |x: f32, yaw: f32| Camera {
