@@ -412,6 +412,10 @@ fn light_texel(t: vec2<u32>) {
     let facing = dot(normal, -normalize(ray));
     var darken = false;
     var lighten = false;
+    // Bit k: side k is outlined as a silhouette, a crease, a lit crease.
+    var silhouettes = 0u;
+    var creases = 0u;
+    var lit_creases = 0u;
     var similar = 0u;
     // Whether a similar neighbour shows this surface flat here, or turning (short of a
     // crease); a texel with neither counts as curved.
@@ -476,12 +480,15 @@ fn light_texel(t: vec2<u32>) {
             // Silhouette: the nearer side (the occluder) is outlined.
             if nb.id == 0u || d <= nb.geo.w {
                 darken = true;
+                silhouettes |= 1u << k;
             }
         } else if dot(normal, nb.geo.xyz) < 0.7 {
             // Crease: the side that faces the probe more is lit, the other darkened.
             let nb_facing = dot(nb.geo.xyz, -normalize(ray));
+            creases |= 1u << k;
             if facing >= nb_facing {
                 lighten = true;
+                lit_creases |= 1u << k;
             } else {
                 darken = true;
             }
@@ -617,6 +624,15 @@ fn light_texel(t: vec2<u32>) {
         colour = objects[me.id - 1u].emissive;
     }
     var shift = 0.0;
+    // A grid or previous probe's outline is drawn as strips from its edges (OUTLINE_MARK);
+    // the eye's texels keep the whole-texel shift (its quads are exact, lie at the camera,
+    // and its colours are read directly where no stable quad covers a pixel).
+    var outline = 0u;
+    if sf.view_cull == 0u && (silhouettes | creases) != 0u && !emissive {
+        darken = false;
+        lighten = false;
+        outline = OUTLINE_MARK | (silhouettes << OUTLINE_SILHOUETTE_AT) | (creases << OUTLINE_CREASE_AT) | (lit_creases << OUTLINE_LIT_AT);
+    }
     if darken {
         shift = -1.0;
     } else if lighten {
@@ -625,6 +641,9 @@ fn light_texel(t: vec2<u32>) {
     var lit = half_precision(posterize(colour, globals.bands, shift));
     if !emissive && (object_flags & FLAG_TERRAIN) != 0u && lights <= TERRAIN_LIGHTS {
         lit = lit_with_terrain(lit, unshadowed, shift);
+    }
+    if outline != 0u {
+        lit = lit_with_outline(lit, outline);
     }
     textureStore(lit_out, t, sf.face, vec4(lit, f32(similar)));
     // The cull pass draws exactly the eye texels lit this frame.

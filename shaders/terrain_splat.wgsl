@@ -79,7 +79,9 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if !is_terrain_splat(s) {
         return;
     }
-    let slots = arrayLength(&records) - capacity;
+    // An outline's strip shares its texel's key (and cache slot) with the body: only the
+    // body is cached, so the two do not evict each other every frame.
+    let slots = select(0u, arrayLength(&records) - capacity, is_body(s));
     if slots > 0u {
         let mid = splat_mid(s);
         let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, splat_probe(splat_role(s)));
@@ -116,11 +118,16 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
     var r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe);
     r.grid.w = bitcast<f32>(sealed(stamp, r));
-    let slots = arrayLength(&records) - capacity;
+    let slots = select(0u, arrayLength(&records) - capacity, is_body(s));
     if slots > 0u {
         records[capacity + cache_slot(bitcast<u32>(s.c0.w), slots)] = r;
     }
     records[ii] = hazed_record(r, mid);
+}
+
+// Whether `s` is a whole quad or an outlined quad's body, not one of its strips.
+fn is_body(s: Splat) -> bool {
+    return ((bitcast<u32>(s.c2.w) >> SPLAT_PART_AT) & 7u) == 0u;
 }
 
 fn splat_role(s: Splat) -> u32 {

@@ -247,6 +247,38 @@ fn lit_terrain(c: vec3<f32>) -> u32 {
     return (bits.x & ((1u << TERRAIN_LIGHTS) - 1u)) | ((bits.y & 3u) << TERRAIN_LIGHTS);
 }
 
+// --- an outlined texel's sides (shade.wgsl writes them, cull.wgsl draws them) ---
+
+// An outline darkens (or lightens) one band of a texel, but the texel's quad runs from the
+// edge it outlines (fixed to the world) to its inner side (on the probe's texel grid), so a
+// whole-texel shift is 1/2 to 3/2 texels wide and differs from probe to probe. A texel whose
+// outlined sides are each a silhouette or a crease (not both) instead keeps its unshifted
+// colour and names the sides in the low 13 mantissa bits of its lit colour's blue (free like
+// red's and green's, `lit_with_terrain`); the cull pass then draws a strip of
+// `OUTLINE_STRIP` texels along each, measured from the silhouette edge or the crease line,
+// the same from every probe. Bit 0 marks such a texel; bits 1-4 its silhouette sides
+// (left, right, up, down: `NEIGHBOURS`), 5-8 its crease sides, 9-12 those of its crease
+// sides that are lit rather than darkened.
+const OUTLINE_MARK: u32 = 1u;
+const OUTLINE_SILHOUETTE_AT: u32 = 1u;
+const OUTLINE_CREASE_AT: u32 = 5u;
+const OUTLINE_LIT_AT: u32 = 9u;
+const OUTLINE_BITS: u32 = 0x1fffu;
+const OUTLINE_STRIP: f32 = 0.5;
+
+// Half-precision colour `c` carrying outline sides `sides` (OUTLINE_MARK | ...).
+fn lit_with_outline(c: vec3<f32>, sides: u32) -> vec3<f32> {
+    var bits = bitcast<vec3<u32>>(max(c, vec3(exp2(-14.0))));
+    bits.z |= sides & OUTLINE_BITS;
+    return bitcast<vec3<f32>>(bits);
+}
+
+// The outline sides `lit_with_outline` put in lit colour `c` (0 where none).
+fn lit_outline(c: vec3<f32>) -> u32 {
+    let sides = bitcast<vec3<u32>>(c).z & OUTLINE_BITS;
+    return select(0u, sides, (sides & OUTLINE_MARK) != 0u);
+}
+
 // --- splat keys: a dense index over (slot, face, texel) with faces of `max_n` texels ---
 
 fn texel_key(slot: u32, face: u32, t: vec2<u32>, max_n: u32) -> u32 {

@@ -46,8 +46,9 @@ struct ViewGlobals {
     haze: f32,
     // 1 for an orthographic camera (its depth is linear), 0 for a perspective one.
     ortho: u32,
-    _pad1: u32,
-    _pad2: u32,
+    // OKLab lightness bands (the shade pass's).
+    bands: u32,
+    _pad: u32,
     // The camera's unit view direction (every view ray's, for an orthographic camera).
     forward: vec4<f32>,
 }
@@ -64,6 +65,9 @@ const ROLE_PREVIOUS: u32 = 2u;
 const ROLE_NONE: u32 = 3u;
 // In a splat's shape word (role | texels << 8): the run goes down a column.
 const SPLAT_COLUMN: u32 = 0x80000000u;
+// In a splat's shape word: bits 20-22, which piece of an outlined texel's quad it is (0 the
+// body or a whole quad, k + 1 the strip along side k: cull.wgsl `emit_outlined`).
+const SPLAT_PART_AT: u32 = 20u;
 // In a splat's shape word: bits 16-19, the owner of a crossfade's pixel cannot see corner
 // 0-3 (cull.wgsl `owner_miss_bits`).
 const SPLAT_OWNER_MISSES: u32 = 16u;

@@ -46,7 +46,9 @@ pub struct ViewGlobals {
     grid_slot: u32,
     haze: f32,
     ortho: u32,
-    _pad2: [u32; 2],
+    /// OKLab lightness bands (the cull pass colours outline strips with them).
+    bands: u32,
+    _pad2: u32,
     forward: [f32; 4],
 }
 
@@ -143,7 +145,8 @@ impl ViewGlobals {
             grid_slot: input.grid.slot.index() as u32,
             haze: input.look.haze.max(0.0),
             ortho: u32::from(input.camera.ortho_height.is_some()),
-            _pad2: [0; 2],
+            bands: input.look.bands.max(2),
+            _pad2: 0,
             forward: input
                 .camera
                 .forward

@@ -1,0 +1,106 @@
+//! Outlines drawn as strips measured from the edges they outline (cull.wgsl
+//! `emit_outlined`): a box seen from one camera through two grid probes whose texel grids
+//! lie differently on it shows its outlines over the same pixels.
+
+mod common;
+
+use glam::{Mat4, UVec2, Vec3};
+use texel_render::context::test_context;
+use texel_render::frame::Renderer;
+use texel_render::input::{Camera, SceneInput, Schedule, SunInput};
+use texel_scene::primitives::box_mesh;
+
+/// One outlined box in the sky, lit by a sun: every face one colour, so two probes' frames
+/// differ only where the box's silhouette or its outlines do.
+fn lone_box() -> SceneInput {
+    let mut scene = common::boxes_scene();
+    scene.objects = vec![common::object(
+        box_mesh(Vec3::splat(1.0)),
+        Mat4::IDENTITY,
+        Vec3::new(0.8, 0.55, 0.3),
+        1,
+    )];
+    scene.suns = vec![SunInput {
+        direction: Vec3::new(-0.5, -1.0, -0.2),
+        colour: Vec3::splat(1.0),
+    }];
+    scene
+}
+
+#[test]
+fn a_box_outline_covers_the_same_pixels_from_two_probe_origins() {
+    let Some(ctx) = test_context() else { return };
+    let mut r = Renderer::headless(&ctx).unwrap();
+    r.set_scene(&ctx, &lone_box()).expect("scene");
+    let size = UVec2::new(320, 240);
+    let eye = Vec3::new(1.3, 1.1, 1.8);
+    let cam = Camera::looking(eye, -eye);
+    // Two grid probes a fraction of a texel apart in where their texel grids fall on the box.
+    let origins = [
+        eye + Vec3::new(0.1, 0.2, 0.1),
+        eye + Vec3::new(0.27, 0.06, 0.22),
+    ];
+    let frames: Vec<Vec<u8>> = origins
+        .iter()
+        .enumerate()
+        .map(|(i, &o)| {
+            let input = common::frame(cam, o, 64, size, Schedule::Ours);
+            let (_, px) = r.render_offscreen(&ctx, &input).unwrap();
+            common::save_png(&format!("outline_strips_{i}.png"), &px, size);
+            px
+        })
+        .collect();
+    let at = |img: &[u8], i: usize| [img[4 * i], img[4 * i + 1], img[4 * i + 2]];
+    let (w, h) = (size.x as usize, size.y as usize);
+    let sky = at(&frames[0], 0);
+    // A face's own colour is one of the box's three most common; an outline pixel is a box
+    // pixel in none of them.
+    let mut counts = std::collections::HashMap::<[u8; 3], usize>::new();
+    for i in 0..w * h {
+        let a = at(&frames[0], i);
+        if a != sky {
+            *counts.entry(a).or_default() += 1;
+        }
+    }
+    let mut faces: Vec<([u8; 3], usize)> = counts.into_iter().collect();
+    faces.sort_by_key(|f| std::cmp::Reverse(f.1));
+    let faces: Vec<[u8; 3]> = faces.iter().take(3).map(|f| f.0).collect();
+    let masks: Vec<Vec<bool>> = frames
+        .iter()
+        .map(|img| {
+            (0..w * h)
+                .map(|i| at(img, i) != sky && !faces.contains(&at(img, i)))
+                .collect()
+        })
+        .collect();
+    let boxed = (0..w * h).filter(|&i| at(&frames[0], i) != sky).count();
+    // Outline pixels of one frame with none of the other's within a pixel: a strip that
+    // moved, or changed width, by more than the rasterizer's rounding.
+    let near = |m: &[bool], x: usize, y: usize| {
+        (y.saturating_sub(1)..=(y + 1).min(h - 1))
+            .any(|yy| (x.saturating_sub(1)..=(x + 1).min(w - 1)).any(|xx| m[yy * w + xx]))
+    };
+    let (mut outlined, mut moved) = (0usize, 0usize);
+    for (a, b) in [(0, 1), (1, 0)] {
+        for y in 0..h {
+            for x in 0..w {
+                if masks[a][y * w + x] {
+                    outlined += 1;
+                    if !near(&masks[b], x, y) {
+                        moved += 1;
+                    }
+                }
+            }
+        }
+    }
+    println!("box pixels {boxed}, outline pixels {outlined} (both frames), moved {moved}");
+    assert!(boxed > 8000, "the box fills the view: {boxed} pixels");
+    assert!(
+        outlined > boxed / 10,
+        "the box is outlined: {outlined} of twice {boxed} pixels"
+    );
+    assert!(
+        moved * 25 < outlined,
+        "the outlines move with the probe: {moved} of {outlined} outline pixels"
+    );
+}
