@@ -201,7 +201,7 @@ struct FsOut {
 
 // The pixel's colour, key and depth from texel `tx` of `face` of slot `s`, hit at `p`.
 fn shown(s: u32, face: u32, tx: vec2<u32>, p: vec3<f32>) -> FsOut {
-    let colour = hazed(load_lit(s, tx, face).rgb, length(p - view.camera.xyz));
+    let colour = hazed(lit_with_shift(load_lit(s, tx, face).rgb, view.bands), length(p - view.camera.xyz));
     let clip = view.view_proj * vec4(p, 1.0);
     let key = texel_key(s, face, tx, view.max_n) + 1u;
     return FsOut(vec4(linear_to_srgb(colour), 1.0), key, clamp(clip.z / clip.w, 0.0, 1.0));

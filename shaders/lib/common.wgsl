@@ -279,6 +279,19 @@ fn lit_outline(c: vec3<f32>) -> u32 {
     return select(0u, sides, (sides & OUTLINE_MARK) != 0u);
 }
 
+// Lit colour `c` with its outline (`lit_outline`) as a whole texel's shift of one band
+// (`bands`): darker where a side is a silhouette or a darkened crease, else lighter where one
+// is a lit crease. For readers that show a texel whole (march.wgsl), not as quads.
+fn lit_with_shift(c: vec3<f32>, bands: u32) -> vec3<f32> {
+    let sides = lit_outline(c);
+    if sides == 0u {
+        return c;
+    }
+    let lit = (sides >> OUTLINE_LIT_AT) & 15u;
+    let dark = ((sides >> OUTLINE_SILHOUETTE_AT) | ((sides >> OUTLINE_CREASE_AT) & ~lit)) & 15u;
+    return posterize(c, bands, select(1.0, -1.0, dark != 0u));
+}
+
 // --- splat keys: a dense index over (slot, face, texel) with faces of `max_n` texels ---
 
 fn texel_key(slot: u32, face: u32, t: vec2<u32>, max_n: u32) -> u32 {
