@@ -577,8 +577,12 @@ fn split_corner(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, bits: u32, x
     return c;
 }
 
-// Corner `c` of a strip, a little nearer its probe's origin.
+// Corner `c` of a strip, a little nearer its probe along the probe's ray (an orthographic
+// probe's rays are parallel: toward its plane, not its origin, which would move it sideways).
 fn nudge(fr: ProbeFrame, c: vec3<f32>) -> vec3<f32> {
+    if fr.half > 0.0 {
+        return c - fr.forward * (2.0e-4 * dot(c - fr.origin, fr.forward));
+    }
     return mix(c, fr.origin, 2.0e-4);
 }
 

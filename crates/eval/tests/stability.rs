@@ -454,7 +454,9 @@ fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels(
         splat.shimmer,
         naive.shimmer
     );
-    assert!(quads <= 1.0, "{quads} quads per screen-visible texel");
+    // An outlined quad is drawn as a body and a strip per outlined side (cull.wgsl
+    // `emit_outlined`): measured 1.069 with strips (2026-12-02), at most 1.0 before them.
+    assert!(quads <= 1.1, "{quads} quads per screen-visible texel");
 }
 
 /// Terrain: a walk over the island's hills. Terrain pixels are coloured per world cell with

@@ -22,6 +22,9 @@ pub struct SplatRecord {
     pub texels: u32,
     /// The run goes down a column.
     pub column: bool,
+    /// Which piece of its texel's quad it is: 0 the whole quad or an outlined quad's body,
+    /// k + 1 the outline strip along side k (cull.wgsl `emit_outlined`).
+    pub part: u32,
     /// World-space corners (top-left, top-right, bottom-right, bottom-left in face space).
     pub corners: [[f32; 3]; 4],
 }
@@ -94,6 +97,7 @@ impl Renderer {
                 role: w[11].to_bits() & 0xff,
                 texels: ((w[11].to_bits() & 0xffff) >> 8).max(1),
                 column: w[11].to_bits() & 0x8000_0000 != 0,
+                part: (w[11].to_bits() >> 20) & 7,
                 corners: [0, 4, 8, 12].map(|i| [w[i], w[i + 1], w[i + 2]]),
             })
             .collect())
