@@ -217,17 +217,9 @@ fn clip_behind(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, k: u32, p: ve
 // plane where either side `ends_at_edge`, and then not behind the texel past that side
 // (`clip_behind`).
 fn quad_corner(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, bits: u32, halves: vec4<f32>, kx: u32, ky: u32, p: vec3<f32>, nrm: vec3<f32>, d: f32) -> vec3<f32> {
-    let out = vec2(f32(NEIGHBOURS[kx].x) * halves[kx], f32(NEIGHBOURS[ky].y) * halves[ky]);
-    let q = texel_center_uv(t, view.slots[slot].n) + out * cut_scale(bits, kx, ky);
-    let ends = ends_at_edge(bits);
-    var c = corner_at(fr, face, q, p, nrm, d, ends[kx] || ends[ky]);
-    if ends[kx] {
-        c = clip_behind(slot, face, fr, t, kx, p, c);
-    }
-    if ends[ky] {
-        c = clip_behind(slot, face, fr, t, ky, p, c);
-    }
-    return c;
+    let x = f32(NEIGHBOURS[kx].x) * halves[kx];
+    let y = f32(NEIGHBOURS[ky].y) * halves[ky];
+    return split_corner(slot, face, fr, t, bits, x, y, kx, ky, true, true, p, nrm, d, 0u);
 }
 
 // Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
@@ -402,14 +394,6 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // Corners 0-3: top-left (the first texel's), top-right (the last's in a row run, the
     // first's in a column run), bottom-right (the last's), bottom-left (the first's in a row
     // run, the last's in a column run).
-    let a_t = select(last, t, column);
-    let b_t = select(t, last, column);
-    let a_bits = select(last_bits, bits, column);
-    let b_bits = select(bits, last_bits, column);
-    let c0 = quad_corner(slot, face, fr, t, bits, f, 0u, 2u, p, geo.xyz, d);
-    let c1 = quad_corner(slot, face, fr, a_t, a_bits, select(l, f, column), 1u, 2u, p, geo.xyz, d);
-    let c2 = quad_corner(slot, face, fr, last, last_bits, l, 1u, 3u, p, geo.xyz, d);
-    let c3 = quad_corner(slot, face, fr, b_t, b_bits, select(f, l, column), 0u, 3u, p, geo.xyz, d);
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     var colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
     var reach = pack2x16unorm(0.5 * vec2(start_half, end_half));
@@ -425,9 +409,17 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     }
     let outline = lit_outline(lit.rgb);
     if outline != 0u {
-        emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, outline, p, geo.xyz, d, key, texels, colour, reach);
+        emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, outline, p, geo.xyz, d, key, texels, lit.rgb, colour, reach);
         return;
     }
+    let a_t = select(last, t, column);
+    let b_t = select(t, last, column);
+    let a_bits = select(last_bits, bits, column);
+    let b_bits = select(bits, last_bits, column);
+    let c0 = quad_corner(slot, face, fr, t, bits, f, 0u, 2u, p, geo.xyz, d);
+    let c1 = quad_corner(slot, face, fr, a_t, a_bits, select(l, f, column), 1u, 2u, p, geo.xyz, d);
+    let c2 = quad_corner(slot, face, fr, last, last_bits, l, 1u, 3u, p, geo.xyz, d);
+    let c3 = quad_corner(slot, face, fr, b_t, b_bits, select(f, l, column), 0u, 3u, p, geo.xyz, d);
     push_splat(s.role | (texels << 8u) | select(0u, SPLAT_COLUMN, column), key, colour, reach, c0, c1, c2, c3);
 }
 
@@ -459,7 +451,7 @@ fn push_splat(shape: u32, key: u32, colour: u32, reach: u32, c0: vec3<f32>, c1: 
 // (OUTLINE_STRIP texels at the edge's distance, not in face coordinates; 2026-12-02,
 // `texel-eval compare --methods splat --face-res 128`): terrain_walk 0.0080 against 0.0075,
 // jog_cells 0.0043 against 0.0038, as strips seen at a grazing angle thinned below a pixel.
-fn emit_outlined(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, last: vec2<u32>, column: bool, bits: u32, last_bits: u32, f0: vec4<f32>, l0: vec4<f32>, sides: u32, p: vec3<f32>, nrm: vec3<f32>, d: f32, key: u32, texels: u32, colour: u32, reach: u32) {
+fn emit_outlined(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, last: vec2<u32>, column: bool, bits: u32, last_bits: u32, f0: vec4<f32>, l0: vec4<f32>, sides: u32, p: vec3<f32>, nrm: vec3<f32>, d: f32, key: u32, texels: u32, lit: vec3<f32>, colour: u32, reach: u32) {
     let role = view.slots[slot].role;
     let strip = OUTLINE_STRIP * 2.0 / f32(view.slots[slot].n);
     let creases = (sides >> OUTLINE_CREASE_AT) & 15u;
@@ -525,14 +517,12 @@ fn emit_outlined(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, last: vec2<
     var dark_reach = reach;
     var light_reach = reach;
     if (colour >> 24u) == SPLAT_TERRAIN_ALPHA {
-        let shift_bits = 3u << TERRAIN_LIGHTS;
-        dark_reach = reach & ~shift_bits;
-        light_reach = (reach & ~shift_bits) | (2u << TERRAIN_LIGHTS);
+        dark_reach = terrain_with_shift(reach, -1.0);
+        light_reach = terrain_with_shift(reach, 1.0);
     } else {
         let dist = length(p - view.camera.xyz);
-        let base = load_lit(slot, t, face).rgb;
-        dark = pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(base, view.bands, -1.0), dist)), 1.0));
-        light = pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(base, view.bands, 1.0), dist)), 1.0));
+        dark = pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(lit, view.bands, -1.0), dist)), 1.0));
+        light = pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(lit, view.bands, 1.0), dist)), 1.0));
     }
     // Strip k's corners: two of the quad's and the two moved in from them.
     for (var k = 0u; k < 4u; k++) {

@@ -236,6 +236,11 @@ fn lit_with_terrain(c: vec3<f32>, unshadowed: u32, shift: f32) -> vec3<f32> {
     return bitcast<vec3<f32>>(bits);
 }
 
+// Word `word` of `lit_terrain` with its shift replaced by `shift` (-1, 0 or 1).
+fn terrain_with_shift(word: u32, shift: f32) -> u32 {
+    return (word & ~(3u << TERRAIN_LIGHTS)) | (u32(clamp(shift + 1.0, 0.0, 2.0)) << TERRAIN_LIGHTS);
+}
+
 // What `lit_with_terrain` put in lit colour `c`: the lights that reach it (bits 0-11) and
 // the shift + 1 (bits 12-13); NO_TERRAIN where `c` carries nothing.
 const NO_TERRAIN: u32 = 0xffffffffu;
@@ -251,8 +256,8 @@ fn lit_terrain(c: vec3<f32>) -> u32 {
 
 // An outline darkens (or lightens) one band of a texel, but the texel's quad runs from the
 // edge it outlines (fixed to the world) to its inner side (on the probe's texel grid), so a
-// whole-texel shift is 1/2 to 3/2 texels wide and differs from probe to probe. A texel whose
-// outlined sides are each a silhouette or a crease (not both) instead keeps its unshifted
+// whole-texel shift is 1/2 to 3/2 texels wide and differs from probe to probe. An outlined
+// texel of a perspective grid or previous probe (shade.wgsl) instead keeps its unshifted
 // colour and names the sides in the low 13 mantissa bits of its lit colour's blue (free like
 // red's and green's, `lit_with_terrain`); the cull pass then draws a strip of
 // `OUTLINE_STRIP` texels along each, measured from the silhouette edge or the crease line,
