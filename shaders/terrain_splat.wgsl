@@ -216,9 +216,12 @@ fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
 }
 
 // The terrain pixels (unhazed) a one-texel quad of a terrain (cull.wgsl) shows, with its
-// lights, outline and object `word`, its texel point `mid`, drawn by `probe`. A terrain pixel is at least a probe texel, so the quad's
-// pixels lie in the 2 × 2 block of pixels toward which its point lies in its own pixel;
-// each is coloured and lit as the shade pass would light it from its centre (its colour, the
+// lights, outline and object `word`, its texel point `mid`, drawn by `probe`: the 2 × 2
+// block of pixels toward which its point lies in its own pixel. A terrain pixel is at least
+// a probe texel, so a quad on ground facing the probe meets no other; on ground seen at a
+// grazing angle its footprint reaches past the block, and a screen pixel whose ray meets
+// the ground there takes the block's nearest pixel (README, "How stable is it?"). Each is
+// coloured and lit as the shade pass would light it from its centre (its colour, the
 // terrain's normal there), with the texel's shadows and outline. Pixels of the terrain
 // follow the world, not each probe's texel grid: a crossfade's two probes show the same
 // pixel under each screen pixel, where each had drawn its own texels' steps.
