@@ -448,8 +448,8 @@ fn push_splat(shape: u32, key: u32, colour: u32, reach: u32, c0: vec3<f32>, c1: 
 // narrower than half a strip across the quad is left out, the strips of that axis meeting
 // across it (a sliver a fraction of a pixel wide came and went as the view turned: stone
 // circle `yaw`, faces of 128, 320×180, mean shimmer 0.00039 -> 0.00021 on lavapipe,
-// 0.00050 -> 0.00033 on SwiftShader; coverage error down on every path measured). Strips come a little nearer the probe (`nudge`) so
-// they win where they meet the body. A run's outlined sides are those across it (runs.wgsl
+// 0.00050 -> 0.00033 on SwiftShader; coverage error down on every path measured). Strips
+// come a little nearer the probe (`nudge`) so they win where they meet the body. A run's outlined sides are those across it (runs.wgsl
 // joins texels of one lit colour, sides and all). Measured against a width on the surface
 // (OUTLINE_STRIP texels at the edge's distance, not in face coordinates; 2026-12-02,
 // `texel-eval compare --methods splat --face-res 128`): terrain_walk 0.0080 against 0.0075,
@@ -497,19 +497,20 @@ fn emit_outlined(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, last: vec2<
         let my = (outlined & (1u << ky)) != 0u;
         let ox = (outlined & (1u << (1u - kx))) != 0u;
         let oy = (outlined & (1u << (5u - ky))) != 0u;
-        // The body's width across each axis at this corner's texel (along a run, its texels'
-        // sum: never narrow).
+        // The body's width across each axis at this corner's texel. A body narrower than half
+        // a strip (or none: the strips overlap) is left out, and the strips of that axis reach
+        // across it, meeting halfway where both sides are outlined. (A run's sides along it
+        // are never outlined: its texels share their outlined sides and lie in one plane, so
+        // none has an outline toward the next.)
         let wx = h[kx] + h[1u - kx] - select(0.0, strip, mx) - select(0.0, strip, ox);
         let wy = h[ky] + h[5u - ky] - select(0.0, strip, my) - select(0.0, strip, oy);
-        let narrow_x = (texels == 1u || column) && (mx || ox) && wx < 0.5 * strip;
-        let narrow_y = (texels == 1u || !column) && (my || oy) && wy < 0.5 * strip;
-        if narrow_x || narrow_y || wx <= 0.0 || wy <= 0.0 {
+        let narrow_x = (mx || ox) && wx < 0.5 * strip;
+        let narrow_y = (my || oy) && wy < 0.5 * strip;
+        if narrow_x || narrow_y {
             has_body = false;
         }
-        // A body narrower than half a strip is left out, and the strips of that axis reach
-        // across it (meeting halfway where both sides are outlined).
-        let grow_x = select(0.0, wx / f32(select(1u, 2u, mx && ox)), narrow_x);
-        let grow_y = select(0.0, wy / f32(select(1u, 2u, my && oy)), narrow_y);
+        let grow_x = select(0.0, wx / select(1.0, 2.0, mx && ox), narrow_x);
+        let grow_y = select(0.0, wy / select(1.0, 2.0, my && oy), narrow_y);
         let x = sx * h[kx];
         let y = sy * h[ky];
         let xi = sx * (h[kx] - strip - grow_x);

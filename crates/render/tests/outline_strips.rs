@@ -112,19 +112,21 @@ fn a_box_outline_covers_the_same_pixels_from_two_probe_origins() {
 /// the strips meet, so no sliver a fraction of a pixel wide flickers in and out as the view
 /// turns (the stone circle's pure yaw, 320×180 at faces of 128: mean shimmer 0.00039 ->
 /// 0.00021 on lavapipe, 0.00050 -> 0.00033 on SwiftShader). The pillar is seen head-on from
-/// its grid probe's origin at many sub-texel offsets, about 17 pixels per texel: every run
-/// of the body's colour between two strips is at least a quarter texel wide.
+/// its grid probe's origin at 16 offsets across one texel, about 20 pixels per texel: every
+/// run of the body's colour between two strips is at least a quarter texel wide (2-pixel
+/// runs before the change, none after).
 #[test]
 fn a_thin_pillar_keeps_no_body_sliver_between_its_strips() {
     let Some(ctx) = test_context() else { return };
     let mut r = Renderer::headless(&ctx).unwrap();
     let mut scene = common::boxes_scene();
     let albedo = Vec3::new(0.8, 0.55, 0.3);
-    // The pillar, 1.1 texels wide at faces of 32 from its front 2.85 units away (so its
+    // The pillar, 1.1 texels wide at faces of 32 from its front `front` units away (so its
     // strips, half a texel each, would leave a tenth of a texel between them), and, in the
     // same material and facing the same way, a wide box whose front shows the body's colour.
     let n = 32;
-    let texel = 2.0 * 2.85 / n as f32;
+    let (eye_z, front, wide_at) = (3.0, 2.85, -1.6);
+    let texel = 2.0 * front / n as f32;
     scene.objects = vec![
         common::object(
             box_mesh(Vec3::new(1.1 * texel, 3.0, 0.3)),
@@ -134,7 +136,7 @@ fn a_thin_pillar_keeps_no_body_sliver_between_its_strips() {
         ),
         common::object(
             box_mesh(Vec3::new(0.6, 3.0, 0.3)),
-            Mat4::from_translation(Vec3::new(-1.6, 0.0, 0.0)),
+            Mat4::from_translation(Vec3::new(wide_at, 0.0, 0.0)),
             albedo,
             2,
         ),
@@ -146,7 +148,8 @@ fn a_thin_pillar_keeps_no_body_sliver_between_its_strips() {
     r.set_scene(&ctx, &scene).expect("scene");
     let size = UVec2::new(480, 360);
     let (w, h) = (size.x as usize, size.y as usize);
-    let px_per_texel = texel / (2.0 * 2.85 * 30f32.to_radians().tan() / h as f32);
+    let tan_half = 30f32.to_radians().tan();
+    let px_per_texel = texel / (2.0 * front * tan_half / h as f32);
     let at = |img: &[u8], x: usize, y: usize| {
         let i = 4 * (y * w + x);
         [img[i], img[i + 1], img[i + 2]]
@@ -155,7 +158,7 @@ fn a_thin_pillar_keeps_no_body_sliver_between_its_strips() {
     let mut slivers = 0;
     let mut strip_pixels = 0;
     for step in 0..16 {
-        let eye = Vec3::new(texel * step as f32 / 16.0, 0.0, 3.0);
+        let eye = Vec3::new(texel * step as f32 / 16.0, 0.0, eye_z);
         let cam = Camera::looking(eye, Vec3::NEG_Z);
         let input = common::frame(cam, eye, n, size, Schedule::Ours);
         let (_, px) = r.render_offscreen(&ctx, &input).unwrap();
@@ -163,10 +166,9 @@ fn a_thin_pillar_keeps_no_body_sliver_between_its_strips() {
             common::save_png("thin_pillar.png", &px, size);
         }
         let sky = at(&px, 0, 0);
-        // The wide box's front, left of the view's middle: its middle pixel.
-        let wide_x = (w as f32 * 0.5
-            - 1.6 / 3.15 / (30f32.to_radians().tan() * 4.0 / 3.0) * w as f32 * 0.5)
-            as usize;
+        // The middle pixel of the wide box's front, left of the view's middle.
+        let ndc_x = (wide_at - eye.x) / front / (tan_half * w as f32 / h as f32);
+        let wide_x = ((ndc_x + 1.0) * 0.5 * w as f32) as usize;
         let body = at(&px, wide_x, h / 2);
         assert_ne!(body, sky, "the wide box is in view at x {wide_x}");
         for y in h / 2 - 40..h / 2 + 40 {
