@@ -64,7 +64,7 @@ pub struct RunPlan {
 }
 
 /// Which paths the suite flies on which bundled level.
-pub const SUITE_PATHS: [(&str, &str); 21] = [
+pub const SUITE_PATHS: [(&str, &str); 22] = [
     ("stone_circle", "yaw"),
     ("stone_circle", "strafe_in_cell"),
     ("stone_circle", "walk_cells"),
@@ -74,6 +74,7 @@ pub const SUITE_PATHS: [(&str, &str); 21] = [
     ("stone_circle", "ortho_pan"),
     ("stone_circle", "iso_orbit"),
     ("stone_circle", "low_orbit"),
+    ("stone_circle", "stone_edge"),
     ("colonnade", "wall_graze"),
     ("colonnade", "occluder_pass"),
     ("colonnade", "wall_brush"),
