@@ -156,9 +156,10 @@ const SEES_TIE: f32 = 0.05;
 /// the end of the look where there is none).
 fn seen_points(samples: &[Vec3], s: f32, scene: &impl RayQuery) -> Vec<Vec3> {
     let reach = LOOK_REACH * s;
-    let mut out = Vec::new();
+    let dirs = look_directions();
+    let mut out = Vec::with_capacity(samples.len() * dirs.len());
     for &q in samples {
-        for dir in look_directions() {
+        for &dir in &dirs {
             let t = scene.first_hit(q, dir, reach).map_or(reach, |h| h.t);
             out.push(q + dir * t);
         }
@@ -192,29 +193,36 @@ pub fn place_probe(cell: &GridCell, scene: &impl RayQuery) -> Vec3 {
     // Rays reach across the cell and a little beyond: enough to see what would blind it.
     let reach = 2.0 * s;
     let mut best: Option<(f32, Vec3)> = None;
-    let mut clear = Vec::new();
+    // What the cell's cameras see, worked out when the first candidate needs judging; each
+    // clear candidate with how many of those points it sees.
+    let mut points: Option<Vec<Vec3>> = None;
+    let mut clear: Vec<(usize, Vec3)> = Vec::new();
     for offset in candidates() {
         let p = centre + offset * s;
         match fit(p, reach, scene) {
             Fit::Free(c) if c >= need && offset == Vec3::ZERO => return p,
-            Fit::Free(c) if c >= need => clear.push(p),
+            Fit::Free(c) if c >= need => {
+                let points = points.get_or_insert_with(|| {
+                    seen_points(&camera_samples(cell, reach, scene), s, scene)
+                });
+                let n = sees(p, points, scene);
+                // No candidate sees more than all of them: the first clear one that sees
+                // nearly all is the earliest near tie (open ground), found without the rest.
+                if clear.is_empty() && n as f32 >= points.len() as f32 * (1.0 - SEES_TIE) {
+                    return p;
+                }
+                clear.push((n, p));
+            }
             Fit::Free(c) if best.is_none_or(|(b, _)| c > b) => best = Some((c, p)),
             _ => {}
         }
     }
-    match clear.as_slice() {
-        [] => best.map_or(centre, |(_, p)| p),
-        [only] => *only,
-        _ => {
-            let points = seen_points(&camera_samples(cell, reach, scene), s, scene);
-            let seen: Vec<usize> = clear.iter().map(|&p| sees(p, &points, scene)).collect();
-            let most = seen.iter().copied().max().unwrap_or(0) as f32;
-            let i = (seen.iter())
-                .position(|&n| n as f32 >= most * (1.0 - SEES_TIE))
-                .unwrap_or(0);
-            clear[i]
-        }
-    }
+    let most = clear.iter().map(|&(n, _)| n).max().unwrap_or(0) as f32;
+    (clear.iter())
+        .find(|&&(n, _)| n as f32 >= most * (1.0 - SEES_TIE))
+        .map(|&(_, p)| p)
+        .or(best.map(|(_, p)| p))
+        .unwrap_or(centre)
 }
 
 /// Probe positions per cell, computed on first use and kept until the scene changes
