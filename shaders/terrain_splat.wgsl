@@ -220,7 +220,7 @@ fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
 // block of pixels toward which its point lies in its own pixel. A terrain pixel is at least
 // a probe texel, so a quad on ground facing the probe meets no other; on ground seen at a
 // grazing angle its footprint reaches past the block, and a screen pixel whose ray meets
-// the ground there takes the block's nearest pixel (README, "How stable is it?"). Each is
+// the ground there takes the block's nearest pixel (docs/stability-log.md, "Terrain"). Each is
 // coloured and lit as the shade pass would light it from its centre (its colour, the
 // terrain's normal there), with the texel's shadows and outline. Pixels of the terrain
 // follow the world, not each probe's texel grid: a crossfade's two probes show the same
