@@ -1,5 +1,5 @@
-//! The command line: `texel-eval run`, `texel-eval suite`, `texel-eval compare` and
-//! `texel-eval chart`.
+//! The command line: `texel-eval run`, `texel-eval suite`, `texel-eval survey`,
+//! `texel-eval compare` and `texel-eval chart`.
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -49,6 +49,12 @@ enum Command {
         #[command(flatten)]
         common: Common,
     },
+    /// Flies random walks through one level (made from a seed, clear of its surfaces,
+    /// toward its content) with the methods, so a change is judged on views the bundled
+    /// paths do not fly: writes the walks (DIR/paths/survey_NN.ron, for `run` and
+    /// `compare`), report.json and charts, and DIR/survey.md (each walk's shimmer per
+    /// method, and naive's over splat's).
+    Survey(SurveyArgs),
     /// Writes the methods side by side along one path as an animated GIF (DIR/NAME.gif),
     /// each frame's shimmer under each method (the values `run` reports), and the per-frame
     /// numbers as DIR/NAME.json.
@@ -109,7 +115,7 @@ pub fn main() -> Result<()> {
                 size: parse_size(&common.size)?,
                 freeze,
             };
-            execute(&[plan], &common, command_line)
+            execute(&[plan], &common, command_line).map(drop)
         }
         Command::Suite { assets, common } => {
             let plans = suite_plans(
@@ -118,9 +124,10 @@ pub fn main() -> Result<()> {
                 &parse_list(&common.face_res, "--face-res")?,
                 parse_size(&common.size)?,
             );
-            execute(&plans, &common, command_line)
+            execute(&plans, &common, command_line).map(drop)
         }
         Command::Compare(args) => compare(&args),
+        Command::Survey(args) => survey(&args, command_line),
         Command::Chart { report, out } => {
             let r = Report::load(&report)?;
             write_outputs(&r, &out, false)
@@ -128,7 +135,7 @@ pub fn main() -> Result<()> {
     }
 }
 
-fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<()> {
+fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<Report> {
     let reference = match common.reference.as_str() {
         "gpu" => ReferenceKind::Gpu,
         "cpu" => ReferenceKind::Cpu,
@@ -174,6 +181,128 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<()> {
         report.adapter,
         common.out.join("report.json").display()
     );
+    Ok(report)
+}
+
+#[derive(Args, Debug)]
+struct SurveyArgs {
+    /// Level file (RON).
+    #[arg(long)]
+    level: PathBuf,
+    /// How many walks.
+    #[arg(long, default_value_t = 8)]
+    count: u32,
+    /// Seed of the walks (the same seed makes the same walks).
+    #[arg(long, default_value_t = 1)]
+    seed: u64,
+    /// Frames of each walk (at 30 per second).
+    #[arg(long, default_value_t = 40)]
+    frames: u32,
+    /// Slowest and fastest speed in probe cells per second, MIN,MAX.
+    #[arg(long, default_value = "1.5,8")]
+    speed: String,
+    /// Comma-separated methods (as for `run`).
+    #[arg(long, default_value = "naive,splat")]
+    methods: String,
+    /// Comma-separated cube-face resolutions.
+    #[arg(long, default_value = "128")]
+    face_res: String,
+    /// Output size, WIDTHxHEIGHT.
+    #[arg(long, default_value = "320x180")]
+    size: String,
+    /// Reference G-buffer: gpu (plain raster) or cpu (ray cast).
+    #[arg(long, default_value = "gpu")]
+    reference: String,
+    /// Output directory.
+    #[arg(long)]
+    out: PathBuf,
+    /// No progress bar.
+    #[arg(long)]
+    quiet: bool,
+}
+
+/// The survey's walk spec from its arguments and the level's cell size.
+fn survey_spec(args: &SurveyArgs, cell_size: f32) -> Result<texel_eval::survey::SurveySpec> {
+    let (lo, hi) = args
+        .speed
+        .split_once(',')
+        .with_context(|| format!("--speed must be MIN,MAX, got `{}`", args.speed))?;
+    let num = |v: &str| -> Result<f32> {
+        v.trim()
+            .parse::<f32>()
+            .ok()
+            .filter(|x| x.is_finite() && *x > 0.0)
+            .with_context(|| format!("--speed: `{v}` is not a positive number"))
+    };
+    let (lo, hi) = (num(lo)?, num(hi)?);
+    if lo > hi {
+        bail!("--speed: {lo} is above {hi}");
+    }
+    if args.count == 0 || args.count > 1000 {
+        bail!("--count must be 1..=1000, got {}", args.count);
+    }
+    if !(2..=texel_runtime::path::MAX_FRAMES).contains(&args.frames) {
+        bail!(
+            "--frames must be 2..={}, got {}",
+            texel_runtime::path::MAX_FRAMES,
+            args.frames
+        );
+    }
+    Ok(texel_eval::survey::SurveySpec {
+        count: args.count,
+        seed: args.seed,
+        frames: args.frames,
+        speed: (lo, hi),
+        ..texel_eval::survey::SurveySpec::new(cell_size)
+    })
+}
+
+fn survey(args: &SurveyArgs, command_line: String) -> Result<()> {
+    use texel_eval::survey::survey_walks;
+    let common = Common {
+        methods: args.methods.clone(),
+        face_res: args.face_res.clone(),
+        size: args.size.clone(),
+        reference: args.reference.clone(),
+        out: args.out.clone(),
+        quiet: args.quiet,
+    };
+    let methods = parse_methods(&common.methods)?;
+    let face_res = parse_list(&common.face_res, "--face-res")?;
+    let size = parse_size(&common.size)?;
+    let level = texel_runtime::load::load_level(&args.level)?;
+    let spec = survey_spec(args, level.scene.settings.cell_size)?;
+    let scene = texel_runtime::driver::scene_input(&level);
+    let rays = texel_runtime::placement::SceneRays::new(scene.clone());
+    let walks = survey_walks(&scene, &rays, &spec)
+        .map_err(|e| anyhow::anyhow!("{}: {e}", args.level.display()))?;
+    let dir = args.out.join("paths");
+    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut plans = Vec::new();
+    for (i, walk) in walks.iter().enumerate() {
+        let file = dir.join(format!("survey_{i:02}.ron"));
+        let comment = format!(
+            "texel-eval survey of {}, seed {}, walk {i}: {:.1} cells per second",
+            args.level.display(),
+            spec.seed,
+            walk.speed
+        );
+        std::fs::write(&file, walk.to_ron(&spec, &comment))
+            .with_context(|| format!("writing {}", file.display()))?;
+        plans.push(RunPlan {
+            level: args.level.clone(),
+            path: file,
+            methods: methods.clone(),
+            face_res: face_res.clone(),
+            size,
+            freeze: false,
+        });
+    }
+    let report = execute(&plans, &common, command_line)?;
+    let text = texel_eval::survey::survey_table(&report, &walks);
+    let file = args.out.join("survey.md");
+    std::fs::write(&file, &text).with_context(|| format!("writing {}", file.display()))?;
+    println!("{text}");
     Ok(())
 }
 
@@ -440,5 +569,45 @@ mod tests {
             };
             assert!(compare_plan(&a).is_err(), "{flag} {value} accepted");
         }
+    }
+
+    #[test]
+    fn survey_arguments_parse_with_their_defaults_and_bad_ones_are_refused() {
+        let parse = |extra: &[&str]| {
+            let mut v = vec!["texel-eval", "survey", "--level", "l.ron", "--out", "d"];
+            v.extend_from_slice(extra);
+            let cli = Cli::try_parse_from(v).expect("survey parses");
+            let Command::Survey(a) = cli.command else {
+                panic!("not survey");
+            };
+            a
+        };
+        let a = parse(&[]);
+        assert_eq!(
+            (
+                a.count,
+                a.seed,
+                a.frames,
+                a.methods.as_str(),
+                a.face_res.as_str()
+            ),
+            (8, 1, 40, "naive,splat", "128")
+        );
+        let spec = survey_spec(&a, 2.0).expect("defaults are valid");
+        assert_eq!(
+            (spec.speed, spec.cell_size, spec.count),
+            ((1.5, 8.0), 2.0, 8)
+        );
+        for bad in [
+            &["--speed", "3"][..],
+            &["--speed", "3,1"],
+            &["--speed", "0,2"],
+            &["--speed", "nan,2"],
+            &["--count", "0"],
+            &["--frames", "1"],
+        ] {
+            assert!(survey_spec(&parse(bad), 1.0).is_err(), "{bad:?} accepted");
+        }
+        assert!(Cli::try_parse_from(["texel-eval", "survey", "--out", "d"]).is_err());
     }
 }

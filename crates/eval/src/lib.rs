@@ -7,7 +7,8 @@
 //! [`reference`](mod@reference) (a CPU reference G-buffer), [`meter`] (per-run accumulation), [`runner`]
 //! (one method along one path, GPU-independent), [`gpu`] (the real sources), [`suite`]
 //! (levels × paths × methods × resolutions), [`report`] (`report.json` and its table),
-//! [`chart`] (the charts), [`compare`] (the methods side by side as an animated GIF).
+//! [`chart`] (the charts), [`compare`] (the methods side by side as an animated GIF),
+//! [`survey`] (random walks through a level, for views nobody tuned for).
 
 pub mod chart;
 pub mod compare;
@@ -18,3 +19,4 @@ pub mod reference;
 pub mod report;
 pub mod runner;
 pub mod suite;
+pub mod survey;
