@@ -184,7 +184,13 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<Report
     Ok(report)
 }
 
+/// `survey`'s arguments: `run`'s (`Common`), but flying naive and splat at faces of 128 by
+/// default.
 #[derive(Args, Debug)]
+#[command(
+    mut_arg("methods", |a| a.default_value("naive,splat")),
+    mut_arg("face_res", |a| a.default_value("128"))
+)]
 struct SurveyArgs {
     /// Level file (RON).
     #[arg(long)]
@@ -201,24 +207,8 @@ struct SurveyArgs {
     /// Slowest and fastest speed in probe cells per second, MIN,MAX.
     #[arg(long, default_value = "1.5,8")]
     speed: String,
-    /// Comma-separated methods (as for `run`).
-    #[arg(long, default_value = "naive,splat")]
-    methods: String,
-    /// Comma-separated cube-face resolutions.
-    #[arg(long, default_value = "128")]
-    face_res: String,
-    /// Output size, WIDTHxHEIGHT.
-    #[arg(long, default_value = "320x180")]
-    size: String,
-    /// Reference G-buffer: gpu (plain raster) or cpu (ray cast).
-    #[arg(long, default_value = "gpu")]
-    reference: String,
-    /// Output directory.
-    #[arg(long)]
-    out: PathBuf,
-    /// No progress bar.
-    #[arg(long)]
-    quiet: bool,
+    #[command(flatten)]
+    common: Common,
 }
 
 /// The survey's walk spec from its arguments and the level's cell size.
@@ -259,24 +249,16 @@ fn survey_spec(args: &SurveyArgs, cell_size: f32) -> Result<texel_eval::survey::
 
 fn survey(args: &SurveyArgs, command_line: String) -> Result<()> {
     use texel_eval::survey::survey_walks;
-    let common = Common {
-        methods: args.methods.clone(),
-        face_res: args.face_res.clone(),
-        size: args.size.clone(),
-        reference: args.reference.clone(),
-        out: args.out.clone(),
-        quiet: args.quiet,
-    };
+    let common = &args.common;
     let methods = parse_methods(&common.methods)?;
     let face_res = parse_list(&common.face_res, "--face-res")?;
     let size = parse_size(&common.size)?;
     let level = texel_runtime::load::load_level(&args.level)?;
     let spec = survey_spec(args, level.scene.settings.cell_size)?;
-    let scene = texel_runtime::driver::scene_input(&level);
-    let rays = texel_runtime::placement::SceneRays::new(scene.clone());
-    let walks = survey_walks(&scene, &rays, &spec)
+    let rays = texel_runtime::placement::SceneRays::new(texel_runtime::driver::scene_input(&level));
+    let walks = survey_walks(rays.scene(), &rays, &spec)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.level.display()))?;
-    let dir = args.out.join("paths");
+    let dir = common.out.join("paths");
     std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
     let mut plans = Vec::new();
     for (i, walk) in walks.iter().enumerate() {
@@ -298,9 +280,9 @@ fn survey(args: &SurveyArgs, command_line: String) -> Result<()> {
             freeze: false,
         });
     }
-    let report = execute(&plans, &common, command_line)?;
+    let report = execute(&plans, common, command_line)?;
     let text = texel_eval::survey::survey_table(&report, &walks);
-    let file = args.out.join("survey.md");
+    let file = common.out.join("survey.md");
     std::fs::write(&file, &text).with_context(|| format!("writing {}", file.display()))?;
     println!("{text}");
     Ok(())
@@ -588,8 +570,8 @@ mod tests {
                 a.count,
                 a.seed,
                 a.frames,
-                a.methods.as_str(),
-                a.face_res.as_str()
+                a.common.methods.as_str(),
+                a.common.face_res.as_str()
             ),
             (8, 1, 40, "naive,splat", "128")
         );

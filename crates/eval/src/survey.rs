@@ -9,7 +9,7 @@
 //! surface ([`CLEARANCE`] cells) and outside every solid; the same seed makes the same walks.
 
 use glam::Vec3;
-use texel_probes::placement::RayQuery;
+use texel_probes::placement::{RayQuery, test_directions};
 use texel_render::input::SceneInput;
 
 /// How near (in cells) a surveyed camera may come to any surface along its walk.
@@ -131,6 +131,12 @@ fn object_bounds(o: &texel_render::input::ObjectInput) -> (Vec3, Vec3) {
     (lo, hi)
 }
 
+/// The box around `boxes`.
+fn union<'a>(boxes: impl Iterator<Item = &'a (Vec3, Vec3)>) -> (Vec3, Vec3) {
+    let empty = (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY));
+    boxes.fold(empty, |(lo, hi), b| (lo.min(b.0), hi.max(b.1)))
+}
+
 /// Where the walks start and what they look toward: the box around every still object but
 /// the one with the largest footprint (the ground; with only one object, that one), and the
 /// box around all of them (for the floor search's height).
@@ -143,46 +149,26 @@ fn content(scene: &SceneInput) -> Option<((Vec3, Vec3), (Vec3, Vec3))> {
     let footprint = |b: &(Vec3, Vec3)| (b.1.x - b.0.x) * (b.1.z - b.0.z);
     let largest =
         (0..boxes.len()).max_by(|&a, &b| footprint(&boxes[a]).total_cmp(&footprint(&boxes[b])))?;
-    let union = |it: &mut dyn Iterator<Item = &(Vec3, Vec3)>| {
-        it.fold(
-            (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-            |(lo, hi), b| (lo.min(b.0), hi.max(b.1)),
-        )
-    };
-    let all = union(&mut boxes.iter());
+    let all = union(boxes.iter());
     let rest = if boxes.len() > 1 {
-        union(
-            &mut boxes
-                .iter()
-                .enumerate()
-                .filter(|(i, _)| *i != largest)
-                .map(|(_, b)| b),
-        )
+        union((boxes.iter().enumerate()).filter_map(|(i, b)| (i != largest).then_some(b)))
     } else {
         all
     };
     Some((rest, all))
 }
 
-/// The six axes and the eight diagonals: a camera point is clear when none of them meets a
-/// surface within [`CLEARANCE`] and none starts inside a solid.
+/// Whether a camera at `p` is clear: along none of placement's test rays (the six axes and
+/// the eight diagonals) is the first surface within `reach`, or met from behind (inside a
+/// solid, the first surface any ray meets is met from behind, however far it is).
 fn clear(p: Vec3, reach: f32, scene: &impl RayQuery) -> bool {
-    let d = 1.0 / 3f32.sqrt();
-    let mut dirs = vec![Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
-    for x in [-d, d] {
-        for y in [-d, d] {
-            for z in [-d, d] {
-                dirs.push(Vec3::new(x, y, z));
-            }
-        }
-    }
-    dirs.iter()
-        .all(|&dir| scene.first_hit(p, dir, reach).is_none())
-        && dirs.iter().all(|&dir| {
-            // Inside a solid, the first surface any ray meets is met from behind.
-            scene.first_hit(p, dir, 1.0e4).is_none_or(|h| !h.back_face)
-        })
+    test_directions()
+        .iter()
+        .all(|&dir| (scene.first_hit(p, dir, FAR)).is_none_or(|h| !h.back_face && h.t > reach))
 }
+
+/// Farther than any level reaches: how far `clear`'s rays look for a solid's inside.
+const FAR: f32 = 1.0e5;
 
 /// The floor under `(x, z)` below height `top`: the first surface met from its front by a
 /// ray cast straight down.
@@ -358,31 +344,27 @@ mod tests {
     use texel_runtime::load::load_level;
     use texel_runtime::placement::SceneRays;
 
-    fn level(name: &str) -> (SceneInput, SceneRays, f32) {
+    fn level(name: &str) -> (SceneRays, f32) {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../../assets/levels")
             .join(name);
         let level = load_level(&path).expect("bundled level loads");
-        let scene = scene_input(&level);
-        (
-            scene.clone(),
-            SceneRays::new(scene),
-            level.scene.settings.cell_size,
-        )
+        let rays = SceneRays::new(scene_input(&level));
+        (rays, level.scene.settings.cell_size)
     }
 
     #[test]
     fn walks_are_made_from_the_seed_alone() {
-        let (scene, rays, s) = level("stone_circle.ron");
+        let (rays, s) = level("stone_circle.ron");
         let spec = SurveySpec {
             count: 4,
             ..SurveySpec::new(s)
         };
-        let a = survey_walks(&scene, &rays, &spec).expect("walks");
-        let b = survey_walks(&scene, &rays, &spec).expect("walks");
+        let a = survey_walks(rays.scene(), &rays, &spec).expect("walks");
+        let b = survey_walks(rays.scene(), &rays, &spec).expect("walks");
         assert_eq!(a, b);
         assert_eq!(a.len(), 4);
-        let c = survey_walks(&scene, &rays, &SurveySpec { seed: 2, ..spec }).expect("walks");
+        let c = survey_walks(rays.scene(), &rays, &SurveySpec { seed: 2, ..spec }).expect("walks");
         assert_ne!(a, c);
     }
 
@@ -390,13 +372,13 @@ mod tests {
     #[test]
     fn walks_stand_clear_over_a_floor_at_eye_height_and_at_their_speed() {
         for name in ["stone_circle.ron", "colonnade.ron", "terrain_hills.ron"] {
-            let (scene, rays, s) = level(name);
+            let (rays, s) = level(name);
             let spec = SurveySpec {
                 count: 6,
                 seed: 7,
                 ..SurveySpec::new(s)
             };
-            for walk in survey_walks(&scene, &rays, &spec).expect("walks") {
+            for walk in survey_walks(rays.scene(), &rays, &spec).expect("walks") {
                 let mut dirs = Vec::new();
                 for x in -1..=1 {
                     for y in -1..=1 {
@@ -442,12 +424,12 @@ mod tests {
 
     #[test]
     fn a_walk_is_a_camera_path() {
-        let (scene, rays, s) = level("stone_circle.ron");
+        let (rays, s) = level("stone_circle.ron");
         let spec = SurveySpec {
             count: 1,
             ..SurveySpec::new(s)
         };
-        let walk = &survey_walks(&scene, &rays, &spec).expect("walk")[0];
+        let walk = &survey_walks(rays.scene(), &rays, &spec).expect("walk")[0];
         let text = walk.to_ron(&spec, "a comment\non two lines");
         let path = texel_runtime::path::CameraPath::from_ron_str(&text, "walk").expect("parses");
         assert_eq!((path.frames, path.keyframes.len()), (spec.frames, 3));
@@ -457,7 +439,7 @@ mod tests {
 
     #[test]
     fn bad_specs_and_levels_without_room_are_refused() {
-        let (scene, rays, s) = level("stone_circle.ron");
+        let (rays, s) = level("stone_circle.ron");
         for spec in [
             SurveySpec {
                 count: 0,
@@ -478,7 +460,7 @@ mod tests {
             SurveySpec::new(0.0),
         ] {
             assert!(
-                survey_walks(&scene, &rays, &spec).is_err(),
+                survey_walks(rays.scene(), &rays, &spec).is_err(),
                 "{spec:?} accepted"
             );
         }
@@ -488,7 +470,7 @@ mod tests {
             height: (0.01, 0.02),
             ..SurveySpec::new(s)
         };
-        let err = survey_walks(&scene, &rays, &spec).expect_err("no room");
+        let err = survey_walks(rays.scene(), &rays, &spec).expect_err("no room");
         assert!(err.contains("clear walks"), "{err}");
         let empty = SceneInput::default();
         assert!(survey_walks(&empty, &rays, &SurveySpec::new(s)).is_err());

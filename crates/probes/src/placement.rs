@@ -44,8 +44,9 @@ pub trait RayQuery {
     fn first_hit(&self, origin: Vec3, dir: Vec3, max: f32) -> Option<RayHit>;
 }
 
-/// The test rays: the six axes and the eight cube diagonals.
-fn test_directions() -> [Vec3; 14] {
+/// The test rays: the six axes and the eight cube diagonals (also the evaluator's test of a
+/// camera's clearance, `texel_eval::survey`).
+pub fn test_directions() -> [Vec3; 14] {
     let d = 1.0 / 3f32.sqrt();
     let mut out = [Vec3::ZERO; 14];
     let axes = [Vec3::X, -Vec3::X, Vec3::Y, -Vec3::Y, Vec3::Z, -Vec3::Z];
