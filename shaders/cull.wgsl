@@ -170,6 +170,33 @@ fn ends_at_edge(bits: u32) -> vec4<bool> {
     return codes == vec4(2u) & vec4((bits & SIMILAR_APART) != 0u);
 }
 
+// A stable probe that stands in line with a big flat face, past its edge (its plane within
+// 0.4 cells of the probe, `texel_probes::placement::near_faces`, handed over per slot as
+// `SlotView::near_faces`), sees the face at a grazing angle, each texel a long strip on it.
+// Its quads, standing across the face toward the probe, are then seen from a camera
+// elsewhere in the cell, farther off the plane and so more steeply, like the slats of a
+// blind, and the eye probe fills between them in stripes (a survey walk over the textured
+// level's brick wall, its probes 0.25 off the wall's back face's plane: `texel-eval survey
+// --level assets/levels/textured.ron --count 6 --seed 1`, walk 01). There each quad lies on
+// the face's plane, all four corners (`near_plane`), with exact half sizes: the texels'
+// footprints on a flat face tile it from every viewpoint. Laid flat wherever a plane passes
+// that near the probe, a round pillar's facets beside it flickered (colonnade survey walk
+// 04 0.0074 -> 0.0104), and every flat texel seen at a grazing angle laid flat, floors did
+// (pure yaw 0.0002 -> 0.0006): only big faces' texels are.
+fn on_near_face(s: SlotView, p: vec3<f32>, nrm: vec3<f32>, d: f32) -> bool {
+    for (var i = 0u; i < 4u; i++) {
+        let f = s.near_faces[i];
+        if dot(f.xyz, nrm) >= 0.999 && abs(dot(f.xyz, p) + f.w) <= 1.0e-3 * d + 1.0e-4 {
+            return true;
+        }
+    }
+    return false;
+}
+
+// Set per quad by `emit`: whether it lies on a stable probe's near face (`on_near_face`), so
+// every corner of it lies on that plane.
+var<private> near_plane: bool;
+
 // Corner `q` of a quad: on the surface's plane where one of its two sides `ends_at_edge`,
 // else at the texel's depth.
 fn corner_at(fr: ProbeFrame, face: u32, q: vec2<f32>, on: vec3<f32>, nrm: vec3<f32>, d: f32, on_plane: bool) -> vec3<f32> {
@@ -382,10 +409,11 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     // over the reference's sky 5,907 -> 3,972 over the path (its pillars' curved silhouettes
     // had grown by up to a quarter texel).
     let exact = fr.half > 0.0 || s.role == ROLE_EYE;
+    near_plane = !exact && ((bits | last_bits) & SIMILAR_CURVED) == 0u && on_near_face(s, p, geo.xyz, d);
     let h = 2.0 / f32(s.n);
     // Half sizes toward left, right, up and down at the first and the last texel.
-    let first_halves = quad_halves(bits, cos_theta, exact);
-    let last_halves = quad_halves(last_bits, cos_theta, exact);
+    let first_halves = quad_halves(bits, cos_theta, exact || near_plane);
+    let last_halves = quad_halves(last_bits, cos_theta, exact || near_plane);
     let start_half = select(first_halves.x, first_halves.z, column);
     let end_half = select(last_halves.y, last_halves.w, column);
     // The same in face coordinates.
@@ -570,7 +598,7 @@ fn split_corner(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, bits: u32, x
     let ends = ends_at_edge(bits);
     let ex = ox && ends[kx];
     let ey = oy && ends[ky];
-    var c = corner_at(fr, face, centre + vec2(x, y) * scale, p, nrm, d, ex || ey);
+    var c = corner_at(fr, face, centre + vec2(x, y) * scale, p, nrm, d, ex || ey || near_plane);
     if ex {
         c = clip_behind(slot, face, fr, t, kx, p, c);
     }

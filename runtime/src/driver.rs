@@ -15,15 +15,16 @@
 //! within 103° (98° for the eye) of the view direction ([`reference_faces`]), plus any our
 //! frustum test keeps, so it never draws less than ours.
 
+use std::collections::HashMap;
 use std::sync::Arc;
 
-use glam::{UVec2, Vec3};
+use glam::{UVec2, Vec3, Vec4};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::grid::{
     GridChoice, GridDefaults, GridError, GridOverride, first_crossing, resolve_grid,
 };
 use texel_probes::ortho::OrthoFrame;
-use texel_probes::placement::Placements;
+use texel_probes::placement::{Placements, near_faces};
 use texel_probes::probe_set::{FadeConfig, FadeDirection, ProbeSet, Role, TransitionEvent};
 use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
 use texel_probes::visibility::{
@@ -31,8 +32,9 @@ use texel_probes::visibility::{
     frustum, reference_faces,
 };
 use texel_render::input::{
-    Camera, CaptureInput, FrameInput, Look, MaterialInput, ObjectInput, PointLightInput, ProbeView,
-    SceneInput, Schedule, SunInput, TerrainInput, internal_size, view_up,
+    Camera, CaptureInput, FrameInput, Look, MAX_NEAR_FACES, MaterialInput, ObjectInput,
+    PointLightInput, ProbeView, SceneInput, Schedule, SunInput, TerrainInput, internal_size,
+    view_up,
 };
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::terrain::Terrain;
@@ -254,6 +256,9 @@ pub struct FrameDriver {
     level: Arc<PreparedLevel>,
     /// Where each cell's grid probe sits (cached per cell).
     placements: Placements,
+    /// The big flat faces passing near each stable probe origin (`placement::near_faces`),
+    /// cached per origin until the scene changes near it.
+    near_faces: HashMap<[u32; 4], [Vec4; MAX_NEAR_FACES]>,
     fov_y: f32,
     defaults: GridDefaults,
     overrides: Vec<GridOverride>,
@@ -303,6 +308,7 @@ impl FrameDriver {
         Ok(FrameDriver {
             level,
             placements: Placements::new(),
+            near_faces: HashMap::new(),
             fov_y,
             defaults,
             overrides,
@@ -334,6 +340,7 @@ impl FrameDriver {
         self.level = level;
         self.overrides = self.level.overrides.clone();
         self.placements.forget_near(min, max);
+        self.near_faces.clear();
         self.scheduler.invalidate_region(min, max)
     }
 
@@ -416,6 +423,7 @@ impl FrameDriver {
             }
             None => self.resolve(camera.position)?,
         };
+        let cell_size = choice.key.cell.cell_size;
         // An orthographic eye probe stands on its texel lattice in the camera's plane.
         let eye_at = ortho.map_or(camera.position, |o| o.eye.0);
         self.track_velocity(camera.position, dt);
@@ -500,7 +508,29 @@ impl FrameDriver {
             (true, Some(FadeDirection::TowardPrevious)) => (0.0, true),
             _ => (self.probes.as_ref().map_or(1.0, ProbeSet::fade_t), true),
         };
-        let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
+        // The faces near this frame's stable probes (none under an orthographic camera,
+        // whose quads are exact).
+        if ortho.is_none() {
+            let stable = [
+                Some(&plan.grid),
+                plan.previous.as_ref(),
+                plan.prefetch.as_ref(),
+            ];
+            for p in stable.into_iter().flatten() {
+                let (origin, s) = (p.probe.origin, cell_size);
+                let rays = &self.level.rays;
+                self.near_faces
+                    .entry(near_key(origin, s))
+                    .or_insert_with(|| {
+                        let mut out = [Vec4::ZERO; MAX_NEAR_FACES];
+                        for (o, f) in out.iter_mut().zip(near_faces(origin, s, rays)) {
+                            *o = f.normal.extend(-f.normal.dot(f.point));
+                        }
+                        out
+                    });
+            }
+        }
+        let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule, cell_size);
         // An orthographic probe's texel is an art pixel of the level's face resolution.
         let n = match ortho {
             Some(_) => self.defaults.face_resolution,
@@ -849,6 +879,7 @@ impl FrameDriver {
         p: &ProbePlan,
         captures: &[CaptureInput],
         schedule: Schedule,
+        cell_size: f32,
     ) -> ProbeView {
         let mut valid = FaceMask::EMPTY;
         for face in Face::ALL {
@@ -875,8 +906,19 @@ impl FrameDriver {
             },
             valid,
             ortho: self.ortho_frame(p.probe.origin),
+            near_faces: match p.probe.role {
+                Role::Eye => [Vec4::ZERO; MAX_NEAR_FACES],
+                _ => (self.near_faces.get(&near_key(p.probe.origin, cell_size)))
+                    .copied()
+                    .unwrap_or([Vec4::ZERO; MAX_NEAR_FACES]),
+            },
         }
     }
+}
+
+/// The key of a stable probe's near faces: its origin and its lattice's cell size.
+fn near_key(origin: Vec3, cell_size: f32) -> [u32; 4] {
+    origin.extend(cell_size).to_array().map(f32::to_bits)
 }
 
 /// The camera at the player start, or at (0, 1.6, 10) looking at the origin.

@@ -62,10 +62,76 @@ fn build(scene: &SceneInput) -> GpuBvh {
 }
 
 impl RayQuery for SceneRays {
+    fn triangles_in(&self, min: glam::Vec3, max: glam::Vec3) -> Vec<[glam::Vec3; 3]> {
+        let bvh = self.bvh();
+        let overlaps = |lo: glam::Vec3, hi: glam::Vec3| lo.cmple(max).all() && hi.cmpge(min).all();
+        let mut out = Vec::new();
+        let mut todo = vec![0usize];
+        while let Some(i) = todo.pop() {
+            let Some(node) = bvh.nodes.get(i) else {
+                continue;
+            };
+            if !overlaps(node.min.into(), node.max.into()) {
+                continue;
+            }
+            if !node.is_leaf() {
+                todo.extend([node.first as usize, node.first as usize + 1]);
+                continue;
+            }
+            let range = node.first as usize..(node.first + node.count) as usize;
+            for t in bvh.triangles.get(range).unwrap_or_default() {
+                let a = glam::Vec3::from(t.v0);
+                let (b, c) = (a + glam::Vec3::from(t.e1), a + glam::Vec3::from(t.e2));
+                if overlaps(a.min(b).min(c), a.max(b).max(c)) {
+                    out.push([a, b, c]);
+                }
+            }
+        }
+        out
+    }
+
     fn first_hit(&self, origin: glam::Vec3, dir: glam::Vec3, max: f32) -> Option<RayHit> {
         first_hit_cpu(self.bvh(), origin, dir, max).map(|(t, tri)| RayHit {
             t,
             back_face: tri.normal().dot(dir) > 0.0,
         })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::driver::scene_input;
+    use crate::load::load_level;
+    use glam::{IVec3, Vec3};
+    use texel_probes::grid::GridCell;
+    use texel_probes::placement::{near_faces, place_probe};
+
+    /// The textured level's brick wall (its back face at z = −4.75, its top at y = 2.5): the
+    /// probes of the cells above and behind it stand 0.25 off the back face's plane, where
+    /// a survey walk saw the face edge-on (`texel-eval survey`, seed 1, walk 01); the box
+    /// query finds that face for them (and for no probe a cell farther back).
+    #[test]
+    fn probes_behind_the_textured_levels_brick_wall_find_its_back_face() {
+        let path =
+            std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/textured.ron");
+        let level = load_level(&path).expect("bundled level loads");
+        let rays = SceneRays::new(scene_input(&level));
+        let cell = |x, z| GridCell {
+            index: IVec3::new(x, 3, z),
+            cell_size: 1.0,
+        };
+        for x in [-2, 0, 2] {
+            let p = place_probe(&cell(x, -5), &rays);
+            let faces = near_faces(p, 1.0, &rays);
+            assert!(
+                faces.iter().any(
+                    |f| f.normal.abs_diff_eq(-Vec3::Z, 1e-4) && (f.point.z + 4.75).abs() < 1e-3
+                ),
+                "cell ({x}, 3, -5), probe {p}: {faces:?}"
+            );
+            let back = place_probe(&cell(x, -7), &rays);
+            assert!(near_faces(back, 1.0, &rays).is_empty(), "{back}");
+        }
     }
 }

@@ -20,6 +20,9 @@ struct SlotView {
     right: vec4<f32>,
     down: vec4<f32>,
     forward: vec4<f32>,
+    // Planes (normal, d) of big flat faces that pass near this stable probe (input.rs
+    // `ProbeView::near_faces`; zero where unused): cull.wgsl lays its texels on them flat.
+    near_faces: array<vec4<f32>, 4>,
 }
 
 // The texel frame of slot view `s`.

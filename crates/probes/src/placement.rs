@@ -10,10 +10,15 @@
 //! The answer is a function of the cell and the scene only, never of where the camera is
 //! inside the cell, so everything stable about a grid probe stays stable: callers cache it
 //! per cell ([`Placements`]) until the scene changes.
+//!
+//! A probe clear of every surface may still stand in line with a big flat face, past its
+//! edge; [`near_faces`] finds such faces (from the geometry, a box query) for the renderer,
+//! which lays the probe's texels on them flat rather than moving the probe off the lattice
+//! its neighbours keep (that was tried and cost more at the crossings than it saved).
 
 use std::collections::HashMap;
 
-use glam::{IVec3, Vec3};
+use glam::{IVec3, Vec2, Vec3};
 
 use crate::grid::{GridCell, GridChoice, GridDefaults, GridError, GridOverride, resolve_grid};
 
@@ -42,6 +47,10 @@ pub trait RayQuery {
     /// The first surface along `origin + t · dir` (`dir` unit length) with `t` in
     /// `(0, max]`, if any.
     fn first_hit(&self, origin: Vec3, dir: Vec3, max: f32) -> Option<RayHit>;
+
+    /// Every triangle that may reach into the box `min..max` (a superset is fine), its
+    /// vertices counter-clockwise around its front face.
+    fn triangles_in(&self, min: Vec3, max: Vec3) -> Vec<[Vec3; 3]>;
 }
 
 /// The test rays: the six axes and the eight cube diagonals (also the evaluator's test of a
@@ -107,6 +116,153 @@ fn fit(p: Vec3, reach: f32, scene: &impl RayQuery) -> Fit {
         }
     }
     Fit::Free(nearest)
+}
+
+/// How far, in cell sizes, faces are looked for around a cell.
+const PLANE_REACH: f32 = 4.0;
+
+/// A flat face near a probe: a point on it and its unit normal (toward its front).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FacePlane {
+    /// A point of the face.
+    pub point: Vec3,
+    /// Its unit normal.
+    pub normal: Vec3,
+}
+
+/// How near, in cell sizes, a face's plane passes by a stable probe for the renderer to lay
+/// that face's texels flat on it ([`near_faces`]).
+pub const NEAR_FACE: f32 = 0.4;
+
+/// The big flat faces whose planes pass within [`NEAR_FACE`] cells of a stable probe at
+/// `probe` on a lattice of `cell_size`: placement keeps probes [`CLEARANCE`] off surfaces,
+/// so these are faces the probe sees past their edges, in line with them, at a grazing
+/// angle (each texel a long strip on the face). Their texels' quads, standing across the
+/// face toward the probe, are seen from a camera elsewhere in the cell, farther off the
+/// plane and so more steeply, like the slats of a blind, and the eye probe fills between
+/// them: the renderer lays those quads flat on the plane instead (`shaders/cull.wgsl`).
+/// Only faces at least [`FACE_WIDTH`] cells wide count: a round pillar's facets, whose
+/// planes pass as near a probe beside it, stay standing.
+pub fn near_faces(probe: Vec3, cell_size: f32, scene: &impl RayQuery) -> Vec<FacePlane> {
+    face_planes(probe, NEAR_FACE * cell_size, cell_size, scene)
+}
+
+/// Normals of one flat face agree this closely (half a degree): a curved surface's
+/// triangles, a hillside's, do not, so its tangent planes are not taken for faces.
+const FLAT_DOT: f32 = 0.99995;
+
+/// Least width, in cell sizes, of a face whose texels are laid flat ([`near_faces`]): a
+/// standing stone's face (0.91 wide) and a round pillar's facets are narrower, and so are
+/// two stones' faces that share a plane apart.
+const FACE_WIDTH: f32 = 1.0;
+
+/// The least width of points `q` (2D): the least, over the edges of their convex hull
+/// (where the width is least, one edge lies flush), of their extent across it.
+fn least_width(q: &[Vec2]) -> f32 {
+    let hull = convex_hull(q);
+    let mut least = f32::INFINITY;
+    for (i, a) in hull.iter().enumerate() {
+        let b = hull[(i + 1) % hull.len()];
+        let Some(d) = (b - *a).try_normalize() else {
+            continue;
+        };
+        let across = d.perp();
+        let extent = (hull.iter())
+            .map(|p| (p - a).dot(across).abs())
+            .fold(0.0, f32::max);
+        least = least.min(extent);
+    }
+    if least.is_finite() { least } else { 0.0 }
+}
+
+/// The convex hull of `q`, counter-clockwise (Andrew's monotone chain).
+fn convex_hull(q: &[Vec2]) -> Vec<Vec2> {
+    let mut p = q.to_vec();
+    p.sort_by(|a, b| a.x.total_cmp(&b.x).then(a.y.total_cmp(&b.y)));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let turn = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp_dot(b - o);
+    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
+    for pass in 0..2 {
+        let start = hull.len();
+        let points: Box<dyn Iterator<Item = &Vec2>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
+        for &x in points {
+            while hull.len() >= start + 2
+                && turn(hull[hull.len() - 2], hull[hull.len() - 1], x) <= 0.0
+            {
+                hull.pop();
+            }
+            hull.push(x);
+        }
+        hull.pop();
+    }
+    hull
+}
+
+/// The planes of the flat faces within [`PLANE_REACH`] cells of `centre` whose planes pass
+/// within `near` of it. A face is a set of triangles in one plane (normals within
+/// [`FLAT_DOT`], offsets within 0.005 cells) joined by shared vertices; it counts when it
+/// spans at least [`FACE_WIDTH`] cells every way (the least width of its vertices' hull):
+/// a floor or a wall, not a hill's curved slopes or a standing stone's face (nor two stones'
+/// faces that happen to share a plane). Found from the geometry, not by rays, so
+/// neighbouring cells find the same faces and keep one lattice.
+fn face_planes(centre: Vec3, near: f32, s: f32, scene: &impl RayQuery) -> Vec<FacePlane> {
+    let r = Vec3::splat(PLANE_REACH * s);
+    let tris: Vec<([Vec3; 3], Vec3)> = (scene.triangles_in(centre - r, centre + r).into_iter())
+        .filter_map(|t| {
+            let n = (t[1] - t[0]).cross(t[2] - t[0]).try_normalize()?;
+            ((centre - t[0]).dot(n).abs() < near).then_some((t, n))
+        })
+        .collect();
+    // Union-find over the triangles: one plane and a shared vertex join two.
+    let mut parent: Vec<usize> = (0..tris.len()).collect();
+    fn root(parent: &mut [usize], mut i: usize) -> usize {
+        while parent[i] != i {
+            parent[i] = parent[parent[i]];
+            i = parent[i];
+        }
+        i
+    }
+    let touch = 1e-4 * s;
+    for i in 0..tris.len() {
+        for j in i + 1..tris.len() {
+            let ((a, na), (b, nb)) = (&tris[i], &tris[j]);
+            let same_plane = na.dot(*nb) >= FLAT_DOT && (b[0] - a[0]).dot(*na).abs() < 0.005 * s;
+            let shared = a.iter().any(|p| b.iter().any(|q| p.distance(*q) < touch));
+            if same_plane && shared {
+                let (x, y) = (root(&mut parent, i), root(&mut parent, j));
+                parent[x] = y;
+            }
+        }
+    }
+    let mut faces: Vec<(usize, Vec<Vec3>)> = Vec::new();
+    for (i, (t, _)) in tris.iter().enumerate() {
+        let k = root(&mut parent, i);
+        match faces.iter_mut().find(|(r, _)| *r == k) {
+            Some((_, v)) => v.extend(t),
+            None => faces.push((k, t.to_vec())),
+        }
+    }
+    (faces.into_iter())
+        .filter_map(|(k, points)| {
+            let normal = tris[k].1;
+            let u = normal.any_orthonormal_vector();
+            let v = normal.cross(u);
+            let flat: Vec<Vec2> = (points.iter())
+                .map(|p| Vec2::new(p.dot(u), p.dot(v)))
+                .collect();
+            (least_width(&flat) >= FACE_WIDTH * s).then_some(FacePlane {
+                point: points[0],
+                normal,
+            })
+        })
+        .collect()
 }
 
 /// Camera positions a cell's probe is judged from: its centre and the eight points halfway
@@ -305,6 +461,30 @@ mod tests {
             Solid { lo, hi, turn: 0.0 }
         }
 
+        /// The box's twelve triangles, counter-clockwise seen from outside.
+        fn triangles(&self) -> Vec<[Vec3; 3]> {
+            let c = (self.lo + self.hi) * 0.5;
+            let h = (self.hi - self.lo) * 0.5;
+            let turn = glam::Quat::from_rotation_y(self.turn.to_radians());
+            let (x, y, z) = (Vec3::X, Vec3::Y, Vec3::Z);
+            let mut out = Vec::new();
+            for (n, u, v) in [
+                (x, y, z),
+                (-x, z, y),
+                (y, z, x),
+                (-y, x, z),
+                (z, x, y),
+                (-z, y, x),
+            ] {
+                let f = n * (n.abs().dot(h));
+                let (u, v) = (u * u.dot(h), v * v.dot(h));
+                let k = |a: f32, b: f32| c + turn * (f + u * a + v * b);
+                out.push([k(-1.0, -1.0), k(1.0, -1.0), k(1.0, 1.0)]);
+                out.push([k(-1.0, -1.0), k(1.0, 1.0), k(-1.0, 1.0)]);
+            }
+            out
+        }
+
         /// The ray's entry (or, from inside, exit) and whether it starts inside.
         fn hit(&self, o: Vec3, d: Vec3) -> Option<(f32, bool)> {
             // Into the box's frame: a rotation keeps the ray's parameter.
@@ -336,6 +516,19 @@ mod tests {
                 }
             }
             best
+        }
+
+        fn triangles_in(&self, min: Vec3, max: Vec3) -> Vec<[Vec3; 3]> {
+            let g = |x: f32, z: f32| Vec3::new(x, self.ground, z);
+            let (a, b) = (min - 1.0, max + 1.0);
+            let mut out = vec![
+                [g(a.x, a.z), g(a.x, b.z), g(b.x, b.z)],
+                [g(a.x, a.z), g(b.x, b.z), g(b.x, a.z)],
+            ];
+            for solid in &self.solids {
+                out.extend(solid.triangles());
+            }
+            out
         }
     }
 
@@ -477,6 +670,61 @@ mod tests {
             now >= before + 0.03 && now >= 0.95,
             "{placed}: {now} against {first}: {before}"
         );
+    }
+
+    #[test]
+    fn a_probe_past_a_wall_top_finds_the_wall_face_it_stands_in_line_with() {
+        // The textured level's brick wall (8 × 2.5 × 0.5 on the floor): the probe of the
+        // cell above and behind it stands 0.56 from the box, clear of it, but 0.25 off its
+        // back face's plane.
+        let wall = Solid::upright(Vec3::new(-4.0, 0.0, -4.75), Vec3::new(4.0, 2.5, -4.25));
+        let scene = Scene {
+            ground: 0.0,
+            solids: vec![wall],
+        };
+        let p = place_probe(&cell(-2, 3, -5), &scene);
+        assert_eq!(p, Vec3::new(-2.0, 3.0, -5.0));
+        let faces = near_faces(p, 1.0, &scene);
+        assert_eq!(faces.len(), 1, "{faces:?}");
+        assert!(faces[0].normal.abs_diff_eq(-Vec3::Z, 1e-5));
+        assert!((faces[0].point.z + 4.75).abs() < 1e-4);
+        // Half a cell farther back, and over the open floor half a cell up, none.
+        assert!(near_faces(Vec3::new(-2.0, 3.0, -5.5), 1.0, &scene).is_empty());
+        assert!(near_faces(Vec3::new(0.0, 0.5, 3.0), 1.0, &scene).is_empty());
+    }
+
+    #[test]
+    fn narrow_faces_and_apart_faces_in_one_plane_are_not_faces_to_lay_flat() {
+        // Two slabs 0.8 wide, a metre apart, their front faces in one plane (a trilithon's
+        // uprights), and a probe 0.2 off that plane beside them.
+        let slab = |x: f32| Solid::upright(Vec3::new(x, 0.0, -0.3), Vec3::new(x + 0.8, 3.2, 0.3));
+        let scene = Scene {
+            ground: -10.0,
+            solids: vec![slab(0.0), slab(1.8)],
+        };
+        assert!(near_faces(Vec3::new(-1.0, 1.5, 0.5), 1.0, &scene).is_empty());
+        // One slab as wide as both, and its face counts.
+        let wide = Scene {
+            ground: -10.0,
+            solids: vec![Solid::upright(
+                Vec3::new(0.0, 0.0, -0.3),
+                Vec3::new(2.6, 3.2, 0.3),
+            )],
+        };
+        assert_eq!(near_faces(Vec3::new(-1.0, 1.5, 0.5), 1.0, &wide).len(), 1);
+    }
+
+    #[test]
+    fn the_least_width_of_a_turned_rectangle_is_its_short_side() {
+        let turn = glam::Mat2::from_angle(20f32.to_radians());
+        let mut q: Vec<Vec2> = [(0.0, 0.0), (0.91, 0.0), (0.91, 2.7), (0.0, 2.7)]
+            .iter()
+            .map(|&(x, y)| turn * Vec2::new(x, y))
+            .collect();
+        q.push(turn * Vec2::new(0.4, 1.3));
+        assert!((least_width(&q) - 0.91).abs() < 1e-4, "{}", least_width(&q));
+        assert_eq!(least_width(&q[..2]), 0.0);
+        assert_eq!(least_width(&[]), 0.0);
     }
 
     #[test]

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, UVec2, Vec3};
+use glam::{Mat4, UVec2, Vec3, Vec4};
 pub use texel_geom::TextureRef;
 pub use texel_geom::texture::Image;
 use texel_geom::{SurfaceMaps, TriMesh};
@@ -320,7 +320,14 @@ pub struct ProbeView {
     pub valid: FaceMask,
     /// `Some` for an orthographic probe: one face (+X) along the frame, not a cube.
     pub ortho: Option<texel_probes::ortho::OrthoFrame>,
+    /// Planes `(normal, d)` (`dot(normal, p) + d = 0`) of the big flat faces that pass near
+    /// this stable probe (`texel_probes::placement::near_faces`): its texels on them are
+    /// laid flat (`shaders/cull.wgsl`). Unused entries are zero.
+    pub near_faces: [Vec4; MAX_NEAR_FACES],
 }
+
+/// Most near faces a probe hands the cull pass ([`ProbeView::near_faces`]).
+pub const MAX_NEAR_FACES: usize = 4;
 
 /// One face to capture and shade before drawing.
 #[derive(Debug, Clone, Copy, PartialEq)]

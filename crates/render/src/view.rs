@@ -4,7 +4,7 @@ use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec4};
 use texel_probes::probe_set::{Role, Slot};
 
-use crate::input::{FrameInput, ProbeView, Schedule};
+use crate::input::{FrameInput, MAX_NEAR_FACES, ProbeView, Schedule};
 
 /// Depth push-back of eye quads, as a fraction of clip w: grid and previous quads win where
 /// both cover a pixel.
@@ -24,9 +24,11 @@ pub struct SlotView {
     right: [f32; 4],
     down: [f32; 4],
     forward: [f32; 4],
+    /// `ProbeView::near_faces`.
+    near_faces: [[f32; 4]; MAX_NEAR_FACES],
 }
 
-/// `ViewGlobals` in WGSL (560 bytes).
+/// `ViewGlobals` in WGSL (752 bytes).
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct ViewGlobals {
@@ -103,6 +105,7 @@ impl ViewGlobals {
             right: [0.0; 4],
             down: [0.0; 4],
             forward: [0.0; 4],
+            near_faces: [[0.0; 4]; MAX_NEAR_FACES],
         }; 3];
         for (i, s) in slots.iter_mut().enumerate() {
             s.n = slot_n[i];
@@ -112,6 +115,7 @@ impl ViewGlobals {
             s.origin = p.origin.to_array();
             s.role = role_code(p.role);
             s.draw_mask = u32::from(p.draw.bits());
+            s.near_faces = p.near_faces.map(|f| f.to_array());
             if let Some(f) = p.ortho {
                 s.half = f.half;
                 s.right = f.right.extend(0.0).to_array();

@@ -429,6 +429,7 @@ fn fading_frame(
         draw: FaceMask::ALL,
         valid: FaceMask::ALL,
         ortho: None,
+        near_faces: [glam::Vec4::ZERO; texel_render::input::MAX_NEAR_FACES],
     };
     input.captures.extend(Face::ALL.map(|face| CaptureInput {
         slot: Slot::StableB,

@@ -80,6 +80,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         draw: FaceMask::ALL,
         valid: FaceMask::ALL,
         ortho: None,
+        near_faces: [glam::Vec4::ZERO; texel_render::input::MAX_NEAR_FACES],
     };
     let eye = probe(Role::Eye, Slot::Eye, camera.position);
     let grid = probe(Role::Grid, Slot::StableA, grid);
