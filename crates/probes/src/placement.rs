@@ -220,7 +220,21 @@ fn face_planes(centre: Vec3, near: f32, s: f32, scene: &impl RayQuery) -> Vec<Fa
             ((centre - t[0]).dot(n).abs() < near).then_some((t, n))
         })
         .collect();
-    // Union-find over the triangles: one plane and a shared vertex join two.
+    // Each triangle's plane (the first it lies in within FLAT_DOT and 0.005 cells), then
+    // union-find over the triangles: one plane and a shared vertex join two (found through
+    // a map of vertices, so a dense mesh costs its size, not its square).
+    let mut planes: Vec<(Vec3, Vec3)> = Vec::new();
+    let plane_of: Vec<usize> = (tris.iter())
+        .map(|(t, n)| {
+            let same = |(m, q): &(Vec3, Vec3)| {
+                m.dot(*n) >= FLAT_DOT && (t[0] - *q).dot(*m).abs() < 0.005 * s
+            };
+            planes.iter().position(same).unwrap_or_else(|| {
+                planes.push((*n, t[0]));
+                planes.len() - 1
+            })
+        })
+        .collect();
     let mut parent: Vec<usize> = (0..tris.len()).collect();
     fn root(parent: &mut [usize], mut i: usize) -> usize {
         while parent[i] != i {
@@ -229,26 +243,27 @@ fn face_planes(centre: Vec3, near: f32, s: f32, scene: &impl RayQuery) -> Vec<Fa
         }
         i
     }
-    let touch = 1e-4 * s;
-    for i in 0..tris.len() {
-        for j in i + 1..tris.len() {
-            let ((a, na), (b, nb)) = (&tris[i], &tris[j]);
-            let same_plane = na.dot(*nb) >= FLAT_DOT && (b[0] - a[0]).dot(*na).abs() < 0.005 * s;
-            let shared = a.iter().any(|p| b.iter().any(|q| p.distance(*q) < touch));
-            if same_plane && shared {
-                let (x, y) = (root(&mut parent, i), root(&mut parent, j));
-                parent[x] = y;
-            }
+    let grain = 1e-4 * s;
+    let mut at_vertex: HashMap<(usize, [i64; 3]), usize> = HashMap::new();
+    for (i, (t, _)) in tris.iter().enumerate() {
+        for v in t {
+            let key = (
+                plane_of[i],
+                (*v / grain).round().to_array().map(|x| x as i64),
+            );
+            let j = *at_vertex.entry(key).or_insert(i);
+            let (x, y) = (root(&mut parent, i), root(&mut parent, j));
+            parent[x] = y;
         }
     }
-    let mut faces: Vec<(usize, Vec<Vec3>)> = Vec::new();
+    let mut by_root: HashMap<usize, Vec<Vec3>> = HashMap::new();
     for (i, (t, _)) in tris.iter().enumerate() {
         let k = root(&mut parent, i);
-        match faces.iter_mut().find(|(r, _)| *r == k) {
-            Some((_, v)) => v.extend(t),
-            None => faces.push((k, t.to_vec())),
-        }
+        by_root.entry(k).or_default().extend(t);
     }
+    // In a fixed order (the map's is not), so the same faces come first on every run.
+    let mut faces: Vec<(usize, Vec<Vec3>)> = by_root.into_iter().collect();
+    faces.sort_by_key(|(k, _)| *k);
     (faces.into_iter())
         .filter_map(|(k, points)| {
             let normal = tris[k].1;
