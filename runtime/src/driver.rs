@@ -256,9 +256,10 @@ pub struct FrameDriver {
     level: Arc<PreparedLevel>,
     /// Where each cell's grid probe sits (cached per cell).
     placements: Placements,
-    /// The big flat faces passing near each stable probe origin (`placement::near_faces`),
-    /// cached per origin until the scene changes near it.
-    near_faces: HashMap<[u32; 4], [Vec4; MAX_NEAR_FACES]>,
+    /// The big flat faces passing near each stable probe origin (`placement::near_faces`,
+    /// found with the lattice's cell size when the probe is first drawn), cached per origin
+    /// until the scene changes.
+    near_faces: HashMap<[u32; 3], [Vec4; MAX_NEAR_FACES]>,
     fov_y: f32,
     defaults: GridDefaults,
     overrides: Vec<GridOverride>,
@@ -519,18 +520,16 @@ impl FrameDriver {
             for p in stable.into_iter().flatten() {
                 let (origin, s) = (p.probe.origin, cell_size);
                 let rays = &self.level.rays;
-                self.near_faces
-                    .entry(near_key(origin, s))
-                    .or_insert_with(|| {
-                        let mut out = [Vec4::ZERO; MAX_NEAR_FACES];
-                        for (o, f) in out.iter_mut().zip(near_faces(origin, s, rays)) {
-                            *o = f.normal.extend(-f.normal.dot(f.point));
-                        }
-                        out
-                    });
+                self.near_faces.entry(near_key(origin)).or_insert_with(|| {
+                    let mut out = [Vec4::ZERO; MAX_NEAR_FACES];
+                    for (o, f) in out.iter_mut().zip(near_faces(origin, s, rays)) {
+                        *o = f.normal.extend(-f.normal.dot(f.point));
+                    }
+                    out
+                });
             }
         }
-        let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule, cell_size);
+        let view = |p: &ProbePlan| self.probe_view(p, &captures, schedule);
         // An orthographic probe's texel is an art pixel of the level's face resolution.
         let n = match ortho {
             Some(_) => self.defaults.face_resolution,
@@ -879,7 +878,6 @@ impl FrameDriver {
         p: &ProbePlan,
         captures: &[CaptureInput],
         schedule: Schedule,
-        cell_size: f32,
     ) -> ProbeView {
         let mut valid = FaceMask::EMPTY;
         for face in Face::ALL {
@@ -908,7 +906,7 @@ impl FrameDriver {
             ortho: self.ortho_frame(p.probe.origin),
             near_faces: match p.probe.role {
                 Role::Eye => [Vec4::ZERO; MAX_NEAR_FACES],
-                _ => (self.near_faces.get(&near_key(p.probe.origin, cell_size)))
+                _ => (self.near_faces.get(&near_key(p.probe.origin)))
                     .copied()
                     .unwrap_or([Vec4::ZERO; MAX_NEAR_FACES]),
             },
@@ -916,9 +914,9 @@ impl FrameDriver {
     }
 }
 
-/// The key of a stable probe's near faces: its origin and its lattice's cell size.
-fn near_key(origin: Vec3, cell_size: f32) -> [u32; 4] {
-    origin.extend(cell_size).to_array().map(f32::to_bits)
+/// The key of a stable probe's near faces: its origin.
+fn near_key(origin: Vec3) -> [u32; 3] {
+    origin.to_array().map(f32::to_bits)
 }
 
 /// The camera at the player start, or at (0, 1.6, 10) looking at the origin.

@@ -4,7 +4,7 @@
 use std::sync::OnceLock;
 
 use texel_probes::placement::{RayHit, RayQuery};
-use texel_render::bvh::{GpuBvh, build_bvh, first_hit_cpu};
+use texel_render::bvh::{GpuBvh, build_bvh, first_hit_cpu, triangles_in_box_cpu};
 use texel_render::input::SceneInput;
 
 /// Closest-hit ray queries against a scene. The BVH is built on the first query, so a level
@@ -63,31 +63,7 @@ fn build(scene: &SceneInput) -> GpuBvh {
 
 impl RayQuery for SceneRays {
     fn triangles_in(&self, min: glam::Vec3, max: glam::Vec3) -> Vec<[glam::Vec3; 3]> {
-        let bvh = self.bvh();
-        let overlaps = |lo: glam::Vec3, hi: glam::Vec3| lo.cmple(max).all() && hi.cmpge(min).all();
-        let mut out = Vec::new();
-        let mut todo = vec![0usize];
-        while let Some(i) = todo.pop() {
-            let Some(node) = bvh.nodes.get(i) else {
-                continue;
-            };
-            if !overlaps(node.min.into(), node.max.into()) {
-                continue;
-            }
-            if !node.is_leaf() {
-                todo.extend([node.first as usize, node.first as usize + 1]);
-                continue;
-            }
-            let range = node.first as usize..(node.first + node.count) as usize;
-            for t in bvh.triangles.get(range).unwrap_or_default() {
-                let a = glam::Vec3::from(t.v0);
-                let (b, c) = (a + glam::Vec3::from(t.e1), a + glam::Vec3::from(t.e2));
-                if overlaps(a.min(b).min(c), a.max(b).max(c)) {
-                    out.push([a, b, c]);
-                }
-            }
-        }
-        out
+        triangles_in_box_cpu(self.bvh(), min, max)
     }
 
     fn first_hit(&self, origin: glam::Vec3, dir: glam::Vec3, max: f32) -> Option<RayHit> {

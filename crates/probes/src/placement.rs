@@ -134,19 +134,6 @@ pub struct FacePlane {
 /// that face's texels flat on it ([`near_faces`]).
 pub const NEAR_FACE: f32 = 0.4;
 
-/// The big flat faces whose planes pass within [`NEAR_FACE`] cells of a stable probe at
-/// `probe` on a lattice of `cell_size`: placement keeps probes [`CLEARANCE`] off surfaces,
-/// so these are faces the probe sees past their edges, in line with them, at a grazing
-/// angle (each texel a long strip on the face). Their texels' quads, standing across the
-/// face toward the probe, are seen from a camera elsewhere in the cell, farther off the
-/// plane and so more steeply, like the slats of a blind, and the eye probe fills between
-/// them: the renderer lays those quads flat on the plane instead (`shaders/cull.wgsl`).
-/// Only faces at least [`FACE_WIDTH`] cells wide count: a round pillar's facets, whose
-/// planes pass as near a probe beside it, stay standing.
-pub fn near_faces(probe: Vec3, cell_size: f32, scene: &impl RayQuery) -> Vec<FacePlane> {
-    face_planes(probe, NEAR_FACE * cell_size, cell_size, scene)
-}
-
 /// Normals of one flat face agree this closely (half a degree): a curved surface's
 /// triangles, a hillside's, do not, so its tangent planes are not taken for faces.
 const FLAT_DOT: f32 = 0.99995;
@@ -183,36 +170,43 @@ fn convex_hull(q: &[Vec2]) -> Vec<Vec2> {
     if p.len() < 3 {
         return p;
     }
-    let turn = |o: Vec2, a: Vec2, b: Vec2| (a - o).perp_dot(b - o);
-    let mut hull: Vec<Vec2> = Vec::with_capacity(2 * p.len());
-    for pass in 0..2 {
+    // The lower chain left to right, then the upper one right to left, each without its
+    // last point (the next chain's first).
+    fn chain<'a>(hull: &mut Vec<Vec2>, points: impl Iterator<Item = &'a Vec2>) {
         let start = hull.len();
-        let points: Box<dyn Iterator<Item = &Vec2>> = if pass == 0 {
-            Box::new(p.iter())
-        } else {
-            Box::new(p.iter().rev())
-        };
         for &x in points {
-            while hull.len() >= start + 2
-                && turn(hull[hull.len() - 2], hull[hull.len() - 1], x) <= 0.0
-            {
+            while hull.len() >= start + 2 && {
+                let (o, a) = (hull[hull.len() - 2], hull[hull.len() - 1]);
+                (a - o).perp_dot(x - o) <= 0.0
+            } {
                 hull.pop();
             }
             hull.push(x);
         }
         hull.pop();
     }
+    let mut hull = Vec::with_capacity(2 * p.len());
+    chain(&mut hull, p.iter());
+    chain(&mut hull, p.iter().rev());
     hull
 }
 
-/// The planes of the flat faces within [`PLANE_REACH`] cells of `centre` whose planes pass
-/// within `near` of it. A face is a set of triangles in one plane (normals within
-/// [`FLAT_DOT`], offsets within 0.005 cells) joined by shared vertices; it counts when it
-/// spans at least [`FACE_WIDTH`] cells every way (the least width of its vertices' hull):
-/// a floor or a wall, not a hill's curved slopes or a standing stone's face (nor two stones'
-/// faces that happen to share a plane). Found from the geometry, not by rays, so
-/// neighbouring cells find the same faces and keep one lattice.
-fn face_planes(centre: Vec3, near: f32, s: f32, scene: &impl RayQuery) -> Vec<FacePlane> {
+/// The big flat faces within [`PLANE_REACH`] cells whose planes pass within [`NEAR_FACE`]
+/// cells of a stable probe at `centre` on a lattice of cell size `s`: placement keeps probes [`CLEARANCE`] off surfaces,
+/// so these are faces the probe sees past their edges, in line with them, at a grazing
+/// angle (each texel a long strip on the face). Their texels' quads, standing across the
+/// face toward the probe, are seen from a camera elsewhere in the cell, farther off the
+/// plane and so more steeply, like the slats of a blind, and the eye probe fills between
+/// them: the renderer lays those quads flat on the plane instead (`shaders/cull.wgsl`).
+/// Only faces at least [`FACE_WIDTH`] cells wide count: a round pillar's facets, whose
+/// planes pass as near a probe beside it, stay standing.
+///
+/// A face is a set of triangles in one plane (normals within [`FLAT_DOT`], offsets within
+/// 0.005 cells) joined by shared vertices; it counts when it spans at least [`FACE_WIDTH`]
+/// cells every way (the least width of its vertices' hull). Found from the geometry, not by
+/// rays, so neighbouring probes find the same faces.
+pub fn near_faces(centre: Vec3, s: f32, scene: &impl RayQuery) -> Vec<FacePlane> {
+    let near = NEAR_FACE * s;
     let r = Vec3::splat(PLANE_REACH * s);
     let tris: Vec<([Vec3; 3], Vec3)> = (scene.triangles_in(centre - r, centre + r).into_iter())
         .filter_map(|t| {

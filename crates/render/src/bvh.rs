@@ -534,6 +534,35 @@ pub fn any_hit_cpu_from(bvh: &GpuBvh, root: u32, origin: Vec3, dir: Vec3, t_max:
     true
 }
 
+/// Every triangle whose bounding box meets the box `min..max`, as its three vertices (the
+/// CPU's box query, e.g. for the flat faces near a probe).
+pub fn triangles_in_box_cpu(bvh: &GpuBvh, min: Vec3, max: Vec3) -> Vec<[Vec3; 3]> {
+    let overlaps = |lo: Vec3, hi: Vec3| lo.cmple(max).all() && hi.cmpge(min).all();
+    let mut out = Vec::new();
+    let mut todo = vec![0usize];
+    while let Some(i) = todo.pop() {
+        let Some(node) = bvh.nodes.get(i) else {
+            continue;
+        };
+        if !overlaps(node.min.into(), node.max.into()) {
+            continue;
+        }
+        if !node.is_leaf() {
+            todo.extend([node.first as usize, node.first as usize + 1]);
+            continue;
+        }
+        let range = node.first as usize..(node.first + node.count) as usize;
+        for t in bvh.triangles.get(range).unwrap_or_default() {
+            let a = Vec3::from(t.v0);
+            let (b, c) = (a + Vec3::from(t.e1), a + Vec3::from(t.e2));
+            if overlaps(a.min(b).min(c), a.max(b).max(c)) {
+                out.push([a, b, c]);
+            }
+        }
+    }
+    out
+}
+
 /// The nearest triangle the ray `origin + t * dir` crosses at `t` in `(T_MIN, t_max)`, with
 /// that `t` (the CPU's closest-hit query, e.g. for probe placement).
 pub fn first_hit_cpu(

@@ -315,3 +315,33 @@ fn a_top_level_tree_bounds_every_box_once() {
     assert!(nodes.len() < 2 * boxes.len());
     assert!(build_tlas(&[], 0, 1).0.is_empty());
 }
+
+/// The box query returns exactly the triangles whose bounds meet the box, as the brute
+/// force over the slice does, whatever the tree's shape.
+#[test]
+fn the_box_query_finds_exactly_the_triangles_whose_bounds_meet_the_box() {
+    let tris: Vec<[Vec3; 3]> = (0..400)
+        .map(|i| {
+            let c = Vec3::new((i % 20) as f32, (i / 20) as f32 * 0.5, (i % 7) as f32);
+            [c, c + Vec3::X * 0.3, c + Vec3::Z * 0.3]
+        })
+        .collect();
+    let bvh = build_bvh(&tris);
+    let (min, max) = (Vec3::new(3.2, 1.0, 1.5), Vec3::new(8.1, 4.0, 4.2));
+    let key = |t: &[Vec3; 3]| t.map(|v| v.to_array().map(f32::to_bits));
+    let mut found: Vec<_> = triangles_in_box_cpu(&bvh, min, max)
+        .iter()
+        .map(key)
+        .collect();
+    let mut brute: Vec<_> = (tris.iter())
+        .filter(|t| {
+            let (lo, hi) = (t[0].min(t[1]).min(t[2]), t[0].max(t[1]).max(t[2]));
+            lo.cmple(max).all() && hi.cmpge(min).all()
+        })
+        .map(key)
+        .collect();
+    found.sort();
+    brute.sort();
+    assert!(!brute.is_empty());
+    assert_eq!(found, brute);
+}
