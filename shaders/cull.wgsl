@@ -249,8 +249,12 @@ fn quad_corner(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, bits: u32, ha
     return split_corner(slot, face, fr, t, bits, x, y, kx, ky, true, true, p, nrm, d, 0u);
 }
 
-// Whether the stable probe that owns the pixel (the one that is not `role`) cannot see `p`.
-fn owner_misses(role: u32, p: vec3<f32>) -> bool {
+// How the stable probe that owns the pixel (the one that is not `role`) sees `p`.
+const OWNER_SEES: u32 = 0u; // its texel there shows the same surface
+const OWNER_PAST: u32 = 1u; // the sky or a farther surface: `p` lies past its silhouette
+const OWNER_HIDDEN: u32 = 2u; // something nearer, or a face it has not captured
+
+fn owner_view(role: u32, p: vec3<f32>) -> u32 {
     let owner = select(ROLE_GRID, ROLE_PREVIOUS, role == ROLE_GRID);
     for (var s = 1u; s < 3u; s++) {
         let v = view.slots[s];
@@ -260,16 +264,25 @@ fn owner_misses(role: u32, p: vec3<f32>) -> bool {
         let fr = slot_frame(v);
         let hit = frame_locate(fr, p);
         if (v.draw_mask & (1u << hit.face)) == 0u || any(abs(hit.uv) > vec2(1.0)) {
-            return true;
+            return OWNER_HIDDEN;
         }
         let t = texel_of_uv(hit.uv, v.n);
         if load_id(s, t, hit.face) == 0u {
-            return false;
+            return OWNER_PAST;
         }
         let dn = load_geo(s, t, hit.face).w;
-        return dn < hit.depth || frame_same_surface(fr, hit.depth, dn, v.n);
+        if frame_same_surface(fr, hit.depth, dn, v.n) {
+            return OWNER_SEES;
+        }
+        return select(OWNER_PAST, OWNER_HIDDEN, dn < hit.depth);
     }
-    return true;
+    return OWNER_HIDDEN;
+}
+
+// A corner's bit of `owner_miss_bits` (x), and whether it is hidden from the owner (y).
+fn owner_corner(role: u32, p: vec3<f32>, bit: u32) -> vec2<u32> {
+    let seen = owner_view(role, p);
+    return vec2(select(0u, bit, seen != OWNER_PAST), select(0u, 1u, seen == OWNER_HIDDEN));
 }
 
 // While a crossfade runs (our schedule), bit i (from `SPLAT_OWNER_MISSES`) set where the
@@ -277,19 +290,15 @@ fn owner_misses(role: u32, p: vec3<f32>) -> bool {
 // for the splat pass's kept-behind pixels. Decided here once per quad rather than in the
 // splat's vertex stage (measured on walk_cells at 1280×720, faces of 128, lavapipe: the
 // vertex stage's test cost about 7 of a fade frame's 19 ms of splatting).
-fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: vec3<f32>) -> u32 {
+// Also (y) how many of the corners something hides from the owner.
+fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: vec3<f32>) -> vec2<u32> {
     if view.schedule != 0u || role == ROLE_EYE || view.fade_t >= 1.0 {
-        return 0u;
+        return vec2(0u);
     }
     // Unrolled, like `listed`'s dispatch: SwiftShader's compiler took gigabytes on a loop
     // around `emit` (a loop in it was not tried).
-    let b = vec4<u32>(
-        select(0u, 1u, owner_misses(role, c0)),
-        select(0u, 2u, owner_misses(role, c1)),
-        select(0u, 4u, owner_misses(role, c2)),
-        select(0u, 8u, owner_misses(role, c3)),
-    );
-    return (b.x | b.y | b.z | b.w) << SPLAT_OWNER_MISSES;
+    let b = owner_corner(role, c0, 1u) + owner_corner(role, c1, 2u) + owner_corner(role, c2, 4u) + owner_corner(role, c3, 8u);
+    return vec2(b.x << SPLAT_OWNER_MISSES, b.y);
 }
 
 // Every texel of the faces in `work` (the paper schedule; ours with runs off).
@@ -454,10 +463,20 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
 // Appends a splat of shape `shape` (role | texels << 8 | SPLAT_COLUMN | part; the owner-miss
 // bits are added here) with corners c0-c3 to the list.
 fn push_splat(shape: u32, key: u32, colour: u32, reach: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: vec3<f32>) {
+    let role = shape & 0xffu;
+    let owner = owner_miss_bits(role, c0, c1, c2, c3);
+    // A stable quad that wins no pixel this frame (the grid probe's at fade 0: a crossing's
+    // first frame, or the next cell's probe filling behind the grid probe before it) is
+    // drawn only to fill where the owner cannot see: not listed unless something hides one
+    // of its corners from the owner. (Kept, its pixels would also fill the owner's gaps
+    // between quads seen at a grazing angle, which the eye fills as on a quiet frame.)
+    if view.schedule == 0u && role != ROLE_EYE && !draws_pixels(role) && owner.y == 0u {
+        return;
+    }
     var out: Splat;
     out.c0 = vec4(c0, bitcast<f32>(key));
     out.c1 = vec4(c1, bitcast<f32>(colour));
-    out.c2 = vec4(c2, bitcast<f32>(shape | owner_miss_bits(shape & 0xffu, c0, c1, c2, c3)));
+    out.c2 = vec4(c2, bitcast<f32>(shape | owner.x));
     out.c3 = vec4(c3, bitcast<f32>(reach));
     let index = atomicAdd(&args.instance_count, 1u);
     if index < arrayLength(&splats) {

@@ -55,10 +55,13 @@ pub const STABLE_FACES_PER_FRAME: u32 = 2;
 /// captures the eye and draws the previous probe alone) and on the frames after it until
 /// the fade begins; the rest follow.
 pub const CROSSING_STABLE_FACES: u32 = 1;
-/// Stable faces of the next cell's grid probe captured per quiet frame ahead of a crossing.
+/// Stable faces of the next cell's grid probe captured per quiet frame ahead of a crossing
+/// (as many as a fade frame's): the sooner that probe is whole, the sooner it fills behind
+/// the grid probe (`FrameDriver::frame`).
 pub const PREFETCH_FACES_PER_FRAME: u32 = 1;
-/// How far ahead, in seconds of the camera's current velocity, a crossing is predicted.
-pub const PREFETCH_LOOKAHEAD_S: f32 = 0.3;
+/// How far ahead, in seconds of the camera's current velocity, a crossing is predicted (and
+/// the next cell's probe captured, then drawn behind the grid probe).
+pub const PREFETCH_LOOKAHEAD_S: f32 = 0.5;
 /// Time constant of the camera velocity estimate, seconds.
 const VELOCITY_TAU_S: f32 = 0.15;
 /// Far distance of face visibility and captures.
@@ -454,10 +457,11 @@ impl FrameDriver {
         let mut plan = self.scheduler.plan(&frustum, probes, 0);
         // An orthographic camera's probe holds still while it pans: nothing to prefetch;
         // nor while a fade runs (no stable slot is free).
+        let mut next = None;
         if schedule == Schedule::Ours && camera.ortho_height.is_none() && plan.previous.is_none() {
             // The cell the camera enters next, if it does within the look-ahead.
             let ahead = camera.position + self.velocity * PREFETCH_LOOKAHEAD_S;
-            let next = first_crossing(camera.position, ahead, &self.defaults, &self.overrides)
+            next = first_crossing(camera.position, ahead, &self.defaults, &self.overrides)
                 .and_then(|p| {
                     let rays = &self.level.rays;
                     let c = self
@@ -466,9 +470,9 @@ impl FrameDriver {
                     c.ok()
                 })
                 .and_then(|c| probes.next_probe(c.key));
-            if let Some(next) = next {
+            if let Some(next) = &next {
                 let faces = PREFETCH_FACES_PER_FRAME;
-                self.scheduler.prefetch(&mut plan, &frustum, &next, faces);
+                self.scheduler.prefetch(&mut plan, &frustum, next, faces);
             }
         }
         if event == TransitionEvent::CrossingStarted {
@@ -501,6 +505,12 @@ impl FrameDriver {
             Some(p) => p.advance_fade(plan.readiness()),
             None => false,
         };
+        // The probe of the cell ahead, once every face it would show is captured, fills
+        // behind the grid probe until the crossing: the camera, nearing the cell's edge, sees
+        // past a near occluder what the grid probe cannot, and that probe, nearer, often
+        // can; without it the eye probe fills there, its texels sliding with the camera.
+        let filler =
+            (next.as_ref()).and_then(|n| self.scheduler.ready(&frustum, n, plan.scene_generation));
         let (fade_t, keep_previous) = match (finished, direction) {
             // Ended toward the grid probe: it draws every pixel, the previous one none.
             (true, Some(FadeDirection::TowardGrid)) => (1.0, false),
@@ -516,6 +526,7 @@ impl FrameDriver {
                 Some(&plan.grid),
                 plan.previous.as_ref(),
                 plan.prefetch.as_ref(),
+                filler.as_ref(),
             ];
             for p in stable.into_iter().flatten() {
                 let (origin, s) = (p.probe.origin, cell_size);
@@ -537,22 +548,38 @@ impl FrameDriver {
         };
         let internal = internal_size(self.size, n, camera.fov_y);
         let previous = plan.previous.as_ref().filter(|_| keep_previous).map(view);
+        let prefetch = plan.prefetch.as_ref().map(|p| ProbeView {
+            draw: FaceMask::EMPTY,
+            ..view(p)
+        });
+        // With a filler the frame is drawn as a crossing's first frame: the grid probe owns
+        // every pixel as the previous one (fade 0), the next probe's quads kept behind.
+        let (grid, previous, fade_t, prefetch, grid_complete) = match &filler {
+            Some(f) => {
+                let home = ProbeView {
+                    role: Role::Previous,
+                    ..view(&plan.grid)
+                };
+                (view(f), Some(home), 0.0, None, true)
+            }
+            None => {
+                let complete = plan.readiness().grid;
+                (view(&plan.grid), previous, fade_t, prefetch, complete)
+            }
+        };
         let mut input = FrameInput {
             camera: pixel_snapped(camera, internal),
             size: self.size,
             internal_size: internal,
             look: self.level.look,
             eye: view(&plan.eye),
-            grid: view(&plan.grid),
+            grid,
             previous,
             fade_t,
-            prefetch: plan.prefetch.as_ref().map(|p| ProbeView {
-                draw: FaceMask::EMPTY,
-                ..view(p)
-            }),
+            prefetch,
             captures,
             schedule,
-            grid_complete: plan.readiness().grid,
+            grid_complete,
             poses: Vec::new(),
             relight: Vec::new(),
             sprites: Vec::new(),
@@ -1181,9 +1208,15 @@ mod tests {
             .expect("level loads")
     }
 
+    /// The one-unit cell (stone_circle's grid) holding `p`: cells are centred on whole
+    /// coordinates.
+    fn cell_of(p: Vec3) -> glam::IVec3 {
+        p.round().as_ivec3()
+    }
+
     /// Frames of a walk through `path` (camera position per frame, looking down -z) on
     /// stone_circle: faces prefetched before the first crossing, and that crossing's frame
-    /// with the stable faces it still captured.
+    /// (the first whose camera is in another cell) with the stable faces it still captured.
     fn first_crossing_of(path: impl Fn(f32) -> Vec3) -> (usize, (usize, usize)) {
         let mut driver = driver_on("stone_circle");
         let dt = 1.0 / 30.0;
@@ -1196,7 +1229,7 @@ mod tests {
                 assert_ne!(p.slot, input.grid.slot);
                 prefetched += input.captures.iter().filter(|c| c.slot == p.slot).count();
             }
-            if input.previous.is_some() {
+            if cell_of(camera.position) != cell_of(path(0.0)) {
                 let stable = input.captures.iter().filter(|c| c.slot != Slot::Eye);
                 return (prefetched, (i, stable.count()));
             }
@@ -1242,16 +1275,18 @@ mod tests {
         let mut driver = driver_on("stone_circle");
         let dt = 1.0 / 30.0;
         let mut drawn = Vec::new();
+        let mut trigger = None;
         for i in 0..30 {
             // 6 units/s toward -z: a cell every five frames.
             let camera =
                 Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, 13.4 - 0.2 * i as f32), 0.0, -5.0);
             let input = driver.frame(camera, dt, Schedule::Ours).expect("frame");
             drawn.push((input.previous.is_some(), input.fade_t));
+            if trigger.is_none() && camera.position.z < 12.5 {
+                trigger = Some(i);
+            }
         }
-        let trigger = (drawn.iter())
-            .position(|&(previous, _)| previous)
-            .expect("the walk crosses a cell");
+        let trigger = trigger.expect("the walk crosses a cell");
         assert_eq!(drawn[trigger].1, 0.0, "the trigger frame: {drawn:?}");
         let (previous, t) = drawn[trigger + 1];
         assert!(
@@ -1263,6 +1298,53 @@ mod tests {
             .expect("the fade ends");
         assert_eq!(drawn[end].1, 1.0, "{drawn:?}");
         assert!(end - trigger <= 3, "frames with both probes: {drawn:?}");
+    }
+
+    /// Walking slowly toward a cell boundary, once the next cell's probe has every face the
+    /// view needs captured, frames before the crossing draw it behind the grid probe: the
+    /// grid probe as the previous one owning every pixel (fade 0), the next as the grid
+    /// probe in its own slot, just as the crossing's first frame draws them; a camera at
+    /// rest draws its grid probe alone.
+    #[test]
+    fn a_walk_draws_the_next_cells_probe_behind_the_grid_probe_before_the_crossing() {
+        let mut driver = driver_on("stone_circle");
+        let dt = 1.0 / 30.0;
+        let still = Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, 13.0), 0.0, -5.0);
+        for i in 0..10 {
+            let input = driver.frame(still, dt, Schedule::Ours).expect("frame");
+            assert!(input.previous.is_none(), "frame {i} at rest");
+        }
+        let home = driver.frame(still, dt, Schedule::Ours).expect("frame").grid;
+        let mut fillers = Vec::new();
+        for i in 1..30 {
+            // 1 unit/s toward -z: the boundary at z = 12.5 after 15 frames.
+            let z = 13.0 - i as f32 * dt;
+            let camera = Camera::from_yaw_pitch(Vec3::new(0.0, 1.6, z), 0.0, -5.0);
+            let input = driver.frame(camera, dt, Schedule::Ours).expect("frame");
+            let drawn = |v: &ProbeView| (v.role, v.origin, v.slot);
+            if z >= 12.5 {
+                assert_eq!(input.grid.origin.z < 13.0, input.previous.is_some());
+                if let Some(p) = &input.previous {
+                    assert_eq!(drawn(p), (Role::Previous, home.origin, home.slot));
+                    assert_eq!(
+                        input.fade_t, 0.0,
+                        "frame {i}: the grid probe owns every pixel"
+                    );
+                    assert_ne!(input.grid.slot, home.slot, "frame {i}");
+                    assert_eq!(input.grid.origin, home.origin - Vec3::Z, "frame {i}");
+                    fillers.push((drawn(&input.grid), drawn(p)));
+                }
+                continue;
+            }
+            // The crossing's first frame draws what the last frame before it drew.
+            let previous = input.previous.expect("the crossing starts a fade");
+            let last = *fillers.last().expect("frames with the next probe behind");
+            assert_eq!((drawn(&input.grid), drawn(&previous)), last);
+            assert_eq!(input.fade_t, 0.0);
+            assert!(fillers.len() >= 2, "{fillers:?}");
+            return;
+        }
+        panic!("the walk crosses no cell");
     }
 
     /// A camera that steps over a cell boundary and straight back: the fade turns toward the

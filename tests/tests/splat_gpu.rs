@@ -105,10 +105,19 @@ fn moving_inside_a_cell_keeps_grid_quads_bit_identical() {
     settled(&mut h, at(0));
     let mut before = quads(&h, 1);
     let mut shared = 0;
+    let home = Vec3::new(0.0, 2.0, 9.0);
     for i in 1..=10 {
         let (input, _, _) = h.frame(at(i), DT);
-        assert_eq!(input.grid.origin, Vec3::new(0.0, 2.0, 9.0));
-        let now = quads(&h, 1);
+        // Near the cell's edge the next cell's probe may fill behind the cell's own, which
+        // then draws as the previous probe (role 2) of a crossing's first frame.
+        let role = match input.previous {
+            Some(p) if p.origin == home => 2,
+            _ => {
+                assert_eq!(input.grid.origin, home);
+                1
+            }
+        };
+        let now = quads(&h, role);
         shared += assert_same_corners(&before, &now, "grid while strafing");
         before = now;
     }

@@ -395,6 +395,28 @@ impl Scheduler {
         plan.prefetch = Some(needs.into_plan());
     }
 
+    /// `next`'s plan (every face it would show drawn, none captured) when each of those faces
+    /// holds data of `scene_generation` for its origin, as [`Self::prefetch`] leaves them
+    /// once committed; `None` while any is missing or stale. Such a probe can fill behind
+    /// the grid probe before the crossing, as it does on the crossing's first frame.
+    pub fn ready(
+        &self,
+        frustum: &Frustum,
+        next: &Probe,
+        scene_generation: u64,
+    ) -> Option<ProbePlan> {
+        let pass = Pass {
+            frustum,
+            forward: view_forward(frustum),
+            scene_generation,
+            budget: 0,
+            work: Vec::new(),
+        };
+        let needs = self.needs(&pass, next);
+        let whole = needs.missing.is_empty() && needs.stale.is_empty();
+        (whole && !needs.visible.is_empty()).then(|| needs.into_plan())
+    }
+
     fn plan_eye(&self, pass: &mut Pass<'_>, eye: &Probe) -> ProbePlan {
         let visible = self.visible(pass.frustum, eye);
         pass.queue(eye, visible);
