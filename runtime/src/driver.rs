@@ -692,7 +692,10 @@ impl FrameDriver {
             && dt.is_finite()
         {
             let v = (position - last) / dt;
-            if v.is_finite() && (position - last).length() < 4.0 * self.defaults.cell_size {
+            // A step of a cell or more in one frame (30 cells a second at 30 fps) is a jump,
+            // not motion: it would leave a velocity that, decaying, still predicted
+            // crossings (and called in the next cell's probe) long after the camera stopped.
+            if v.is_finite() && (position - last).length() < self.defaults.cell_size {
                 let alpha = 1.0 - (-dt / VELOCITY_TAU_S).exp();
                 self.velocity += (v - self.velocity) * alpha;
             } else {
