@@ -56,8 +56,9 @@ pub const STABLE_FACES_PER_FRAME: u32 = 2;
 /// the fade begins; the rest follow.
 pub const CROSSING_STABLE_FACES: u32 = 1;
 /// Stable faces of the next cell's grid probe captured per quiet frame ahead of a crossing
-/// (as many as a fade frame's): the sooner that probe is whole, the sooner it fills behind
-/// the grid probe (`FrameDriver::frame`).
+/// (the prefetched probe fills behind the grid probe once whole: `FrameDriver::frame`; two
+/// a frame made it whole sooner, but a frame capturing two stable faces beside the eye's
+/// took up to 1.7× the median).
 pub const PREFETCH_FACES_PER_FRAME: u32 = 1;
 /// How far ahead, in seconds of the camera's current velocity, a crossing is predicted (and
 /// the next cell's probe captured, then drawn behind the grid probe).

@@ -52,7 +52,7 @@ fn the_next_cells_probe_fills_behind_a_near_pillar_before_the_crossing() {
         let (input, _, _) = h.frame(at(1.9 + 0.03 * i as f32), dt);
         if let Some(p) = input.previous {
             assert_eq!((p.origin, p.role), (home, Role::Previous), "frame {i}");
-            assert_eq!(input.fade_t, 0.0, "the grid probe's own owns every pixel");
+            assert_eq!(input.fade_t, 0.0, "the cell's own probe owns every pixel");
             assert_eq!(
                 input.grid.origin,
                 Vec3::new(4.0, 2.0, 3.0),
