@@ -548,12 +548,7 @@ impl FrameDriver {
             None => plan.grid.probe.face_resolution,
         };
         let internal = internal_size(self.size, n, camera.fov_y);
-        let previous = plan.previous.as_ref().filter(|_| keep_previous).map(view);
-        let prefetch = plan.prefetch.as_ref().map(|p| ProbeView {
-            draw: FaceMask::EMPTY,
-            ..view(p)
-        });
-        // With a filler the frame is drawn as a crossing's first frame: the grid probe owns
+        // With a filler the frame is drawn as a crossing's first frame: the cell's probe owns
         // every pixel as the previous one (fade 0), the next probe's quads kept behind.
         let (grid, previous, fade_t, prefetch, grid_complete) = match &filler {
             Some(f) => {
@@ -564,6 +559,11 @@ impl FrameDriver {
                 (view(f), Some(home), 0.0, None, true)
             }
             None => {
+                let previous = plan.previous.as_ref().filter(|_| keep_previous).map(view);
+                let prefetch = plan.prefetch.as_ref().map(|p| ProbeView {
+                    draw: FaceMask::EMPTY,
+                    ..view(p)
+                });
                 let complete = plan.readiness().grid;
                 (view(&plan.grid), previous, fade_t, prefetch, complete)
             }
@@ -577,6 +577,7 @@ impl FrameDriver {
             grid,
             previous,
             fade_t,
+            filling_ahead: filler.is_some(),
             prefetch,
             captures,
             schedule,
@@ -1328,6 +1329,8 @@ mod tests {
             let drawn = |v: &ProbeView| (v.role, v.origin, v.slot);
             if z >= 12.5 {
                 assert_eq!(input.grid.origin.z < 13.0, input.previous.is_some());
+                assert_eq!(input.filling_ahead, input.previous.is_some(), "frame {i}");
+                assert_eq!(input.cell_probe().origin, home.origin, "frame {i}");
                 if let Some(p) = &input.previous {
                     assert_eq!(drawn(p), (Role::Previous, home.origin, home.slot));
                     assert_eq!(
@@ -1345,6 +1348,8 @@ mod tests {
             let last = *fillers.last().expect("frames with the next probe behind");
             assert_eq!((drawn(&input.grid), drawn(&previous)), last);
             assert_eq!(input.fade_t, 0.0);
+            assert!(!input.filling_ahead, "a crossing is not ahead of itself");
+            assert_eq!(input.cell_probe().origin, input.grid.origin);
             assert!(fillers.len() >= 2, "{fillers:?}");
             return;
         }

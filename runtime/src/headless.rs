@@ -40,10 +40,14 @@ pub struct FrameRecord {
     pub frame: u32,
     /// Camera position.
     pub camera: [f32; 3],
-    /// Grid probe origin.
+    /// Origin of the camera cell's grid probe ([`texel_render::input::FrameInput::cell_probe`]).
     pub grid_origin: [f32; 3],
-    /// Whether a previous probe was drawn (a crossfade ran).
+    /// Whether a previous probe was drawn (a crossfade ran, or the next cell's probe filled
+    /// ahead of a crossing).
     pub crossfading: bool,
+    /// Whether the next cell's probe filled behind the cell's before the crossing
+    /// ([`texel_render::input::FrameInput::filling_ahead`]).
+    pub filling_ahead: bool,
     /// Crossfade progress.
     pub fade_t: f32,
     /// Cost and work.
@@ -141,8 +145,9 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
         frames.push(FrameRecord {
             frame: i,
             camera: input.camera.position.to_array(),
-            grid_origin: input.grid.origin.to_array(),
+            grid_origin: input.cell_probe().origin.to_array(),
             crossfading: input.previous.is_some(),
+            filling_ahead: input.filling_ahead,
             fade_t: input.fade_t,
             stats,
         });

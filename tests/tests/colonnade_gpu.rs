@@ -51,6 +51,8 @@ fn the_next_cells_probe_fills_behind_a_near_pillar_before_the_crossing() {
         // 0.03 units a frame, 0.9 cells per second: the boundary at z = 2.5 after 20 frames.
         let (input, _, _) = h.frame(at(1.9 + 0.03 * i as f32), dt);
         if let Some(p) = input.previous {
+            assert!(input.filling_ahead, "frame {i}");
+            assert_eq!(input.cell_probe().origin, home, "frame {i}");
             assert_eq!((p.origin, p.role), (home, Role::Previous), "frame {i}");
             assert_eq!(input.fade_t, 0.0, "the cell's own probe owns every pixel");
             assert_eq!(
@@ -77,6 +79,7 @@ fn the_next_cells_probe_fills_behind_a_near_pillar_before_the_crossing() {
         ..home
     };
     input.fade_t = 1.0;
+    input.filling_ahead = false;
     (h.session.renderer_mut())
         .render_offscreen(&h.ctx, &input)
         .expect("frame renders");

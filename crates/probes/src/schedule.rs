@@ -303,7 +303,6 @@ impl Scheduler {
         let mut pass = Pass {
             frustum,
             forward: view_forward(frustum),
-            scene_generation,
             budget: self.max_faces,
             work: Vec::new(),
         };
@@ -311,8 +310,8 @@ impl Scheduler {
         if let Some(cap) = self.stable_cap {
             pass.budget = pass.budget.min(cap);
         }
-        let mut grid = self.needs(&pass, &probes.grid());
-        let mut previous = probes.previous().map(|p| self.needs(&pass, &p));
+        let mut grid = self.needs(frustum, &probes.grid(), scene_generation);
+        let mut previous = (probes.previous()).map(|p| self.needs(frustum, &p, scene_generation));
         // The frame that crosses into a new cell (a grid probe with nothing captured at its
         // origin while the previous one still draws, or the fade's first frame) captures
         // fewer stable faces: it also pays for the eye and both stable probes' quads. So do
@@ -380,11 +379,10 @@ impl Scheduler {
         let mut pass = Pass {
             frustum,
             forward: view_forward(frustum),
-            scene_generation: plan.scene_generation,
             budget: max_faces.min(spare),
             work: Vec::new(),
         };
-        let mut needs = self.needs(&pass, next);
+        let mut needs = self.needs(frustum, next, plan.scene_generation);
         needs.capture = pass.take(needs.missing);
         if needs.capture.is_empty() {
             return;
@@ -405,14 +403,7 @@ impl Scheduler {
         next: &Probe,
         scene_generation: u64,
     ) -> Option<ProbePlan> {
-        let pass = Pass {
-            frustum,
-            forward: view_forward(frustum),
-            scene_generation,
-            budget: 0,
-            work: Vec::new(),
-        };
-        let needs = self.needs(&pass, next);
+        let needs = self.needs(frustum, next, scene_generation);
         let whole = needs.missing.is_empty() && needs.stale.is_empty();
         (whole && !needs.visible.is_empty()).then(|| needs.into_plan())
     }
@@ -460,9 +451,9 @@ impl Scheduler {
         (drawable, valid)
     }
 
-    fn needs(&self, pass: &Pass<'_>, probe: &Probe) -> Needs {
-        let visible = self.visible(pass.frustum, probe);
-        let (drawable, valid) = self.cached(probe, pass.scene_generation);
+    fn needs(&self, frustum: &Frustum, probe: &Probe, scene_generation: u64) -> Needs {
+        let visible = self.visible(frustum, probe);
+        let (drawable, valid) = self.cached(probe, scene_generation);
         Needs {
             probe: *probe,
             visible,
@@ -503,7 +494,6 @@ impl Needs {
 struct Pass<'a> {
     frustum: &'a Frustum,
     forward: Vec3,
-    scene_generation: u64,
     budget: u32,
     work: Vec<FaceWork>,
 }

@@ -359,7 +359,7 @@ impl Renderer {
         let sprites = (self.sprites).prepare(ctx, &self.view, scene, store, &input.look, fading);
         let rects = capture_rects(input, &globals, store);
         stages.run("capture", |enc| {
-            self.capture.eye_band_origin = input.grid.origin;
+            self.capture.eye_band_origin = input.cell_probe().origin;
             (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         let mut jobs = shade_jobs(input, &rects);

@@ -372,12 +372,18 @@ pub struct FrameInput {
     pub look: Look,
     /// The eye probe.
     pub eye: ProbeView,
-    /// The grid probe.
+    /// The grid probe: the probe a crossfade runs toward, which is the camera cell's probe
+    /// except while `filling_ahead`.
     pub grid: ProbeView,
     /// The previous probe, during a crossfade.
     pub previous: Option<ProbeView>,
     /// Crossfade progress: 0 = previous draws everything, 1 = grid does.
     pub fade_t: f32,
+    /// Whether the frame comes before a crossing and is drawn as the crossing's first frame
+    /// will be: `grid` is then the next cell's probe, filling behind the camera cell's probe,
+    /// which draws as `previous` and owns every pixel (`fade_t` 0). See
+    /// [`FrameInput::cell_probe`].
+    pub filling_ahead: bool,
     /// The grid probe of the cell the camera is heading into, whose faces are being
     /// captured ahead of the crossing (in the free stable slot); not drawn.
     pub prefetch: Option<ProbeView>,
@@ -398,6 +404,18 @@ pub struct FrameInput {
     pub relight: Vec<Relight>,
     /// Sprites that moved or changed frame since the last frame (the others keep theirs).
     pub sprites: Vec<SpriteState>,
+}
+
+impl FrameInput {
+    /// The grid probe of the camera's cell: `previous` while the next cell's probe fills
+    /// ahead of a crossing ([`FrameInput::filling_ahead`]), else `grid`. The eye probe's
+    /// terrain bands are measured from its origin.
+    pub fn cell_probe(&self) -> &ProbeView {
+        match (&self.previous, self.filling_ahead) {
+            (Some(p), true) => p,
+            _ => &self.grid,
+        }
+    }
 }
 
 /// Texels of a stable probe's face to light again (see [`FrameInput::relight`]).

@@ -88,6 +88,11 @@ pub fn frame(input: &FrameInput) -> Result<(), RenderError> {
     if i.x == 0 || i.y == 0 || i.x > o.x || i.y > o.y {
         return bad("internal size must be non-zero and at most the output size");
     }
+    if input.filling_ahead && (input.previous.is_none() || input.fade_t != 0.0) {
+        return bad(
+            "a frame filling ahead of a crossing draws the camera cell's probe as the previous one, at fade 0",
+        );
+    }
     [input.eye.face_resolution, input.grid.face_resolution]
         .into_iter()
         .chain(input.previous.map(|p| p.face_resolution))
@@ -185,6 +190,61 @@ mod tests {
             ..wgpu::Limits::default()
         };
         assert!(device_output(&big, UVec2::new(16384, 16384)).is_err());
+    }
+
+    /// A frame that says it fills ahead of a crossing must draw the camera cell's probe as
+    /// the previous one at fade 0, or `FrameInput::cell_probe` would name the wrong probe.
+    #[test]
+    fn a_frame_filling_ahead_needs_the_cell_probe_as_previous_at_fade_0() {
+        use crate::input::{Look, MAX_NEAR_FACES, ProbeView, Schedule};
+        use glam::{Vec3, Vec4};
+        use texel_probes::cube::FaceMask;
+        use texel_probes::probe_set::{Role, Slot};
+        let probe = |role, slot, z| ProbeView {
+            role,
+            slot,
+            origin: Vec3::new(0.0, 1.0, z),
+            face_resolution: 64,
+            draw: FaceMask::ALL,
+            valid: FaceMask::ALL,
+            ortho: None,
+            near_faces: [Vec4::ZERO; MAX_NEAR_FACES],
+        };
+        let size = UVec2::new(64, 36);
+        let mut input = FrameInput {
+            camera: Camera::looking(Vec3::new(0.0, 1.0, 0.4), Vec3::NEG_Z),
+            size,
+            internal_size: size,
+            look: Look {
+                sky: Vec3::ONE,
+                ambient: Vec3::ZERO,
+                bands: 8,
+                haze: 0.0,
+            },
+            eye: probe(Role::Eye, Slot::Eye, 0.4),
+            grid: probe(Role::Grid, Slot::StableB, -1.0),
+            previous: Some(probe(Role::Previous, Slot::StableA, 0.0)),
+            fade_t: 0.0,
+            filling_ahead: true,
+            prefetch: None,
+            captures: Vec::new(),
+            schedule: Schedule::Ours,
+            grid_complete: true,
+            poses: Vec::new(),
+            relight: Vec::new(),
+            sprites: Vec::new(),
+        };
+        assert!(frame(&input).is_ok());
+        assert_eq!(input.cell_probe().origin.z, 0.0);
+        input.fade_t = 0.5;
+        assert!(frame(&input).is_err(), "filling ahead past fade 0");
+        input.fade_t = 0.0;
+        input.previous = None;
+        let e = frame(&input).unwrap_err().to_string();
+        assert!(e.contains("previous"), "{e}");
+        input.filling_ahead = false;
+        assert!(frame(&input).is_ok());
+        assert_eq!(input.cell_probe().origin.z, -1.0);
     }
 
     #[test]

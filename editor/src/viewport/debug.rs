@@ -6,13 +6,12 @@
 use egui::{Color32, ColorImage, Painter, Stroke, TextureHandle, TextureOptions};
 use glam::Vec3;
 use texel_probes::grid::{GridCell, resolve_grid};
-use texel_probes::probe_set::Role;
 use texel_render::input::ProbeView;
 use texel_render::readback::FrameIds;
 use texel_runtime::extract::{Viewport as ExtractViewport, grid_settings};
 use texel_scene::Scene;
 
-use super::gpu::{GpuView, LastProbes};
+use super::gpu::{GpuView, LastProbes, OtherProbe};
 use crate::camera::Projector;
 use crate::viewport::overlay;
 
@@ -94,11 +93,10 @@ impl DebugFlags {
 
 /// Tint of eye-sourced pixels.
 pub const EYE_TINT: Color32 = Color32::from_rgba_premultiplied(120, 0, 120, 120);
-const ORIGIN_COLOURS: [(&str, Color32); 3] = [
-    ("eye", Color32::from_rgb(255, 90, 220)),
-    ("grid", Color32::from_rgb(90, 230, 255)),
-    ("previous", Color32::from_rgb(255, 200, 60)),
-];
+const EYE_COLOUR: Color32 = Color32::from_rgb(255, 90, 220);
+const GRID_COLOUR: Color32 = Color32::from_rgb(90, 230, 255);
+const PREVIOUS_COLOUR: Color32 = Color32::from_rgb(255, 200, 60);
+const NEXT_COLOUR: Color32 = Color32::from_rgb(140, 255, 120);
 /// Edge pieces per cell edge, so edges passing behind the camera keep their visible part.
 const EDGE_PIECES: usize = 6;
 
@@ -182,7 +180,15 @@ impl DebugState {
         if self.flags.probe_origins
             && let Some(p) = probes
         {
-            let views = [Some(p.eye), Some(p.grid), p.previous];
+            let other = p.other.map(|(what, v)| match what {
+                OtherProbe::Previous => ("previous", PREVIOUS_COLOUR, v),
+                OtherProbe::Next => ("next", NEXT_COLOUR, v),
+            });
+            let views = [
+                Some(("eye", EYE_COLOUR, p.eye)),
+                Some(("grid", GRID_COLOUR, p.grid)),
+                other,
+            ];
             // The probes follow the camera, so their origins are often off screen: a
             // readout in the corner says where they are relative to the eye.
             // Below the Play banner and the render error line.
@@ -191,9 +197,8 @@ impl DebugState {
             // be blind there (inside a solid, on a surface).
             let (defaults, overrides) = grid_settings(scene, viewport);
             let vertex = resolve_grid(camera, &defaults, &overrides).map(|c| c.origin());
-            for ((name, colour), v) in ORIGIN_COLOURS.iter().zip(views) {
-                let Some(v) = v else { continue };
-                if v.role == Role::Grid
+            for (name, colour, v) in views.into_iter().flatten() {
+                if name == "grid"
                     && let Ok(vertex) = vertex
                     && (v.origin - vertex).length() > 1e-4
                 {
@@ -202,11 +207,11 @@ impl DebugState {
                         "{name:<8} placed {:>5.2} {:>5.2} {:>5.2} from its cell centre",
                         m.x, m.y, m.z
                     );
-                    backed_text(painter, line, text, *colour);
+                    backed_text(painter, line, text, colour);
                     line.y += 15.0;
                     if let (Some(a), Some(b)) = (proj.project(vertex), proj.project(v.origin)) {
-                        painter.line_segment([a, b], Stroke::new(1.5, *colour));
-                        painter.circle_stroke(a, 3.0, Stroke::new(1.0, *colour));
+                        painter.line_segment([a, b], Stroke::new(1.5, colour));
+                        painter.circle_stroke(a, 3.0, Stroke::new(1.0, colour));
                     }
                 }
                 let d = v.origin - camera;
@@ -223,18 +228,18 @@ impl DebugState {
                         d.z,
                         v.draw.bits()
                     ),
-                    *colour,
+                    colour,
                 );
                 line.y += 15.0;
                 if let Some(at) = proj.project(v.origin) {
-                    painter.circle_stroke(at, 6.0, Stroke::new(2.0, *colour));
+                    painter.circle_stroke(at, 6.0, Stroke::new(2.0, colour));
                     painter.line_segment(
                         [at - egui::vec2(9.0, 0.0), at + egui::vec2(9.0, 0.0)],
-                        Stroke::new(1.0, *colour),
+                        Stroke::new(1.0, colour),
                     );
                     painter.line_segment(
                         [at - egui::vec2(0.0, 9.0), at + egui::vec2(0.0, 9.0)],
-                        Stroke::new(1.0, *colour),
+                        Stroke::new(1.0, colour),
                     );
                     painter.text(
                         at + egui::vec2(9.0, -9.0),
@@ -244,7 +249,7 @@ impl DebugState {
                             v.origin.x, v.origin.y, v.origin.z
                         ),
                         egui::FontId::monospace(11.0),
-                        *colour,
+                        colour,
                     );
                 }
             }

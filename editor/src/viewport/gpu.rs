@@ -63,7 +63,7 @@ pub struct GpuView {
     region: Option<(glam::Vec3, glam::Vec3)>,
     /// Cost of the last frame.
     pub report: RenderReport,
-    /// The probes the last frame drew: eye, grid and (during a crossfade) previous.
+    /// The probes the last frame drew: eye, the camera cell's grid probe and the other stable one.
     pub probes: Option<LastProbes>,
 }
 
@@ -72,10 +72,20 @@ pub struct GpuView {
 pub struct LastProbes {
     /// The eye probe.
     pub eye: ProbeView,
-    /// The grid probe.
+    /// The grid probe of the camera's cell.
     pub grid: ProbeView,
+    /// The other stable probe drawn, if any, and what it is: the previous grid probe during
+    /// a crossfade, or the next cell's probe filling behind before a crossing.
+    pub other: Option<(OtherProbe, ProbeView)>,
+}
+
+/// What the second stable probe of a frame is (see [`LastProbes::other`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum OtherProbe {
     /// The previous grid probe, during a crossfade.
-    pub previous: Option<ProbeView>,
+    Previous,
+    /// The next cell's probe, before the crossing.
+    Next,
 }
 
 impl GpuView {
@@ -173,10 +183,14 @@ impl GpuView {
             .map_err(err)?;
         self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
         let input = frame.input;
+        let other = match (input.filling_ahead, input.previous) {
+            (true, _) => Some((OtherProbe::Next, input.grid)),
+            (false, p) => p.map(|p| (OtherProbe::Previous, p)),
+        };
         self.probes = Some(LastProbes {
             eye: input.eye,
-            grid: input.grid,
-            previous: input.previous,
+            grid: *input.cell_probe(),
+            other,
         });
         self.report.stats = Some(frame.stats);
         self.report.size = size;

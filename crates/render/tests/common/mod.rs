@@ -105,6 +105,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         grid,
         previous: None,
         fade_t: 1.0,
+        filling_ahead: false,
         prefetch: None,
         captures,
         schedule,
