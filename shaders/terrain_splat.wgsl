@@ -5,7 +5,9 @@
 // depends on the camera only through the haze, so each record is kept, unhazed, in a cache
 // slot of the texel's key (`cache_slot`), stamped with what it was made from (`record_stamp`)
 // and sealed with its contents (`sealed`): a texel drawn again with the same point, lights
-// and probe takes its record from there.
+// and probe takes its record from there. A record's pixels are shadowed from their own
+// centres (`shadows`, rays through the BVH), not by the texel's rays: two probes whose
+// texels both show a pixel then agree on its shadow, as they agree on its colour.
 // crates/render/src/passes/terrain_splat.rs.
 
 #include "lib/common.wgsl"
@@ -14,6 +16,7 @@
 #include "lib/terrain.wgsl"
 #include "lib/lights.wgsl"
 #include "lib/shade_globals.wgsl"
+#include "lib/bvh.wgsl"
 
 struct DrawArgs {
     index_count: u32,
@@ -44,6 +47,12 @@ const GROUP: u32 = 64u;
 @group(0) @binding(11) var<storage, read_write> records: array<TerrainSplat>;
 // Its own group: bound only while `size` writes it, not while `main` is dispatched by it.
 @group(1) @binding(0) var<storage, read_write> dispatch: DispatchArgs;
+// The shadow BVH (lib/bvh.wgsl, passes/mod.rs `bvh_layout`), bound only for `shadows`.
+@group(2) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
+@group(2) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
+@group(2) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;
+@group(2) @binding(3) var<uniform> bvh_fields: BvhFields;
+@group(2) @binding(4) var bvh_field_data: texture_2d_array<f32>;
 
 // The dispatch of `main`: one invocation per quad of the list; and an empty queue of misses.
 @compute @workgroup_size(1)
@@ -62,10 +71,32 @@ fn size() {
 struct Misses {
     quads: u32,
     count: atomic<u32>,
-    at: array<u32>,
+    at: array<Miss>,
+}
+
+// A queued miss: what `shadows` needs of its quad (which binds neither the list nor the
+// objects, to stay within those 8 buffers) and what it found.
+struct Miss {
+    // The quad's texel point.
+    mid: vec3<f32>,
+    // The quad's index in the list.
+    index: u32,
+    // Its terrain's index.
+    terrain: u32,
+    // Its probe's role.
+    role: u32,
+    // Bit TERRAIN_LIGHTS · (k & 1) + i of word k >> 1: light i reaches the centre of cell k
+    // of the quad's block (`cell_reach`).
+    reach: vec2<u32>,
 }
 
 @group(0) @binding(12) var<storage, read_write> misses: Misses;
+// The lights that reach terrain pixels' centres, as `shadows` found them: one word per slot,
+// at a hash of the pixel (`cell_slot`), its check bits above TERRAIN_LIGHTS bits of lights;
+// 0 is empty. A pixel is shared by the blocks of every probe and frame that show it, so its
+// rays are cast once, not once per record (an outline's strip is made afresh every frame,
+// a new probe's records at its crossing, the eye's as it moves). Cleared with the records.
+@group(0) @binding(13) var<storage, read_write> cell_lights: array<u32>;
 
 // Each quad of the list: its record from the cache, hazed, or its index queued for `make`.
 @compute @workgroup_size(64)
@@ -93,7 +124,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let k = atomicAdd(&misses.count, 1u);
     if k < arrayLength(&misses.at) {
-        misses.at[k] = ii;
+        let obj = objects[bitcast<u32>(s.c3.w) >> SPLAT_TERRAIN_OBJECT_AT];
+        misses.at[k] = Miss(splat_mid(s), ii, obj.flags >> 8u, splat_role(s), vec2(0u));
     }
 }
 
@@ -104,19 +136,81 @@ fn size_misses() {
     dispatch = DispatchArgs((n + GROUP - 1u) / GROUP, 1u, 1u);
 }
 
+// Each queued miss: which lights reach the centres of its block's four pixels, by a shadow
+// ray from each (dispatched as `make` is, before it).
+@compute @workgroup_size(64)
+fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
+        return;
+    }
+    let m = misses.at[gid.x];
+    let tr = terrains[m.terrain];
+    let b = terrain_block(tr, m.mid, splat_probe(m.role));
+    var reach = vec2(0u);
+    let lights = (1u << TERRAIN_LIGHTS) - 1u;
+    let probe = splat_probe(m.role);
+    for (var k = 0u; k < 4u; k++) {
+        let px = block_pixel(tr, b, k, probe);
+        let h = pixel_hash(m.terrain, px);
+        let slot = h % arrayLength(&cell_lights);
+        // Check bits from another hash of the pixel, never all zero (an empty slot).
+        let check = (hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) | (1u << 31u);
+        var bits = cell_lights[slot];
+        if (bits & ~lights) != check {
+            bits = check | pixel_reach(tr, px);
+            cell_lights[slot] = bits;
+        }
+        reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
+    }
+    misses.at[gid.x].reach = reach;
+}
+
+// A hash of pixel `px` of terrain `t`.
+fn pixel_hash(t: u32, px: TerrainPixel) -> u32 {
+    let c = vec2<i32>(floor(px.centre / px.size));
+    var h = hash_u32(t ^ 0x9e3779b9u);
+    h = hash_u32(h ^ bitcast<u32>(px.size));
+    h = hash_u32(h ^ bitcast<u32>(c.x));
+    return hash_u32(h ^ bitcast<u32>(c.y));
+}
+
+// The lights (bit i: light i, below TERRAIN_LIGHTS) that reach the centre of terrain pixel
+// `px` of `tr`: a shadow ray from its centre on the level-0 surface (the one the BVH walks),
+// a tenth of a pixel off along the normal (as the shade pass starts a texel's a tenth of a
+// texel off). A light behind the normal or out of reach counts as reaching;
+// `terrain_lit_pixel` lights by the normal.
+fn pixel_reach(tr: Terrain, px: TerrainPixel) -> u32 {
+    let size = px.size;
+    let q = clamp(px.centre, vec2(0.0), tr.size);
+    let centre = vec3(tr.corner.x + q.x, tr.corner.y + terrain_plane(tr, q).height, tr.corner.z + q.y);
+    let normal = terrain_normal(tr, q);
+    let offset = max(SHADOW_OFFSET, 0.1 * size);
+    let start = centre + normal * offset;
+    var reach = 0u;
+    for (var i = 0u; i < min(light_count(), TERRAIN_LIGHTS); i++) {
+        let r = light_ray(i, centre);
+        let traced = dot(normal, r.dir) > 0.0 && r.reach > 0.0;
+        if !traced || !bvh_any_hit(start, r.dir, light_reach(r, offset)) {
+            reach |= 1u << i;
+        }
+    }
+    return reach;
+}
+
 // Each queued miss: its record made, sealed into its cache slot, and hazed into the list's.
 @compute @workgroup_size(64)
 fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
         return;
     }
-    let ii = misses.at[gid.x];
+    let m = misses.at[gid.x];
+    let ii = m.index;
     let capacity = arrayLength(&splats);
     let s = splats[ii];
     let mid = splat_mid(s);
     let probe = splat_probe(splat_role(s));
     let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
-    var r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe);
+    var r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe, m.reach);
     r.grid.w = bitcast<f32>(sealed(stamp, r));
     let slots = select(0u, arrayLength(&records) - capacity, is_body(s));
     if slots > 0u {
@@ -215,6 +309,32 @@ fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
     return out;
 }
 
+// The 2 × 2 block of cells a one-texel quad of terrain `tr` whose texel point is `mid`,
+// drawn by `probe`, shows: their size and the first one's index (toward which the point
+// lies in its own cell). The cells are its band's, before the Bayer promotion toward the
+// band's end: each shows the pixel that holds it (`block_pixel`), its own or the promoted
+// one around it, so the quad of a texel on a promoted pixel still shows its unpromoted
+// neighbours at their size, and the other way round.
+struct TerrainBlock {
+    size: f32,
+    base: vec2<f32>,
+}
+
+fn terrain_block(tr: Terrain, mid: vec3<f32>, probe: BandFrom) -> TerrainBlock {
+    let q = clamp(mid.xz - tr.corner.xz, vec2(0.0), tr.size);
+    let point = vec3(tr.corner.x + q.x, tr.corner.y + terrain_height(tr, q), tr.corner.z + q.y);
+    let size = terrain_band_cell(tr, point, probe).size;
+    let g = q / size;
+    return TerrainBlock(size, floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5)));
+}
+
+// The terrain pixel that holds cell `k` (x: bit 0, z: bit 1) of block `b`: the pixel at
+// the cell's centre, sized for `probe`.
+fn block_pixel(tr: Terrain, b: TerrainBlock, k: u32, probe: BandFrom) -> TerrainPixel {
+    let cell = b.base + vec2(f32(k & 1u), f32(k >> 1u));
+    return terrain_pixel(tr, terrain_cell_point(tr, cell, b.size), probe);
+}
+
 // The terrain pixels (unhazed) a one-texel quad of a terrain (cull.wgsl) shows, with its
 // lights, outline and object `word`, its texel point `mid`, drawn by `probe`: the 2 × 2
 // block of pixels toward which its point lies in its own pixel. A terrain pixel is at least
@@ -222,18 +342,17 @@ fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
 // grazing angle its footprint reaches past the block, and a screen pixel whose ray meets
 // the ground there takes the block's nearest pixel (docs/stability-log.md, "Terrain"). Each is
 // coloured and lit as the shade pass would light it from its centre (its colour, the
-// terrain's normal there), with the texel's shadows and outline. Pixels of the terrain
+// terrain's normal there), shadowed from its centre (`reach`, from `shadows`), with the
+// texel's outline. Pixels of the terrain
 // follow the world, not each probe's texel grid: a crossfade's two probes show the same
 // pixel under each screen pixel, where each had drawn its own texels' steps.
-fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandFrom) -> TerrainSplat {
+fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandFrom, reach: vec2<u32>) -> TerrainSplat {
     var out: TerrainSplat;
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
     let tr = terrains[obj.flags >> 8u];
-    let q = clamp(mid.xz - tr.corner.xz, vec2(0.0), tr.size);
-    let point = vec3(tr.corner.x + q.x, tr.corner.y + terrain_height(tr, q), tr.corner.z + q.y);
-    let size = terrain_pixel(tr, point, probe).size;
-    let g = q / size;
-    let base = floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5));
+    let block = terrain_block(tr, mid, probe);
+    let size = block.size;
+    let base = block.base;
     // The ground along the inner edges, through its heights at the edges' two cell middles
     // (points of the world's pixel grid, which a neighbouring block on that edge shares).
     let inner = (base + 1.0) * size;
@@ -245,23 +364,22 @@ fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandFrom) -> TerrainSplat {
     let bx = (hx1 - hx0) / size;
     let bz = (hz1 - hz0) / size;
     out.edges = vec4(tr.corner.y + hx0 - 0.5 * size * bx, bx, tr.corner.y + hz0 - 0.5 * size * bz, bz);
-    let shadows = word & ((1u << TERRAIN_LIGHTS) - 1u);
     let shift = f32((word >> TERRAIN_LIGHTS) & 3u) - 1.0;
     for (var k = 0u; k < 4u; k++) {
-        let cell = base + vec2(f32(k & 1u), f32(k >> 1u));
-        let lit = terrain_lit_pixel(tr, obj.albedo, cell, size, shadows, shift);
+        let px = block_pixel(tr, block, k, probe);
+        let lights = (reach[k >> 1u] >> (TERRAIN_LIGHTS * (k & 1u))) & ((1u << TERRAIN_LIGHTS) - 1u);
+        let lit = terrain_lit_pixel(tr, obj.albedo, px, lights, shift);
         out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(lit), 1.0));
     }
     out.grid = vec4(tr.corner.xz + base * size, size, 0.0);
     return out;
 }
 
-// Terrain pixel `cell` (of size `size`) of `tr`, lit from its centre by the lights in `reach`
-// (bit i: light i), posterized with `shift`.
-fn terrain_lit_pixel(tr: Terrain, albedo: vec3<f32>, cell: vec2<f32>, size: f32, reach: u32, shift: f32) -> vec3<f32> {
-    let px = TerrainPixel((cell + 0.5) * size, size);
+// Terrain pixel `px` of `tr`, lit from its centre by the lights in `reach` (bit i: light i),
+// posterized with `shift`.
+fn terrain_lit_pixel(tr: Terrain, albedo: vec3<f32>, px: TerrainPixel, reach: u32, shift: f32) -> vec3<f32> {
     let colour = albedo * terrain_pixel_colour(tr, px);
-    let centre = terrain_cell_point(tr, cell, size);
+    let centre = vec3(tr.corner.x + px.centre.x, tr.corner.y + terrain_height(tr, px.centre), tr.corner.z + px.centre.y);
     let normal = terrain_normal(tr, px.centre);
     var light = globals.ambient.rgb;
     for (var i = 0u; i < light_count(); i++) {

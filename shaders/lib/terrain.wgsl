@@ -224,8 +224,16 @@ struct TerrainPixel {
     size: f32,
 }
 
-// The terrain pixel of `t` holding world point `p`, sized for `sizing`.
-fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
+// The cell of the band that holds world point `p`, before the Bayer promotion toward the
+// band's end (`terrain_pixel`): its band, size and index, and its centre's distance.
+struct BandCell {
+    band: u32,
+    size: f32,
+    cell: vec2<f32>,
+    d: f32,
+}
+
+fn terrain_band_cell(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> BandCell {
     let origin = sizing.origin;
     let q = p.xz - t.corner.xz;
     // The finest band whose own cell containing p is far enough to belong to it.
@@ -242,6 +250,17 @@ fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
         cell = floor(q / s);
         d = distance(terrain_cell_point(t, cell, s), origin);
     }
+    return BandCell(b, s, cell, d);
+}
+
+// The terrain pixel of `t` holding world point `p`, sized for `sizing`.
+fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
+    let q = p.xz - t.corner.xz;
+    let own = terrain_band_cell(t, p, sizing);
+    var b = own.band;
+    var s = own.size;
+    var cell = own.cell;
+    let d = own.d;
     // Toward the band's far end, a Bayer share of its cells takes the next band's pixel. The
     // band ends where its distances do or where the probe's texel (2d/n) outgrows its pixel,
     // whichever is nearer: the texel's bound is a band change like the distance's.

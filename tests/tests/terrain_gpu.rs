@@ -272,6 +272,37 @@ fn terrain_pixels_on_rolling_ground_do_not_depend_on_the_probe() {
     );
 }
 
+/// A terrain pixel's shadow does not depend on the probe that drew it (`shaders/
+/// terrain_splat.wgsl` `shadows`: rays from each pixel's centre): a tall box's shadow on a
+/// flat terrain, under a low sun, drawn through grid probes at two origins, falls on the same
+/// pixels. Lit by each texel's own shadow rays, the two probes' texels along the shadow's
+/// edges lit their pixels differently.
+#[test]
+fn terrain_shadows_on_screen_do_not_depend_on_the_probe() {
+    let dir = tempfile::tempdir().unwrap();
+    let level = flat_terrain_level(dir.path(), 2.0);
+    let text = std::fs::read_to_string(&level).unwrap();
+    // Its shadow falls 6 units toward the camera, onto the lower half of the view; the box
+    // stands in the upper half, which is not compared.
+    let text = text.replace(
+        "(directional_light: (direction: (0.0, -1.0, 0.0)",
+        "(name: \"Box\", transform: (translation: (0.1, 2.0, -8.0), rotation: (0.0, 0.0, 0.0), \
+         scale: (1.0, 1.0, 1.0)), geometry: Box(size: (1.5, 4.0, 1.0)), material: (albedo: \
+         (0.5, 0.5, 0.5), emissive: (0.0, 0.0, 0.0), casts_shadows: true, outlined: false)),\n \
+         (directional_light: (direction: (0.0, -0.55, 0.83)",
+    );
+    std::fs::write(&level, text).unwrap();
+    let Some(TwoProbeViews { pixels, differ }) =
+        two_probe_views(&level, cam(0.3, 1.6, 0.2, 0.0, -30.0), 1, 2)
+    else {
+        return;
+    };
+    assert!(
+        differ * 200 < pixels,
+        "{differ} of {pixels} pixels differ between the two probes' views"
+    );
+}
+
 /// A grid probe captured again from elsewhere in its cell, after both stable slots held
 /// other probes, lights every terrain texel exactly as before: bands are measured from the
 /// probe origin, never the camera.

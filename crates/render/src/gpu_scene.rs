@@ -589,6 +589,8 @@ pub struct GpuScene {
     pub field_data: wgpu::TextureView,
     /// Terrains walked as heightfields by the shadow rays.
     pub shadow_fields: usize,
+    /// A hash of where the animated shadow casters stand ([`GpuScene::casters_key`]).
+    casters_key: std::sync::atomic::AtomicU64,
 }
 
 fn pack_colour(c: [f32; 4]) -> u32 {
@@ -873,6 +875,7 @@ impl GpuScene {
             ),
             animated,
             tlas_root,
+            casters_key: std::sync::atomic::AtomicU64::new(0),
             terrain_count: scene.terrains.len(),
             terrains: storage(
                 "scene::terrains",
@@ -943,6 +946,19 @@ impl GpuScene {
             .chain(order.iter().map(|&k| casting[k as usize]))
             .collect();
         queue.write_buffer(&self.bvh_instances, 0, bytemuck::cast_slice(&records));
+        let key = {
+            use std::hash::{Hash, Hasher};
+            let mut h = std::collections::hash_map::DefaultHasher::new();
+            bytemuck::cast_slice::<GpuBvhInstance, u8>(&records).hash(&mut h);
+            h.finish()
+        };
+        (self.casters_key).store(key, std::sync::atomic::Ordering::Relaxed);
+    }
+
+    /// Where the animated shadow casters stand, as a hash of their instance records (0 for a
+    /// scene without them): what a shadow cast through the BVH depends on beyond the scene.
+    pub fn casters_key(&self) -> u64 {
+        (self.casters_key).load(std::sync::atomic::Ordering::Relaxed)
     }
 
     /// Where sprites' indices start in the keys of their pixels (after the objects).

@@ -2,8 +2,10 @@
 //! pixel (`shaders/terrain_splat.wgsl`), written between cull and splat. The records are
 //! kept per texel in a cache behind the list's (stamped with what each was made from, sealed
 //! with its contents), which is cleared when what no stamp holds changes: the scene, or the
-//! shade pass's globals (lights, ambient, bands). A first dispatch takes each quad's record
-//! from the cache or queues the quad as a miss; a second makes the misses' records.
+//! shade pass's globals (lights, ambient, bands), or the animated shadow casters' poses. A
+//! first dispatch takes each quad's record from the cache or queues the quad as a miss; a
+//! second casts the misses' shadow rays, from each of the four terrain pixels' centres; a
+//! third makes their records.
 
 use crate::context::GpuContext;
 use crate::gpu_scene::GpuScene;
@@ -44,6 +46,17 @@ pub struct TerrainSplatPass {
     size_pipeline: wgpu::ComputePipeline,
     /// `make`: the queued misses' records, in a dispatch of their own.
     make_pipeline: wgpu::ComputePipeline,
+    /// `shadows`: the queued misses' shadow rays, dispatched as `make` is, before it.
+    shadows_pipeline: wgpu::ComputePipeline,
+    /// `shadows`'s group 0 (the view, the terrains, the lights and the queue) and group 2
+    /// (the BVH); its group 1 is empty.
+    shadows_layout: wgpu::BindGroupLayout,
+    bvh_layout: wgpu::BindGroupLayout,
+    empty_bind: wgpu::BindGroup,
+    /// The casters' poses the cache's shadows were cast with (`GpuScene::casters_key`).
+    casters_key: Option<u64>,
+    /// The lights reaching terrain pixels' centres (`cell_lights` in the shader).
+    cell_lights: wgpu::Buffer,
     /// `size_misses`: `make`'s dispatch from the queue's count.
     size_misses_pipeline: wgpu::ComputePipeline,
     make_dispatch: wgpu::Buffer,
@@ -107,8 +120,15 @@ impl Layout {
     }
 }
 
+/// Bytes of one queued miss (`Miss` in the shader).
+const MISS_BYTES: u64 = 32;
+
+/// Slots of the terrain pixels' lights (`cell_lights` in the shader; 4 MiB): a 1280×720
+/// view at pixel size 2.5 shows about 150,000 pixels.
+const CELL_LIGHT_SLOTS: u64 = 1 << 20;
+
 /// The queue of misses (`Misses` in the shader: the list's count, the misses' count, then
-/// one splat index per quad of the list at most) and `size_misses`'s bind group over it.
+/// one `Miss` per quad of the list at most) and `size_misses`'s bind group over it.
 struct Misses {
     buffer: wgpu::Buffer,
     bind: wgpu::BindGroup,
@@ -118,7 +138,7 @@ impl Misses {
     fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, splats: u64) -> Self {
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("terrain_splat::misses"),
-            size: 4 * (2 + splats.max(1)),
+            size: 16 + MISS_BYTES * splats.max(1),
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
@@ -179,6 +199,37 @@ impl TerrainSplatPass {
         let pipeline = compute_pipeline(device, "terrain_splat", &module, "main", &[&layout]);
         let make_pipeline =
             compute_pipeline(device, "terrain_splat::make", &module, "make", &[&layout]);
+        // Within a stage's 8 storage buffers: the terrains, their data, the point lights and
+        // the queue here, the BVH's three in group 2.
+        let shadows_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("terrain_splat::shadows_layout"),
+            entries: &[
+                entry(0, c, uniform(false)),
+                entry(5, c, storage(true)),
+                entry(6, c, storage(true)),
+                entry(7, c, uniform(false)),
+                entry(8, c, storage(true)),
+                entry(12, c, storage(false)),
+                entry(13, c, storage(false)),
+            ],
+        });
+        let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("terrain_splat::empty_layout"),
+            entries: &[],
+        });
+        let empty_bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("terrain_splat::empty_bind"),
+            layout: &empty_layout,
+            entries: &[],
+        });
+        let bvh_layout = super::bvh_layout(device, "terrain_splat::bvh_layout", c);
+        let shadows_pipeline = compute_pipeline(
+            device,
+            "terrain_splat::shadows",
+            &module,
+            "shadows",
+            &[&shadows_layout, &empty_layout, &bvh_layout],
+        );
         let misses_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::misses_layout"),
             entries: &[entry(12, c, storage(false))],
@@ -206,6 +257,17 @@ impl TerrainSplatPass {
             pipeline,
             size_pipeline,
             make_pipeline,
+            shadows_pipeline,
+            shadows_layout,
+            bvh_layout,
+            empty_bind,
+            casters_key: None,
+            cell_lights: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("terrain_splat::cell_lights"),
+                size: 4 * CELL_LIGHT_SLOTS,
+                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             size_misses_pipeline,
             make_dispatch,
             make_dispatch_bind,
@@ -266,20 +328,30 @@ impl TerrainSplatPass {
         let limits = ctx.device.limits();
         let limit = (limits.max_storage_buffer_binding_size).min(limits.max_buffer_size);
         let layout = Layout::new(splats, max_n, limit, self.slots_max);
-        if layout != self.layout_now {
-            // A new buffer starts zeroed: an empty cache.
+        // A new buffer starts zeroed: an empty cache.
+        let records_new = layout != self.layout_now;
+        if records_new {
             self.records = record_buffer(&ctx.device, layout);
             self.misses = Misses::new(&ctx.device, &self.misses_layout, layout.splats);
             self.layout_now = layout;
-            self.stale = false;
         }
         let key = bytemuck::bytes_of(globals_key);
         if self.globals_key.as_ref().map(bytemuck::bytes_of) != Some(key) {
             self.globals_key = Some(*globals_key);
             self.stale = true;
         }
-        if self.stale && layout.cache > 0 {
+        // A caster that moved may shadow other pixels (a texel's own rays were in its stamp;
+        // the pixels' are not).
+        let casters = scene.casters_key();
+        if self.casters_key != Some(casters) {
+            self.casters_key = Some(casters);
+            self.stale = true;
+        }
+        if self.stale && layout.cache > 0 && !records_new {
             encoder.clear_buffer(&self.records, layout.splats * RECORD_BYTES, None);
+        }
+        if self.stale {
+            encoder.clear_buffer(&self.cell_lights, 0, None);
         }
         self.stale = false;
         let [objects, atlas, infos, _surfaces, terrains, terrain_data] = scene.raster_resources();
@@ -298,6 +370,7 @@ impl TerrainSplatPass {
             (10, list.args.as_entire_binding()),
             (11, self.records.as_entire_binding()),
             (12, self.misses.buffer.as_entire_binding()),
+            (13, self.cell_lights.as_entire_binding()),
         ];
         let entries =
             resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
@@ -313,13 +386,24 @@ impl TerrainSplatPass {
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::bind"),
             layout: &self.layout,
-            entries: &pick(|b| b != 10),
+            entries: &pick(|b| b != 10 && b != 13),
         });
         let size_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::size_bind"),
             layout: &self.size_layout,
             entries: &pick(|b| matches!(b, 9 | 10 | 12)),
         });
+        let shadows_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("terrain_splat::shadows_bind"),
+            layout: &self.shadows_layout,
+            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 12 | 13)),
+        });
+        let bvh_bind = super::bind_group(
+            &ctx.device,
+            "terrain_splat::bvh",
+            &self.bvh_layout,
+            &scene.bvh_resources(),
+        );
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("terrain_splat"),
             timestamp_writes: None,
@@ -335,6 +419,11 @@ impl TerrainSplatPass {
         pass.set_bind_group(0, &self.misses.bind, &[]);
         pass.set_bind_group(1, &self.make_dispatch_bind, &[]);
         pass.dispatch_workgroups(1, 1, 1);
+        pass.set_pipeline(&self.shadows_pipeline);
+        pass.set_bind_group(0, &shadows_bind, &[]);
+        pass.set_bind_group(1, &self.empty_bind, &[]);
+        pass.set_bind_group(2, &bvh_bind, &[]);
+        pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
         pass.set_pipeline(&self.make_pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
