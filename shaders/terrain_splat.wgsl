@@ -85,9 +85,14 @@ struct Miss {
     terrain: u32,
     // Its probe's role.
     role: u32,
-    // Bit TERRAIN_LIGHTS · (k & 1) + i of word k >> 1: light i reaches the centre of cell k
-    // of the quad's block (`cell_reach`).
+    // What `shadows` found, for `make`: bit TERRAIN_LIGHTS · (k & 1) + i of word k >> 1,
+    // light i reaches the centre of the pixel of cell k of the quad's block (`pixel_reach`);
     reach: vec2<u32>,
+    // the block's first cell and its cells' size (`terrain_block`);
+    base: vec2<f32>,
+    size: f32,
+    // bit k: cell k shows the promoted pixel around it (`block_pixel`).
+    promoted: u32,
 }
 
 @group(0) @binding(12) var<storage, read_write> misses: Misses;
@@ -125,7 +130,12 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = atomicAdd(&misses.count, 1u);
     if k < arrayLength(&misses.at) {
         let obj = objects[bitcast<u32>(s.c3.w) >> SPLAT_TERRAIN_OBJECT_AT];
-        misses.at[k] = Miss(splat_mid(s), ii, obj.flags >> 8u, splat_role(s), vec2(0u));
+        var m: Miss;
+        m.mid = splat_mid(s);
+        m.index = ii;
+        m.terrain = obj.flags >> 8u;
+        m.role = splat_role(s);
+        misses.at[k] = m;
     }
 }
 
@@ -143,14 +153,18 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
         return;
     }
-    let m = misses.at[gid.x];
+    var m = misses.at[gid.x];
     let tr = terrains[m.terrain];
-    let b = terrain_block(tr, m.mid, splat_probe(m.role));
+    let probe = splat_probe(m.role);
+    let b = terrain_block(tr, m.mid, probe);
+    m.base = b.base;
+    m.size = b.size;
+    m.promoted = 0u;
     var reach = vec2(0u);
     let lights = (1u << TERRAIN_LIGHTS) - 1u;
-    let probe = splat_probe(m.role);
     for (var k = 0u; k < 4u; k++) {
         let px = block_pixel(tr, b, k, probe);
+        m.promoted |= select(0u, 1u << k, px.size > b.size);
         let h = pixel_hash(m.terrain, px);
         let slot = h % arrayLength(&cell_lights);
         // Check bits from another hash of the pixel, never all zero (an empty slot).
@@ -162,7 +176,8 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
         }
         reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
     }
-    misses.at[gid.x].reach = reach;
+    m.reach = reach;
+    misses.at[gid.x] = m;
 }
 
 // A hash of pixel `px` of terrain `t`.
@@ -210,7 +225,7 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     let mid = splat_mid(s);
     let probe = splat_probe(splat_role(s));
     let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
-    var r = terrain_splat(bitcast<u32>(s.c3.w), mid, probe, m.reach);
+    var r = terrain_splat(bitcast<u32>(s.c3.w), m);
     r.grid.w = bitcast<f32>(sealed(stamp, r));
     let slots = select(0u, arrayLength(&records) - capacity, is_body(s));
     if slots > 0u {
@@ -316,6 +331,7 @@ fn hazed_record(r: TerrainSplat, mid: vec3<f32>) -> TerrainSplat {
 // one around it, so the quad of a texel on a promoted pixel still shows its unpromoted
 // neighbours at their size, and the other way round.
 struct TerrainBlock {
+    band: u32,
     size: f32,
     base: vec2<f32>,
 }
@@ -323,36 +339,40 @@ struct TerrainBlock {
 fn terrain_block(tr: Terrain, mid: vec3<f32>, probe: BandFrom) -> TerrainBlock {
     let q = clamp(mid.xz - tr.corner.xz, vec2(0.0), tr.size);
     let point = vec3(tr.corner.x + q.x, tr.corner.y + terrain_height(tr, q), tr.corner.z + q.y);
-    let size = terrain_band_cell(tr, point, probe).size;
-    let g = q / size;
-    return TerrainBlock(size, floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5)));
+    let own = terrain_band_cell(tr, point, probe);
+    let g = q / own.size;
+    let base = floor(g) - select(vec2(0.0), vec2(1.0), fract(g) < vec2(0.5));
+    return TerrainBlock(own.band, own.size, base);
 }
 
-// The terrain pixel that holds cell `k` (x: bit 0, z: bit 1) of block `b`: the pixel at
-// the cell's centre, sized for `probe`.
+// The terrain pixel that holds cell `k` (x: bit 0, z: bit 1) of block `b`, sized for
+// `probe`: the cell, or the promoted pixel around it (`promoted_pixel`). A cell is taken to
+// be of the block's band (`terrain_pixel` would search the bands for it): past the band's
+// far end its ramp is whole and it is promoted, as it should be.
 fn block_pixel(tr: Terrain, b: TerrainBlock, k: u32, probe: BandFrom) -> TerrainPixel {
     let cell = b.base + vec2(f32(k & 1u), f32(k >> 1u));
-    return terrain_pixel(tr, terrain_cell_point(tr, cell, b.size), probe);
+    let d = distance(terrain_cell_point(tr, cell, b.size), probe.origin);
+    return promoted_pixel(tr, BandCell(b.band, b.size, cell, d), probe);
 }
 
 // The terrain pixels (unhazed) a one-texel quad of a terrain (cull.wgsl) shows, with its
-// lights, outline and object `word`, its texel point `mid`, drawn by `probe`: the 2 × 2
-// block of pixels toward which its point lies in its own pixel. A terrain pixel is at least
-// a probe texel, so a quad on ground facing the probe meets no other; on ground seen at a
-// grazing angle its footprint reaches past the block, and a screen pixel whose ray meets
-// the ground there takes the block's nearest pixel (docs/stability-log.md, "Terrain"). Each is
+// lights, outline and object `word`, queued as miss `m`: the 2 × 2 block of its band's
+// cells toward which its texel point lies in its own cell (`terrain_block`), each showing
+// the pixel that holds it (`block_pixel`), as `shadows` found them. A terrain pixel is at least a probe
+// texel, so a quad on ground facing the probe meets no other; on ground seen at a grazing
+// angle its footprint reaches past the block, and a screen pixel whose ray meets the ground
+// there takes the block's nearest cell (docs/stability-log.md, "Terrain"). Each pixel is
 // coloured and lit as the shade pass would light it from its centre (its colour, the
 // terrain's normal there), shadowed from its centre (`reach`, from `shadows`), with the
-// texel's outline. Pixels of the terrain
-// follow the world, not each probe's texel grid: a crossfade's two probes show the same
-// pixel under each screen pixel, where each had drawn its own texels' steps.
-fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandFrom, reach: vec2<u32>) -> TerrainSplat {
+// texel's outline. Pixels of the terrain follow the world, not each probe's texel grid: a
+// crossfade's two probes show the same pixel under each screen pixel, where each had drawn
+// its own texels' steps.
+fn terrain_splat(word: u32, m: Miss) -> TerrainSplat {
     var out: TerrainSplat;
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
-    let tr = terrains[obj.flags >> 8u];
-    let block = terrain_block(tr, mid, probe);
-    let size = block.size;
-    let base = block.base;
+    let tr = terrains[m.terrain];
+    let size = m.size;
+    let base = m.base;
     // The ground along the inner edges, through its heights at the edges' two cell middles
     // (points of the world's pixel grid, which a neighbouring block on that edge shares).
     let inner = (base + 1.0) * size;
@@ -366,8 +386,12 @@ fn terrain_splat(word: u32, mid: vec3<f32>, probe: BandFrom, reach: vec2<u32>) -
     out.edges = vec4(tr.corner.y + hx0 - 0.5 * size * bx, bx, tr.corner.y + hz0 - 0.5 * size * bz, bz);
     let shift = f32((word >> TERRAIN_LIGHTS) & 3u) - 1.0;
     for (var k = 0u; k < 4u; k++) {
-        let px = block_pixel(tr, block, k, probe);
-        let lights = (reach[k >> 1u] >> (TERRAIN_LIGHTS * (k & 1u))) & ((1u << TERRAIN_LIGHTS) - 1u);
+        var cell = base + vec2(f32(k & 1u), f32(k >> 1u));
+        var px = TerrainPixel((cell + 0.5) * size, size);
+        if ((m.promoted >> k) & 1u) != 0u {
+            px = TerrainPixel((floor(0.5 * cell) + 0.5) * 2.0 * size, 2.0 * size);
+        }
+        let lights = (m.reach[k >> 1u] >> (TERRAIN_LIGHTS * (k & 1u))) & ((1u << TERRAIN_LIGHTS) - 1u);
         let lit = terrain_lit_pixel(tr, obj.albedo, px, lights, shift);
         out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(lit), 1.0));
     }

@@ -255,25 +255,25 @@ fn terrain_band_cell(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> BandCell {
 
 // The terrain pixel of `t` holding world point `p`, sized for `sizing`.
 fn terrain_pixel(t: Terrain, p: vec3<f32>, sizing: BandFrom) -> TerrainPixel {
-    let q = p.xz - t.corner.xz;
-    let own = terrain_band_cell(t, p, sizing);
-    var b = own.band;
-    var s = own.size;
-    var cell = own.cell;
-    let d = own.d;
-    // Toward the band's far end, a Bayer share of its cells takes the next band's pixel. The
-    // band ends where its distances do or where the probe's texel (2d/n) outgrows its pixel,
-    // whichever is nearer: the texel's bound is a band change like the distance's.
-    let end = min(terrain_band_end(t, b), 0.5 * sizing.n * s);
-    let start = select(end * 0.5, 0.0, b == 0u);
+    return promoted_pixel(t, terrain_band_cell(t, p, sizing), sizing);
+}
+
+// The pixel that holds band cell `c`: the cell itself or, toward its band's far end, for a
+// Bayer share of the cells, the next band's pixel around it. The band ends where its
+// distances do or where the probe's texel (2d/n) outgrows its pixel, whichever is nearer:
+// the texel's bound is a band change like the distance's.
+fn promoted_pixel(t: Terrain, c: BandCell, sizing: BandFrom) -> TerrainPixel {
+    var s = c.size;
+    var cell = c.cell;
+    let end = min(terrain_band_end(t, c.band), 0.5 * sizing.n * s);
+    let start = select(end * 0.5, 0.0, c.band == 0u);
     let width = select(t.band_transition * (end - start), 0.0, sizing.ortho_texel > 0.0);
     if width > 0.0 {
-        let ramp = clamp((d - (end - width)) / width, 0.0, 1.0);
+        let ramp = clamp((c.d - (end - width)) / width, 0.0, 1.0);
         let i = vec2<i32>(cell);
         if ramp > bayer_threshold(vec2<u32>(i & vec2(0x3fffffff))) {
-            b += 1u;
-            s = exp2(f32(b)) / t.pixel_density;
-            cell = floor(q / s);
+            s = 2.0 * s;
+            cell = floor(0.5 * cell);
         }
     }
     return TerrainPixel((cell + 0.5) * s, s);

@@ -121,7 +121,9 @@ impl Layout {
 }
 
 /// Bytes of one queued miss (`Miss` in the shader).
-const MISS_BYTES: u64 = 32;
+const MISS_BYTES: u64 = 48;
+// A miss for every splat of the largest list fits in one binding of wgpu's default limit.
+const _: () = assert!(16 + MISS_BYTES * MAX_SPLATS <= 128 << 20);
 
 /// Slots of the terrain pixels' lights (`cell_lights` in the shader; 4 MiB): a 1280×720
 /// view at pixel size 2.5 shows about 150,000 pixels.
