@@ -97,13 +97,13 @@ struct Miss {
 
 @group(0) @binding(12) var<storage, read_write> misses: Misses;
 // The lights that reach terrain pixels' centres, as `shadows` found them: one word per slot,
-// at a hash of the pixel (`cell_slot`), its check bits above TERRAIN_LIGHTS bits of lights;
+// at a hash of the pixel (`pixel_hash`), its check bits above TERRAIN_LIGHTS bits of lights;
 // 0 is empty. A pixel is shared by the blocks of every probe and frame that show it, so its
 // rays are cast once, not once per record (an outline's strip is made afresh every frame,
 // a new probe's records at its crossing, the eye's as it moves). Cleared with the records.
 @group(0) @binding(13) var<storage, read_write> cell_lights: array<u32>;
 
-// Each quad of the list: its record from the cache, hazed, or its index queued for `make`.
+// Each quad of the list: its record from the cache, hazed, or queued for `shadows` and `make`.
 @compute @workgroup_size(64)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ii = gid.x;
@@ -358,12 +358,12 @@ fn block_pixel(tr: Terrain, b: TerrainBlock, k: u32, probe: BandFrom) -> Terrain
 // The terrain pixels (unhazed) a one-texel quad of a terrain (cull.wgsl) shows, with its
 // lights, outline and object `word`, queued as miss `m`: the 2 × 2 block of its band's
 // cells toward which its texel point lies in its own cell (`terrain_block`), each showing
-// the pixel that holds it (`block_pixel`), as `shadows` found them. A terrain pixel is at least a probe
-// texel, so a quad on ground facing the probe meets no other; on ground seen at a grazing
-// angle its footprint reaches past the block, and a screen pixel whose ray meets the ground
-// there takes the block's nearest cell (docs/stability-log.md, "Terrain"). Each pixel is
-// coloured and lit as the shade pass would light it from its centre (its colour, the
-// terrain's normal there), shadowed from its centre (`reach`, from `shadows`), with the
+// the pixel that holds it (`block_pixel`), as `shadows` found them. A terrain pixel is at
+// least a probe texel, so a quad on ground facing the probe meets no other; on ground seen
+// at a grazing angle its footprint reaches past the block, and a screen pixel whose ray
+// meets the ground there takes the block's nearest cell (docs/stability-log.md, "Terrain").
+// Each pixel is coloured and lit as the shade pass would light it from its centre (its
+// colour, the terrain's normal there), shadowed from its centre (`m.reach`), with the
 // texel's outline. Pixels of the terrain follow the world, not each probe's texel grid: a
 // crossfade's two probes show the same pixel under each screen pixel, where each had drawn
 // its own texels' steps.
