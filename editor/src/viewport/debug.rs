@@ -180,13 +180,15 @@ impl DebugState {
         if self.flags.probe_origins
             && let Some(p) = probes
         {
+            // Name, colour, view, and whether it is the camera cell's probe, which placement
+            // may have moved off its cell's vertex.
             let other = p.other.map(|(what, v)| match what {
-                OtherProbe::Previous => ("previous", PREVIOUS_COLOUR, v),
-                OtherProbe::Next => ("next", NEXT_COLOUR, v),
+                OtherProbe::Previous => ("previous", PREVIOUS_COLOUR, v, false),
+                OtherProbe::Next => ("next", NEXT_COLOUR, v, false),
             });
             let views = [
-                Some(("eye", EYE_COLOUR, p.eye)),
-                Some(("grid", GRID_COLOUR, p.grid)),
+                Some(("eye", EYE_COLOUR, p.eye, false)),
+                Some(("grid", GRID_COLOUR, p.grid, true)),
                 other,
             ];
             // The probes follow the camera, so their origins are often off screen: a
@@ -197,8 +199,8 @@ impl DebugState {
             // be blind there (inside a solid, on a surface).
             let (defaults, overrides) = grid_settings(scene, viewport);
             let vertex = resolve_grid(camera, &defaults, &overrides).map(|c| c.origin());
-            for (name, colour, v) in views.into_iter().flatten() {
-                if name == "grid"
+            for (name, colour, v, cell) in views.into_iter().flatten() {
+                if cell
                     && let Ok(vertex) = vertex
                     && (v.origin - vertex).length() > 1e-4
                 {
