@@ -3,9 +3,9 @@
 // where their view ray meets the terrain: a terrain's pixels then follow the world rather
 // than each probe's texel grid. Once per quad, between cull and splat. What a texel shows
 // depends on the camera only through the haze, so each record is kept, unhazed, in a cache
-// slot of the texel's key (`cache_slot`), stamped with what it was made from (`record_stamp`)
-// and sealed with its contents (`sealed`): a texel drawn again with the same point, lights
-// and probe takes its record from there. A record's pixels are shadowed from their own
+// slot of the texel's key and band shift (`cache_slot`), stamped with what it was made from
+// (`record_stamp`) and sealed with its contents (`sealed`): a texel drawn again with the same
+// point, lights and probe takes its record from there. A record's pixels are shadowed from their own
 // centres (`shadows`, rays through the BVH), not by the texel's rays: two probes whose
 // texels both show a pixel then agree on its shadow, as they agree on its colour.
 // crates/render/src/passes/terrain_splat.rs.
@@ -61,6 +61,7 @@ fn size() {
     dispatch = DispatchArgs((quads + GROUP - 1u) / GROUP, 1u, 1u);
     misses.quads = quads;
     atomicStore(&misses.count, 0u);
+    atomicStore(&misses.rays_cast, 0u);
 }
 
 // The quads whose record was not in the cache, made by `make` in a dispatch of their own:
@@ -68,9 +69,11 @@ fn size() {
 // 32 or 64), and misses are few and scattered (the eye's texels, a new probe's faces).
 // `quads` is the list's count as `size` found it (so `main` binds no `args`: a stage has 8
 // storage buffers in WebGPU's limits).
+// `rays_cast` counts the pixels whose shadow rays this pass cast (read back as a frame counter).
 struct Misses {
     quads: u32,
     count: atomic<u32>,
+    rays_cast: atomic<u32>,
     at: array<Miss>,
 }
 
@@ -88,20 +91,29 @@ struct Miss {
     // What `shadows` found, for `make`: bit TERRAIN_LIGHTS · (k & 1) + i of word k >> 1,
     // light i reaches the centre of the pixel of cell k of the quad's block (`pixel_reach`);
     reach: vec2<u32>,
-    // the block's first cell and its cells' size (`terrain_block`);
+    // the block's first cell and its cells' size (`terrain_block`; `main` finds an eye
+    // quad's, size 0 asks `shadows` to);
     base: vec2<f32>,
     size: f32,
-    // bit k: cell k shows the promoted pixel around it (`block_pixel`).
+    // bit k: cell k shows the promoted pixel around it (`block_pixel`); until `shadows`,
+    // the band of a block `main` found, from bit 8.
     promoted: u32,
 }
 
 @group(0) @binding(12) var<storage, read_write> misses: Misses;
-// The lights that reach terrain pixels' centres, as `shadows` found them: one word per slot,
-// at a hash of the pixel (`pixel_hash`), its check bits above TERRAIN_LIGHTS bits of lights;
-// 0 is empty. A pixel is shared by the blocks of every probe and frame that show it, so its
-// rays are cast once, not once per record (an outline's strip is made afresh every frame,
-// a new probe's records at its crossing, the eye's as it moves). Cleared with the records.
-@group(0) @binding(13) var<storage, read_write> cell_lights: array<u32>;
+// The lights that reach terrain pixels' centres: one word per slot, at a hash of the pixel
+// (`pixel_hash`); 0 is empty. A pixel is shared by the blocks of every probe and frame that
+// show it, so its rays are cast once, not once per record (an outline's strip is made afresh
+// every frame, a new probe's records at its crossing, the eye's as it moves), and within a
+// dispatch by the one miss that claims its slot (`shadows`), not by each of the blocks that
+// hold it. A word is the pixel's check bits (`pixel_check`) alone while its claimant casts,
+// with `LIGHTS_DONE` and the lights (bit i: light i) once it has. Cleared with the records.
+@group(0) @binding(13) var<storage, read_write> cell_lights: array<atomic<u32>>;
+
+const LIGHTS_DONE: u32 = 1u << 31u;
+// The bits of a word that say which pixel holds it.
+const LIGHTS_CHECK: u32 = 0x7ffff000u;
+
 
 // Each quad of the list: its record from the cache, hazed, or queued for `shadows` and `make`.
 @compute @workgroup_size(64)
@@ -115,13 +127,23 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if !is_terrain_splat(s) {
         return;
     }
-    // An outline's strip shares its texel's key (and cache slot) with the body: only the
-    // body is cached, so the two do not evict each other every frame.
-    let slots = select(0u, arrayLength(&records) - capacity, is_body(s));
+    let word = bitcast<u32>(s.c3.w);
+    let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
+    let terrain = obj.flags >> 8u;
+    let mid = splat_mid(s);
+    let role = splat_role(s);
+    let probe = splat_probe(role);
+    // The eye's texels move with the camera: an eye quad's record is stamped with the block
+    // its point lies toward (which is all a record is made from), not with the point, so a
+    // texel that stays on its block keeps its record from frame to frame.
+    var block = TerrainBlock(0u, 0.0, vec2(0.0));
+    if role == ROLE_EYE {
+        block = terrain_block(terrains[terrain], mid, probe);
+    }
+    let slots = arrayLength(&records) - capacity;
     if slots > 0u {
-        let mid = splat_mid(s);
-        let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, splat_probe(splat_role(s)));
-        let r = records[capacity + cache_slot(bitcast<u32>(s.c0.w), slots)];
+        let stamp = record_stamp(word, stamp_point(role, mid, block), probe);
+        let r = records[capacity + cache_slot(s, slots)];
         if bitcast<u32>(r.grid.w) == sealed(stamp, r) {
             records[ii] = hazed_record(r, mid);
             return;
@@ -129,14 +151,26 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     }
     let k = atomicAdd(&misses.count, 1u);
     if k < arrayLength(&misses.at) {
-        let obj = objects[bitcast<u32>(s.c3.w) >> SPLAT_TERRAIN_OBJECT_AT];
         var m: Miss;
-        m.mid = splat_mid(s);
+        m.mid = mid;
         m.index = ii;
-        m.terrain = obj.flags >> 8u;
-        m.role = splat_role(s);
+        m.terrain = terrain;
+        m.role = role;
+        // The eye's block as found here (`shadows` finds the others').
+        m.base = block.base;
+        m.size = block.size;
+        m.promoted = block.band << 8u;
         misses.at[k] = m;
     }
+}
+
+// The point a quad's record stamp holds (`record_stamp`): a stable probe's texel point, or
+// an eye texel's block (`main`).
+fn stamp_point(role: u32, mid: vec3<f32>, block: TerrainBlock) -> vec3<f32> {
+    if role == ROLE_EYE {
+        return vec3(block.base, block.size);
+    }
+    return mid;
 }
 
 // The dispatch of `make`: one invocation per queued miss.
@@ -146,8 +180,8 @@ fn size_misses() {
     dispatch = DispatchArgs((n + GROUP - 1u) / GROUP, 1u, 1u);
 }
 
-// Each queued miss: which lights reach the centres of its block's four pixels, by a shadow
-// ray from each (dispatched as `make` is, before it).
+// Each queued miss: its block, and the shadow rays of those of its four pixels whose slot it
+// claims (`cell_lights`); `gather` reads them for every miss after this dispatch.
 @compute @workgroup_size(64)
 fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
@@ -156,28 +190,75 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     var m = misses.at[gid.x];
     let tr = terrains[m.terrain];
     let probe = splat_probe(m.role);
-    let b = terrain_block(tr, m.mid, probe);
+    var b = TerrainBlock(m.promoted >> 8u, m.size, m.base);
+    if m.size == 0.0 {
+        b = terrain_block(tr, m.mid, probe);
+    }
     m.base = b.base;
     m.size = b.size;
     m.promoted = 0u;
-    var reach = vec2(0u);
-    let lights = (1u << TERRAIN_LIGHTS) - 1u;
     for (var k = 0u; k < 4u; k++) {
         let px = block_pixel(tr, b, k, probe);
         m.promoted |= select(0u, 1u << k, px.size > b.size);
         let h = pixel_hash(m.terrain, px);
         let slot = h % arrayLength(&cell_lights);
-        // Check bits from another hash of the pixel, never all zero (an empty slot).
-        let check = (hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) | (1u << 31u);
-        var bits = cell_lights[slot];
-        if (bits & ~lights) != check {
-            bits = check | pixel_reach(tr, px);
-            cell_lights[slot] = bits;
+        let check = pixel_check(h);
+        let was = atomicLoad(&cell_lights[slot]);
+        // Cast, or being cast: by a frame before, or by another miss of this one.
+        if (was & LIGHTS_CHECK) == check {
+            continue;
+        }
+        // Another pixel's or empty: claimed, then cast. A miss that loses the race leaves
+        // the pixel to the winner, or (another pixel won the slot) to `gather`.
+        if atomicCompareExchangeWeak(&cell_lights[slot], was, check).exchanged {
+            atomicStore(&cell_lights[slot], check | LIGHTS_DONE | pixel_reach(tr, px));
+            atomicAdd(&misses.rays_cast, 1u);
+        }
+    }
+    misses.at[gid.x] = m;
+}
+
+// Each queued miss, after `shadows`: which lights reach the centres of its block's four
+// pixels, from their slots, or cast here where another pixel holds a slot (the rare hash
+// collision within a dispatch).
+@compute @workgroup_size(64)
+fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
+        return;
+    }
+    var m = misses.at[gid.x];
+    let tr = terrains[m.terrain];
+    var reach = vec2(0u);
+    let lights = (1u << TERRAIN_LIGHTS) - 1u;
+    for (var k = 0u; k < 4u; k++) {
+        let px = miss_pixel(m, k);
+        let h = pixel_hash(m.terrain, px);
+        let check = pixel_check(h);
+        var bits = atomicLoad(&cell_lights[h % arrayLength(&cell_lights)]);
+        if (bits & (LIGHTS_CHECK | LIGHTS_DONE)) != (check | LIGHTS_DONE) {
+            bits = pixel_reach(tr, px);
+            atomicAdd(&misses.rays_cast, 1u);
         }
         reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
     }
     m.reach = reach;
     misses.at[gid.x] = m;
+}
+
+// The terrain pixel that holds cell `k` (x: bit 0, z: bit 1) of miss `m`'s block, as
+// `shadows` found it.
+fn miss_pixel(m: Miss, k: u32) -> TerrainPixel {
+    let cell = m.base + vec2(f32(k & 1u), f32(k >> 1u));
+    if ((m.promoted >> k) & 1u) != 0u {
+        return TerrainPixel((floor(0.5 * cell) + 0.5) * (2.0 * m.size), 2.0 * m.size);
+    }
+    return TerrainPixel((cell + 0.5) * m.size, m.size);
+}
+
+// The check bits of the pixel whose hash is `h`: from another hash of it, never all zero
+// (an empty slot).
+fn pixel_check(h: u32) -> u32 {
+    return ((hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) & LIGHTS_CHECK) | (1u << 30u);
 }
 
 // A hash of pixel `px` of terrain `t`.
@@ -223,33 +304,34 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     let capacity = arrayLength(&splats);
     let s = splats[ii];
     let mid = splat_mid(s);
-    let probe = splat_probe(splat_role(s));
-    let stamp = record_stamp(bitcast<u32>(s.c3.w), mid, probe);
+    let probe = splat_probe(m.role);
+    let block = TerrainBlock(0u, m.size, m.base);
+    let stamp = record_stamp(bitcast<u32>(s.c3.w), stamp_point(m.role, mid, block), probe);
     var r = terrain_splat(bitcast<u32>(s.c3.w), m);
     r.grid.w = bitcast<f32>(sealed(stamp, r));
-    let slots = select(0u, arrayLength(&records) - capacity, is_body(s));
+    let slots = arrayLength(&records) - capacity;
     if slots > 0u {
-        records[capacity + cache_slot(bitcast<u32>(s.c0.w), slots)] = r;
+        records[capacity + cache_slot(s, slots)] = r;
     }
     records[ii] = hazed_record(r, mid);
-}
-
-// Whether `s` is a whole quad or an outlined quad's body, not one of its strips.
-fn is_body(s: Splat) -> bool {
-    return ((bitcast<u32>(s.c2.w) >> SPLAT_PART_AT) & 7u) == 0u;
 }
 
 fn splat_role(s: Splat) -> u32 {
     return bitcast<u32>(s.c2.w) & 0xffu;
 }
 
-// The cache slot of texel key `key` (1-based) among `slots` (> 0): its own where there is
-// one per key (3 slots × 6 faces × max_n²), else a hash of it. Two keys sharing a slot may
-// both write it in one pass; `sealed` tells a record so overwritten, or torn between the two.
-fn cache_slot(key: u32, slots: u32) -> u32 {
-    let keys = 18u * view.max_n * view.max_n;
+// The cache slot of terrain quad `s` among `slots` (> 0), by its record's key: its texel's
+// key (1-based) and its pixels' band shift (an outline's strips are a band darker or
+// lighter than the body; strips of one shift show the same record). Its own slot where
+// there is one per record key (3 shifts × 3 probe slots × 6 faces × max_n²), else a hash of
+// the key. Two keys sharing a slot may both write it in one pass; `sealed` tells a record so
+// overwritten, or torn between the two.
+fn cache_slot(s: Splat, slots: u32) -> u32 {
+    let shift = min((bitcast<u32>(s.c3.w) >> TERRAIN_LIGHTS) & 3u, 2u);
+    let key = 3u * (bitcast<u32>(s.c0.w) - 1u) + shift;
+    let keys = 54u * view.max_n * view.max_n;
     if keys <= slots {
-        return key - 1u;
+        return key;
     }
     return hash_u32(key) % slots;
 }
@@ -281,14 +363,15 @@ fn splat_probe(role: u32) -> BandFrom {
     return band_from(origin, f32(view.slots[k].n), view.slots[k].half);
 }
 
-// What a terrain quad's record is made from, hashed: its lights, outline and object (`word`,
-// the splat's c3.w), its texel's point `mid` and its probe. Never 0, which a cleared cache
-// holds. The frame's lights, colours and heights are not in it: the pass clears the cache
-// when those change (terrain_splat.rs).
+// What a terrain quad's record is made from, hashed: its outline's band shift and its object
+// (`word`, the splat's c3.w, less the lights that reach its texel, which the record's pixels
+// do not use: `shadows` finds theirs), its texel's point or block `mid` (`stamp_point`) and
+// its probe. Never 0, which a cleared cache holds. The frame's lights, colours and heights
+// are not in it: the pass clears the cache when those change (terrain_splat.rs).
 fn record_stamp(word: u32, mid: vec3<f32>, p: BandFrom) -> u32 {
     var h = 0x9e3779b9u;
     let words = array<u32, 9>(
-        word, bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
+        word & ~((1u << TERRAIN_LIGHTS) - 1u), bitcast<u32>(mid.x), bitcast<u32>(mid.y), bitcast<u32>(mid.z),
         bitcast<u32>(p.origin.x), bitcast<u32>(p.origin.y), bitcast<u32>(p.origin.z),
         bitcast<u32>(p.n), bitcast<u32>(p.ortho_texel),
     );
@@ -386,11 +469,7 @@ fn terrain_splat(word: u32, m: Miss) -> TerrainSplat {
     out.edges = vec4(tr.corner.y + hx0 - 0.5 * size * bx, bx, tr.corner.y + hz0 - 0.5 * size * bz, bz);
     let shift = f32((word >> TERRAIN_LIGHTS) & 3u) - 1.0;
     for (var k = 0u; k < 4u; k++) {
-        var cell = base + vec2(f32(k & 1u), f32(k >> 1u));
-        var px = TerrainPixel((cell + 0.5) * size, size);
-        if ((m.promoted >> k) & 1u) != 0u {
-            px = TerrainPixel((floor(0.5 * cell) + 0.5) * 2.0 * size, 2.0 * size);
-        }
+        let px = miss_pixel(m, k);
         let lights = (m.reach[k >> 1u] >> (TERRAIN_LIGHTS * (k & 1u))) & ((1u << TERRAIN_LIGHTS) - 1u);
         let lit = terrain_lit_pixel(tr, obj.albedo, px, lights, shift);
         out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(lit), 1.0));

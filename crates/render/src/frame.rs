@@ -20,7 +20,9 @@ use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
 use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::sprites::SpritePass;
-use crate::passes::terrain_splat::{TerrainSplatInputs, TerrainSplatPass};
+use crate::passes::terrain_splat::{
+    TERRAIN_COUNTS_BYTES, TerrainCounts, TerrainSplatInputs, TerrainSplatPass,
+};
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
 use crate::shader::ShaderError;
@@ -379,7 +381,8 @@ impl Renderer {
             stages.run("sprite shade", |enc| self.sprites.shade(enc, binds));
         }
         let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded);
-        let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::with_capacity(4);
+        let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::with_capacity(5);
+        let terrain_drawn = self.display == Display::Splat && scene.terrain_count > 0;
         let pixels_marched = match self.display {
             Display::Splat => {
                 stages.run("runs", |enc| self.runs.record(ctx, enc, store, runs_faces));
@@ -437,6 +440,9 @@ impl Renderer {
                     self.lines.draw(ctx, &mut pass, &self.view);
                 });
                 copies.push((list.args, size_of::<DrawArgs>() as u64));
+                if terrain_drawn {
+                    copies.push((self.terrain_splat.counts(), TERRAIN_COUNTS_BYTES));
+                }
                 0
             }
             Display::March => {
@@ -474,7 +480,7 @@ impl Renderer {
         copies.push((self.shade.texels_lit(), 4));
         copies.push((&self.visible.bits, self.visible.bytes()));
         let timed = stages.finish(&copies)?;
-        let (head, rest) = timed.readback.split_at(copies[0].1 as usize);
+        let (head, mut rest) = timed.readback.split_at(copies[0].1 as usize);
         let (quads_splatted, march) = match self.display {
             Display::Splat => {
                 let args: DrawArgs = bytemuck::pod_read_unaligned(head);
@@ -482,6 +488,12 @@ impl Renderer {
             }
             Display::March => (0, MarchCounts::from_bytes(head)),
         };
+        let mut terrain = TerrainCounts::default();
+        if terrain_drawn {
+            let (counts, after) = rest.split_at(TERRAIN_COUNTS_BYTES as usize);
+            terrain = TerrainCounts::from_bytes(counts);
+            rest = after;
+        }
         let (shaded, bits) = rest.split_at(4);
         let texels_shaded = u64::from(u32::from_le_bytes([
             shaded[0], shaded[1], shaded[2], shaded[3],
@@ -505,6 +517,8 @@ impl Renderer {
                 march_steps: march.steps,
                 march_fallbacks: march.fallbacks,
                 texture_bytes: self.scene.as_ref().map_or(0, |s| s.textures.bytes()),
+                terrain_records_made: u64::from(terrain.records_made),
+                terrain_pixels_cast: u64::from(terrain.pixels_cast),
             },
         })
     }

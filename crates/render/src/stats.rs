@@ -22,6 +22,10 @@ pub struct Counters {
     pub march_fallbacks: u64,
     /// GPU memory of the scene's texture atlas, bytes (0 without textures).
     pub texture_bytes: u64,
+    /// Terrain quads whose record the terrain splats pass made (not in its cache).
+    pub terrain_records_made: u64,
+    /// Terrain pixels whose shadow rays the terrain splats pass cast.
+    pub terrain_pixels_cast: u64,
 }
 
 /// Time of one pass, in milliseconds.

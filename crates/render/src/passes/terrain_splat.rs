@@ -4,8 +4,9 @@
 //! with its contents), which is cleared when what no stamp holds changes: the scene, or the
 //! shade pass's globals (lights, ambient, bands), or the animated shadow casters' poses. A
 //! first dispatch takes each quad's record from the cache or queues the quad as a miss; a
-//! second casts the misses' shadow rays, from each of the four terrain pixels' centres; a
-//! third makes their records.
+//! second casts the misses' shadow rays, from the centre of each terrain pixel no frame has
+//! cast them for, once however many misses show it; a third reads them for each miss; a
+//! fourth makes their records.
 
 use crate::context::GpuContext;
 use crate::gpu_scene::GpuScene;
@@ -48,6 +49,8 @@ pub struct TerrainSplatPass {
     make_pipeline: wgpu::ComputePipeline,
     /// `shadows`: the queued misses' shadow rays, dispatched as `make` is, before it.
     shadows_pipeline: wgpu::ComputePipeline,
+    /// `gather`: each queued miss's lights from the rays `shadows` cast, between the two.
+    gather_pipeline: wgpu::ComputePipeline,
     /// `shadows`'s group 0 (the view, the terrains, the lights and the queue) and group 2
     /// (the BVH); its group 1 is empty.
     shadows_layout: wgpu::BindGroupLayout,
@@ -82,9 +85,10 @@ pub struct TerrainSplatPass {
 }
 
 /// How the records buffer is laid out: `splats` records (the list's capacity), then the
-/// cache: one slot per texel key (`texel_key` in `lib/common.wgsl`: 3 slots × 6 faces ×
-/// `max_n`²) where the binding holds them and they fit in [`CACHE_SLOTS_MAX`], else as many
-/// slots as do, each key at a hash of it (`cache_slot` in `terrain_splat.wgsl`), where a
+/// cache: one slot per record key (a texel key, `texel_key` in `lib/common.wgsl`: 3 slots ×
+/// 6 faces × `max_n`², times 3 band shifts: an outline's strips are a band darker or lighter
+/// than its body) where the binding holds them and they fit in [`CACHE_SLOTS_MAX`], else as
+/// many slots as do, each key at a hash of it (`cache_slot` in `terrain_splat.wgsl`), where a
 /// record whose checksum fails is made again.
 #[derive(Debug, Clone, Copy, PartialEq, Eq)]
 struct Layout {
@@ -92,8 +96,8 @@ struct Layout {
     cache: u64,
 }
 
-/// The cache's slots at most: 2²¹ records, 96 MiB (faces of 128 need 294,912 slots, of 256
-/// 1,179,648; faces of 496, a 1280×720 view's at pixel size 2.5, would need 4.4 M and share
+/// The cache's slots at most: 2²¹ records, 96 MiB (faces of 128 need 884,736 slots; faces of
+/// 256 would need 3.5 M, and of 496, a 1280×720 view's at pixel size 2.5, 13.3 M: they share
 /// these slots by hash).
 pub const CACHE_SLOTS_MAX: u64 = 1 << 21;
 
@@ -104,7 +108,7 @@ impl Layout {
     /// For a list of `splats` records and faces of at most `max_n` texels, within a binding
     /// of at most `limit` bytes and at most `slots_max` cache slots.
     fn new(splats: u64, max_n: u32, limit: u64, slots_max: u64) -> Self {
-        let keys = 3 * 6 * u64::from(max_n) * u64::from(max_n);
+        let keys = RECORD_KEYS_PER_TEXEL_SQUARED * u64::from(max_n) * u64::from(max_n);
         let room = (limit / RECORD_BYTES).saturating_sub(splats);
         let cache = keys.min(room).min(slots_max);
         let cache = if cache >= CACHE_SLOTS_MIN.min(keys) {
@@ -120,10 +124,37 @@ impl Layout {
     }
 }
 
+/// Record keys per texel of a face edge, squared: 3 band shifts × 3 probe slots × 6 faces.
+const RECORD_KEYS_PER_TEXEL_SQUARED: u64 = 3 * 3 * 6;
+
 /// Bytes of one queued miss (`Miss` in the shader).
 const MISS_BYTES: u64 = 48;
 // A miss for every splat of the largest list fits in one binding of wgpu's default limit.
 const _: () = assert!(16 + MISS_BYTES * MAX_SPLATS <= 128 << 20);
+
+/// Bytes of the queue's head that [`TerrainSplatPass::counts`] holds.
+pub const TERRAIN_COUNTS_BYTES: u64 = 16;
+
+/// What one terrain splats pass did.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct TerrainCounts {
+    /// Records made (quads whose record was not in the cache).
+    pub records_made: u32,
+    /// Terrain pixels whose shadow rays were cast.
+    pub pixels_cast: u32,
+}
+
+impl TerrainCounts {
+    /// From the first [`TERRAIN_COUNTS_BYTES`] bytes of [`TerrainSplatPass::counts`].
+    pub fn from_bytes(bytes: &[u8]) -> Self {
+        let word =
+            |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
+        TerrainCounts {
+            records_made: word(4),
+            pixels_cast: word(8),
+        }
+    }
+}
 
 /// Slots of the terrain pixels' lights (`cell_lights` in the shader; 4 MiB): a 1280×720
 /// view at pixel size 2.5 holds about 150,000 art pixels, and a terrain pixel is at least a
@@ -131,8 +162,9 @@ const _: () = assert!(16 + MISS_BYTES * MAX_SPLATS <= 128 << 20);
 /// (four times as many changed nothing measurable).
 const CELL_LIGHT_SLOTS: u64 = 1 << 20;
 
-/// The queue of misses (`Misses` in the shader: the list's count, the misses' count, then
-/// one `Miss` per quad of the list at most) and `size_misses`'s bind group over it.
+/// The queue of misses (`Misses` in the shader: the list's count, the misses' count, the
+/// pixels whose rays were cast, a word of padding, then one `Miss` per quad of the list at
+/// most) and `size_misses`'s bind group over it.
 struct Misses {
     buffer: wgpu::Buffer,
     bind: wgpu::BindGroup,
@@ -143,7 +175,7 @@ impl Misses {
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("terrain_splat::misses"),
             size: 16 + MISS_BYTES * splats.max(1),
-            usage: wgpu::BufferUsages::STORAGE,
+            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
             mapped_at_creation: false,
         });
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -234,6 +266,13 @@ impl TerrainSplatPass {
             "shadows",
             &[&shadows_layout, &empty_layout, &bvh_layout],
         );
+        let gather_pipeline = compute_pipeline(
+            device,
+            "terrain_splat::gather",
+            &module,
+            "gather",
+            &[&shadows_layout, &empty_layout, &bvh_layout],
+        );
         let misses_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::misses_layout"),
             entries: &[entry(12, c, storage(false))],
@@ -262,6 +301,7 @@ impl TerrainSplatPass {
             size_pipeline,
             make_pipeline,
             shadows_pipeline,
+            gather_pipeline,
             shadows_layout,
             bvh_layout,
             empty_bind,
@@ -293,6 +333,12 @@ impl TerrainSplatPass {
     /// index; the cache after them.
     pub fn records(&self) -> &wgpu::Buffer {
         &self.records
+    }
+
+    /// The last pass's counts ([`TerrainCounts::from_bytes`] reads them): the first
+    /// [`TERRAIN_COUNTS_BYTES`] bytes of this buffer.
+    pub fn counts(&self) -> &wgpu::Buffer {
+        &self.misses.buffer
     }
 
     /// Caps the cache at `slots` slots (at most [`CACHE_SLOTS_MAX`]), so that a test can make
@@ -428,6 +474,8 @@ impl TerrainSplatPass {
         pass.set_bind_group(1, &self.empty_bind, &[]);
         pass.set_bind_group(2, &bvh_bind, &[]);
         pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
+        pass.set_pipeline(&self.gather_pipeline);
+        pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
         pass.set_pipeline(&self.make_pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
@@ -440,11 +488,11 @@ mod tests {
 
     #[test]
     fn the_cache_follows_the_list_where_the_binding_holds_it() {
-        // Faces of 128: 3 × 6 × 128² keys after 1000 records, one slot each.
+        // Faces of 128: 3 × 3 × 6 × 128² keys after 1000 records, one slot each.
         let l = Layout::new(1000, 128, 128 << 20, CACHE_SLOTS_MAX);
-        assert_eq!((l.splats, l.cache), (1000, 294_912));
-        assert_eq!(l.bytes(), (1000 + 294_912) * RECORD_BYTES);
-        // Faces of 1024 would need 906 MB: the keys share the most slots allowed.
+        assert_eq!((l.splats, l.cache), (1000, 884_736));
+        assert_eq!(l.bytes(), (1000 + 884_736) * RECORD_BYTES);
+        // Faces of 1024 would need 2.7 GB: the keys share the most slots allowed.
         let l = Layout::new(1000, 1024, 128 << 20, CACHE_SLOTS_MAX);
         assert_eq!((l.splats, l.cache), (1000, CACHE_SLOTS_MAX));
         // A binding of 64 MiB holds fewer slots than that: as many as it holds.
