@@ -110,6 +110,18 @@ struct Miss {
 // with `LIGHTS_DONE` and the lights (bit i: light i) once it has. Cleared with the records.
 @group(0) @binding(13) var<storage, read_write> cell_lights: array<atomic<u32>>;
 
+// When shadows last changed around each patch of ground (crates/render/src/shadow_region.rs
+// `ShadowTiles`): tiles of TILE_BASE · 2^level units at TILE_LEVELS levels, each level's
+// wrapped onto TILE_WRAP² entries (`tile_entry`), holding the epoch of the last moved
+// caster's shadow area that overlapped one of them. A terrain pixel's table word and a
+// record are stamped with the latest epoch around them (`tile_epoch`), so a caster that
+// moves has only the pixels and records its shadow may have come or gone from made again.
+@group(0) @binding(14) var<uniform> shadow_tiles: array<vec4<u32>, 4096>;
+
+const TILE_LEVELS: u32 = 16u;
+const TILE_BASE: f32 = 0.25;
+const TILE_WRAP: u32 = 32u;
+
 const LIGHTS_DONE: u32 = 1u << 31u;
 // The bits of a word that say which pixel holds it.
 const LIGHTS_CHECK: u32 = 0x7ffff000u;
@@ -200,7 +212,7 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     for (var k = 0u; k < 4u; k++) {
         let px = block_pixel(tr, b, k, probe);
         m.promoted |= select(0u, 1u << k, px.size > b.size);
-        let h = pixel_hash(m.terrain, px);
+        let h = pixel_hash(m.terrain, tr, px);
         let slot = h % arrayLength(&cell_lights);
         let check = pixel_check(h);
         let was = atomicLoad(&cell_lights[slot]);
@@ -232,7 +244,7 @@ fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
     let lights = (1u << TERRAIN_LIGHTS) - 1u;
     for (var k = 0u; k < 4u; k++) {
         let px = miss_pixel(m, k);
-        let h = pixel_hash(m.terrain, px);
+        let h = pixel_hash(m.terrain, tr, px);
         let check = pixel_check(h);
         var bits = atomicLoad(&cell_lights[h % arrayLength(&cell_lights)]);
         if (bits & (LIGHTS_CHECK | LIGHTS_DONE)) != (check | LIGHTS_DONE) {
@@ -261,13 +273,47 @@ fn pixel_check(h: u32) -> u32 {
     return ((hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) & LIGHTS_CHECK) | (1u << 30u);
 }
 
-// A hash of pixel `px` of terrain `t`.
-fn pixel_hash(t: u32, px: TerrainPixel) -> u32 {
+// A hash of pixel `px` of terrain `tr` (index `t`) and the shadows' epoch around it.
+fn pixel_hash(t: u32, tr: Terrain, px: TerrainPixel) -> u32 {
     let c = vec2<i32>(floor(px.centre / px.size));
     var h = hash_u32(t ^ 0x9e3779b9u);
     h = hash_u32(h ^ bitcast<u32>(px.size));
     h = hash_u32(h ^ bitcast<u32>(c.x));
-    return hash_u32(h ^ bitcast<u32>(c.y));
+    h = hash_u32(h ^ bitcast<u32>(c.y));
+    // Where its shadow rays start: its square, and a ray's offset off the surface.
+    let reach = 0.5 * px.size + max(SHADOW_OFFSET, 0.1 * px.size);
+    let at = tr.corner.xz + px.centre;
+    return hash_u32(h ^ tile_epoch(at - reach, at + reach));
+}
+
+// The entry of tile (`x`, `z`) of `level` in `shadow_tiles` (shadow_region.rs `tile_entry`):
+// (x mod 32, z mod 32) in its level's table.
+fn tile_entry(level: u32, x: i32, z: i32) -> u32 {
+    let w = TILE_WRAP - 1u;
+    return (level * TILE_WRAP + (bitcast<u32>(z) & w)) * TILE_WRAP + (bitcast<u32>(x) & w);
+}
+
+// The latest shadow epoch over the world XZ square `lo`..`hi`: of the tiles it overlaps at
+// the first level whose tiles are at least half as wide (3 × 3 at most; at the last level,
+// the 3 × 3 from its corner `lo`: no terrain pixel is thousands of units wide).
+fn tile_epoch(lo: vec2<f32>, hi: vec2<f32>) -> u32 {
+    let w = max(hi.x - lo.x, hi.y - lo.y);
+    var level = 0u;
+    var side = TILE_BASE;
+    while level + 1u < TILE_LEVELS && 2.0 * side < w {
+        level++;
+        side *= 2.0;
+    }
+    let a = vec2<i32>(floor(lo / side));
+    let b = min(vec2<i32>(floor(hi / side)), a + 2);
+    var e = 0u;
+    for (var x = a.x; x <= b.x; x++) {
+        for (var z = a.y; z <= b.y; z++) {
+            let i = tile_entry(level, x, z);
+            e = max(e, shadow_tiles[i >> 2u][i & 3u]);
+        }
+    }
+    return e;
 }
 
 // The lights (bit i: light i, below TERRAIN_LIGHTS) that reach the centre of terrain pixel
@@ -337,9 +383,13 @@ fn cache_slot(s: Splat, slots: u32) -> u32 {
 }
 
 // A record's stamp sealed with its contents: `stamp` (what it is made from) hashed with
-// every word of `r` but the stamp's own. Never 0, which a cleared cache holds.
+// every word of `r` but the stamp's own, and with the shadows' epoch where its pixels lie
+// (its block's cells, and the promoted pixels around them, one cell further; their rays'
+// offset off the surface). Never 0, which a cleared cache holds.
 fn sealed(stamp: u32, r: TerrainSplat) -> u32 {
-    var h = stamp;
+    let size = r.grid.z;
+    let reach = size + max(SHADOW_OFFSET, 0.2 * size);
+    var h = hash_u32(stamp ^ tile_epoch(r.grid.xy - reach, r.grid.xy + 2.0 * size + reach));
     for (var k = 0u; k < 4u; k++) {
         h = hash_u32(h ^ r.cells[k]);
         h = hash_u32(h ^ bitcast<u32>(r.edges[k]));

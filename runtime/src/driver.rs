@@ -36,6 +36,9 @@ use texel_render::input::{
     PointLightInput, ProbeView, SceneInput, Schedule, SunInput, TerrainInput, internal_size,
     view_up,
 };
+use texel_render::shadow_region::{
+    bounds_under, point_shadow_bounds, scene_floor, sun_shadow_bounds,
+};
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::terrain::Terrain;
 use texel_scene::{
@@ -1112,88 +1115,11 @@ fn skirt_depth(field: &texel_scene::terrain::Heightfield) -> f32 {
         .max(0.05)
 }
 
-/// The box `min..max` grown by where its contents may cast shadows: each corner pushed along
-/// every sun's direction until it has dropped to the lowest point of the scene (at most 200
-/// units along the ray).
+/// The box `min..max` grown by where its contents may cast sun shadows: each corner pushed
+/// along every sun's direction until it has dropped to the lowest point of the scene (at
+/// most 200 units along the ray; [`sun_shadow_bounds`]).
 pub fn shadow_extended(scene: &SceneInput, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
     sun_shadow_bounds(&scene.suns, scene_floor(scene), min, max)
-}
-
-/// The lowest point of `scene`'s objects (infinity for none).
-fn scene_floor(scene: &SceneInput) -> f32 {
-    scene
-        .objects
-        .iter()
-        .filter_map(|o| {
-            o.mesh
-                .bounds()
-                .map(|(lo, hi)| bounds_under(o.transform, lo, hi).0.y)
-        })
-        .fold(f32::INFINITY, f32::min)
-}
-
-/// [`shadow_extended`] with the scene's lowest point `floor` given.
-fn sun_shadow_bounds(suns: &[SunInput], floor: f32, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
-    let floor = floor.min(min.y);
-    let (mut lo, mut hi) = (min, max);
-    for sun in suns {
-        let d = sun.direction.normalize_or_zero();
-        if d.y >= -1e-3 {
-            continue;
-        }
-        for i in 0..8 {
-            let c = Vec3::new(
-                if i & 1 == 0 { min.x } else { max.x },
-                if i & 2 == 0 { min.y } else { max.y },
-                if i & 4 == 0 { min.z } else { max.z },
-            );
-            let t = ((c.y - floor) / -d.y).min(200.0);
-            let p = c + d * t;
-            lo = lo.min(p);
-            hi = hi.max(p);
-        }
-    }
-    (lo, hi)
-}
-
-/// Bounds of the shadow a box `min..max` can cast from a point light at `light` that reaches
-/// `radius`: the box and its corners pushed away from the light out to the reach; `None` when
-/// the light does not reach the box. A light inside the box: its whole reach.
-fn point_shadow_bounds(light: Vec3, radius: f32, min: Vec3, max: Vec3) -> Option<(Vec3, Vec3)> {
-    if light.clamp(min, max).distance(light) >= radius {
-        return None;
-    }
-    if light.cmpge(min).all() && light.cmple(max).all() {
-        return Some((light - Vec3::splat(radius), light + Vec3::splat(radius)));
-    }
-    let (mut lo, mut hi) = (min, max);
-    for i in 0..8 {
-        let c = Vec3::new(
-            if i & 1 == 0 { min.x } else { max.x },
-            if i & 2 == 0 { min.y } else { max.y },
-            if i & 4 == 0 { min.z } else { max.z },
-        );
-        let far = light + (c - light).normalize_or_zero() * radius;
-        lo = lo.min(far);
-        hi = hi.max(far);
-    }
-    Some((lo, hi))
-}
-
-/// World bounds of the object-space box `min..max` under `m`.
-fn bounds_under(m: glam::Mat4, min: Vec3, max: Vec3) -> (Vec3, Vec3) {
-    (0..8).fold(
-        (Vec3::splat(f32::INFINITY), Vec3::splat(f32::NEG_INFINITY)),
-        |(lo, hi), i| {
-            let c = Vec3::new(
-                if i & 1 == 0 { min.x } else { max.x },
-                if i & 2 == 0 { min.y } else { max.y },
-                if i & 4 == 0 { min.z } else { max.z },
-            );
-            let p = m.transform_point3(c);
-            (lo.min(p), hi.max(p))
-        },
-    )
 }
 
 #[cfg(test)]

@@ -233,6 +233,13 @@ impl Renderer {
         self.terrain_splat.set_cache_slots_max(slots);
     }
 
+    /// Forgets every terrain splat record and terrain pixel's shadow rays: the next frame
+    /// makes and casts them all again (what a new scene does; tests compare the cache with
+    /// it).
+    pub fn forget_terrain_records(&mut self) {
+        self.terrain_splat.forget();
+    }
+
     /// Slots of the terrain splats' record cache as the last frame laid it out (0: none).
     pub fn terrain_cache_slots(&self) -> u64 {
         self.terrain_splat.cache_slots()

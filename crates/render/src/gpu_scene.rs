@@ -589,8 +589,21 @@ pub struct GpuScene {
     pub field_data: wgpu::TextureView,
     /// Terrains walked as heightfields by the shadow rays.
     pub shadow_fields: usize,
-    /// A hash of where the animated shadow casters stand ([`GpuScene::casters_key`]).
-    casters_key: std::sync::atomic::AtomicU64,
+    /// Where each animated shadow caster stands ([`GpuScene::casters`]).
+    casters: std::sync::Mutex<Vec<CasterNow>>,
+    /// The scene's lights and lowest point, for where a moved caster's shadow may fall.
+    pub shadow_lights: crate::shadow_region::ShadowLights,
+}
+
+/// Where an animated shadow caster stands ([`GpuScene::casters`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct CasterNow {
+    /// A hash of its instance record (its pose and bounds).
+    pub key: u64,
+    /// World bounds now.
+    pub min: Vec3,
+    /// World bounds now.
+    pub max: Vec3,
 }
 
 fn pack_colour(c: [f32; 4]) -> u32 {
@@ -875,7 +888,8 @@ impl GpuScene {
             ),
             animated,
             tlas_root,
-            casters_key: std::sync::atomic::AtomicU64::new(0),
+            casters: std::sync::Mutex::new(Vec::new()),
+            shadow_lights: crate::shadow_region::ShadowLights::new(scene),
             terrain_count: scene.terrains.len(),
             terrains: storage(
                 "scene::terrains",
@@ -946,19 +960,29 @@ impl GpuScene {
             .chain(order.iter().map(|&k| casting[k as usize]))
             .collect();
         queue.write_buffer(&self.bvh_instances, 0, bytemuck::cast_slice(&records));
-        let key = {
-            use std::hash::{Hash, Hasher};
-            let mut h = std::collections::hash_map::DefaultHasher::new();
-            bytemuck::cast_slice::<GpuBvhInstance, u8>(&records).hash(&mut h);
-            h.finish()
-        };
-        (self.casters_key).store(key, std::sync::atomic::Ordering::Relaxed);
+        let casters = casting
+            .iter()
+            .map(|i| {
+                use std::hash::{Hash, Hasher};
+                let mut h = std::collections::hash_map::DefaultHasher::new();
+                bytemuck::bytes_of(i).hash(&mut h);
+                CasterNow {
+                    key: h.finish(),
+                    min: Vec3::from_slice(&i.min[..3]),
+                    max: Vec3::from_slice(&i.max[..3]),
+                }
+            })
+            .collect();
+        *self.casters.lock().unwrap_or_else(|e| e.into_inner()) = casters;
     }
 
-    /// Where the animated shadow casters stand, as a hash of their instance records (0 for a
-    /// scene without them): what a shadow cast through the BVH depends on beyond the scene.
-    pub fn casters_key(&self) -> u64 {
-        (self.casters_key).load(std::sync::atomic::Ordering::Relaxed)
+    /// Where the animated shadow casters stand, in a fixed order (empty for a scene without
+    /// them): what a shadow cast through the BVH depends on beyond the scene.
+    pub fn casters(&self) -> Vec<CasterNow> {
+        self.casters
+            .lock()
+            .unwrap_or_else(|e| e.into_inner())
+            .clone()
     }
 
     /// Where sprites' indices start in the keys of their pixels (after the objects).

@@ -19,6 +19,7 @@ pub mod passes;
 pub mod probe_store;
 pub mod readback;
 pub mod shader;
+pub mod shadow_region;
 pub mod sprites;
 pub mod stats;
 pub mod target;

@@ -1,18 +1,22 @@
 //! Terrain splats: what each one-texel terrain quad of the cull pass's list shows, pixel by
 //! pixel (`shaders/terrain_splat.wgsl`), written between cull and splat. The records are
 //! kept per texel in a cache behind the list's (stamped with what each was made from, sealed
-//! with its contents), which is cleared when what no stamp holds changes: the scene, or the
-//! shade pass's globals (lights, ambient, bands), or the animated shadow casters' poses. A
+//! with its contents and the shadows' epoch where it lies), which is cleared when what no
+//! stamp holds changes: the scene, or the shade pass's globals (lights, ambient, bands), or
+//! the number of animated shadow casters. A caster that moves marks where its shadow may
+//! have come or gone with a new epoch ([`ShadowTiles`]): only the records and pixels there
+//! are made again. A
 //! first dispatch takes each quad's record from the cache or queues the quad as a miss; a
 //! second casts the misses' shadow rays, from the centre of each terrain pixel no frame has
 //! cast them for, once however many misses show it; a third reads them for each miss; a
 //! fourth makes their records.
 
 use crate::context::GpuContext;
-use crate::gpu_scene::GpuScene;
+use crate::gpu_scene::{CasterNow, GpuScene};
 use crate::passes::cull::{MAX_SPLATS, SPLAT_BYTES, SplatList};
 use crate::passes::shade::ShadeGlobals;
 use crate::shader;
+use crate::shadow_region::{ShadowTiles, TILE_ENTRIES};
 
 use super::{ARRAY, FLOAT, compute_pipeline, entry, storage, texture, uniform};
 
@@ -56,8 +60,11 @@ pub struct TerrainSplatPass {
     shadows_layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
     empty_bind: wgpu::BindGroup,
-    /// The casters' poses the cache's shadows were cast with (`GpuScene::casters_key`).
-    casters_key: Option<u64>,
+    /// The casters' poses the cache's shadows were cast with (`GpuScene::casters`).
+    casters: Option<Vec<CasterNow>>,
+    /// Where shadows last changed (`shadow_tiles` in the shader), and its uniform buffer.
+    tiles: ShadowTiles,
+    tiles_buffer: wgpu::Buffer,
     /// The lights reaching terrain pixels' centres (`cell_lights` in the shader).
     cell_lights: wgpu::Buffer,
     /// `size_misses`: `make`'s dispatch from the queue's count.
@@ -218,6 +225,7 @@ impl TerrainSplatPass {
                 entry(9, c, storage(true)),
                 entry(11, c, storage(false)),
                 entry(12, c, storage(false)),
+                entry(14, c, uniform(false)),
             ],
         });
         let size_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -247,6 +255,7 @@ impl TerrainSplatPass {
                 entry(8, c, storage(true)),
                 entry(12, c, storage(false)),
                 entry(13, c, storage(false)),
+                entry(14, c, uniform(false)),
             ],
         });
         let empty_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -305,7 +314,14 @@ impl TerrainSplatPass {
             shadows_layout,
             bvh_layout,
             empty_bind,
-            casters_key: None,
+            casters: None,
+            tiles: ShadowTiles::default(),
+            tiles_buffer: device.create_buffer(&wgpu::BufferDescriptor {
+                label: Some("terrain_splat::shadow_tiles"),
+                size: 4 * TILE_ENTRIES as u64,
+                usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
+                mapped_at_creation: false,
+            }),
             cell_lights: device.create_buffer(&wgpu::BufferDescriptor {
                 label: Some("terrain_splat::cell_lights"),
                 size: 4 * CELL_LIGHT_SLOTS,
@@ -356,6 +372,7 @@ impl TerrainSplatPass {
     /// Forgets every cached record (a new scene: other heights, colours, objects).
     pub fn forget(&mut self) {
         self.stale = true;
+        self.casters = None;
     }
 
     /// Records the pass over `inputs.list`; lays the records out for the list's capacity
@@ -390,13 +407,29 @@ impl TerrainSplatPass {
             self.globals_key = Some(*globals_key);
             self.stale = true;
         }
-        // A caster that moved may shadow other pixels (a texel's own rays were in its stamp;
-        // the pixels' are not).
-        let casters = scene.casters_key();
-        if self.casters_key != Some(casters) {
-            self.casters_key = Some(casters);
-            self.stale = true;
+        // A caster that moved may shadow other pixels: those where its shadow may have come
+        // or gone are marked with a new epoch, which their records' and pixels' stamps hold.
+        let casters = scene.casters();
+        match &self.casters {
+            Some(before) if before.len() == casters.len() => {
+                let mut moved = false;
+                for (a, b) in before.iter().zip(&casters) {
+                    if a.key != b.key {
+                        let lights = &scene.shadow_lights;
+                        let shadows = lights.footprints(a.min.min(b.min), a.max.max(b.max));
+                        self.tiles.mark(&shadows);
+                        moved = true;
+                    }
+                }
+                if moved {
+                    let entries = bytemuck::cast_slice(self.tiles.entries());
+                    ctx.queue.write_buffer(&self.tiles_buffer, 0, entries);
+                }
+            }
+            Some(_) => self.stale = true,
+            None => {}
         }
+        self.casters = Some(casters);
         if self.stale && layout.cache > 0 && !records_new {
             encoder.clear_buffer(&self.records, layout.splats * RECORD_BYTES, None);
         }
@@ -421,6 +454,7 @@ impl TerrainSplatPass {
             (11, self.records.as_entire_binding()),
             (12, self.misses.buffer.as_entire_binding()),
             (13, self.cell_lights.as_entire_binding()),
+            (14, self.tiles_buffer.as_entire_binding()),
         ];
         let entries =
             resources.map(|(binding, resource)| wgpu::BindGroupEntry { binding, resource });
@@ -446,7 +480,7 @@ impl TerrainSplatPass {
         let shadows_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::shadows_bind"),
             layout: &self.shadows_layout,
-            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 12 | 13)),
+            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 12 | 13 | 14)),
         });
         let bvh_bind = super::bind_group(
             &ctx.device,
