@@ -101,14 +101,13 @@ struct Miss {
 }
 
 @group(0) @binding(12) var<storage, read_write> misses: Misses;
-// The lights that reach terrain pixels' centres: one word per slot, at a hash of the pixel
-// (`pixel_hash`); 0 is empty. A pixel is shared by the blocks of every probe and frame that
-// show it, so its rays are cast once, not once per record (an outline's strip is made afresh
-// every frame, a new probe's records at its crossing, the eye's as it moves), and within a
-// dispatch by the one miss that claims its slot (`shadows`), not by each of the blocks that
-// hold it. A word is the pixel's check bits (`pixel_check`) alone while its claimant casts,
-// with `LIGHTS_DONE` and the lights (bit i: light i) once it has. Cleared with the records.
-@group(0) @binding(13) var<storage, read_write> cell_lights: array<atomic<u32>>;
+// The lights that reach terrain pixels' centres, as `shadows` found them: one word per slot,
+// at a hash of the pixel and the shadows' epoch around it (`pixel_hash`), its check bits
+// (`pixel_check`) above TERRAIN_LIGHTS bits of lights; 0 is empty. A pixel is shared by the
+// blocks of every probe and frame that show it, so its rays are cast once, not once per
+// record (a new probe's records at its crossing, the eye's as it moves). Cleared with the
+// records.
+@group(0) @binding(13) var<storage, read_write> cell_lights: array<u32>;
 
 // When shadows last changed around each patch of ground (crates/render/src/shadow_region.rs
 // `ShadowTiles`): tiles of TILE_BASE · 2^level units at TILE_LEVELS levels, each level's
@@ -122,9 +121,6 @@ const TILE_LEVELS: u32 = 16u;
 const TILE_BASE: f32 = 0.25;
 const TILE_WRAP: u32 = 32u;
 
-const LIGHTS_DONE: u32 = 1u << 31u;
-// The bits of a word that say which pixel holds it.
-const LIGHTS_CHECK: u32 = 0x7ffff000u;
 
 
 // Each quad of the list: its record from the cache, hazed, or queued for `shadows` and `make`.
@@ -192,8 +188,12 @@ fn size_misses() {
     dispatch = DispatchArgs((n + GROUP - 1u) / GROUP, 1u, 1u);
 }
 
-// Each queued miss: its block, and the shadow rays of those of its four pixels whose slot it
-// claims (`cell_lights`); `gather` reads them for every miss after this dispatch.
+// Each queued miss: its block, and which lights reach the centres of its block's four
+// pixels: from the table where a frame before cast their rays, else by a shadow ray from
+// each (dispatched as `make` is, before it). Two misses of one dispatch that show a pixel
+// not yet in the table may both cast its rays (they find the same lights): claiming it
+// first (an atomic compare-exchange, then a dispatch to read the answers back) cast 16 %
+// fewer rays on a first frame and cost more than it saved.
 @compute @workgroup_size(64)
 fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
@@ -209,46 +209,18 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     m.base = b.base;
     m.size = b.size;
     m.promoted = 0u;
+    var reach = vec2(0u);
+    let lights = (1u << TERRAIN_LIGHTS) - 1u;
     for (var k = 0u; k < 4u; k++) {
         let px = block_pixel(tr, b, k, probe);
         m.promoted |= select(0u, 1u << k, px.size > b.size);
         let h = pixel_hash(m.terrain, tr, px);
         let slot = h % arrayLength(&cell_lights);
         let check = pixel_check(h);
-        let was = atomicLoad(&cell_lights[slot]);
-        // Cast, or being cast: by a frame before, or by another miss of this one.
-        if (was & LIGHTS_CHECK) == check {
-            continue;
-        }
-        // Another pixel's or empty: claimed, then cast. A miss that loses the race leaves
-        // the pixel to the winner, or (another pixel won the slot) to `gather`.
-        if atomicCompareExchangeWeak(&cell_lights[slot], was, check).exchanged {
-            atomicStore(&cell_lights[slot], check | LIGHTS_DONE | pixel_reach(tr, px));
-            atomicAdd(&misses.rays_cast, 1u);
-        }
-    }
-    misses.at[gid.x] = m;
-}
-
-// Each queued miss, after `shadows`: which lights reach the centres of its block's four
-// pixels, from their slots, or cast here where another pixel holds a slot (the rare hash
-// collision within a dispatch).
-@compute @workgroup_size(64)
-fn gather(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
-        return;
-    }
-    var m = misses.at[gid.x];
-    let tr = terrains[m.terrain];
-    var reach = vec2(0u);
-    let lights = (1u << TERRAIN_LIGHTS) - 1u;
-    for (var k = 0u; k < 4u; k++) {
-        let px = miss_pixel(m, k);
-        let h = pixel_hash(m.terrain, tr, px);
-        let check = pixel_check(h);
-        var bits = atomicLoad(&cell_lights[h % arrayLength(&cell_lights)]);
-        if (bits & (LIGHTS_CHECK | LIGHTS_DONE)) != (check | LIGHTS_DONE) {
-            bits = pixel_reach(tr, px);
+        var bits = cell_lights[slot];
+        if (bits & ~lights) != check {
+            bits = check | pixel_reach(tr, px);
+            cell_lights[slot] = bits;
             atomicAdd(&misses.rays_cast, 1u);
         }
         reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
@@ -267,10 +239,10 @@ fn miss_pixel(m: Miss, k: u32) -> TerrainPixel {
     return TerrainPixel((cell + 0.5) * m.size, m.size);
 }
 
-// The check bits of the pixel whose hash is `h`: from another hash of it, never all zero
-// (an empty slot).
+// The check bits of the pixel whose hash is `h`: from another hash of it, above the
+// TERRAIN_LIGHTS bits of lights, never all zero (an empty slot).
 fn pixel_check(h: u32) -> u32 {
-    return ((hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) & LIGHTS_CHECK) | (1u << 30u);
+    return (hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) | (1u << 31u);
 }
 
 // A hash of pixel `px` of terrain `tr` (index `t`) and the shadows' epoch around it.
@@ -294,18 +266,20 @@ fn tile_entry(level: u32, x: i32, z: i32) -> u32 {
 }
 
 // The latest shadow epoch over the world XZ square `lo`..`hi`: of the tiles it overlaps at
-// the first level whose tiles are at least half as wide (3 × 3 at most; at the last level,
-// the 3 × 3 from its corner `lo`: no terrain pixel is thousands of units wide).
+// the first level whose tiles are at least as wide (2 × 2 at most; at the last level, the
+// 2 × 2 from its corner `lo`: no terrain pixel is thousands of units wide). (Tiles half as
+// wide, 3 × 3 of them, wrap at half the distance: a moving box's shadow beside the lantern
+// on terrain_hills then spanned a whole level, and more records were made again.)
 fn tile_epoch(lo: vec2<f32>, hi: vec2<f32>) -> u32 {
     let w = max(hi.x - lo.x, hi.y - lo.y);
     var level = 0u;
     var side = TILE_BASE;
-    while level + 1u < TILE_LEVELS && 2.0 * side < w {
+    while level + 1u < TILE_LEVELS && side < w {
         level++;
         side *= 2.0;
     }
     let a = vec2<i32>(floor(lo / side));
-    let b = min(vec2<i32>(floor(hi / side)), a + 2);
+    let b = min(vec2<i32>(floor(hi / side)), a + 1);
     var e = 0u;
     for (var x = a.x; x <= b.x; x++) {
         for (var z = a.y; z <= b.y; z++) {

@@ -266,7 +266,7 @@ pub const TILE_ENTRIES: usize = TILE_LEVELS as usize * (TILE_WRAP * TILE_WRAP) a
 /// sharing an entry only make more work (a tile looks changed when one 32 tiles off did),
 /// and a change wider than the table at a level marks that whole level. A terrain pixel or
 /// record reads the tiles its square overlaps at the first level whose tiles are at least
-/// half as wide (at most 3 × 3 of them) and is stamped with their latest epoch, so a change there
+/// as wide (at most 2 × 2 of them) and is stamped with their latest epoch, so a change there
 /// makes it again (`terrain_splat.wgsl` `tile_epoch`).
 #[derive(Debug, Clone)]
 pub struct ShadowTiles {

@@ -7,9 +7,8 @@
 //! have come or gone with a new epoch ([`ShadowTiles`]): only the records and pixels there
 //! are made again. A
 //! first dispatch takes each quad's record from the cache or queues the quad as a miss; a
-//! second casts the misses' shadow rays, from the centre of each terrain pixel no frame has
-//! cast them for, once however many misses show it; a third reads them for each miss; a
-//! fourth makes their records.
+//! second casts the misses' shadow rays, from the centre of each of the four terrain pixels
+//! no frame has cast them for; a third makes their records.
 
 use crate::context::GpuContext;
 use crate::gpu_scene::{CasterNow, GpuScene};
@@ -53,8 +52,6 @@ pub struct TerrainSplatPass {
     make_pipeline: wgpu::ComputePipeline,
     /// `shadows`: the queued misses' shadow rays, dispatched as `make` is, before it.
     shadows_pipeline: wgpu::ComputePipeline,
-    /// `gather`: each queued miss's lights from the rays `shadows` cast, between the two.
-    gather_pipeline: wgpu::ComputePipeline,
     /// `shadows`'s group 0 (the view, the terrains, the lights and the queue) and group 2
     /// (the BVH); its group 1 is empty.
     shadows_layout: wgpu::BindGroupLayout,
@@ -275,13 +272,6 @@ impl TerrainSplatPass {
             "shadows",
             &[&shadows_layout, &empty_layout, &bvh_layout],
         );
-        let gather_pipeline = compute_pipeline(
-            device,
-            "terrain_splat::gather",
-            &module,
-            "gather",
-            &[&shadows_layout, &empty_layout, &bvh_layout],
-        );
         let misses_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::misses_layout"),
             entries: &[entry(12, c, storage(false))],
@@ -310,7 +300,6 @@ impl TerrainSplatPass {
             size_pipeline,
             make_pipeline,
             shadows_pipeline,
-            gather_pipeline,
             shadows_layout,
             bvh_layout,
             empty_bind,
@@ -507,8 +496,6 @@ impl TerrainSplatPass {
         pass.set_bind_group(0, &shadows_bind, &[]);
         pass.set_bind_group(1, &self.empty_bind, &[]);
         pass.set_bind_group(2, &bvh_bind, &[]);
-        pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
-        pass.set_pipeline(&self.gather_pipeline);
         pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
         pass.set_pipeline(&self.make_pipeline);
         pass.set_bind_group(0, &bind, &[]);
