@@ -4,9 +4,10 @@
 // than each probe's texel grid. Once per quad, between cull and splat. What a texel shows
 // depends on the camera only through the haze, so each record is kept, unhazed, in a cache
 // slot of the texel's key and band shift (`cache_slot`), stamped with what it was made from
-// (`record_stamp`) and sealed with its contents (`sealed`): a texel drawn again with the same
-// point, lights and probe takes its record from there. A record's pixels are shadowed from their own
-// centres (`shadows`, rays through the BVH), not by the texel's rays: two probes whose
+// (`record_stamp`) and sealed with its contents and the shadows' epoch where it lies
+// (`sealed`): a texel drawn again with the same point (an eye texel: the same block),
+// outline and probe takes its record from there. A record's pixels are shadowed from their
+// own centres (`shadows`, rays through the BVH), not by the texel's rays: two probes whose
 // texels both show a pixel then agree on its shadow, as they agree on its colour.
 // crates/render/src/passes/terrain_splat.rs.
 
@@ -120,8 +121,6 @@ struct Miss {
 const TILE_LEVELS: u32 = 16u;
 const TILE_BASE: f32 = 0.25;
 const TILE_WRAP: u32 = 32u;
-
-
 
 // Each quad of the list: its record from the cache, hazed, or queued for `shadows` and `make`.
 @compute @workgroup_size(64)
