@@ -46,6 +46,32 @@ fn terrain_level(
     path
 }
 
+/// [`flat_terrain_level`] (2 pixels a unit) with a shadow-casting box of `size` at `at`
+/// (and `extra` after its material: an animator), under a low sun toward +Z, so that its
+/// shadow falls toward a camera south of it.
+fn flat_terrain_with_box(
+    dir: &std::path::Path,
+    at: Vec3,
+    size: Vec3,
+    extra: &str,
+) -> std::path::PathBuf {
+    let level = flat_terrain_level(dir, 2.0);
+    let text = std::fs::read_to_string(&level).unwrap();
+    let text = text.replace(
+        "(directional_light: (direction: (0.0, -1.0, 0.0)",
+        &format!(
+            "(name: \"Box\", transform: (translation: ({:?}, {:?}, {:?}), rotation: (0.0, 0.0, \
+             0.0), scale: (1.0, 1.0, 1.0)), geometry: Box(size: ({:?}, {:?}, {:?})), material: \
+             (albedo: (0.5, 0.5, 0.5), emissive: (0.0, 0.0, 0.0), casts_shadows: true, \
+             outlined: false){extra}),\n (directional_light: (direction: (0.0, -0.55, 0.83)",
+            at.x, at.y, at.z, size.x, size.y, size.z
+        ),
+    );
+    assert!(text.contains("\"Box\""), "the box was added to the level");
+    std::fs::write(&level, text).unwrap();
+    level
+}
+
 /// Every texel of the face below the probe whose centre ray meets the same world cell holds
 /// the same colour, and the cells differ (the displacement shows).
 #[test]
@@ -284,19 +310,10 @@ fn terrain_pixels_on_rolling_ground_do_not_depend_on_the_probe() {
 #[test]
 fn terrain_shadows_on_screen_do_not_depend_on_the_probe() {
     let dir = tempfile::tempdir().unwrap();
-    let level = flat_terrain_level(dir.path(), 2.0);
-    let text = std::fs::read_to_string(&level).unwrap();
     // Its shadow falls 6 units toward the camera, onto the lower half of the view; the box
     // stands in the upper half, which is not compared.
-    let text = text.replace(
-        "(directional_light: (direction: (0.0, -1.0, 0.0)",
-        "(name: \"Box\", transform: (translation: (0.1, 2.0, -8.0), rotation: (0.0, 0.0, 0.0), \
-         scale: (1.0, 1.0, 1.0)), geometry: Box(size: (1.5, 4.0, 1.0)), material: (albedo: \
-         (0.5, 0.5, 0.5), emissive: (0.0, 0.0, 0.0), casts_shadows: true, outlined: false)),\n \
-         (directional_light: (direction: (0.0, -0.55, 0.83)",
-    );
-    assert!(text.contains("\"Box\""), "the box was added to the level");
-    std::fs::write(&level, text).unwrap();
+    let box_at = Vec3::new(0.1, 2.0, -8.0);
+    let level = flat_terrain_with_box(dir.path(), box_at, Vec3::new(1.5, 4.0, 1.0), "");
     let Some(views) = two_probe_views(&level, cam(0.3, 1.6, 0.2, 0.0, -30.0), 1, 2) else {
         return;
     };
@@ -750,24 +767,21 @@ fn terrain_records_and_rays_are_made_once() {
 #[test]
 fn a_moving_casters_shadow_on_the_terrain_remakes_only_what_it_may_touch() {
     let dir = tempfile::tempdir().unwrap();
-    let level = flat_terrain_level(dir.path(), 2.0);
-    let text = std::fs::read_to_string(&level).unwrap();
     // A tall box sliding 2 units along X in a second and back, its shadow falling toward
     // the camera under a low sun.
-    let text = text.replace(
-        "(directional_light: (direction: (0.0, -1.0, 0.0)",
-        "(name: \"Box\", transform: (translation: (-1.0, 2.0, -8.0), rotation: (0.0, 0.0, 0.0), \
-         scale: (1.0, 1.0, 1.0)), geometry: Box(size: (1.0, 4.0, 1.0)), material: (albedo: \
-         (0.5, 0.5, 0.5), emissive: (0.0, 0.0, 0.0), casts_shadows: true, outlined: false), \
-         animator: (motion: PingPong(to: (translation: (1.0, 2.0, -8.0), rotation: (0.0, 0.0, \
-         0.0), scale: (1.0, 1.0, 1.0)), period: 2.0, easing: Linear))),\n \
-         (directional_light: (direction: (0.0, -0.55, 0.83)",
+    let level = flat_terrain_with_box(
+        dir.path(),
+        Vec3::new(-1.0, 2.0, -8.0),
+        Vec3::new(1.0, 4.0, 1.0),
+        ", animator: (motion: PingPong(to: (translation: (1.0, 2.0, -8.0), rotation: (0.0, \
+         0.0, 0.0), scale: (1.0, 1.0, 1.0)), period: 2.0, easing: Linear))",
     );
     assert!(
-        text.contains("PingPong"),
-        "the moving box was added to the level"
+        std::fs::read_to_string(&level)
+            .unwrap()
+            .contains("PingPong"),
+        "the box moves"
     );
-    std::fs::write(&level, text).unwrap();
     let level = level.to_str().unwrap();
     let size = UVec2::new(160, 90);
     let (Some(mut kept), Some(mut fresh)) =
