@@ -135,26 +135,31 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         return;
     }
     let word = bitcast<u32>(s.c3.w);
-    let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
-    let terrain = obj.flags >> 8u;
     let mid = splat_mid(s);
     let role = splat_role(s);
     let probe = splat_probe(role);
     // The eye's texels move with the camera: an eye quad's record is stamped with the block
-    // its point lies toward (which is all a record is made from), not with the point, so a
-    // texel that stays on its block keeps its record from frame to frame.
+    // its point lies toward (which is all a record is made from), not with the point, and
+    // kept in a slot of that block (`cache_slot`), so a texel that shows a block an eye
+    // texel showed before, on this frame or an earlier one, finds its record. Only the eye
+    // and the misses read the quad's object (its terrain).
+    var terrain = 0u;
     var block = TerrainBlock(0u, 0.0, vec2(0.0));
     if role == ROLE_EYE {
+        terrain = objects[word >> SPLAT_TERRAIN_OBJECT_AT].flags >> 8u;
         block = terrain_block(terrains[terrain], mid, probe);
     }
     let slots = arrayLength(&records) - capacity;
     if slots > 0u {
         let stamp = record_stamp(word, stamp_point(role, mid, block), probe);
-        let r = records[capacity + cache_slot(s, slots)];
+        let r = records[capacity + cache_slot(s, role, block, slots)];
         if bitcast<u32>(r.grid.w) == sealed(stamp, r) {
             records[ii] = hazed_record(r, mid);
             return;
         }
+    }
+    if role != ROLE_EYE {
+        terrain = objects[word >> SPLAT_TERRAIN_OBJECT_AT].flags >> 8u;
     }
     let k = atomicAdd(&misses.count, 1u);
     if k < arrayLength(&misses.at) {
@@ -330,7 +335,7 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     r.grid.w = bitcast<f32>(sealed(stamp, r));
     let slots = arrayLength(&records) - capacity;
     if slots > 0u {
-        records[capacity + cache_slot(s, slots)] = r;
+        records[capacity + cache_slot(s, m.role, block, slots)] = r;
     }
     records[ii] = hazed_record(r, mid);
 }
@@ -339,20 +344,39 @@ fn splat_role(s: Splat) -> u32 {
     return bitcast<u32>(s.c2.w) & 0xffu;
 }
 
-// The cache slot of terrain quad `s` among `slots` (> 0), by its record's key: its texel's
-// key (1-based) and its pixels' band shift (an outline's strips are a band darker or
-// lighter than the body; strips of one shift show the same record). Its own slot where
-// there is one per record key (3 shifts × 3 probe slots × 6 faces × max_n²), else a hash of
-// the key. Two keys sharing a slot may both write it in one pass; `sealed` tells a record so
-// overwritten, or torn between the two.
-fn cache_slot(s: Splat, slots: u32) -> u32 {
+// The cache slot of terrain quad `s` of probe role `role` (an eye quad's block `b`) among
+// `slots` (> 0), by its record's key. A stable probe's: its texel's key (1-based) and its
+// pixels' band shift (an outline's strips are a band darker or lighter than the body;
+// strips of one shift show the same record). The eye's: its block and its object and shift
+// (`block_key`), among its slot's keys. Its own slot where there is one per texel key (3
+// shifts × 3 probe slots × 6 faces × max_n²), else a hash of the key. Two keys sharing a
+// slot may both write it in one pass; `sealed` tells a record so overwritten, or torn
+// between the two.
+fn cache_slot(s: Splat, role: u32, b: TerrainBlock, slots: u32) -> u32 {
     let shift = min((bitcast<u32>(s.c3.w) >> TERRAIN_LIGHTS) & 3u, 2u);
     let key = 3u * (bitcast<u32>(s.c0.w) - 1u) + shift;
-    let keys = 54u * view.max_n * view.max_n;
-    if keys <= slots {
+    let per_slot = 18u * view.max_n * view.max_n;
+    let direct = 3u * per_slot <= slots;
+    if role == ROLE_EYE {
+        let h = block_key(bitcast<u32>(s.c3.w), b);
+        if direct {
+            return key - key % per_slot + h % per_slot;
+        }
+        return h % slots;
+    }
+    if direct {
         return key;
     }
     return hash_u32(key) % slots;
+}
+
+// A hash of the record an eye quad with object `word` (the splat's c3.w) shows on block `b`:
+// its object, its band shift and the block (its first cell and cells' size).
+fn block_key(word: u32, b: TerrainBlock) -> u32 {
+    var h = hash_u32(0x2545f491u ^ (word & ~((1u << TERRAIN_LIGHTS) - 1u)));
+    h = hash_u32(h ^ bitcast<u32>(b.size));
+    h = hash_u32(h ^ bitcast<u32>(b.base.x));
+    return hash_u32(h ^ bitcast<u32>(b.base.y));
 }
 
 // A record's stamp sealed with its contents: `stamp` (what it is made from) hashed with
