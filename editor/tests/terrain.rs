@@ -681,3 +681,26 @@ fn an_autosave_keeps_sculpted_heights_and_recovering_it_brings_them_back() {
     assert!(dir.path().join("hills_Terrain.png").is_file());
     assert!(!auto.exists() && !kept.exists());
 }
+
+/// A terrain lies along the world's axes: the inspector says so where its rotation or scale
+/// is set (the loader warns too), and says nothing for a terrain placed by its translation.
+#[test]
+fn the_inspector_names_a_terrains_rotation_as_not_applied() {
+    let dir = tempfile::tempdir().unwrap();
+    let path = flat_level(dir.path());
+    let mut h = harness(EditorApp::with_recent(Some(&path), Recent::default()));
+    h.state_mut().state.selection = Some(0);
+    h.run();
+    assert!(
+        h.query_by_label_contains("not applied").is_none(),
+        "a terrain placed by its translation gets no warning"
+    );
+    let text = std::fs::read_to_string(&path).unwrap();
+    let turned = text.replacen("rotation: (0.0, 0.0, 0.0)", "rotation: (0.0, 30.0, 0.0)", 1);
+    assert_ne!(turned, text, "the level names its rotation");
+    std::fs::write(&path, turned).unwrap();
+    let mut h = harness(EditorApp::with_recent(Some(&path), Recent::default()));
+    h.state_mut().state.selection = Some(0);
+    h.run();
+    h.get_by_label_contains("rotation [0.0, 30.0, 0.0] not applied");
+}

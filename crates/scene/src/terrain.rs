@@ -137,6 +137,29 @@ const fn yes() -> bool {
     true
 }
 
+/// What of `t` a terrain placed by it does not apply (a terrain is laid out along the world's
+/// axes, from its translation only): a sentence naming the rotation and the scale where they
+/// are not the identity's, for the loader's warning and the editor's inspector; `None` where
+/// nothing is left out.
+pub fn unapplied_transform(t: &crate::Transform) -> Option<String> {
+    let rotated = t.rotation != glam::Vec3::ZERO;
+    let scaled = t.scale != glam::Vec3::ONE;
+    let what = match (rotated, scaled) {
+        (false, false) => return None,
+        (true, false) => format!("rotation {:?}", t.rotation.to_array()),
+        (false, true) => format!("scale {:?}", t.scale.to_array()),
+        (true, true) => format!(
+            "rotation {:?} and scale {:?}",
+            t.rotation.to_array(),
+            t.scale.to_array()
+        ),
+    };
+    Some(format!(
+        "{what} not applied: a terrain lies along the world's axes, placed by its \
+         translation only (set its size and max_height instead)"
+    ))
+}
+
 impl Terrain {
     /// The band of a point at `distance` from the probe origin (0 = the nearest, finest),
     /// before the texel constraint: 0 within `band_distance`, then one more per doubling.
@@ -469,6 +492,30 @@ pub fn check_gradient(stops: &[GradientStop]) -> Result<(), String> {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_rotated_or_scaled_terrain_is_told_what_is_not_applied() {
+        let mut t = crate::Transform {
+            translation: Vec3::new(5.0, 1.0, -3.0),
+            ..Default::default()
+        };
+        assert_eq!(unapplied_transform(&t), None, "a translation is applied");
+        t.rotation = Vec3::new(0.0, 30.0, 0.0);
+        let m = unapplied_transform(&t).expect("a rotation is not applied");
+        assert!(
+            m.starts_with("rotation [0.0, 30.0, 0.0] not applied"),
+            "{m}"
+        );
+        t.scale = Vec3::new(2.0, 1.0, 1.0);
+        let m = unapplied_transform(&t).expect("nor a scale");
+        assert!(
+            m.contains("rotation") && m.contains("scale [2.0, 1.0, 1.0]"),
+            "{m}"
+        );
+        t.rotation = Vec3::ZERO;
+        let m = unapplied_transform(&t).unwrap();
+        assert!(m.starts_with("scale [2.0, 1.0, 1.0] not applied"), "{m}");
+    }
 
     fn terrain() -> Terrain {
         Terrain {

@@ -111,6 +111,12 @@ fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo, sprite: Sprite
         }
     });
     section(ui, "Transform", &mut row.transform, transform);
+    // A terrain lies along the world's axes: say so where its rotation or scale is set.
+    let unapplied = (row.terrain.as_ref().and(row.transform.as_ref()))
+        .and_then(texel_scene::terrain::unapplied_transform);
+    if let Some(message) = unapplied {
+        ui.colored_label(ui.visuals().warn_fg_color, format!("Terrain: {message}."));
+    }
     crate::ui::sprite::section(ui, sprite.index, row, sprite.assets, sprite.panel);
     section_with(
         ui,
