@@ -6,7 +6,10 @@
 // slot of the texel's key and band shift (`cache_slot`), stamped with what it was made from
 // (`record_stamp`) and sealed with its contents and the shadows' epoch where it lies
 // (`sealed`): a texel drawn again with the same point (an eye texel: the same block),
-// outline and probe takes its record from there. A record's pixels are shadowed from their
+// outline and probe takes its record from there. Each is also kept by its block and pixels
+// (`block_slot`), which is all a record is made from: a texel the first cache misses (a
+// crossing's new probe, the eye on ground a stable probe showed) finds it there once
+// `shadows` has found its block. A record's pixels are shadowed from their
 // own centres (`shadows`, rays through the BVH), not by the texel's rays: two probes whose
 // texels both show a pixel then agree on its shadow, as they agree on its colour.
 // crates/render/src/passes/terrain_splat.rs.
@@ -63,20 +66,36 @@ fn size() {
     misses.quads = quads;
     atomicStore(&misses.count, 0u);
     atomicStore(&misses.rays_cast, 0u);
+    atomicStore(&misses.found, 0u);
+    misses.capacity = arrayLength(&splats);
 }
 
 // The quads whose record was not in the cache, made by `make` in a dispatch of their own:
 // a miss among hits would keep its whole SIMD group waiting (lavapipe runs 8 lanes, a GPU
 // 32 or 64), and misses are few and scattered (the eye's texels, a new probe's faces).
 // `quads` is the list's count as `size` found it (so `main` binds no `args`: a stage has 8
-// storage buffers in WebGPU's limits).
-// `rays_cast` counts the pixels whose shadow rays this pass cast (read back as a frame counter).
+// storage buffers in WebGPU's limits), `capacity` the list's (`shadows` binds no list).
+// `rays_cast` counts the pixels whose shadow rays this pass cast, `found` the misses whose
+// record another probe's or texel's quad had made on its block (`block_slot`; both read back
+// as frame counters).
+// `lights`: the lights that reach terrain pixels' centres, as `shadows` found them: one word
+// per slot, at a hash of the pixel and the shadows' epoch around it (`pixel_hash`), its check
+// bits (`pixel_check`) above TERRAIN_LIGHTS bits of lights; 0 is empty. A pixel is shared by
+// the blocks of every probe and frame that show it, so its rays are cast once, not once per
+// record (a new probe's records at its crossing, the eye's as it moves). Cleared with the
+// records. (Here, not a buffer of its own, so that `shadows` binds the records within the 8.)
 struct Misses {
     quads: u32,
     count: atomic<u32>,
     rays_cast: atomic<u32>,
+    found: atomic<u32>,
+    capacity: u32,
+    _pad: vec3<u32>,
+    lights: array<u32, CELL_LIGHT_SLOTS>,
     at: array<Miss>,
 }
+
+const CELL_LIGHT_SLOTS: u32 = 1048576u;
 
 // A queued miss: what `shadows` needs of its quad (which binds neither the list nor the
 // objects, to stay within those 8 buffers) and what it found.
@@ -85,30 +104,34 @@ struct Miss {
     mid: vec3<f32>,
     // The quad's index in the list.
     index: u32,
-    // Its terrain's index.
-    terrain: u32,
-    // Its probe's role.
-    role: u32,
+    // Its terrain's index << 8 | its probe's role (`miss_terrain`, `miss_role`).
+    kind: u32,
+    // The quad's object word (the splat's c3.w: object, band shift, the texel's lights).
+    word: u32,
     // What `shadows` found, for `make`: bit TERRAIN_LIGHTS · (k & 1) + i of word k >> 1,
     // light i reaches the centre of the pixel of cell k of the quad's block (`pixel_reach`);
+    // where the block's record was found (SHARED in `promoted`), x is its slot;
     reach: vec2<u32>,
     // the block's first cell and its cells' size (`terrain_block`; `main` finds an eye
     // quad's, size 0 asks `shadows` to);
     base: vec2<f32>,
     size: f32,
-    // bit k: cell k shows the promoted pixel around it (`block_pixel`); until `shadows`,
-    // the band of a block `main` found, from bit 8.
+    // bit k: cell k shows the promoted pixel around it (`block_pixel`), SHARED: its record
+    // was found on its block; until `shadows`, the band of a block `main` found, from bit 8.
     promoted: u32,
 }
 
+const SHARED: u32 = 0x10u;
+
+fn miss_terrain(m: Miss) -> u32 {
+    return m.kind >> 8u;
+}
+
+fn miss_role(m: Miss) -> u32 {
+    return m.kind & 0xffu;
+}
+
 @group(0) @binding(12) var<storage, read_write> misses: Misses;
-// The lights that reach terrain pixels' centres, as `shadows` found them: one word per slot,
-// at a hash of the pixel and the shadows' epoch around it (`pixel_hash`), its check bits
-// (`pixel_check`) above TERRAIN_LIGHTS bits of lights; 0 is empty. A pixel is shared by the
-// blocks of every probe and frame that show it, so its rays are cast once, not once per
-// record (a new probe's records at its crossing, the eye's as it moves). Cleared with the
-// records.
-@group(0) @binding(13) var<storage, read_write> cell_lights: array<u32>;
 
 // When shadows last changed around each patch of ground (crates/render/src/shadow_region.rs
 // `ShadowTiles`): tiles of TILE_BASE · 2^level units at TILE_LEVELS levels, each level's
@@ -149,7 +172,7 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         terrain = objects[word >> SPLAT_TERRAIN_OBJECT_AT].flags >> 8u;
         block = terrain_block(terrains[terrain], mid, probe);
     }
-    let slots = arrayLength(&records) - capacity;
+    let slots = texel_slots(capacity);
     if slots > 0u {
         let stamp = record_stamp(word, stamp_point(role, mid, block), probe);
         let r = records[capacity + cache_slot(s, role, block, slots)];
@@ -166,8 +189,8 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
         var m: Miss;
         m.mid = mid;
         m.index = ii;
-        m.terrain = terrain;
-        m.role = role;
+        m.kind = (terrain << 8u) | role;
+        m.word = word;
         // The eye's block as found here (`shadows` finds the others').
         m.base = block.base;
         m.size = block.size;
@@ -192,20 +215,23 @@ fn size_misses() {
     dispatch = DispatchArgs((n + GROUP - 1u) / GROUP, 1u, 1u);
 }
 
-// Each queued miss: its block, and which lights reach the centres of its block's four
-// pixels: from the table where a frame before cast their rays, else by a shadow ray from
-// each (dispatched as `make` is, before it). Two misses of one dispatch that show a pixel
-// not yet in the table may both cast its rays (they find the same lights): claiming it
-// first (an atomic compare-exchange, then a dispatch to read the answers back) cast 16 %
-// fewer rays on a first frame and cost more than it saved.
+// Each queued miss: its block and its pixels (`block_pixel`); its record where a quad of
+// another probe or texel made it for the same block and pixels (`block_slot`: a crossing's
+// new probe shows mostly the blocks the old one did), written to the list here; else which
+// lights reach the centres of its block's four pixels: from the table where a frame before
+// cast their rays, else by a shadow ray from each (dispatched as `make` is, before it). Two
+// misses of one dispatch that show a pixel not yet in the table may both cast its rays (they
+// find the same lights): claiming it first (an atomic compare-exchange, then a dispatch to
+// read the answers back) cast 16 % fewer rays on a first frame and cost more than it saved.
 @compute @workgroup_size(64)
 fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
         return;
     }
     var m = misses.at[gid.x];
-    let tr = terrains[m.terrain];
-    let probe = splat_probe(m.role);
+    let t = miss_terrain(m);
+    let tr = terrains[t];
+    let probe = splat_probe(miss_role(m));
     var b = TerrainBlock(m.promoted >> 8u, m.size, m.base);
     if m.size == 0.0 {
         b = terrain_block(tr, m.mid, probe);
@@ -213,24 +239,69 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     m.base = b.base;
     m.size = b.size;
     m.promoted = 0u;
+    var px: array<TerrainPixel, 4>;
+    for (var k = 0u; k < 4u; k++) {
+        px[k] = block_pixel(tr, b, k, probe);
+        m.promoted |= select(0u, 1u << k, px[k].size > b.size);
+    }
+    if arrayLength(&records) > misses.capacity + BLOCK_SLOTS {
+        let slot = block_slot(m);
+        let r = records[slot];
+        if bitcast<u32>(r.grid.w) == sealed(block_stamp(m), r) {
+            records[m.index] = hazed_record(r, m.mid);
+            m.promoted |= SHARED;
+            m.reach = vec2(slot, 0u);
+            misses.at[gid.x] = m;
+            atomicAdd(&misses.found, 1u);
+            return;
+        }
+    }
     var reach = vec2(0u);
     let lights = (1u << TERRAIN_LIGHTS) - 1u;
     for (var k = 0u; k < 4u; k++) {
-        let px = block_pixel(tr, b, k, probe);
-        m.promoted |= select(0u, 1u << k, px.size > b.size);
-        let h = pixel_hash(m.terrain, tr, px);
-        let slot = h % arrayLength(&cell_lights);
+        let h = pixel_hash(t, tr, px[k]);
+        let slot = h % CELL_LIGHT_SLOTS;
         let check = pixel_check(h);
-        var bits = cell_lights[slot];
+        var bits = misses.lights[slot];
         if (bits & ~lights) != check {
-            bits = check | pixel_reach(tr, px);
-            cell_lights[slot] = bits;
+            bits = check | pixel_reach(tr, px[k]);
+            misses.lights[slot] = bits;
             atomicAdd(&misses.rays_cast, 1u);
         }
         reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
     }
     m.reach = reach;
     misses.at[gid.x] = m;
+}
+
+// The slots of the records' cache kept by texel (`cache_slot`), behind a list of `capacity`:
+// those the buffer holds less the last BLOCK_SLOTS, kept by block (`block_slot`); 0 where
+// the buffer holds only the list.
+fn texel_slots(capacity: u32) -> u32 {
+    let n = arrayLength(&records);
+    if n <= capacity + BLOCK_SLOTS {
+        return 0u;
+    }
+    return n - capacity - BLOCK_SLOTS;
+}
+
+// Slots of the records kept by block (terrain_splat.rs `BLOCK_SLOTS`), the buffer's last.
+const BLOCK_SLOTS: u32 = 262144u;
+
+// What the record of miss `m` (after `shadows` found its block and pixels) is made from,
+// whichever probe's texel shows it: its object and band shift, its block's first cell and
+// cells' size, which cells are promoted. Never 0, which a cleared cache holds.
+fn block_stamp(m: Miss) -> u32 {
+    var h = hash_u32(0x2545f491u ^ (m.word & ~((1u << TERRAIN_LIGHTS) - 1u)));
+    h = hash_u32(h ^ bitcast<u32>(m.size));
+    h = hash_u32(h ^ bitcast<u32>(m.base.x));
+    h = hash_u32(h ^ bitcast<u32>(m.base.y));
+    return max(hash_u32(h ^ (m.promoted & 15u)), 1u);
+}
+
+// The slot of miss `m`'s record among those kept by block: a hash of `block_stamp`.
+fn block_slot(m: Miss) -> u32 {
+    return arrayLength(&records) - BLOCK_SLOTS + hash_u32(block_stamp(m)) % BLOCK_SLOTS;
 }
 
 // The terrain pixel that holds cell `k` (x: bit 0, z: bit 1) of miss `m`'s block, as
@@ -317,7 +388,10 @@ fn pixel_reach(tr: Terrain, px: TerrainPixel) -> u32 {
     return reach;
 }
 
-// Each queued miss: its record made, sealed into its cache slot, and hazed into the list's.
+// Each queued miss: its record made, sealed into its cache slot, and hazed into the list's;
+// also sealed into its block's slot (`block_slot`). One `shadows` found on its block is
+// already in the list: it is only copied to the quad's slot, unless another miss of this
+// dispatch has since taken the block slot (its seal no longer holds).
 @compute @workgroup_size(64)
 fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
@@ -327,17 +401,28 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     let ii = m.index;
     let capacity = arrayLength(&splats);
     let s = splats[ii];
-    let mid = splat_mid(s);
-    let probe = splat_probe(m.role);
+    let role = miss_role(m);
+    let probe = splat_probe(role);
     let block = TerrainBlock(0u, m.size, m.base);
-    let stamp = record_stamp(bitcast<u32>(s.c3.w), stamp_point(m.role, mid, block), probe);
-    var r = terrain_splat(bitcast<u32>(s.c3.w), m);
-    r.grid.w = bitcast<f32>(sealed(stamp, r));
-    let slots = arrayLength(&records) - capacity;
-    if slots > 0u {
-        records[capacity + cache_slot(s, m.role, block, slots)] = r;
+    let stamp = record_stamp(m.word, stamp_point(role, m.mid, block), probe);
+    let slots = texel_slots(capacity);
+    if (m.promoted & SHARED) != 0u {
+        var r = records[m.reach.x];
+        if slots > 0u && bitcast<u32>(r.grid.w) == sealed(block_stamp(m), r) {
+            r.grid.w = bitcast<f32>(sealed(stamp, r));
+            records[capacity + cache_slot(s, role, block, slots)] = r;
+        }
+        return;
     }
-    records[ii] = hazed_record(r, mid);
+    var r = terrain_splat(m.word, m);
+    r.grid.w = bitcast<f32>(sealed(stamp, r));
+    if slots > 0u {
+        records[capacity + cache_slot(s, role, block, slots)] = r;
+        var by_block = r;
+        by_block.grid.w = bitcast<f32>(sealed(block_stamp(m), r));
+        records[block_slot(m)] = by_block;
+    }
+    records[ii] = hazed_record(r, m.mid);
 }
 
 fn splat_role(s: Splat) -> u32 {
@@ -500,7 +585,7 @@ fn block_pixel(tr: Terrain, b: TerrainBlock, k: u32, probe: BandFrom) -> Terrain
 fn terrain_splat(word: u32, m: Miss) -> TerrainSplat {
     var out: TerrainSplat;
     let obj = objects[word >> SPLAT_TERRAIN_OBJECT_AT];
-    let tr = terrains[m.terrain];
+    let tr = terrains[miss_terrain(m)];
     let size = m.size;
     let base = m.base;
     // The ground along the inner edges, through its heights at the edges' two cell middles

@@ -526,6 +526,7 @@ impl Renderer {
                 texture_bytes: self.scene.as_ref().map_or(0, |s| s.textures.bytes()),
                 terrain_records_made: u64::from(terrain.records_made),
                 terrain_pixels_cast: u64::from(terrain.pixels_cast),
+                terrain_records_shared: u64::from(terrain.records_shared),
             },
         })
     }

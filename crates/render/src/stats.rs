@@ -22,10 +22,14 @@ pub struct Counters {
     pub march_fallbacks: u64,
     /// GPU memory of the scene's texture atlas, bytes (0 without textures).
     pub texture_bytes: u64,
-    /// Terrain quads whose record the terrain splats pass made (not in its cache).
+    /// Terrain quads whose record the terrain splats pass made (in its cache neither by
+    /// texel nor by block).
     pub terrain_records_made: u64,
     /// Terrain pixels whose shadow rays the terrain splats pass cast.
     pub terrain_pixels_cast: u64,
+    /// Terrain quads whose record was not kept for their texel but was found on their block
+    /// (made by another probe's or texel's quad).
+    pub terrain_records_shared: u64,
 }
 
 /// Time of one pass, in milliseconds.

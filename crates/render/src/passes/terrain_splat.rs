@@ -1,14 +1,17 @@
 //! Terrain splats: what each one-texel terrain quad of the cull pass's list shows, pixel by
 //! pixel (`shaders/terrain_splat.wgsl`), written between cull and splat. The records are
 //! kept per texel in a cache behind the list's (stamped with what each was made from, sealed
-//! with its contents and the shadows' epoch where it lies), which is cleared when what no
-//! stamp holds changes: the scene, or the shade pass's globals (lights, ambient, bands), or
-//! the number of animated shadow casters. A caster that moves marks where its shadow may
-//! have come or gone with a new epoch ([`ShadowTiles`]): only the records and pixels there
-//! are made again. A
-//! first dispatch takes each quad's record from the cache or queues the quad as a miss; a
-//! second casts the misses' shadow rays, from the centre of each of the four terrain pixels
-//! no frame has cast them for; a third makes their records.
+//! with its contents and the shadows' epoch where it lies), and again by block
+//! ([`BLOCK_SLOTS`]: a record is made from its block and pixels, whichever probe's texel
+//! shows it, so a crossing's new probe finds most records the old one made). Both are
+//! cleared when what no stamp holds changes: the scene, or the shade pass's globals (lights,
+//! ambient, bands), or the number of animated shadow casters. A caster that moves marks
+//! where its shadow may have come or gone with a new epoch ([`ShadowTiles`]): only the
+//! records and pixels there are made again. A first dispatch takes each quad's record from
+//! the cache or queues the quad as a miss; a second finds each miss's block, takes its
+//! record from the blocks' slots where it is there, else casts the shadow rays from the
+//! centre of each of the four terrain pixels no frame has cast them for; a third makes the
+//! records not found.
 
 use crate::context::GpuContext;
 use crate::gpu_scene::{CasterNow, GpuScene};
@@ -62,8 +65,6 @@ pub struct TerrainSplatPass {
     /// Where shadows last changed (`shadow_tiles` in the shader), and its uniform buffer.
     tiles: ShadowTiles,
     tiles_buffer: wgpu::Buffer,
-    /// The lights reaching terrain pixels' centres (`cell_lights` in the shader).
-    cell_lights: wgpu::Buffer,
     /// `size_misses`: `make`'s dispatch from the queue's count.
     size_misses_pipeline: wgpu::ComputePipeline,
     make_dispatch: wgpu::Buffer,
@@ -98,7 +99,14 @@ pub struct TerrainSplatPass {
 struct Layout {
     splats: u64,
     cache: u64,
+    /// [`BLOCK_SLOTS`] where there is a cache, else 0.
+    blocks: u64,
 }
+
+/// Slots of the records kept by block, after those kept by texel (`block_slot` in the
+/// shader; 12 MiB): a record is made from its block and pixels, whichever probe's texel shows
+/// it, so a crossing's new probe finds most of its records where the old one made them.
+pub const BLOCK_SLOTS: u64 = 1 << 18;
 
 /// The cache's slots at most: 2²¹ records, 96 MiB (faces of 128 need 884,736 slots; faces of
 /// 256 would need 3.5 M, and of 496, a 1280×720 view's at pixel size 2.5, 13.3 M: they share
@@ -113,18 +121,25 @@ impl Layout {
     /// of at most `limit` bytes and at most `slots_max` cache slots.
     fn new(splats: u64, max_n: u32, limit: u64, slots_max: u64) -> Self {
         let keys = RECORD_KEYS_PER_TEXEL_SQUARED * u64::from(max_n) * u64::from(max_n);
-        let room = (limit / RECORD_BYTES).saturating_sub(splats);
+        let room = (limit / RECORD_BYTES).saturating_sub(splats + BLOCK_SLOTS);
         let cache = keys.min(room).min(slots_max);
-        let cache = if cache >= CACHE_SLOTS_MIN.min(keys) {
-            cache
+        if keys > 0 && cache >= CACHE_SLOTS_MIN.min(keys) {
+            Layout {
+                splats,
+                cache,
+                blocks: BLOCK_SLOTS,
+            }
         } else {
-            0
-        };
-        Layout { splats, cache }
+            Layout {
+                splats,
+                cache: 0,
+                blocks: 0,
+            }
+        }
     }
 
     fn bytes(self) -> u64 {
-        (self.splats + self.cache).max(1) * RECORD_BYTES
+        (self.splats + self.cache + self.blocks).max(1) * RECORD_BYTES
     }
 }
 
@@ -134,7 +149,8 @@ const RECORD_KEYS_PER_TEXEL_SQUARED: u64 = 3 * 3 * 6;
 /// Bytes of one queued miss (`Miss` in the shader).
 const MISS_BYTES: u64 = 48;
 // A miss for every splat of the largest list fits in one binding of wgpu's default limit.
-const _: () = assert!(16 + MISS_BYTES * MAX_SPLATS <= 128 << 20);
+const _: () =
+    assert!(MISSES_HEADER_BYTES + CELL_LIGHTS_BYTES + MISS_BYTES * MAX_SPLATS <= 128 << 20);
 
 /// Bytes of the queue's head that [`TerrainSplatPass::counts`] holds.
 pub const TERRAIN_COUNTS_BYTES: u64 = 16;
@@ -146,6 +162,9 @@ pub struct TerrainCounts {
     pub records_made: u32,
     /// Terrain pixels whose shadow rays were cast.
     pub pixels_cast: u32,
+    /// Quads whose record was not kept for their texel but was found on their block, made
+    /// by another probe's or texel's quad (not counted in `records_made`).
+    pub records_shared: u32,
 }
 
 impl TerrainCounts {
@@ -154,21 +173,26 @@ impl TerrainCounts {
         let word =
             |i: usize| u32::from_le_bytes([bytes[i], bytes[i + 1], bytes[i + 2], bytes[i + 3]]);
         TerrainCounts {
-            records_made: word(4),
+            records_made: word(4).saturating_sub(word(12)),
             pixels_cast: word(8),
+            records_shared: word(12),
         }
     }
 }
 
-/// Slots of the terrain pixels' lights (`cell_lights` in the shader; 4 MiB): a 1280×720
+/// Slots of the terrain pixels' lights (`Misses::lights` in the shader; 4 MiB): a 1280×720
 /// view at pixel size 2.5 holds about 150,000 art pixels, and a terrain pixel is at least a
 /// probe texel, so a view shows fewer terrain pixels than that; the slots stay mostly empty
 /// (four times as many changed nothing measurable).
 const CELL_LIGHT_SLOTS: u64 = 1 << 20;
+const CELL_LIGHTS_BYTES: u64 = 4 * CELL_LIGHT_SLOTS;
+/// Bytes of the queue's head (`Misses` in the shader, up to `lights`).
+const MISSES_HEADER_BYTES: u64 = 32;
 
 /// The queue of misses (`Misses` in the shader: the list's count, the misses' count, the
-/// pixels whose rays were cast, a word of padding, then one `Miss` per quad of the list at
-/// most) and `size_misses`'s bind group over it.
+/// pixels whose rays were cast, the misses found on their block, the list's capacity,
+/// padding, the pixels' lights, then one `Miss` per quad of the list at most) and
+/// `size_misses`'s bind group over it. A new one starts zeroed: no pixel's lights known.
 struct Misses {
     buffer: wgpu::Buffer,
     bind: wgpu::BindGroup,
@@ -178,8 +202,10 @@ impl Misses {
     fn new(device: &wgpu::Device, layout: &wgpu::BindGroupLayout, splats: u64) -> Self {
         let buffer = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("terrain_splat::misses"),
-            size: 16 + MISS_BYTES * splats.max(1),
-            usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_SRC,
+            size: MISSES_HEADER_BYTES + CELL_LIGHTS_BYTES + MISS_BYTES * splats.max(1),
+            usage: wgpu::BufferUsages::STORAGE
+                | wgpu::BufferUsages::COPY_SRC
+                | wgpu::BufferUsages::COPY_DST,
             mapped_at_creation: false,
         });
         let bind = device.create_bind_group(&wgpu::BindGroupDescriptor {
@@ -240,8 +266,8 @@ impl TerrainSplatPass {
         let pipeline = compute_pipeline(device, "terrain_splat", &module, "main", &[&layout]);
         let make_pipeline =
             compute_pipeline(device, "terrain_splat::make", &module, "make", &[&layout]);
-        // Within a stage's 8 storage buffers: the terrains, their data, the point lights and
-        // the queue here, the BVH's three in group 2.
+        // Within a stage's 8 storage buffers: the terrains, their data, the point lights, the
+        // records and the queue (with the pixels' lights) here, the BVH's three in group 2.
         let shadows_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::shadows_layout"),
             entries: &[
@@ -250,8 +276,8 @@ impl TerrainSplatPass {
                 entry(6, c, storage(true)),
                 entry(7, c, uniform(false)),
                 entry(8, c, storage(true)),
+                entry(11, c, storage(false)),
                 entry(12, c, storage(false)),
-                entry(13, c, storage(false)),
                 entry(14, c, uniform(false)),
             ],
         });
@@ -309,12 +335,6 @@ impl TerrainSplatPass {
                 label: Some("terrain_splat::shadow_tiles"),
                 size: 4 * TILE_ENTRIES as u64,
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
-                mapped_at_creation: false,
-            }),
-            cell_lights: device.create_buffer(&wgpu::BufferDescriptor {
-                label: Some("terrain_splat::cell_lights"),
-                size: 4 * CELL_LIGHT_SLOTS,
-                usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
             size_misses_pipeline,
@@ -422,8 +442,9 @@ impl TerrainSplatPass {
         if self.stale && layout.cache > 0 && !records_new {
             encoder.clear_buffer(&self.records, layout.splats * RECORD_BYTES, None);
         }
-        if self.stale {
-            encoder.clear_buffer(&self.cell_lights, 0, None);
+        if self.stale && !records_new {
+            let lights = Some(CELL_LIGHTS_BYTES);
+            encoder.clear_buffer(&self.misses.buffer, MISSES_HEADER_BYTES, lights);
         }
         self.stale = false;
         let [objects, atlas, infos, _surfaces, terrains, terrain_data] = scene.raster_resources();
@@ -442,7 +463,6 @@ impl TerrainSplatPass {
             (10, list.args.as_entire_binding()),
             (11, self.records.as_entire_binding()),
             (12, self.misses.buffer.as_entire_binding()),
-            (13, self.cell_lights.as_entire_binding()),
             (14, self.tiles_buffer.as_entire_binding()),
         ];
         let entries =
@@ -459,7 +479,7 @@ impl TerrainSplatPass {
         let bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::bind"),
             layout: &self.layout,
-            entries: &pick(|b| b != 10 && b != 13),
+            entries: &pick(|b| b != 10),
         });
         let size_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::size_bind"),
@@ -469,7 +489,7 @@ impl TerrainSplatPass {
         let shadows_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
             label: Some("terrain_splat::shadows_bind"),
             layout: &self.shadows_layout,
-            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 12 | 13 | 14)),
+            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 11 | 12 | 14)),
         });
         let bvh_bind = super::bind_group(
             &ctx.device,
@@ -509,24 +529,29 @@ mod tests {
 
     #[test]
     fn the_cache_follows_the_list_where_the_binding_holds_it() {
-        // Faces of 128: 3 × 3 × 6 × 128² keys after 1000 records, one slot each.
+        // Faces of 128: 3 × 3 × 6 × 128² keys after 1000 records, one slot each, then the
+        // blocks' slots.
         let l = Layout::new(1000, 128, 128 << 20, CACHE_SLOTS_MAX);
-        assert_eq!((l.splats, l.cache), (1000, 884_736));
-        assert_eq!(l.bytes(), (1000 + 884_736) * RECORD_BYTES);
+        assert_eq!((l.splats, l.cache, l.blocks), (1000, 884_736, BLOCK_SLOTS));
+        assert_eq!(l.bytes(), (1000 + 884_736 + BLOCK_SLOTS) * RECORD_BYTES);
         // Faces of 1024 would need 2.7 GB: the keys share the most slots allowed.
         let l = Layout::new(1000, 1024, 128 << 20, CACHE_SLOTS_MAX);
         assert_eq!((l.splats, l.cache), (1000, CACHE_SLOTS_MAX));
+        assert!(l.bytes() <= 128 << 20);
         // A binding of 64 MiB holds fewer slots than that: as many as it holds.
         let l = Layout::new(1000, 1024, 64 << 20, CACHE_SLOTS_MAX);
-        assert_eq!(l.cache, (64 << 20) / RECORD_BYTES - 1000);
+        assert_eq!(l.cache, (64 << 20) / RECORD_BYTES - 1000 - BLOCK_SLOTS);
         assert!(l.bytes() <= 64 << 20);
-        // Room for a few slots only: no cache.
+        // Room for a few slots only: no cache, by texel or by block.
         let l = Layout::new(1000, 1024, 1100 * RECORD_BYTES, CACHE_SLOTS_MAX);
-        assert_eq!((l.splats, l.cache), (1000, 0));
+        assert_eq!((l.splats, l.cache, l.blocks), (1000, 0, 0));
         assert_eq!(l.bytes(), 1000 * RECORD_BYTES);
         assert_eq!(Layout::new(0, 0, 0, CACHE_SLOTS_MAX).bytes(), RECORD_BYTES);
         // A cap below the keys (a test's): the keys share that many slots.
         let l = Layout::new(1000, 64, 128 << 20, CACHE_SLOTS_MIN);
-        assert_eq!((l.splats, l.cache), (1000, CACHE_SLOTS_MIN));
+        assert_eq!(
+            (l.splats, l.cache, l.blocks),
+            (1000, CACHE_SLOTS_MIN, BLOCK_SLOTS)
+        );
     }
 }
