@@ -90,7 +90,11 @@ struct Misses {
     rays_cast: atomic<u32>,
     found: atomic<u32>,
     capacity: u32,
-    _pad: vec3<u32>,
+    // Scalars, not a vec3 (aligned to 16): `lights` starts at byte 32, as terrain_splat.rs
+    // `MISSES_HEADER_BYTES` has it.
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
     lights: array<u32, CELL_LIGHT_SLOTS>,
     at: array<Miss>,
 }
@@ -292,10 +296,7 @@ const BLOCK_SLOTS: u32 = 262144u;
 // whichever probe's texel shows it: its object and band shift, its block's first cell and
 // cells' size, which cells are promoted. Never 0, which a cleared cache holds.
 fn block_stamp(m: Miss) -> u32 {
-    var h = hash_u32(0x2545f491u ^ (m.word & ~((1u << TERRAIN_LIGHTS) - 1u)));
-    h = hash_u32(h ^ bitcast<u32>(m.size));
-    h = hash_u32(h ^ bitcast<u32>(m.base.x));
-    h = hash_u32(h ^ bitcast<u32>(m.base.y));
+    let h = block_key(m.word, TerrainBlock(0u, m.size, m.base));
     return max(hash_u32(h ^ (m.promoted & 15u)), 1u);
 }
 

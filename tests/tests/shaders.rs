@@ -65,3 +65,37 @@ fn rust_records_match_their_wgsl_layouts() {
     }
     assert!(checked >= 10);
 }
+
+/// The terrain splats' queue (`Misses`): its pixels' lights start where the pass clears them
+/// and its misses where the pass sizes the buffer for them, each miss and record as big as the
+/// Rust side counts.
+#[test]
+fn the_terrain_queue_lies_where_its_pass_clears_and_sizes_it() {
+    use texel_render::passes::terrain_splat::{
+        CELL_LIGHTS_BYTES, MISS_BYTES, MISSES_HEADER_BYTES, RECORD_BYTES,
+    };
+    let src = assemble("terrain_splat.wgsl").unwrap();
+    let module = naga::front::wgsl::parse_str(&src).unwrap();
+    let mut layouter = naga::proc::Layouter::default();
+    layouter.update(module.to_ctx()).unwrap();
+    let find = |name: &str| {
+        let (handle, ty) = (module.types.iter())
+            .find(|(_, t)| t.name.as_deref() == Some(name))
+            .unwrap_or_else(|| panic!("no struct {name}"));
+        (handle, ty.inner.clone())
+    };
+    let (_, misses) = find("Misses");
+    let naga::TypeInner::Struct { members, .. } = misses else {
+        panic!("Misses is a struct");
+    };
+    let offset = |name: &str| {
+        let m = members.iter().find(|m| m.name.as_deref() == Some(name));
+        u64::from(m.unwrap_or_else(|| panic!("no member {name}")).offset)
+    };
+    assert_eq!(offset("lights"), MISSES_HEADER_BYTES);
+    assert_eq!(offset("at"), MISSES_HEADER_BYTES + CELL_LIGHTS_BYTES);
+    let (miss, _) = find("Miss");
+    assert_eq!(u64::from(layouter[miss].size), MISS_BYTES);
+    let (record, _) = find("TerrainSplat");
+    assert_eq!(u64::from(layouter[record].size), RECORD_BYTES);
+}

@@ -147,7 +147,7 @@ impl Layout {
 const RECORD_KEYS_PER_TEXEL_SQUARED: u64 = 3 * 3 * 6;
 
 /// Bytes of one queued miss (`Miss` in the shader).
-const MISS_BYTES: u64 = 48;
+pub const MISS_BYTES: u64 = 48;
 // A miss for every splat of the largest list fits in one binding of wgpu's default limit.
 const _: () =
     assert!(MISSES_HEADER_BYTES + CELL_LIGHTS_BYTES + MISS_BYTES * MAX_SPLATS <= 128 << 20);
@@ -185,9 +185,10 @@ impl TerrainCounts {
 /// probe texel, so a view shows fewer terrain pixels than that; the slots stay mostly empty
 /// (four times as many changed nothing measurable).
 const CELL_LIGHT_SLOTS: u64 = 1 << 20;
-const CELL_LIGHTS_BYTES: u64 = 4 * CELL_LIGHT_SLOTS;
+/// Bytes of the pixels' lights table in the queue's buffer.
+pub const CELL_LIGHTS_BYTES: u64 = 4 * CELL_LIGHT_SLOTS;
 /// Bytes of the queue's head (`Misses` in the shader, up to `lights`).
-const MISSES_HEADER_BYTES: u64 = 32;
+pub const MISSES_HEADER_BYTES: u64 = 32;
 
 /// The queue of misses (`Misses` in the shader: the list's count, the misses' count, the
 /// pixels whose rays were cast, the misses found on their block, the list's capacity,
