@@ -192,3 +192,52 @@ impl Harness {
         (frame.input, frame.stats, px)
     }
 }
+
+/// Two runs of one level side by side: `kept` keeps its terrain records and pixels' rays
+/// from frame to frame, as a player's renderer does; `fresh` forgets them before every frame.
+/// Each frame must draw the same pixels in both: a kept answer the frame should not have
+/// used would show.
+pub struct KeptAndFresh {
+    /// The renderer that keeps what it made.
+    pub kept: Harness,
+    /// The renderer that makes every record afresh.
+    pub fresh: Harness,
+}
+
+impl KeptAndFresh {
+    /// Loads `level` twice, as [`Harness::new`] does; `None` without a GPU.
+    pub fn new(level: &str, size: UVec2, face_res: u32) -> Option<KeptAndFresh> {
+        Some(KeptAndFresh {
+            kept: Harness::new(level, size, face_res)?,
+            fresh: Harness::new(level, size, face_res)?,
+        })
+    }
+
+    /// Settles both at `camera` ([`Harness::settle`]).
+    pub fn settle(&mut self, camera: Camera) {
+        self.kept.settle(camera);
+        self.fresh.settle(camera);
+    }
+
+    /// Renders one frame in both, the fresh one after forgetting its records, and asserts
+    /// they draw the same pixels (`what` names the frame in the failure). Returns the kept
+    /// frame's input, both frames' stats (kept, fresh) and the kept frame's pixels.
+    pub fn frame(
+        &mut self,
+        camera: Camera,
+        dt: f32,
+        what: &str,
+    ) -> (FrameInput, FrameStats, FrameStats, Vec<u8>) {
+        self.fresh.session.renderer_mut().forget_terrain_records();
+        let (input, kept, pixels) = self.kept.frame(camera, dt);
+        let (_, fresh, fresh_pixels) = self.fresh.frame(camera, dt);
+        let differ = (pixels.chunks_exact(4).zip(fresh_pixels.chunks_exact(4)))
+            .filter(|(p, q)| p != q)
+            .count();
+        assert_eq!(
+            differ, 0,
+            "{what}: {differ} pixels differ from a fresh cache's"
+        );
+        (input, kept, fresh, pixels)
+    }
+}
