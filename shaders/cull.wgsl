@@ -15,6 +15,8 @@ struct DrawArgs {
     first_index: u32,
     base_vertex: i32,
     first_instance: u32,
+    // Texels and run heads looked at (crates/render/src/passes/cull.rs `DrawArgs::entries`).
+    entries: u32,
 }
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
@@ -348,6 +350,7 @@ fn listed_args() {
         total += load_list(f.x, f.y);
     }
     starts[work.listed] = total;
+    args.entries += total;
     let groups = (total + 63u) / 64u;
     let x = clamp(groups, 1u, MAX_GROUPS);
     dispatch.x = x;

@@ -488,12 +488,13 @@ impl Renderer {
         copies.push((&self.visible.bits, self.visible.bytes()));
         let timed = stages.finish(&copies)?;
         let (head, mut rest) = timed.readback.split_at(copies[0].1 as usize);
-        let (quads_splatted, march) = match self.display {
+        let (quads_splatted, cull_entries, march) = match self.display {
             Display::Splat => {
                 let args: DrawArgs = bytemuck::pod_read_unaligned(head);
-                (u64::from(args.instance_count), MarchCounts::default())
+                let quads = u64::from(args.instance_count);
+                (quads, u64::from(args.entries), MarchCounts::default())
             }
-            Display::March => (0, MarchCounts::from_bytes(head)),
+            Display::March => (0, 0, MarchCounts::from_bytes(head)),
         };
         let mut terrain = TerrainCounts::default();
         if terrain_drawn {
@@ -519,6 +520,7 @@ impl Renderer {
                 faces_captured: input.captures.len() as u32,
                 texels_shaded,
                 quads_splatted,
+                cull_entries,
                 screen_visible_texels,
                 pixels_marched,
                 march_steps: march.steps,

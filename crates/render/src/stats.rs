@@ -11,6 +11,10 @@ pub struct Counters {
     pub texels_shaded: u64,
     /// Quads drawn by the splat pass.
     pub quads_splatted: u64,
+    /// Texels and run heads the cull pass looked at to find them (every texel of a face it
+    /// scans; each entry of a listed face's draw list: a run head of a stable face, an eye
+    /// texel lit this frame). Its dispatch costs about this many invocations, drawn or not.
+    pub cull_entries: u64,
     /// Distinct probe texels that colour at least one pixel of the final frame.
     pub screen_visible_texels: u64,
     /// Pixels whose view ray was marched (texel marching; 0 when splatting).

@@ -18,7 +18,8 @@ pub const SPLAT_BYTES: u64 = 64;
 /// Most splats one frame may hold (128 MiB of records, the binding limit lavapipe has).
 pub const MAX_SPLATS: u64 = (128 << 20) / SPLAT_BYTES;
 
-/// `wgpu`'s indexed indirect arguments.
+/// `wgpu`'s indexed indirect arguments (the first five words, which the splat pass's
+/// indirect draw reads), then what the cull pass looked at.
 #[repr(C)]
 #[derive(Clone, Copy, Debug, Pod, Zeroable)]
 pub struct DrawArgs {
@@ -32,6 +33,9 @@ pub struct DrawArgs {
     pub base_vertex: i32,
     /// 0.
     pub first_instance: u32,
+    /// Texels and run heads the cull pass looked at: every texel of the scanned faces, and
+    /// the entries of the listed faces' draw lists (`listed_args` adds them on the GPU).
+    pub entries: u32,
 }
 
 /// What the cull pass produces: the splat records and the indirect arguments that draw them.
@@ -208,12 +212,17 @@ impl CullPass {
             work.faces[i] = [slot.index() as u32, face.index() as u32, 0, 0];
         }
         queue.write_buffer(&self.work, 0, bytemuck::bytes_of(&work));
+        let scanned_texels: u32 = (drawn.iter())
+            .filter(|d| d.2 == Visit::Scan)
+            .map(|d| store.slot(d.0).n.pow(2))
+            .sum();
         let reset = DrawArgs {
             index_count: 6,
             instance_count: 0,
             first_index: 0,
             base_vertex: 0,
             first_instance: 0,
+            entries: scanned_texels,
         };
         queue.write_buffer(&self.args, 0, bytemuck::bytes_of(&reset));
         let bind = bind_group(
