@@ -40,7 +40,19 @@ struct DispatchArgs {
 }
 // Where each listed face's entries start in `listed`'s index space (then the total).
 @group(2) @binding(0) var<storage, read_write> starts: array<u32, 19>;
-// Its own group: bound only while `listed_args` writes it, not while `listed` reads it.
+// The outlined texels and runs `listed` leaves to `outlined` (texel x | y << 16; slot |
+// face << 2 | run << 5), after a count (cull.rs `deferred`). `emit_outlined` is most of the
+// compiled `emit`: lavapipe's invocations paid for it whether they drew or not (without it
+// in `listed`, an invocation that returns at once cost a third as much), and few texels
+// are outlined.
+struct Deferred {
+    count: atomic<u32>,
+    _pad: u32,
+    at: array<vec2<u32>>,
+}
+@group(2) @binding(1) var<storage, read_write> deferred: Deferred;
+// Its own group: bound only while `listed_args` (or `outlined_args`) writes it, not while
+// `listed` (or `outlined`) reads it.
 @group(3) @binding(0) var<storage, read_write> dispatch: DispatchArgs;
 // Most workgroups in one dimension of a dispatch (wgpu's default limit).
 const MAX_GROUPS: u32 = 65535u;
@@ -307,7 +319,7 @@ fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: v
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.z < work.count {
-        emit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u);
+        emit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u, true);
     }
 }
 
@@ -336,7 +348,35 @@ fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if view.slots[slot].role != ROLE_EYE {
         run = load_run(slot, t, face);
     }
-    emit(slot, face, t, run);
+    emit(slot, face, t, run, false);
+    if left_outlined {
+        let k = atomicAdd(&deferred.count, 1u);
+        if k < arrayLength(&deferred.at) {
+            deferred.at[k] = vec2(t.x | (t.y << 16u), slot | (face << 2u) | (run << 5u));
+        }
+    }
+}
+
+// The dispatch of `outlined`: workgroups of 64 over the entries `listed` left.
+@compute @workgroup_size(1)
+fn outlined_args() {
+    let total = min(atomicLoad(&deferred.count), arrayLength(&deferred.at));
+    let groups = (total + 63u) / 64u;
+    let x = clamp(groups, 1u, MAX_GROUPS);
+    dispatch.x = x;
+    dispatch.y = 1u;
+    dispatch.z = (groups + x - 1u) / x;
+}
+
+// The outlined texels and runs `listed` left, drawn body and strips (`emit_outlined`).
+@compute @workgroup_size(64)
+fn outlined(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.x + gid.z * groups.x * 64u;
+    if i >= min(atomicLoad(&deferred.count), arrayLength(&deferred.at)) {
+        return;
+    }
+    let e = deferred.at[i];
+    emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, true);
 }
 
 // Where each listed face's entries start in `listed`'s index space, and its dispatch size:
@@ -358,9 +398,14 @@ fn listed_args() {
     dispatch.z = (groups + x - 1u) / x;
 }
 
+// Set by `emit` where it left an outlined quad undone (`outlines` false).
+var<private> left_outlined: bool;
+
 // Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,
-// | RUN_COLUMN down a column), unless our schedule culls it.
-fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
+// | RUN_COLUMN down a column), unless our schedule culls it; an outlined one only where
+// `outlines` (a constant at each call, so the compiled `listed` holds no `emit_outlined`),
+// else it sets `left_outlined`.
+fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
     let s = view.slots[slot];
     if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n || run == 0u {
         return;
@@ -449,7 +494,11 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     }
     let outline = lit_outline(lit.rgb);
     if outline != 0u {
-        emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, outline, p, geo.xyz, d, key, texels, lit.rgb, colour, reach);
+        if outlines {
+            emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, outline, p, geo.xyz, d, key, texels, lit.rgb, colour, reach);
+        } else {
+            left_outlined = true;
+        }
         return;
     }
     let a_t = select(last, t, column);

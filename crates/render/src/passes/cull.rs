@@ -52,10 +52,21 @@ pub struct CullPass {
     pipeline: wgpu::ComputePipeline,
     listed_pipeline: wgpu::ComputePipeline,
     listed_args_pipeline: wgpu::ComputePipeline,
+    outlined_pipeline: wgpu::ComputePipeline,
+    outlined_args_pipeline: wgpu::ComputePipeline,
     /// `listed`'s workgroup counts, sized on the GPU from the draw lists.
     dispatch: wgpu::Buffer,
     dispatch_bind: wgpu::BindGroup,
+    /// `outlined`'s, from the entries `listed` left it.
+    outlined_dispatch: wgpu::Buffer,
+    outlined_dispatch_bind: wgpu::BindGroup,
     /// Where each listed face's entries start in `listed`'s index space.
+    starts: wgpu::Buffer,
+    /// The outlined texels and runs `listed` leaves to `outlined` (`Deferred` in
+    /// `cull.wgsl`): a count, then an entry per splat the list holds.
+    deferred: wgpu::Buffer,
+    starts_layout: wgpu::BindGroupLayout,
+    /// `starts` and `deferred`.
     starts_bind: wgpu::BindGroup,
     layout: wgpu::BindGroupLayout,
     textures_layout: wgpu::BindGroupLayout,
@@ -108,7 +119,10 @@ impl CullPass {
                 entries: &[entry(0, c, storage(false))],
             })
         };
-        let starts_layout = one_buffer("cull::starts_layout");
+        let starts_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("cull::starts_layout"),
+            entries: &[entry(0, c, storage(false)), entry(1, c, storage(false))],
+        });
         let dispatch_layout = one_buffer("cull::dispatch_layout");
         let textures_layout = probe_textures_layout(device, c);
         let pipeline = compute_pipeline(
@@ -132,20 +146,32 @@ impl CullPass {
             "listed_args",
             &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
         );
+        let outlined_pipeline = compute_pipeline(
+            device,
+            "cull::outlined",
+            &module,
+            "outlined",
+            &[&layout, &textures_layout, &starts_layout],
+        );
+        let outlined_args_pipeline = compute_pipeline(
+            device,
+            "cull::outlined_args",
+            &module,
+            "outlined_args",
+            &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
+        );
         let (dispatch, dispatch_bind) =
             super::dispatch_args(device, "cull::dispatch", &dispatch_layout);
+        let (outlined_dispatch, outlined_dispatch_bind) =
+            super::dispatch_args(device, "cull::outlined_dispatch", &dispatch_layout);
         let starts = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::starts"),
             size: 4 * 19,
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let starts_bind = bind_group(
-            device,
-            "cull::starts_bind",
-            &starts_layout,
-            &[starts.as_entire_binding()],
-        );
+        let deferred = deferred_buffer(device, 1024);
+        let starts_bind = starts_bind_group(device, &starts_layout, &starts, &deferred);
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
             size: size_of::<DrawArgs>() as u64,
@@ -161,8 +187,15 @@ impl CullPass {
             pipeline,
             listed_pipeline,
             listed_args_pipeline,
+            outlined_pipeline,
+            outlined_args_pipeline,
             dispatch,
             dispatch_bind,
+            outlined_dispatch,
+            outlined_dispatch_bind,
+            starts,
+            deferred,
+            starts_layout,
             starts_bind,
             layout,
             textures_layout,
@@ -178,6 +211,9 @@ impl CullPass {
         let want = (18 * u64::from(max_n) * u64::from(max_n)).min(MAX_SPLATS);
         if want > self.capacity {
             self.splats = splat_buffer(device, want);
+            self.deferred = deferred_buffer(device, want);
+            self.starts_bind =
+                starts_bind_group(device, &self.starts_layout, &self.starts, &self.deferred);
             self.capacity = want;
         }
     }
@@ -225,6 +261,7 @@ impl CullPass {
             entries: scanned_texels,
         };
         queue.write_buffer(&self.args, 0, bytemuck::bytes_of(&reset));
+        queue.write_buffer(&self.deferred, 0, &[0; 8]);
         let bind = bind_group(
             device,
             "cull::bind",
@@ -255,10 +292,40 @@ impl CullPass {
             pass.dispatch_workgroups(1, 1, 1);
             pass.set_pipeline(&self.listed_pipeline);
             pass.dispatch_workgroups_indirect(&self.dispatch, 0);
+            pass.set_pipeline(&self.outlined_args_pipeline);
+            pass.set_bind_group(3, &self.outlined_dispatch_bind, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&self.outlined_pipeline);
+            pass.dispatch_workgroups_indirect(&self.outlined_dispatch, 0);
         }
         drop(pass);
         self.list()
     }
+}
+
+/// The entries `listed` leaves to `outlined`: a count (and a pad word), then one 8-byte entry
+/// per splat the list holds (an outlined texel or run draws at least one).
+fn deferred_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
+    device.create_buffer(&wgpu::BufferDescriptor {
+        label: Some("cull::deferred"),
+        size: 8 + 8 * count,
+        usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
+        mapped_at_creation: false,
+    })
+}
+
+fn starts_bind_group(
+    device: &wgpu::Device,
+    layout: &wgpu::BindGroupLayout,
+    starts: &wgpu::Buffer,
+    deferred: &wgpu::Buffer,
+) -> wgpu::BindGroup {
+    bind_group(
+        device,
+        "cull::starts_bind",
+        layout,
+        &[starts.as_entire_binding(), deferred.as_entire_binding()],
+    )
 }
 
 fn splat_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
