@@ -360,12 +360,7 @@ fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
 // The dispatch of `outlined`: workgroups of 64 over the entries `listed` left.
 @compute @workgroup_size(1)
 fn outlined_args() {
-    let total = min(atomicLoad(&deferred.count), arrayLength(&deferred.at));
-    let groups = (total + 63u) / 64u;
-    let x = clamp(groups, 1u, MAX_GROUPS);
-    dispatch.x = x;
-    dispatch.y = 1u;
-    dispatch.z = (groups + x - 1u) / x;
+    size_dispatch(min(atomicLoad(&deferred.count), arrayLength(&deferred.at)));
 }
 
 // The outlined texels and runs `listed` left, drawn body and strips (`emit_outlined`).
@@ -391,6 +386,11 @@ fn listed_args() {
     }
     starts[work.listed] = total;
     args.entries += total;
+    size_dispatch(total);
+}
+
+// `dispatch`: workgroups of 64 over `total` invocations (x, and z past MAX_GROUPS).
+fn size_dispatch(total: u32) {
     let groups = (total + 63u) / 64u;
     let x = clamp(groups, 1u, MAX_GROUPS);
     dispatch.x = x;

@@ -769,7 +769,7 @@ fn terrain_records_and_rays_are_made_once() {
 fn the_eyes_records_are_kept_by_the_ground_they_show() {
     let level = "assets/levels/terrain_hills.ron";
     let size = UVec2::new(160, 90);
-    let Some(mut runs) = KeptAndFresh::new(level, size, 64) else {
+    let Some(mut pair) = KeptAndFresh::new(level, size, 64) else {
         return;
     };
     // Along X inside one cell (0.2 units) and back: each position of the way back was
@@ -778,10 +778,10 @@ fn the_eyes_records_are_kept_by_the_ground_they_show() {
         -8.0, -7.96, -7.92, -7.88, -7.84, -7.8, -7.84, -7.88, -7.92, -7.96, -8.0,
     ];
     let c = |x: f32| cam(x, 7.2, 40.0, -15.0, -8.0);
-    runs.settle(c(xs[0]));
+    pair.settle(c(xs[0]));
     let (mut made_out, mut made_back, mut quads_back) = (0, 0, 0);
     for (i, &x) in xs.iter().enumerate() {
-        let (input, a, b, _) = runs.frame(c(x), DT, &format!("x = {x}"));
+        let (input, a, b, _) = pair.frame(c(x), DT, &format!("x = {x}"));
         assert!(input.previous.is_none(), "x = {x}: no crossing");
         assert!(
             b.counters.terrain_records_made > 1000,
@@ -815,15 +815,15 @@ fn the_eyes_records_are_kept_by_the_ground_they_show() {
 fn a_crossings_new_probe_finds_its_records_on_the_old_probes_blocks() {
     let level = "assets/levels/terrain_hills.ron";
     let size = UVec2::new(160, 90);
-    let Some(mut runs) = KeptAndFresh::new(level, size, 64) else {
+    let Some(mut pair) = KeptAndFresh::new(level, size, 64) else {
         return;
     };
     let c = |z: f32| cam(-8.0, 7.2, z, -15.0, -8.0);
-    runs.settle(c(40.0));
+    pair.settle(c(40.0));
     let (mut made, mut found, mut fading) = (0, 0, 0);
     for i in 1..=12 {
         let z = 40.0 - 0.15 * i as f32;
-        let (input, a, _, _) = runs.frame(c(z), DT, &format!("z = {z}"));
+        let (input, a, _, _) = pair.frame(c(z), DT, &format!("z = {z}"));
         if input.previous.is_some() {
             fading += 1;
             made += a.counters.terrain_records_made;
@@ -866,7 +866,7 @@ fn a_moving_casters_shadow_on_the_terrain_remakes_only_what_it_may_touch() {
     );
     let level = level.to_str().unwrap();
     let size = UVec2::new(160, 90);
-    let Some(mut runs) = KeptAndFresh::new(level, size, 64) else {
+    let Some(mut pair) = KeptAndFresh::new(level, size, 64) else {
         return;
     };
     // From above and behind the shadow: it and the box in the middle, ground it never
@@ -876,7 +876,7 @@ fn a_moving_casters_shadow_on_the_terrain_remakes_only_what_it_may_touch() {
     let mut black = 0;
     let mut images = std::collections::HashSet::new();
     for i in 0..16 {
-        let (_, a, b, pa) = runs.frame(c, DT, &format!("frame {i}"));
+        let (_, a, b, pa) = pair.frame(c, DT, &format!("frame {i}"));
         if i >= 8 {
             made_kept += a.counters.terrain_records_made;
             made_fresh += b.counters.terrain_records_made;
