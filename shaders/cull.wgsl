@@ -2,8 +2,9 @@
 // arguments. Our schedule walks the faces' draw lists (`listed`, one dispatch for all of
 // them: a stable face's run heads, runs.wgsl; the eye texels the shade pass lit this frame),
 // so it never scans a face, and skips quads that lie outside the view frustum or face away
-// from the camera; one quad draws a whole run. The paper schedule (and ours with runs off) scans every texel of the
-// drawn faces (`main`). The quad corners are computed from the probe's data alone (never the
+// from the camera; one quad draws a whole run. The paper schedule (and ours with runs off)
+// scans every texel of the drawn faces (`main`). Both leave outlined texels and runs to a
+// dispatch of their own (`outlined`). The quad corners are computed from the probe's data alone (never the
 // camera), so they are bit-identical while the probe stays. crates/render/src/passes/cull.rs.
 
 #include "lib/common.wgsl"
@@ -40,11 +41,12 @@ struct DispatchArgs {
 }
 // Where each listed face's entries start in `listed`'s index space (then the total).
 @group(2) @binding(0) var<storage, read_write> starts: array<u32, 19>;
-// The outlined texels and runs `listed` leaves to `outlined` (texel x | y << 16; slot |
-// face << 2 | run << 5), after a count (cull.rs `deferred`). `emit_outlined` is most of the
-// compiled `emit`: lavapipe's invocations paid for it whether they drew or not (without it
-// in `listed`, an invocation that returns at once cost a third as much), and few texels
-// are outlined.
+// The outlined texels and runs `main` and `listed` leave to `outlined` (texel x | y << 16;
+// slot | face << 2 | run << 5), after a count (cull.rs `deferred`). `emit_outlined` is most
+// of the compiled `emit`: lavapipe's and SwiftShader's invocations paid for it whether they
+// drew or not (without it in `listed`, an invocation that returns at once cost a third as
+// much on lavapipe; the paper's scan took 357 -> 143 ms on SwiftShader), and few texels are
+// outlined.
 struct Deferred {
     count: atomic<u32>,
     _pad: u32,
@@ -315,11 +317,14 @@ fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: v
     return vec2(b.x << SPLAT_OWNER_MISSES, b.y);
 }
 
-// Every texel of the faces in `work` (the paper schedule; ours with runs off).
+// Every texel of the faces in `work` (the paper schedule; ours with runs off), its outlined
+// ones left to `outlined` as `listed` leaves them.
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.z < work.count {
-        emit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u, true);
+        let f = work.faces[gid.z];
+        emit(f.x, f.y, gid.xy, 1u, false);
+        defer_if_outlined(f.x, f.y, gid.xy, 1u);
     }
 }
 
@@ -349,6 +354,11 @@ fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         run = load_run(slot, t, face);
     }
     emit(slot, face, t, run, false);
+    defer_if_outlined(slot, face, t, run);
+}
+
+// Leaves texel `t` of `face` in `slot` (heading `run`) to `outlined`, if `emit` left it.
+fn defer_if_outlined(slot: u32, face: u32, t: vec2<u32>, run: u32) {
     if left_outlined {
         let k = atomicAdd(&deferred.count, 1u);
         if k < arrayLength(&deferred.at) {
@@ -357,13 +367,14 @@ fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     }
 }
 
-// The dispatch of `outlined`: workgroups of 64 over the entries `listed` left.
+// The dispatch of `outlined`: workgroups of 64 over the entries `main` and `listed` left.
 @compute @workgroup_size(1)
 fn outlined_args() {
     size_dispatch(min(atomicLoad(&deferred.count), arrayLength(&deferred.at)));
 }
 
-// The outlined texels and runs `listed` left, drawn body and strips (`emit_outlined`).
+// The outlined texels and runs `main` and `listed` left, drawn body and strips
+// (`emit_outlined`).
 @compute @workgroup_size(64)
 fn outlined(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = gid.x + gid.z * groups.x * 64u;
@@ -403,8 +414,8 @@ var<private> left_outlined: bool;
 
 // Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,
 // | RUN_COLUMN down a column), unless our schedule culls it; an outlined one only where
-// `outlines` (a constant at each call, so the compiled `listed` holds no `emit_outlined`),
-// else it sets `left_outlined`.
+// `outlines` (a constant at each call, so the compiled `main` and `listed` hold no
+// `emit_outlined`), else it sets `left_outlined`.
 fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
     let s = view.slots[slot];
     if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n || run == 0u {

@@ -57,12 +57,12 @@ pub struct CullPass {
     /// `listed`'s workgroup counts, sized on the GPU from the draw lists.
     dispatch: wgpu::Buffer,
     dispatch_bind: wgpu::BindGroup,
-    /// `outlined`'s, from the entries `listed` left it.
+    /// `outlined`'s, from the entries `main` and `listed` left it.
     outlined_dispatch: wgpu::Buffer,
     outlined_dispatch_bind: wgpu::BindGroup,
     /// Where each listed face's entries start in `listed`'s index space.
     starts: wgpu::Buffer,
-    /// The outlined texels and runs `listed` leaves to `outlined` (`Deferred` in
+    /// The outlined texels and runs `main` and `listed` leave to `outlined` (`Deferred` in
     /// `cull.wgsl`): a count, then an entry per splat the list holds.
     deferred: wgpu::Buffer,
     starts_layout: wgpu::BindGroupLayout,
@@ -130,7 +130,7 @@ impl CullPass {
             "cull",
             &module,
             "main",
-            &[&layout, &textures_layout],
+            &[&layout, &textures_layout, &starts_layout],
         );
         let listed_pipeline = compute_pipeline(
             device,
@@ -280,6 +280,7 @@ impl CullPass {
         });
         pass.set_bind_group(0, &bind, &[]);
         pass.set_bind_group(1, &textures, &[]);
+        pass.set_bind_group(2, &self.starts_bind, &[]);
         if work.count > 0 {
             pass.set_pipeline(&self.pipeline);
             let groups = max_n.div_ceil(8);
@@ -287,11 +288,13 @@ impl CullPass {
         }
         if work.listed > 0 {
             pass.set_pipeline(&self.listed_args_pipeline);
-            pass.set_bind_group(2, &self.starts_bind, &[]);
             pass.set_bind_group(3, &self.dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
             pass.set_pipeline(&self.listed_pipeline);
             pass.dispatch_workgroups_indirect(&self.dispatch, 0);
+        }
+        if !drawn.is_empty() {
+            // The outlined texels and runs the scan and the lists left.
             pass.set_pipeline(&self.outlined_args_pipeline);
             pass.set_bind_group(3, &self.outlined_dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
@@ -303,8 +306,8 @@ impl CullPass {
     }
 }
 
-/// The entries `listed` leaves to `outlined`: a count (and a pad word), then one 8-byte entry
-/// per splat the list holds (an outlined texel or run draws at least one).
+/// The entries `main` and `listed` leave to `outlined`: a count (and a pad word), then one
+/// 8-byte entry per splat the list holds (an outlined texel or run draws at least one).
 fn deferred_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
         label: Some("cull::deferred"),
