@@ -10,7 +10,7 @@
 // (`block_slot`), which is all a record is made from: a texel the first cache misses (a
 // crossing's new probe, the eye on ground a stable probe showed) finds it there once
 // `shadows` has found its block. A record's pixels are shadowed from their
-// own centres (`shadows`, rays through the BVH), not by the texel's rays: two probes whose
+// own centres (`cast_rays`, rays through the BVH), not by the texel's rays: two probes whose
 // texels both show a pixel then agree on its shadow, as they agree on its colour.
 // crates/render/src/passes/terrain_splat.rs.
 
@@ -67,65 +67,82 @@ fn size() {
     atomicStore(&misses.count, 0u);
     atomicStore(&misses.rays_cast, 0u);
     atomicStore(&misses.found, 0u);
+    atomicStore(&misses.to_make, 0u);
+    atomicStore(&misses.to_cast, 0u);
     misses.capacity = arrayLength(&splats);
 }
 
-// The quads whose record was not in the cache, made by `make` in a dispatch of their own:
-// a miss among hits would keep its whole SIMD group waiting (lavapipe runs 8 lanes, a GPU
-// 32 or 64), and misses are few and scattered (the eye's texels, a new probe's faces).
-// `quads` is the list's count as `size` found it (so `main` binds no `args`: a stage has 8
-// storage buffers in WebGPU's limits), `capacity` the list's (`shadows` binds no list).
+// The quads whose record was not in the cache, found on their block or queued for `make` by
+// `shadows`, in dispatches of their own: a miss among hits would keep its whole SIMD group
+// waiting (lavapipe runs 8 lanes, a GPU 32 or 64), and misses are few and scattered (the
+// eye's texels, a new probe's faces). `quads` is the list's count as `size` found it (so
+// `main` binds no `args`: a stage has 8 storage buffers in WebGPU's limits), `capacity` the
+// list's. `to_make` and `to_cast` count the lists of misses `make` and `cast_rays` take
+// (`Miss::make_at`, `Miss::cast_at`): each dispatch runs only the misses with work for it, as
+// an invocation paid for its shader's rare code whether it ran it or not (measured on
+// `terrain_walk` at 1280×720: the pass's mean 89.6 -> 62.7 ms with `shadows`' rays left out,
+// though they were cast for a few hundred pixels a frame).
 // `rays_cast` counts the pixels whose shadow rays this pass cast, `found` the misses whose
 // record another probe's or texel's quad had made on its block (`block_slot`; both read back
 // as frame counters).
-// `lights`: the lights that reach terrain pixels' centres, as `shadows` found them: one word
+// `lights`: the lights that reach terrain pixels' centres, as `cast_rays` found them: one word
 // per slot, at a hash of the pixel and the shadows' epoch around it (`pixel_hash`), its check
 // bits (`pixel_check`) above TERRAIN_LIGHTS bits of lights; 0 is empty. A pixel is shared by
 // the blocks of every probe and frame that show it, so its rays are cast once, not once per
 // record (a new probe's records at its crossing, the eye's as it moves). Cleared with the
-// records. (Here, not a buffer of its own, so that `shadows` binds the records within the 8.)
+// records. (Here, not a buffer of its own, so that `cast_rays` binds the BVH within the 8.)
 struct Misses {
     quads: u32,
     count: atomic<u32>,
     rays_cast: atomic<u32>,
     found: atomic<u32>,
     capacity: u32,
+    to_make: atomic<u32>,
+    to_cast: atomic<u32>,
     // Scalars, not a vec3 (aligned to 16): `lights` starts at byte 32, as terrain_splat.rs
     // `MISSES_HEADER_BYTES` has it.
-    _pad0: u32,
-    _pad1: u32,
     _pad2: u32,
-    lights: array<u32, CELL_LIGHT_SLOTS>,
+    lights: array<atomic<u32>, CELL_LIGHT_SLOTS>,
     at: array<Miss>,
 }
 
 const CELL_LIGHT_SLOTS: u32 = 1048576u;
 
-// A queued miss: what `shadows` needs of its quad (which binds neither the list nor the
-// objects, to stay within those 8 buffers) and what it found.
+// A queued miss: what `shadows` and `cast_rays` need of its quad (`cast_rays` binds neither
+// the list nor the objects, to stay within those 8 buffers with the BVH's) and what they
+// found.
 struct Miss {
-    // The quad's texel point.
-    mid: vec3<f32>,
     // The quad's index in the list.
     index: u32,
     // Its terrain's index << 8 | its probe's role (`miss_terrain`, `miss_role`).
     kind: u32,
     // The quad's object word (the splat's c3.w: object, band shift, the texel's lights).
     word: u32,
-    // What `shadows` found, for `make`: bit TERRAIN_LIGHTS · (k & 1) + i of word k >> 1,
-    // light i reaches the centre of the pixel of cell k of the quad's block (`pixel_reach`);
-    // where the block's record was found (SHARED in `promoted`), x is its slot;
+    // Entry `i` of `make`'s list, held by miss `i`: the miss it names (`Misses::to_make`).
+    make_at: u32,
+    // What `shadows` and `cast_rays` found, for `make`: bit TERRAIN_LIGHTS · (k & 1) + i of
+    // word k >> 1, light i reaches the centre of the pixel of cell k of the quad's block
+    // (`pixel_reach`);
     reach: vec2<u32>,
     // the block's first cell and its cells' size (`terrain_block`; `main` finds an eye
     // quad's, size 0 asks `shadows` to);
     base: vec2<f32>,
     size: f32,
-    // bit k: cell k shows the promoted pixel around it (`block_pixel`), SHARED: its record
-    // was found on its block; until `shadows`, the band of a block `main` found, from bit 8.
+    // bit k: cell k shows the promoted pixel around it (`block_pixel`); bit CAST_AT + k: its
+    // pixel's rays are `cast_rays`' to cast, bit CLAIMED_AT + k: and their lights to write to
+    // the table (`shadows` claimed its slot), bit WAIT_AT + k: another miss claimed it, and
+    // `make` reads them from there. Until `shadows`, the band of a block `main` found, from
+    // bit 8.
     promoted: u32,
+    // Entry `i` of `cast_rays`' list, held by miss `i` (`Misses::to_cast`).
+    cast_at: u32,
 }
 
-const SHARED: u32 = 0x10u;
+const CAST_AT: u32 = 4u;
+const CLAIMED_AT: u32 = 8u;
+const WAIT_AT: u32 = 12u;
+// In a table word: its pixel's rays are being cast this pass, by the miss that claimed it.
+const PIXEL_PENDING: u32 = 1u << TERRAIN_LIGHTS;
 
 fn miss_terrain(m: Miss) -> u32 {
     return m.kind >> 8u;
@@ -191,7 +208,6 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     let k = atomicAdd(&misses.count, 1u);
     if k < arrayLength(&misses.at) {
         var m: Miss;
-        m.mid = mid;
         m.index = ii;
         m.kind = (terrain << 8u) | role;
         m.word = word;
@@ -212,33 +228,58 @@ fn stamp_point(role: u32, mid: vec3<f32>, block: TerrainBlock) -> vec3<f32> {
     return mid;
 }
 
-// The dispatch of `make`: one invocation per queued miss.
+// The dispatch of `shadows`: one invocation per queued miss.
 @compute @workgroup_size(1)
 fn size_misses() {
-    let n = min(atomicLoad(&misses.count), arrayLength(&misses.at));
+    size_dispatch(min(atomicLoad(&misses.count), arrayLength(&misses.at)));
+}
+
+// The dispatch of `cast_rays`: one invocation per miss `shadows` listed for it.
+@compute @workgroup_size(1)
+fn size_casts() {
+    size_dispatch(atomicLoad(&misses.to_cast));
+}
+
+// The dispatch of `make`: one invocation per miss `shadows` listed for it.
+@compute @workgroup_size(1)
+fn size_makes() {
+    size_dispatch(atomicLoad(&misses.to_make));
+}
+
+// `dispatch`: workgroups of GROUP over `n` invocations.
+fn size_dispatch(n: u32) {
     dispatch = DispatchArgs((n + GROUP - 1u) / GROUP, 1u, 1u);
 }
 
 // Each queued miss: its block and its pixels (`block_pixel`); its record where a quad of
 // another probe or texel made it for the same block and pixels (`block_slot`: a crossing's
-// new probe shows mostly the blocks the old one did), written to the list here; else which
-// lights reach the centres of its block's four pixels: from the table where a frame before
-// cast their rays, else by a shadow ray from each (dispatched as `make` is, before it). Two
-// misses of one dispatch that show a pixel not yet in the table may both cast its rays (they
-// find the same lights): claiming it first (an atomic compare-exchange, then a dispatch to
-// read the answers back) cast 16 % fewer rays on a first frame and cost more than it saved.
+// new probe shows mostly the blocks the old one did), written to the list and the quad's
+// cache slot here; else it is listed for `make`, with which lights reach the centres of its
+// block's four pixels where a frame before cast their rays (the table), and listed for
+// `cast_rays` if some pixel's are not there. The first miss to find a pixel missing claims
+// its slot (PIXEL_PENDING, by an atomic compare-exchange) and casts for it; the others that
+// show it wait, and `make` reads its lights from the table. (Unclaimed, every miss of the
+// dispatch that showed a pixel cast its rays: 17,000–22,000 pixels on a crossing's frame of
+// `terrain_walk` at 1280×720 against 750 while `shadows` cast them in place and wrote the
+// table at once.) A pixel whose slot another pixel claimed, or whose claim failed, is cast
+// for this miss alone. Each field of the miss is written on its own: other invocations write
+// the list entries (`make_at`, `cast_at`) this miss holds.
 @compute @workgroup_size(64)
 fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
+    let g = gid.x;
+    if g >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
         return;
     }
-    var m = misses.at[gid.x];
+    var m = misses.at[g];
+    let s = splats[m.index];
+    let mid = splat_mid(s);
     let t = miss_terrain(m);
     let tr = terrains[t];
-    let probe = splat_probe(miss_role(m));
+    let role = miss_role(m);
+    let probe = splat_probe(role);
     var b = TerrainBlock(m.promoted >> 8u, m.size, m.base);
     if m.size == 0.0 {
-        b = terrain_block(tr, m.mid, probe);
+        b = terrain_block(tr, mid, probe);
     }
     m.base = b.base;
     m.size = b.size;
@@ -248,34 +289,80 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
         px[k] = block_pixel(tr, b, k, probe);
         m.promoted |= select(0u, 1u << k, px[k].size > b.size);
     }
-    if arrayLength(&records) > misses.capacity + BLOCK_SLOTS {
-        let slot = block_slot(m);
-        let r = records[slot];
+    let capacity = misses.capacity;
+    let slots = texel_slots(capacity);
+    if slots > 0u {
+        var r = records[block_slot(m)];
         if bitcast<u32>(r.grid.w) == sealed(block_stamp(m), r) {
-            records[m.index] = hazed_record(r, m.mid);
-            m.promoted |= SHARED;
-            m.reach = vec2(slot, 0u);
-            misses.at[gid.x] = m;
+            records[m.index] = hazed_record(r, mid);
+            let block = TerrainBlock(0u, m.size, m.base);
+            r.grid.w = bitcast<f32>(sealed(record_stamp(m.word, stamp_point(role, mid, block), probe), r));
+            records[capacity + cache_slot(s, role, block, slots)] = r;
             atomicAdd(&misses.found, 1u);
             return;
         }
     }
     var reach = vec2(0u);
+    // Pixels whose rays `cast_rays` casts, those of them whose table slot this miss claimed,
+    // and those another miss claimed.
+    var uncast = 0u;
+    var claimed = 0u;
+    var wait = 0u;
     let lights = (1u << TERRAIN_LIGHTS) - 1u;
     for (var k = 0u; k < 4u; k++) {
         let h = pixel_hash(t, tr, px[k]);
         let slot = h % CELL_LIGHT_SLOTS;
         let check = pixel_check(h);
-        var bits = misses.lights[slot];
-        if (bits & ~lights) != check {
-            bits = check | pixel_reach(tr, px[k]);
-            misses.lights[slot] = bits;
-            atomicAdd(&misses.rays_cast, 1u);
+        let bits = atomicLoad(&misses.lights[slot]);
+        if (bits & ~lights) == check {
+            reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
+        } else if (bits & ~lights) == (check | PIXEL_PENDING) {
+            wait |= 1u << k;
+        } else {
+            uncast |= 1u << k;
+            // Not a slot another pixel's miss claimed (its answer is on its way there).
+            if (bits & PIXEL_PENDING) == 0u && atomicCompareExchangeWeak(&misses.lights[slot], bits, check | PIXEL_PENDING).exchanged {
+                claimed |= 1u << k;
+            }
         }
-        reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
     }
-    m.reach = reach;
-    misses.at[gid.x] = m;
+    misses.at[g].base = m.base;
+    misses.at[g].size = m.size;
+    misses.at[g].promoted = m.promoted | (uncast << CAST_AT) | (claimed << CLAIMED_AT) | (wait << WAIT_AT);
+    misses.at[g].reach = reach;
+    misses.at[atomicAdd(&misses.to_make, 1u)].make_at = g;
+    if uncast != 0u {
+        misses.at[atomicAdd(&misses.to_cast, 1u)].cast_at = g;
+    }
+}
+
+// The misses `shadows` listed for it: the shadow rays from the centre of each of their
+// pixels the table did not hold, into the miss's `reach` and, where the miss claimed the
+// pixel's slot, the table (where `make` reads them for the misses that waited on it).
+@compute @workgroup_size(64)
+fn cast_rays(@builtin(global_invocation_id) gid: vec3<u32>) {
+    if gid.x >= atomicLoad(&misses.to_cast) {
+        return;
+    }
+    let g = misses.at[gid.x].cast_at;
+    let m = misses.at[g];
+    let t = miss_terrain(m);
+    let tr = terrains[t];
+    let lights = (1u << TERRAIN_LIGHTS) - 1u;
+    var reach = m.reach;
+    for (var k = 0u; k < 4u; k++) {
+        if ((m.promoted >> (CAST_AT + k)) & 1u) != 0u {
+            let px = miss_pixel(m, k);
+            let h = pixel_hash(t, tr, px);
+            let bits = pixel_check(h) | pixel_reach(tr, px);
+            if ((m.promoted >> (CLAIMED_AT + k)) & 1u) != 0u {
+                atomicStore(&misses.lights[h % CELL_LIGHT_SLOTS], bits);
+            }
+            atomicAdd(&misses.rays_cast, 1u);
+            reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
+        }
+    }
+    misses.at[g].reach = reach;
 }
 
 // The slots of the records' cache kept by texel (`cache_slot`), behind a list of `capacity`:
@@ -316,9 +403,9 @@ fn miss_pixel(m: Miss, k: u32) -> TerrainPixel {
 }
 
 // The check bits of the pixel whose hash is `h`: from another hash of it, above the
-// TERRAIN_LIGHTS bits of lights, never all zero (an empty slot).
+// TERRAIN_LIGHTS bits of lights and PIXEL_PENDING, never all zero (an empty slot).
 fn pixel_check(h: u32) -> u32 {
-    return (hash_u32(h ^ 0x5bd1e995u) << TERRAIN_LIGHTS) | (1u << 31u);
+    return (hash_u32(h ^ 0x5bd1e995u) << (TERRAIN_LIGHTS + 1u)) | (1u << 31u);
 }
 
 // A hash of pixel `px` of terrain `tr` (index `t`) and the shadows' epoch around it.
@@ -389,32 +476,33 @@ fn pixel_reach(tr: Terrain, px: TerrainPixel) -> u32 {
     return reach;
 }
 
-// Each queued miss: its record made, sealed into its cache slot, and hazed into the list's;
-// also sealed into its block's slot (`block_slot`). One `shadows` found on its block is
-// already in the list: it is only copied to the quad's slot, unless another miss of this
-// dispatch has since taken the block slot (its seal no longer holds).
+// Each miss `shadows` listed for it: its record made, sealed into its cache slot and its
+// block's (`block_slot`), and hazed into the list's.
 @compute @workgroup_size(64)
 fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
-    if gid.x >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
+    if gid.x >= atomicLoad(&misses.to_make) {
         return;
     }
-    let m = misses.at[gid.x];
+    var m = misses.at[misses.at[gid.x].make_at];
+    // The lights of the pixels another miss cast for, from the table: the slot it claimed
+    // holds them now (no other miss writes a claimed slot).
+    let lights = (1u << TERRAIN_LIGHTS) - 1u;
+    for (var k = 0u; k < 4u; k++) {
+        if ((m.promoted >> (WAIT_AT + k)) & 1u) != 0u {
+            let h = pixel_hash(miss_terrain(m), terrains[miss_terrain(m)], miss_pixel(m, k));
+            let bits = atomicLoad(&misses.lights[h % CELL_LIGHT_SLOTS]);
+            m.reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
+        }
+    }
     let ii = m.index;
     let capacity = arrayLength(&splats);
     let s = splats[ii];
+    let mid = splat_mid(s);
     let role = miss_role(m);
     let probe = splat_probe(role);
     let block = TerrainBlock(0u, m.size, m.base);
-    let stamp = record_stamp(m.word, stamp_point(role, m.mid, block), probe);
+    let stamp = record_stamp(m.word, stamp_point(role, mid, block), probe);
     let slots = texel_slots(capacity);
-    if (m.promoted & SHARED) != 0u {
-        var r = records[m.reach.x];
-        if slots > 0u && bitcast<u32>(r.grid.w) == sealed(block_stamp(m), r) {
-            r.grid.w = bitcast<f32>(sealed(stamp, r));
-            records[capacity + cache_slot(s, role, block, slots)] = r;
-        }
-        return;
-    }
     var r = terrain_splat(m.word, m);
     r.grid.w = bitcast<f32>(sealed(stamp, r));
     if slots > 0u {
@@ -423,7 +511,7 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
         by_block.grid.w = bitcast<f32>(sealed(block_stamp(m), r));
         records[block_slot(m)] = by_block;
     }
-    records[ii] = hazed_record(r, m.mid);
+    records[ii] = hazed_record(r, mid);
 }
 
 fn splat_role(s: Splat) -> u32 {

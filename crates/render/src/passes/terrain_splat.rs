@@ -8,10 +8,12 @@
 //! ambient, bands), or the number of animated shadow casters. A caster that moves marks
 //! where its shadow may have come or gone with a new epoch ([`ShadowTiles`]): only the
 //! records and pixels there are made again. A first dispatch takes each quad's record from
-//! the cache or queues the quad as a miss; a second finds each miss's block, takes its
-//! record from the blocks' slots where it is there, else casts the shadow rays from the
-//! centre of each of the four terrain pixels no frame has cast them for; a third makes the
-//! records not found.
+//! the cache or queues the quad as a miss; a second (`shadows`) finds each miss's block and
+//! takes its record from the blocks' slots where it is there, else lists it for the fourth
+//! and, where one of its four terrain pixels' lights is not in the table, for the third;
+//! the third (`cast_rays`) casts the shadow rays from those pixels' centres; the fourth
+//! (`make`) makes the records not found. Each runs only the misses listed for it ([`Stage`]):
+//! an invocation paid for its shader's rare code whether it ran it or not.
 
 use crate::context::GpuContext;
 use crate::gpu_scene::{CasterNow, GpuScene};
@@ -51,13 +53,16 @@ pub struct TerrainSplatPass {
     /// `main`: each quad's record from the cache, or its index queued as a miss.
     pipeline: wgpu::ComputePipeline,
     size_pipeline: wgpu::ComputePipeline,
-    /// `make`: the queued misses' records, in a dispatch of their own.
-    make_pipeline: wgpu::ComputePipeline,
-    /// `shadows`: the queued misses' shadow rays, dispatched as `make` is, before it.
-    shadows_pipeline: wgpu::ComputePipeline,
-    /// `shadows`'s group 0 (the view, the terrains, the lights and the queue) and group 2
+    /// `shadows`: each queued miss's block, its record where the block's slot holds it,
+    /// else which lights reach its pixels as far as the table knows.
+    shadows: Stage,
+    /// `cast_rays`: the shadow rays of the pixels `shadows` did not find in the table.
+    cast_rays: Stage,
+    /// `make`: the records of the misses `shadows` did not find.
+    make: Stage,
+    /// `cast_rays`' group 0 (the view, the terrains, the lights and the queue) and group 2
     /// (the BVH); its group 1 is empty.
-    shadows_layout: wgpu::BindGroupLayout,
+    cast_layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
     empty_bind: wgpu::BindGroup,
     /// The casters' poses the cache's shadows were cast with (`GpuScene::casters`).
@@ -65,11 +70,7 @@ pub struct TerrainSplatPass {
     /// Where shadows last changed (`shadow_tiles` in the shader), and its uniform buffer.
     tiles: ShadowTiles,
     tiles_buffer: wgpu::Buffer,
-    /// `size_misses`: `make`'s dispatch from the queue's count.
-    size_misses_pipeline: wgpu::ComputePipeline,
-    make_dispatch: wgpu::Buffer,
-    make_dispatch_bind: wgpu::BindGroup,
-    /// `size_misses`'s group 0: only the queue.
+    /// The sizing dispatches' group 0: only the queue.
     misses_layout: wgpu::BindGroupLayout,
     misses: Misses,
     layout: wgpu::BindGroupLayout,
@@ -191,9 +192,9 @@ pub const CELL_LIGHTS_BYTES: u64 = 4 * CELL_LIGHT_SLOTS;
 pub const MISSES_HEADER_BYTES: u64 = 32;
 
 /// The queue of misses (`Misses` in the shader: the list's count, the misses' count, the
-/// pixels whose rays were cast, the misses found on their block, the list's capacity,
-/// padding, the pixels' lights, then one `Miss` per quad of the list at most) and
-/// `size_misses`'s bind group over it. A new one starts zeroed: no pixel's lights known.
+/// pixels whose rays were cast, the misses found on their block, the list's capacity, the
+/// counts of the lists `make` and `cast_rays` take, padding, the pixels' lights, then one
+/// `Miss` per quad of the list at most) and the sizing dispatches' bind group over it. A new one starts zeroed: no pixel's lights known.
 struct Misses {
     buffer: wgpu::Buffer,
     bind: wgpu::BindGroup,
@@ -265,19 +266,16 @@ impl TerrainSplatPass {
             entries: &[entry(0, c, storage(false))],
         });
         let pipeline = compute_pipeline(device, "terrain_splat", &module, "main", &[&layout]);
-        let make_pipeline =
-            compute_pipeline(device, "terrain_splat::make", &module, "make", &[&layout]);
-        // Within a stage's 8 storage buffers: the terrains, their data, the point lights, the
-        // records and the queue (with the pixels' lights) here, the BVH's three in group 2.
-        let shadows_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
-            label: Some("terrain_splat::shadows_layout"),
+        // Within a stage's 8 storage buffers: the terrains, their data, the point lights and
+        // the queue (with the pixels' lights) here, the BVH's three in group 2.
+        let cast_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
+            label: Some("terrain_splat::cast_layout"),
             entries: &[
                 entry(0, c, uniform(false)),
                 entry(5, c, storage(true)),
                 entry(6, c, storage(true)),
                 entry(7, c, uniform(false)),
                 entry(8, c, storage(true)),
-                entry(11, c, storage(false)),
                 entry(12, c, storage(false)),
                 entry(14, c, uniform(false)),
             ],
@@ -292,24 +290,34 @@ impl TerrainSplatPass {
             entries: &[],
         });
         let bvh_layout = super::bvh_layout(device, "terrain_splat::bvh_layout", c);
-        let shadows_pipeline = compute_pipeline(
-            device,
-            "terrain_splat::shadows",
-            &module,
-            "shadows",
-            &[&shadows_layout, &empty_layout, &bvh_layout],
-        );
         let misses_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
             label: Some("terrain_splat::misses_layout"),
             entries: &[entry(12, c, storage(false))],
         });
-        let size_misses_pipeline = compute_pipeline(
-            device,
-            "terrain_splat::size_misses",
-            &module,
-            "size_misses",
-            &[&misses_layout, &dispatch_layout],
+        let stage = |name: &str, size: &str, layouts: &[&wgpu::BindGroupLayout]| {
+            let label = format!("terrain_splat::{name}");
+            let (dispatch, dispatch_bind) =
+                super::dispatch_args(device, &format!("{label}_dispatch"), &dispatch_layout);
+            Stage {
+                run: compute_pipeline(device, &label, &module, name, layouts),
+                size: compute_pipeline(
+                    device,
+                    &format!("terrain_splat::{size}"),
+                    &module,
+                    size,
+                    &[&misses_layout, &dispatch_layout],
+                ),
+                dispatch,
+                dispatch_bind,
+            }
+        };
+        let shadows = stage("shadows", "size_misses", &[&layout]);
+        let cast_rays = stage(
+            "cast_rays",
+            "size_casts",
+            &[&cast_layout, &empty_layout, &bvh_layout],
         );
+        let make = stage("make", "size_makes", &[&layout]);
         let size_pipeline = compute_pipeline(
             device,
             "terrain_splat::size",
@@ -319,15 +327,14 @@ impl TerrainSplatPass {
         );
         let (dispatch, dispatch_bind) =
             super::dispatch_args(device, "terrain_splat::dispatch", &dispatch_layout);
-        let (make_dispatch, make_dispatch_bind) =
-            super::dispatch_args(device, "terrain_splat::make_dispatch", &dispatch_layout);
         let misses = Misses::new(device, &misses_layout, 1);
         Ok(TerrainSplatPass {
             pipeline,
             size_pipeline,
-            make_pipeline,
-            shadows_pipeline,
-            shadows_layout,
+            shadows,
+            cast_rays,
+            make,
+            cast_layout,
             bvh_layout,
             empty_bind,
             casters: None,
@@ -338,9 +345,6 @@ impl TerrainSplatPass {
                 usage: wgpu::BufferUsages::UNIFORM | wgpu::BufferUsages::COPY_DST,
                 mapped_at_creation: false,
             }),
-            size_misses_pipeline,
-            make_dispatch,
-            make_dispatch_bind,
             misses_layout,
             misses,
             layout,
@@ -487,10 +491,10 @@ impl TerrainSplatPass {
             layout: &self.size_layout,
             entries: &pick(|b| matches!(b, 9 | 10 | 12)),
         });
-        let shadows_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
-            label: Some("terrain_splat::shadows_bind"),
-            layout: &self.shadows_layout,
-            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 11 | 12 | 14)),
+        let cast_bind = ctx.device.create_bind_group(&wgpu::BindGroupDescriptor {
+            label: Some("terrain_splat::cast_bind"),
+            layout: &self.cast_layout,
+            entries: &pick(|b| matches!(b, 0 | 5 | 6 | 7 | 8 | 12 | 14)),
         });
         let bvh_bind = super::bind_group(
             &ctx.device,
@@ -509,19 +513,32 @@ impl TerrainSplatPass {
         pass.set_pipeline(&self.pipeline);
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.dispatch, 0);
-        pass.set_pipeline(&self.size_misses_pipeline);
-        pass.set_bind_group(0, &self.misses.bind, &[]);
-        pass.set_bind_group(1, &self.make_dispatch_bind, &[]);
-        pass.dispatch_workgroups(1, 1, 1);
-        pass.set_pipeline(&self.shadows_pipeline);
-        pass.set_bind_group(0, &shadows_bind, &[]);
-        pass.set_bind_group(1, &self.empty_bind, &[]);
-        pass.set_bind_group(2, &bvh_bind, &[]);
-        pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
-        pass.set_pipeline(&self.make_pipeline);
-        pass.set_bind_group(0, &bind, &[]);
-        pass.dispatch_workgroups_indirect(&self.make_dispatch, 0);
+        let cast_groups = [&cast_bind, &self.empty_bind, &bvh_bind];
+        for (stage, groups) in [
+            (&self.shadows, &[&bind][..]),
+            (&self.cast_rays, &cast_groups[..]),
+            (&self.make, &[&bind][..]),
+        ] {
+            pass.set_pipeline(&stage.size);
+            pass.set_bind_group(0, &self.misses.bind, &[]);
+            pass.set_bind_group(1, &stage.dispatch_bind, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&stage.run);
+            for (i, group) in groups.iter().enumerate() {
+                pass.set_bind_group(i as u32, *group, &[]);
+            }
+            pass.dispatch_workgroups_indirect(&stage.dispatch, 0);
+        }
     }
+}
+
+/// One dispatch over a list of misses: `size` writes its workgroup counts from the list's
+/// count into `dispatch` (bound in group 1 only then), `run` is dispatched by them.
+struct Stage {
+    size: wgpu::ComputePipeline,
+    run: wgpu::ComputePipeline,
+    dispatch: wgpu::Buffer,
+    dispatch_bind: wgpu::BindGroup,
 }
 
 #[cfg(test)]
