@@ -271,7 +271,14 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     if g >= min(atomicLoad(&misses.count), arrayLength(&misses.at)) {
         return;
     }
-    var m = misses.at[g];
+    // Field by field: other invocations write this element's list entries meanwhile.
+    var m: Miss;
+    m.index = misses.at[g].index;
+    m.kind = misses.at[g].kind;
+    m.word = misses.at[g].word;
+    m.base = misses.at[g].base;
+    m.size = misses.at[g].size;
+    m.promoted = misses.at[g].promoted;
     let s = splats[m.index];
     let mid = splat_mid(s);
     let t = miss_terrain(m);
