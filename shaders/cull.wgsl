@@ -4,8 +4,9 @@
 // so it never scans a face, and skips quads that lie outside the view frustum or face away
 // from the camera; one quad draws a whole run. The paper schedule (and ours with runs off)
 // scans every texel of the drawn faces (`main`). Both leave outlined texels and runs to a
-// dispatch of their own (`outlined`). The quad corners are computed from the probe's data alone (never the
-// camera), so they are bit-identical while the probe stays. crates/render/src/passes/cull.rs.
+// dispatch of their own (`outlined`). The quad corners are computed from the probe's data
+// alone (never the camera), so they are bit-identical while the probe stays.
+// crates/render/src/passes/cull.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
@@ -322,9 +323,7 @@ fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: v
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.z < work.count {
-        let f = work.faces[gid.z];
-        emit(f.x, f.y, gid.xy, 1u, false);
-        defer_if_outlined(f.x, f.y, gid.xy, 1u);
+        emit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u, false);
     }
 }
 
@@ -354,16 +353,13 @@ fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
         run = load_run(slot, t, face);
     }
     emit(slot, face, t, run, false);
-    defer_if_outlined(slot, face, t, run);
 }
 
-// Leaves texel `t` of `face` in `slot` (heading `run`) to `outlined`, if `emit` left it.
-fn defer_if_outlined(slot: u32, face: u32, t: vec2<u32>, run: u32) {
-    if left_outlined {
-        let k = atomicAdd(&deferred.count, 1u);
-        if k < arrayLength(&deferred.at) {
-            deferred.at[k] = vec2(t.x | (t.y << 16u), slot | (face << 2u) | (run << 5u));
-        }
+// Leaves texel `t` of `face` in `slot` (heading `run`) to `outlined`.
+fn defer_outlined(slot: u32, face: u32, t: vec2<u32>, run: u32) {
+    let k = atomicAdd(&deferred.count, 1u);
+    if k < arrayLength(&deferred.at) {
+        deferred.at[k] = vec2(t.x | (t.y << 16u), slot | (face << 2u) | (run << 5u));
     }
 }
 
@@ -409,13 +405,10 @@ fn size_dispatch(total: u32) {
     dispatch.z = (groups + x - 1u) / x;
 }
 
-// Set by `emit` where it left an outlined quad undone (`outlines` false).
-var<private> left_outlined: bool;
-
 // Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,
 // | RUN_COLUMN down a column), unless our schedule culls it; an outlined one only where
 // `outlines` (a constant at each call, so the compiled `main` and `listed` hold no
-// `emit_outlined`), else it sets `left_outlined`.
+// `emit_outlined`), else it leaves it to `outlined` (`defer_outlined`).
 fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
     let s = view.slots[slot];
     if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n || run == 0u {
@@ -508,7 +501,7 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
         if outlines {
             emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, outline, p, geo.xyz, d, key, texels, lit.rgb, colour, reach);
         } else {
-            left_outlined = true;
+            defer_outlined(slot, face, t, run);
         }
         return;
     }

@@ -69,15 +69,13 @@ fn size() {
     atomicStore(&misses.found, 0u);
     atomicStore(&misses.to_make, 0u);
     atomicStore(&misses.to_cast, 0u);
-    misses.capacity = arrayLength(&splats);
 }
 
 // The quads whose record was not in the cache, found on their block or queued for `make` by
 // `shadows`, in dispatches of their own: a miss among hits would keep its whole SIMD group
 // waiting (lavapipe runs 8 lanes, a GPU 32 or 64), and misses are few and scattered (the
 // eye's texels, a new probe's faces). `quads` is the list's count as `size` found it (so
-// `main` binds no `args`: a stage has 8 storage buffers in WebGPU's limits), `capacity` the
-// list's. `to_make` and `to_cast` count the lists of misses `make` and `cast_rays` take
+// `main` binds no `args`: a stage has 8 storage buffers in WebGPU's limits). `to_make` and `to_cast` count the lists of misses `make` and `cast_rays` take
 // (`Miss::make_at`, `Miss::cast_at`): each dispatch runs only the misses with work for it, as
 // an invocation paid for its shader's rare code whether it ran it or not (measured on
 // `terrain_walk` at 1280×720, with CI running beside it: the pass's mean 89.6 -> 62.7 ms with
@@ -97,7 +95,7 @@ struct Misses {
     count: atomic<u32>,
     rays_cast: atomic<u32>,
     found: atomic<u32>,
-    capacity: u32,
+    _pad0: u32,
     to_make: atomic<u32>,
     to_cast: atomic<u32>,
     // Scalars, not a vec3 (aligned to 16): `lights` starts at byte 32, as terrain_splat.rs
@@ -144,6 +142,15 @@ const CLAIMED_AT: u32 = 8u;
 const WAIT_AT: u32 = 12u;
 // In a table word: its pixel's rays are being cast this pass, by the miss that claimed it.
 const PIXEL_PENDING: u32 = 1u << TERRAIN_LIGHTS;
+// A table word's lights (below its check bits).
+const LIGHT_BITS: u32 = (1u << TERRAIN_LIGHTS) - 1u;
+
+// A miss's `reach` with the lights of table word `bits` added for its block's cell `k`.
+fn with_pixel_lights(reach: vec2<u32>, k: u32, bits: u32) -> vec2<u32> {
+    var r = reach;
+    r[k >> 1u] |= (bits & LIGHT_BITS) << (TERRAIN_LIGHTS * (k & 1u));
+    return r;
+}
 
 fn miss_terrain(m: Miss) -> u32 {
     return m.kind >> 8u;
@@ -297,7 +304,7 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
         px[k] = block_pixel(tr, b, k, probe);
         m.promoted |= select(0u, 1u << k, px[k].size > b.size);
     }
-    let capacity = misses.capacity;
+    let capacity = arrayLength(&splats);
     let slots = texel_slots(capacity);
     if slots > 0u {
         var r = records[block_slot(m)];
@@ -316,15 +323,14 @@ fn shadows(@builtin(global_invocation_id) gid: vec3<u32>) {
     var uncast = 0u;
     var claimed = 0u;
     var wait = 0u;
-    let lights = (1u << TERRAIN_LIGHTS) - 1u;
     for (var k = 0u; k < 4u; k++) {
         let h = pixel_hash(t, tr, px[k]);
         let slot = h % CELL_LIGHT_SLOTS;
         let check = pixel_check(h);
         let bits = atomicLoad(&misses.lights[slot]);
-        if (bits & ~lights) == check {
-            reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
-        } else if (bits & ~lights) == (check | PIXEL_PENDING) {
+        if (bits & ~LIGHT_BITS) == check {
+            reach = with_pixel_lights(reach, k, bits);
+        } else if (bits & ~LIGHT_BITS) == (check | PIXEL_PENDING) {
             wait |= 1u << k;
         } else {
             uncast |= 1u << k;
@@ -356,7 +362,6 @@ fn cast_rays(@builtin(global_invocation_id) gid: vec3<u32>) {
     let m = misses.at[g];
     let t = miss_terrain(m);
     let tr = terrains[t];
-    let lights = (1u << TERRAIN_LIGHTS) - 1u;
     var reach = m.reach;
     for (var k = 0u; k < 4u; k++) {
         if ((m.promoted >> (CAST_AT + k)) & 1u) != 0u {
@@ -367,7 +372,7 @@ fn cast_rays(@builtin(global_invocation_id) gid: vec3<u32>) {
                 atomicStore(&misses.lights[h % CELL_LIGHT_SLOTS], bits);
             }
             atomicAdd(&misses.rays_cast, 1u);
-            reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
+            reach = with_pixel_lights(reach, k, bits);
         }
     }
     misses.at[g].reach = reach;
@@ -494,12 +499,12 @@ fn make(@builtin(global_invocation_id) gid: vec3<u32>) {
     var m = misses.at[misses.at[gid.x].make_at];
     // The lights of the pixels another miss cast for, from the table: the slot it claimed
     // holds them now (no other miss writes a claimed slot).
-    let lights = (1u << TERRAIN_LIGHTS) - 1u;
+    let t = miss_terrain(m);
+    let tr = terrains[t];
     for (var k = 0u; k < 4u; k++) {
         if ((m.promoted >> (WAIT_AT + k)) & 1u) != 0u {
-            let h = pixel_hash(miss_terrain(m), terrains[miss_terrain(m)], miss_pixel(m, k));
-            let bits = atomicLoad(&misses.lights[h % CELL_LIGHT_SLOTS]);
-            m.reach[k >> 1u] |= (bits & lights) << (TERRAIN_LIGHTS * (k & 1u));
+            let h = pixel_hash(t, tr, miss_pixel(m, k));
+            m.reach = with_pixel_lights(m.reach, k, atomicLoad(&misses.lights[h % CELL_LIGHT_SLOTS]));
         }
     }
     let ii = m.index;
@@ -699,7 +704,7 @@ fn terrain_splat(word: u32, m: Miss) -> TerrainSplat {
     let shift = f32((word >> TERRAIN_LIGHTS) & 3u) - 1.0;
     for (var k = 0u; k < 4u; k++) {
         let px = miss_pixel(m, k);
-        let lights = (m.reach[k >> 1u] >> (TERRAIN_LIGHTS * (k & 1u))) & ((1u << TERRAIN_LIGHTS) - 1u);
+        let lights = (m.reach[k >> 1u] >> (TERRAIN_LIGHTS * (k & 1u))) & LIGHT_BITS;
         let lit = terrain_lit_pixel(tr, obj.albedo, px, lights, shift);
         out.cells[k] = pack4x8unorm(vec4(linear_to_srgb(lit), 1.0));
     }

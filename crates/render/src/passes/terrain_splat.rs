@@ -192,8 +192,8 @@ pub const CELL_LIGHTS_BYTES: u64 = 4 * CELL_LIGHT_SLOTS;
 pub const MISSES_HEADER_BYTES: u64 = 32;
 
 /// The queue of misses (`Misses` in the shader: the list's count, the misses' count, the
-/// pixels whose rays were cast, the misses found on their block, the list's capacity, the
-/// counts of the lists `make` and `cast_rays` take, padding, the pixels' lights, then one
+/// pixels whose rays were cast, the misses found on their block, padding, the counts of the
+/// lists `make` and `cast_rays` take, padding, the pixels' lights, then one
 /// `Miss` per quad of the list at most) and the sizing dispatches' bind group over it. A new one starts zeroed: no pixel's lights known.
 struct Misses {
     buffer: wgpu::Buffer,
