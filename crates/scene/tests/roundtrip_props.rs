@@ -453,6 +453,52 @@ proptest! {
     }
 }
 
+/// proptest's float range sampler overshoots a range's low end on its lowest draw and then
+/// clamps; a debug assertion of its own used to fail there for positive ranges (the
+/// workspace's `Cargo.toml` turns proptest's debug assertions off). A pass-through RNG fed
+/// all-ones bytes makes that draw, every time; all-zero bytes make the highest.
+#[test]
+fn float_ranges_survive_their_lowest_draw() {
+    use proptest::strategy::ValueTree;
+    use proptest::test_runner::{Config, RngAlgorithm, TestRng, TestRunner};
+
+    // The exclusive and inclusive ranges this file's strategies (and the probes' properties)
+    // draw from, including those whose low end is not a multiple of the sampler's step.
+    let exclusive = [
+        (0.01f32, 10.0f32),
+        (0.001, 100.0),
+        (-10.0, 10.0),
+        (0.1, 50.0),
+        (0.4, 2.0),
+    ];
+    let inclusive = [
+        (1.0e-6f32, 1.0e6f32),
+        (0.2, 5.0),
+        (0.0, 1.0),
+        (-1.0e6, 1.0e6),
+    ];
+    for byte in [0xFFu8, 0x00, 0x80] {
+        let runner = || {
+            let rng = TestRng::from_seed(RngAlgorithm::PassThrough, &[byte; 4096]);
+            TestRunner::new_with_rng(Config::default(), rng)
+        };
+        for (lo, hi) in exclusive {
+            let v = (lo..hi).new_tree(&mut runner()).unwrap().current();
+            assert!(
+                (lo..hi).contains(&v),
+                "{v} outside {lo}..{hi} (bytes {byte:#x})"
+            );
+        }
+        for (lo, hi) in inclusive {
+            let v = (lo..=hi).new_tree(&mut runner()).unwrap().current();
+            assert!(
+                (lo..=hi).contains(&v),
+                "{v} outside {lo}..={hi} (bytes {byte:#x})"
+            );
+        }
+    }
+}
+
 #[test]
 fn despawn_and_respawn_keep_the_order() {
     let mut scene = Scene::new();
