@@ -3,8 +3,9 @@
 // them: a stable face's run heads, runs.wgsl; the eye texels the shade pass lit this frame),
 // so it never scans a face, and skips quads that lie outside the view frustum or face away
 // from the camera; one quad draws a whole run. The paper schedule (and ours with runs off)
-// scans every texel of the drawn faces (`main`). Both leave outlined texels and runs to a
-// dispatch of their own (`outlined`). The quad corners are computed from the probe's data
+// scans every texel of the drawn faces (`main`). Both only list what they keep, the
+// outlined texels and runs for `outlined`, the rest for `kept_quads`, which work out the
+// quads' corners. The quad corners are computed from the probe's data
 // alone (never the camera), so they are bit-identical while the probe stays.
 // crates/render/src/passes/cull.rs.
 
@@ -42,20 +43,22 @@ struct DispatchArgs {
 }
 // Where each listed face's entries start in `listed`'s index space (then the total).
 @group(2) @binding(0) var<storage, read_write> starts: array<u32, 19>;
-// The outlined texels and runs `main` and `listed` leave to `outlined` (texel x | y << 16;
-// slot | face << 2 | run << 5), after a count (cull.rs `deferred`). `emit_outlined` is most
-// of the compiled `emit`: lavapipe's and SwiftShader's invocations paid for it whether they
-// drew or not (without it in `listed`, an invocation that returns at once cost a third as
-// much on lavapipe; the paper's scan took 357 -> 143 ms on SwiftShader), and few texels are
-// outlined.
-struct Deferred {
-    count: atomic<u32>,
-    _pad: u32,
+// The texels and runs `main` and `listed` keep (texel x | y << 16; slot | face << 2 |
+// run << 5; cull.rs `kept`): the plain ones from the front of `at` for `kept_quads`, the
+// outlined ones from its back for `outlined`. `emit`'s corners and `emit_outlined` are most
+// of the compiled cull: lavapipe's and SwiftShader's invocations paid for them whether they
+// drew or not (without `emit_outlined` in `listed`, an invocation that returns at once cost
+// a third as much on lavapipe; the paper's scan took 357 -> 143 ms on SwiftShader), and most
+// entries are culled, few outlined. Should the two ends meet (more entries than `at` holds,
+// as many as the splat list), neither dispatch reads past the other's end.
+struct Kept {
+    plain: atomic<u32>,
+    outlined: atomic<u32>,
     at: array<vec2<u32>>,
 }
-@group(2) @binding(1) var<storage, read_write> deferred: Deferred;
-// Its own group: bound only while `listed_args` (or `outlined_args`) writes it, not while
-// `listed` (or `outlined`) reads it.
+@group(2) @binding(1) var<storage, read_write> kept: Kept;
+// Its own group: bound only while `listed_args` (or `kept_args`, `outlined_args`) writes it,
+// not while the dispatch it sizes reads it.
 @group(3) @binding(0) var<storage, read_write> dispatch: DispatchArgs;
 // Most workgroups in one dimension of a dispatch (wgpu's default limit).
 const MAX_GROUPS: u32 = 65535u;
@@ -323,7 +326,7 @@ fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: v
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.z < work.count {
-        emit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u, false);
+        admit(work.faces[gid.z].x, work.faces[gid.z].y, gid.xy, 1u);
     }
 }
 
@@ -352,33 +355,135 @@ fn listed(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups
     if view.slots[slot].role != ROLE_EYE {
         run = load_run(slot, t, face);
     }
-    emit(slot, face, t, run, false);
+    admit(slot, face, t, run);
 }
 
-// Leaves texel `t` of `face` in `slot` (heading `run`) to `outlined`.
-fn defer_outlined(slot: u32, face: u32, t: vec2<u32>, run: u32) {
-    let k = atomicAdd(&deferred.count, 1u);
-    if k < arrayLength(&deferred.at) {
-        deferred.at[k] = vec2(t.x | (t.y << 16u), slot | (face << 2u) | (run << 5u));
+// Where texel `t` of `face` in `slot` lies, and the run of `run` texels it heads (runs.wgsl's
+// length, | RUN_COLUMN down a column): what `admit` tests and `emit` draws from.
+struct Head {
+    s: SlotView,
+    fr: ProbeFrame,
+    // The run's last texel, whether it runs down a column, its texels.
+    last: vec2<u32>,
+    column: bool,
+    texels: u32,
+    // The first texel's normal and depth (`load_geo`).
+    geo: vec4<f32>,
+    // The first and the last texel's centre rays.
+    ray: vec3<f32>,
+    ray_last: vec3<f32>,
+    // The run's middle point.
+    p: vec3<f32>,
+}
+
+fn head_of(slot: u32, face: u32, t: vec2<u32>, run: u32) -> Head {
+    var h: Head;
+    h.s = view.slots[slot];
+    h.fr = slot_frame(h.s);
+    h.column = (run & RUN_COLUMN) != 0u;
+    h.texels = run & 0xffffu;
+    h.last = select(vec2(t.x + h.texels - 1u, t.y), vec2(t.x, t.y + h.texels - 1u), h.column);
+    h.geo = load_geo(slot, t, face);
+    let uv = texel_center_uv(t, h.s.n);
+    let uv_last = texel_center_uv(h.last, h.s.n);
+    h.ray = frame_ray(h.fr, face, uv);
+    h.ray_last = frame_ray(h.fr, face, uv_last);
+    h.p = frame_point(h.fr, face, 0.5 * (uv + uv_last), h.geo.w);
+    return h;
+}
+
+// Lists texel `t` of `face` in `slot` (heading `run`) in `kept`, for `outlined` if it is
+// outlined, else for `kept_quads`, unless our schedule culls it (off the view frustum,
+// facing away, a stable probe's quads not drawn this frame). That is all `main` and `listed`
+// do: most entries are culled, and lavapipe's and SwiftShader's invocations pay for every
+// line their shader holds whether they run it or not, so `emit`'s corners are compiled only
+// into the dispatches over the entries kept.
+fn admit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
+    let s = view.slots[slot];
+    if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n || run == 0u {
+        return;
+    }
+    if load_id(slot, t, face) == 0u {
+        return;
+    }
+    if view.schedule == 0u {
+        if s.role != ROLE_EYE && !draws_quads(s.role) {
+            return;
+        }
+        let h = head_of(slot, face, t, run);
+        let d = h.geo.w;
+        let texel_world = frame_texel_size(h.fr, d, s.n, h.ray);
+        if !sphere_in_view(h.p, (2.5 + 0.5 * f32(h.texels - 1u)) * texel_world) {
+            return;
+        }
+        // Back-facing surfaces cannot be seen (meshes are closed or one-sided). A run is
+        // planar, so its middle decides for all of it. An orthographic camera looks along
+        // one direction everywhere (its position says nothing about which way a surface
+        // faces it: sides seen at a grazing angle were culled, and the eye filled them).
+        var facing = dot(h.geo.xyz, view.camera.xyz - h.p) + 1.0e-3 * d;
+        if view.ortho != 0u {
+            facing = 1.0e-3 - dot(h.geo.xyz, view.forward.xyz);
+        }
+        if facing < 0.0 {
+            return;
+        }
+    }
+    let e = vec2(t.x | (t.y << 16u), slot | (face << 2u) | (run << 5u));
+    let n = arrayLength(&kept.at);
+    if lit_outline(load_lit(slot, t, face).rgb) != 0u {
+        let k = atomicAdd(&kept.outlined, 1u);
+        if k < n {
+            kept.at[n - 1u - k] = e;
+        }
+    } else {
+        let k = atomicAdd(&kept.plain, 1u);
+        if k < n {
+            kept.at[k] = e;
+        }
     }
 }
 
-// The dispatch of `outlined`: workgroups of 64 over the entries `main` and `listed` left.
-@compute @workgroup_size(1)
-fn outlined_args() {
-    size_dispatch(min(atomicLoad(&deferred.count), arrayLength(&deferred.at)));
+// How many plain (`outlined` false) or outlined entries `kept` holds whole: none past where
+// the other list's end reached.
+fn kept_count(outlined: bool) -> u32 {
+    let n = arrayLength(&kept.at);
+    let plain = min(atomicLoad(&kept.plain), n);
+    let other = min(atomicLoad(&kept.outlined), n);
+    return select(min(plain, n - other), min(other, n - plain), outlined);
 }
 
-// The outlined texels and runs `main` and `listed` left, drawn body and strips
+// The dispatch of `kept_quads`: workgroups of 64 over the plain entries `main` and `listed`
+// kept.
+@compute @workgroup_size(1)
+fn kept_args() {
+    size_dispatch(kept_count(false));
+}
+
+// The texels and runs `main` and `listed` kept that are not outlined, one quad each.
+@compute @workgroup_size(64)
+fn kept_quads(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
+    let i = gid.x + gid.z * groups.x * 64u;
+    if i < kept_count(false) {
+        let e = kept.at[i];
+        emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, false);
+    }
+}
+
+// The dispatch of `outlined`: workgroups of 64 over the outlined entries.
+@compute @workgroup_size(1)
+fn outlined_args() {
+    size_dispatch(kept_count(true));
+}
+
+// The outlined texels and runs `main` and `listed` kept, drawn body and strips
 // (`emit_outlined`).
 @compute @workgroup_size(64)
 fn outlined(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = gid.x + gid.z * groups.x * 64u;
-    if i >= min(atomicLoad(&deferred.count), arrayLength(&deferred.at)) {
-        return;
+    if i < kept_count(true) {
+        let e = kept.at[arrayLength(&kept.at) - 1u - i];
+        emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, true);
     }
-    let e = deferred.at[i];
-    emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, true);
 }
 
 // Where each listed face's entries start in `listed`'s index space, and its dispatch size:
@@ -405,54 +510,19 @@ fn size_dispatch(total: u32) {
     dispatch.z = (groups + x - 1u) / x;
 }
 
-// Emits the quad of texel `t`, or of the run of `run` texels it heads (runs.wgsl's length,
-// | RUN_COLUMN down a column), unless our schedule culls it; an outlined one only where
-// `outlines` (a constant at each call, so the compiled `main` and `listed` hold no
-// `emit_outlined`), else it leaves it to `outlined` (`defer_outlined`).
+// Emits the quad of texel `t`, or of the run of `run` texels it heads, which `admit` kept:
+// an outlined one's body and strips where `outlines` (a constant at each call, so the
+// compiled `kept_quads` holds no `emit_outlined`), else one quad.
 fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
-    let s = view.slots[slot];
-    if s.role == ROLE_NONE || (s.draw_mask & (1u << face)) == 0u || t.x >= s.n || t.y >= s.n || run == 0u {
-        return;
-    }
-    let id = load_id(slot, t, face);
-    if id == 0u {
-        return;
-    }
-    let column = (run & RUN_COLUMN) != 0u;
-    let texels = run & 0xffffu;
-    var last = vec2(t.x + texels - 1u, t.y);
-    if column {
-        last = vec2(t.x, t.y + texels - 1u);
-    }
-    let geo = load_geo(slot, t, face);
-    let uv = texel_center_uv(t, s.n);
-    let uv_last = texel_center_uv(last, s.n);
-    let fr = slot_frame(s);
-    let ray = frame_ray(fr, face, uv);
-    let ray_last = frame_ray(fr, face, uv_last);
+    let head = head_of(slot, face, t, run);
+    let s = head.s;
+    let fr = head.fr;
+    let last = head.last;
+    let column = head.column;
+    let texels = head.texels;
+    let geo = head.geo;
     let d = geo.w;
-    let mid = 0.5 * (uv + uv_last);
-    let p = frame_point(fr, face, mid, d);
-    let texel_world = frame_texel_size(fr, d, s.n, ray);
-    if view.schedule == 0u {
-        if s.role != ROLE_EYE && !draws_quads(s.role) {
-            return;
-        }
-        if !sphere_in_view(p, (2.5 + 0.5 * f32(texels - 1u)) * texel_world) {
-            return;
-        }
-        // Back-facing surfaces cannot be seen (meshes are closed or one-sided). A run is
-        // planar, so its middle decides for all of it. An orthographic camera looks along
-        // one direction everywhere (its position says nothing about which way a surface
-        // faces it: sides seen at a grazing angle were culled, and the eye filled them).
-        var facing = dot(geo.xyz, view.camera.xyz - p) + 1.0e-3 * d;
-        if view.ortho != 0u {
-            facing = 1.0e-3 - dot(geo.xyz, view.forward.xyz);
-        }
-        if facing < 0.0 {
-            return;
-        }
-    }
+    let p = head.p;
     let lit = load_lit(slot, t, face);
     let bits = u32(lit.a);
     var last_bits = bits;
@@ -463,7 +533,7 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
     // texel's edge lies to where the last texel's does (silhouette edges: `half_size`), so a
     // straight silhouette along a run is met at both ends; a run's texels share the kinds of
     // the sides across it (runs.wgsl `joins`), and its end side is the last texel's.
-    let cos_theta = min(abs(dot(geo.xyz, normalize(ray))), abs(dot(geo.xyz, normalize(ray_last))));
+    let cos_theta = min(abs(dot(geo.xyz, normalize(head.ray))), abs(dot(geo.xyz, normalize(head.ray_last))));
     // The eye probe lies at the camera: seen from its own origin its texel squares meet
     // without gaps, and its silhouettes do not roll, so its quads are exact too. Measured
     // (wall_graze, faces of 64, 320×180): coverage error 0.0238 -> 0.0228, the eye's pixels
@@ -496,13 +566,8 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
             reach = terrain | (object << SPLAT_TERRAIN_OBJECT_AT);
         }
     }
-    let outline = lit_outline(lit.rgb);
-    if outline != 0u {
-        if outlines {
-            emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, outline, p, geo.xyz, d, key, texels, lit.rgb, colour, reach);
-        } else {
-            defer_outlined(slot, face, t, run);
-        }
+    if outlines {
+        emit_outlined(slot, face, fr, t, last, column, bits, last_bits, f, l, lit_outline(lit.rgb), p, geo.xyz, d, key, texels, lit.rgb, colour, reach);
         return;
     }
     let a_t = select(last, t, column);

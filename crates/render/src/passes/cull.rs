@@ -52,21 +52,26 @@ pub struct CullPass {
     pipeline: wgpu::ComputePipeline,
     listed_pipeline: wgpu::ComputePipeline,
     listed_args_pipeline: wgpu::ComputePipeline,
+    kept_pipeline: wgpu::ComputePipeline,
+    kept_args_pipeline: wgpu::ComputePipeline,
     outlined_pipeline: wgpu::ComputePipeline,
     outlined_args_pipeline: wgpu::ComputePipeline,
     /// `listed`'s workgroup counts, sized on the GPU from the draw lists.
     dispatch: wgpu::Buffer,
     dispatch_bind: wgpu::BindGroup,
-    /// `outlined`'s, from the entries `main` and `listed` left it.
+    /// `kept_quads`'s and `outlined`'s, from the entries `main` and `listed` kept.
+    kept_dispatch: wgpu::Buffer,
+    kept_dispatch_bind: wgpu::BindGroup,
     outlined_dispatch: wgpu::Buffer,
     outlined_dispatch_bind: wgpu::BindGroup,
     /// Where each listed face's entries start in `listed`'s index space.
     starts: wgpu::Buffer,
-    /// The outlined texels and runs `main` and `listed` leave to `outlined` (`Deferred` in
-    /// `cull.wgsl`): a count, then an entry per splat the list holds.
-    deferred: wgpu::Buffer,
+    /// The texels and runs `main` and `listed` keep (`Kept` in `cull.wgsl`): two counts,
+    /// then an entry per splat the list holds, the plain ones for `kept_quads` from the
+    /// front, the outlined ones for `outlined` from the back.
+    kept: wgpu::Buffer,
     starts_layout: wgpu::BindGroupLayout,
-    /// `starts` and `deferred`.
+    /// `starts` and `kept`.
     starts_bind: wgpu::BindGroup,
     layout: wgpu::BindGroupLayout,
     textures_layout: wgpu::BindGroupLayout,
@@ -146,6 +151,20 @@ impl CullPass {
             "listed_args",
             &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
         );
+        let kept_pipeline = compute_pipeline(
+            device,
+            "cull::kept_quads",
+            &module,
+            "kept_quads",
+            &[&layout, &textures_layout, &starts_layout],
+        );
+        let kept_args_pipeline = compute_pipeline(
+            device,
+            "cull::kept_args",
+            &module,
+            "kept_args",
+            &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
+        );
         let outlined_pipeline = compute_pipeline(
             device,
             "cull::outlined",
@@ -162,6 +181,8 @@ impl CullPass {
         );
         let (dispatch, dispatch_bind) =
             super::dispatch_args(device, "cull::dispatch", &dispatch_layout);
+        let (kept_dispatch, kept_dispatch_bind) =
+            super::dispatch_args(device, "cull::kept_dispatch", &dispatch_layout);
         let (outlined_dispatch, outlined_dispatch_bind) =
             super::dispatch_args(device, "cull::outlined_dispatch", &dispatch_layout);
         let starts = device.create_buffer(&wgpu::BufferDescriptor {
@@ -170,8 +191,8 @@ impl CullPass {
             usage: wgpu::BufferUsages::STORAGE,
             mapped_at_creation: false,
         });
-        let deferred = deferred_buffer(device, 1024);
-        let starts_bind = starts_bind_group(device, &starts_layout, &starts, &deferred);
+        let kept = kept_buffer(device, 1024);
+        let starts_bind = starts_bind_group(device, &starts_layout, &starts, &kept);
         let args = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("cull::args"),
             size: size_of::<DrawArgs>() as u64,
@@ -187,14 +208,18 @@ impl CullPass {
             pipeline,
             listed_pipeline,
             listed_args_pipeline,
+            kept_pipeline,
+            kept_args_pipeline,
             outlined_pipeline,
             outlined_args_pipeline,
             dispatch,
             dispatch_bind,
+            kept_dispatch,
+            kept_dispatch_bind,
             outlined_dispatch,
             outlined_dispatch_bind,
             starts,
-            deferred,
+            kept,
             starts_layout,
             starts_bind,
             layout,
@@ -211,9 +236,9 @@ impl CullPass {
         let want = (18 * u64::from(max_n) * u64::from(max_n)).min(MAX_SPLATS);
         if want > self.capacity {
             self.splats = splat_buffer(device, want);
-            self.deferred = deferred_buffer(device, want);
+            self.kept = kept_buffer(device, want);
             self.starts_bind =
-                starts_bind_group(device, &self.starts_layout, &self.starts, &self.deferred);
+                starts_bind_group(device, &self.starts_layout, &self.starts, &self.kept);
             self.capacity = want;
         }
     }
@@ -261,7 +286,7 @@ impl CullPass {
             entries: scanned_texels,
         };
         queue.write_buffer(&self.args, 0, bytemuck::bytes_of(&reset));
-        queue.write_buffer(&self.deferred, 0, &[0; 8]);
+        queue.write_buffer(&self.kept, 0, &[0; 8]);
         let bind = bind_group(
             device,
             "cull::bind",
@@ -294,7 +319,12 @@ impl CullPass {
             pass.dispatch_workgroups_indirect(&self.dispatch, 0);
         }
         if !drawn.is_empty() {
-            // The outlined texels and runs the scan and the lists left.
+            // The texels and runs the scan and the lists kept: plain, then outlined.
+            pass.set_pipeline(&self.kept_args_pipeline);
+            pass.set_bind_group(3, &self.kept_dispatch_bind, &[]);
+            pass.dispatch_workgroups(1, 1, 1);
+            pass.set_pipeline(&self.kept_pipeline);
+            pass.dispatch_workgroups_indirect(&self.kept_dispatch, 0);
             pass.set_pipeline(&self.outlined_args_pipeline);
             pass.set_bind_group(3, &self.outlined_dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
@@ -306,11 +336,11 @@ impl CullPass {
     }
 }
 
-/// The entries `main` and `listed` leave to `outlined`: a count (and a pad word), then one
-/// 8-byte entry per splat the list holds (an outlined texel or run draws at least one).
-fn deferred_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
+/// The entries `main` and `listed` keep for `kept_quads` and `outlined`: two counts, then
+/// one 8-byte entry per splat the list holds (each draws at least one).
+fn kept_buffer(device: &wgpu::Device, count: u64) -> wgpu::Buffer {
     device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("cull::deferred"),
+        label: Some("cull::kept"),
         size: 8 + 8 * count,
         usage: wgpu::BufferUsages::STORAGE | wgpu::BufferUsages::COPY_DST,
         mapped_at_creation: false,
@@ -321,13 +351,13 @@ fn starts_bind_group(
     device: &wgpu::Device,
     layout: &wgpu::BindGroupLayout,
     starts: &wgpu::Buffer,
-    deferred: &wgpu::Buffer,
+    kept: &wgpu::Buffer,
 ) -> wgpu::BindGroup {
     bind_group(
         device,
         "cull::starts_bind",
         layout,
-        &[starts.as_entire_binding(), deferred.as_entire_binding()],
+        &[starts.as_entire_binding(), kept.as_entire_binding()],
     )
 }
 
