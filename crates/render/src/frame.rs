@@ -406,6 +406,7 @@ impl Renderer {
                             globals_key: self.shade.globals_key(),
                             list,
                             max_n: globals.max_n,
+                            haze: input.look.haze > 0.0,
                         };
                         (self.terrain_splat).record(ctx, enc, &inputs);
                     });

@@ -46,6 +46,8 @@ pub struct TerrainSplatInputs<'a> {
     pub list: SplatList<'a>,
     /// Texels per face edge of the largest slot (the texel keys' stride).
     pub max_n: u32,
+    /// Whether the frame has haze (`Look::haze` above 0): only then does `haze` run.
+    pub haze: bool,
 }
 
 /// The terrain splat pass.
@@ -53,6 +55,8 @@ pub struct TerrainSplatPass {
     /// `main`: each quad's record from the cache, or its index queued as a miss.
     pipeline: wgpu::ComputePipeline,
     size_pipeline: wgpu::ComputePipeline,
+    /// `haze`: the haze over every record, dispatched as `main` is, on a frame with haze.
+    haze_pipeline: wgpu::ComputePipeline,
     /// `shadows`: each queued miss's block, its record where the block's slot holds it,
     /// else which lights reach its pixels as far as the table knows.
     shadows: Stage,
@@ -266,6 +270,8 @@ impl TerrainSplatPass {
             entries: &[entry(0, c, storage(false))],
         });
         let pipeline = compute_pipeline(device, "terrain_splat", &module, "main", &[&layout]);
+        let haze_pipeline =
+            compute_pipeline(device, "terrain_splat::haze", &module, "haze", &[&layout]);
         // Within a stage's 8 storage buffers: the terrains, their data, the point lights and
         // the queue (with the pixels' lights) here, the BVH's three in group 2.
         let cast_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -331,6 +337,7 @@ impl TerrainSplatPass {
         Ok(TerrainSplatPass {
             pipeline,
             size_pipeline,
+            haze_pipeline,
             shadows,
             cast_rays,
             make,
@@ -404,6 +411,7 @@ impl TerrainSplatPass {
             globals_key,
             list,
             max_n,
+            haze,
         } = *inputs;
         let splats = list.splats.size() / SPLAT_BYTES;
         let limits = ctx.device.limits();
@@ -528,6 +536,11 @@ impl TerrainSplatPass {
                 pass.set_bind_group(i as u32, *group, &[]);
             }
             pass.dispatch_workgroups_indirect(&stage.dispatch, 0);
+        }
+        if haze {
+            pass.set_pipeline(&self.haze_pipeline);
+            pass.set_bind_group(0, &bind, &[]);
+            pass.dispatch_workgroups_indirect(&self.dispatch, 0);
         }
     }
 }
