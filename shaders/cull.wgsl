@@ -321,8 +321,8 @@ fn owner_miss_bits(role: u32, c0: vec3<f32>, c1: vec3<f32>, c2: vec3<f32>, c3: v
     return vec2(b.x << SPLAT_OWNER_MISSES, b.y);
 }
 
-// Every texel of the faces in `work` (the paper schedule; ours with runs off), its outlined
-// ones left to `outlined` as `listed` leaves them.
+// Every texel of the faces in `work` (the paper schedule; ours with runs off), tested and
+// listed for `kept_quads` or `outlined` as `listed` does its entries (`admit`).
 @compute @workgroup_size(8, 8, 1)
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if gid.z < work.count {
