@@ -5,9 +5,8 @@
 // from the camera; one quad draws a whole run. The paper schedule (and ours with runs off)
 // scans every texel of the drawn faces (`main`). Both only list what they keep, the
 // outlined texels and runs for `outlined`, the rest for `kept_quads`, which work out the
-// quads' corners. The quad corners are computed from the probe's data
-// alone (never the camera), so they are bit-identical while the probe stays.
-// crates/render/src/passes/cull.rs.
+// quads' corners. The corners are computed from the probe's data alone (never the camera),
+// so they are bit-identical while the probe stays. crates/render/src/passes/cull.rs.
 
 #include "lib/common.wgsl"
 #include "lib/view.wgsl"
@@ -429,6 +428,7 @@ fn admit(slot: u32, face: u32, t: vec2<u32>, run: u32) {
         }
     }
     let e = vec2(t.x | (t.y << 16u), slot | (face << 2u) | (run << 5u));
+    // `emit_kept` reads it back.
     let n = arrayLength(&kept.at);
     if lit_outline(load_lit(slot, t, face).rgb) != 0u {
         let k = atomicAdd(&kept.outlined, 1u);
@@ -464,9 +464,14 @@ fn kept_args() {
 fn kept_quads(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = gid.x + gid.z * groups.x * 64u;
     if i < kept_count(false) {
-        let e = kept.at[i];
-        emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, false);
+        emit_kept(kept.at[i], false);
     }
+}
+
+// The quad of entry `e` of `kept` (as `admit` packs it); `outlines` as `emit` takes it, a
+// constant at each call.
+fn emit_kept(e: vec2<u32>, outlines: bool) {
+    emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, outlines);
 }
 
 // The dispatch of `outlined`: workgroups of 64 over the outlined entries.
@@ -481,8 +486,7 @@ fn outlined_args() {
 fn outlined(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(num_workgroups) groups: vec3<u32>) {
     let i = gid.x + gid.z * groups.x * 64u;
     if i < kept_count(true) {
-        let e = kept.at[arrayLength(&kept.at) - 1u - i];
-        emit(e.y & 3u, (e.y >> 2u) & 7u, vec2(e.x & 0xffffu, e.x >> 16u), e.y >> 5u, true);
+        emit_kept(kept.at[arrayLength(&kept.at) - 1u - i], true);
     }
 }
 

@@ -5,9 +5,10 @@
 //!   baked at 257×257 (`terrain_walk`). Each iteration settles the probes at the path's
 //!   first frame (untimed) and plays the whole path forward once, and counts as its mean
 //!   frame, as `texel-run render` plays it: every frame of the path weighs the same in
-//!   every sample. The target is that the terrain adds at most 20%. terrain_walk crosses a probe cell every five frames, walk_cells every ten, so
-//!   most of what separates those two is crossfades (both probes' quads drawn): `jog_cells`
-//!   is the comparison at the same pace.
+//!   every sample. The target is that the terrain adds at most 20%. terrain_walk
+//!   crosses a probe cell every five frames, walk_cells every ten, so most of what separates
+//!   those two is crossfades (both probes' quads drawn): `jog_cells` is the comparison at
+//!   the same pace.
 //! - `dab`: one brush dab (`texel-run play`'s: raise or lower, radius 3, a tenth of a second,
 //!   8 units ahead of the camera) through `Session::update_level_region` with the box the
 //!   dab may change, and the next frame drawn, with the camera at rest and while walking,
@@ -16,7 +17,7 @@
 //!
 //! `cargo bench -p texel_runtime --bench terrain` measures (on whatever Vulkan driver the
 //! machine has; the walks take about 15 minutes); `cargo test --benches` runs each once as a
-//! smoke test, a walk then two frames of its path.
+//! smoke test, a walk as two frames of its path after the probes settle.
 
 use std::path::PathBuf;
 use std::sync::Arc;
@@ -176,7 +177,8 @@ fn walk(c: &mut Criterion) {
                 let mut mean_frames = Duration::ZERO;
                 for _ in 0..iters {
                     for _ in 0..SETTLE_FRAMES {
-                        (session.draw_offscreen(&ctx, &request(start, size))).expect("frame");
+                        let frame = session.draw_offscreen(&ctx, &request(start, size));
+                        frame.expect("frame");
                     }
                     let t = Instant::now();
                     for i in 1..frames {

@@ -130,55 +130,20 @@ impl CullPass {
         });
         let dispatch_layout = one_buffer("cull::dispatch_layout");
         let textures_layout = probe_textures_layout(device, c);
-        let pipeline = compute_pipeline(
-            device,
-            "cull",
-            &module,
-            "main",
-            &[&layout, &textures_layout, &starts_layout],
-        );
-        let listed_pipeline = compute_pipeline(
-            device,
-            "cull::listed",
-            &module,
-            "listed",
-            &[&layout, &textures_layout, &starts_layout],
-        );
-        let listed_args_pipeline = compute_pipeline(
-            device,
-            "cull::listed_args",
-            &module,
-            "listed_args",
-            &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
-        );
-        let kept_pipeline = compute_pipeline(
-            device,
-            "cull::kept_quads",
-            &module,
-            "kept_quads",
-            &[&layout, &textures_layout, &starts_layout],
-        );
-        let kept_args_pipeline = compute_pipeline(
-            device,
-            "cull::kept_args",
-            &module,
-            "kept_args",
-            &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
-        );
-        let outlined_pipeline = compute_pipeline(
-            device,
-            "cull::outlined",
-            &module,
-            "outlined",
-            &[&layout, &textures_layout, &starts_layout],
-        );
-        let outlined_args_pipeline = compute_pipeline(
-            device,
-            "cull::outlined_args",
-            &module,
-            "outlined_args",
-            &[&layout, &textures_layout, &starts_layout, &dispatch_layout],
-        );
+        // The scanning and entry dispatches, and the one-invocation dispatches that size the
+        // next (`sizes`: they also bind the dispatch buffer they write).
+        let pipeline_for = |name: &str, sizes: bool| {
+            let groups = [&layout, &textures_layout, &starts_layout, &dispatch_layout];
+            let groups = if sizes { &groups[..] } else { &groups[..3] };
+            compute_pipeline(device, &format!("cull::{name}"), &module, name, groups)
+        };
+        let pipeline = pipeline_for("main", false);
+        let listed_pipeline = pipeline_for("listed", false);
+        let listed_args_pipeline = pipeline_for("listed_args", true);
+        let kept_pipeline = pipeline_for("kept_quads", false);
+        let kept_args_pipeline = pipeline_for("kept_args", true);
+        let outlined_pipeline = pipeline_for("outlined", false);
+        let outlined_args_pipeline = pipeline_for("outlined_args", true);
         let (dispatch, dispatch_bind) =
             super::dispatch_args(device, "cull::dispatch", &dispatch_layout);
         let (kept_dispatch, kept_dispatch_bind) =
