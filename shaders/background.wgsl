@@ -90,18 +90,21 @@ fn fs(in: FullscreenOut) -> FsOut {
     var key = 0u;
     var colour = lit.rgb;
     var depth = NDC_FAR;
-    if id != 0u {
+    let p = eye_point(e, textureLoad(eye_geo, t, e.face, 0).w);
+    let clip = view.view_proj * vec4(p, 1.0);
+    let in_depth = within_view_depth(clip);
+    if id != 0u && !in_depth {
+        colour = sky_texel_colour();
+    }
+    if id != 0u && in_depth {
         key = texel_key(view.eye_slot, e.face, t, view.max_n) + 1u;
-        let d = textureLoad(eye_geo, t, e.face, 0).w;
-        let p = eye_point(e, d);
         colour = hazed(colour, length(p - e.start));
         // Reversed depth is about near / distance under perspective: dividing it pushes the
         // distance back by a fraction. An orthographic probe's quads are exact, so there are
-        // no gaps to fill: there the fill stays at the far plane. (Written as one condition:
-        // with the clip position computed inside a nested branch, lavapipe's resident memory
-        // grew 67 MiB over 300 frames of the `texel-run soak` test.)
-        let clip = view.view_proj * vec4(p, 1.0);
-        if view.ortho == 0u && clip.w > 0.0 {
+        // no gaps to fill: there the fill stays at the far plane. (The clip position is
+        // worked out outside any branch: computed inside a nested one, lavapipe's resident
+        // memory grew 67 MiB over 300 frames of the `texel-run soak` test.)
+        if view.ortho == 0u {
             depth = clamp(clip.z / clip.w / (1.0 + GAP_DEPTH), NDC_FAR, 1.0);
         }
     }

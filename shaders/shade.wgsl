@@ -270,14 +270,6 @@ fn on_silhouette(t: vec2<u32>, id: u32) -> bool {
     return false;
 }
 
-// A lit colour rounded to a half float's 10 bits of mantissa: posterization fixes the
-// lightness only, and runs.wgsl joins texels of exactly one colour, so hue and chroma are
-// rounded as they were when the lit texture held half floats (its alpha now needs more bits
-// than a half's). By bits: pack2x16float needs a capability not every device has.
-fn half_precision(c: vec3<f32>) -> vec3<f32> {
-    return bitcast<vec3<f32>>((bitcast<vec3<u32>>(c) + vec3(0x1000u)) & vec3(0xffffe000u));
-}
-
 // Where each silhouette side's edge lies (`SIMILAR_EDGE_AT`): a texel belongs to its surface
 // when its centre ray meets it, so a side whose neighbour sees the sky or a farther surface
 // has its edge somewhere between the two centres, and a quad that ends half a texel out

@@ -167,6 +167,14 @@ fn linear_from_oklab(c: vec3<f32>) -> vec3<f32> {
     );
 }
 
+// A lit colour rounded to a half float's 10 bits of mantissa: posterization fixes the
+// lightness only, and runs.wgsl joins texels of exactly one colour, so hue and chroma are
+// rounded as they were when the lit texture held half floats (its alpha now needs more bits
+// than a half's). By bits: pack2x16float needs a capability not every device has.
+fn half_precision(c: vec3<f32>) -> vec3<f32> {
+    return bitcast<vec3<f32>>((bitcast<vec3<u32>>(c) + vec3(0x1000u)) & vec3(0xffffe000u));
+}
+
 // Quantizes OKLab lightness to `bands` steps, after shifting it by `shift` bands.
 fn posterize(c: vec3<f32>, bands: u32, shift: f32) -> vec3<f32> {
     var lab = oklab_from_linear(max(c, vec3(0.0)));

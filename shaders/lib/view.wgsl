@@ -211,6 +211,21 @@ fn eye_point(e: EyeRay, d: f32) -> vec3<f32> {
     return e.start + e.dir * ((d - e.depth0) / e.along);
 }
 
+// Whether a point at clip position `clip` (`view.view_proj` of it) lies between the view's
+// near and far planes. The eye probe captures as far as `CAPTURE_FAR`, which may lie past the
+// view's far plane, and the shade pass leaves an eye texel whose quad cannot reach the view
+// unlit (black): so a fill from the eye shows the sky where its texel lies past the far plane
+// (or before the near one), as the splats' quads are clipped there and the raster shows
+// nothing.
+fn within_view_depth(clip: vec4<f32>) -> bool {
+    return clip.w > 0.0 && clip.z >= NDC_FAR * clip.w && clip.z <= NDC_NEAR * clip.w;
+}
+
+// The sky as a sky texel of a lit face holds it (shade.wgsl `needs_light`).
+fn sky_texel_colour() -> vec3<f32> {
+    return half_precision(posterize(view.sky.rgb, view.bands, 0.0));
+}
+
 // `same_surface` for frame `f`: an orthographic face's texels are one size at every depth.
 fn frame_same_surface(f: ProbeFrame, d: f32, dn: f32, n: u32) -> bool {
     if f.half > 0.0 {

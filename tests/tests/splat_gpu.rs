@@ -4,7 +4,7 @@
 use std::collections::HashMap;
 
 use glam::{UVec2, Vec3};
-use texel_render::input::{Camera, Schedule};
+use texel_render::input::{Camera, Display, Schedule};
 use texel_tests::{Harness, check_golden};
 
 const DT: f32 = 1.0 / 30.0;
@@ -458,4 +458,49 @@ fn orthographic_grid_probes_share_their_texels_across_a_pan() {
         lit.len()
     );
     assert_eq!(same, shared, "{same} of {shared} shared texels lit alike");
+}
+
+#[test]
+fn past_the_far_plane_the_sky_shows_not_an_unlit_texel() {
+    // The probes capture farther than this camera's far plane: the ground's quads past it
+    // are clipped (and texel marching stops at it), and the eye probe's fill there must show
+    // the sky (as the raster does), not the eye texels the shade pass left unlit because
+    // their quads cannot reach the view.
+    for display in [Display::Splat, Display::March] {
+        let size = UVec2::new(160, 90);
+        let Some(mut h) = Harness::new("tests/data/flat_ground.ron", size, 32) else {
+            return;
+        };
+        h.session.renderer_mut().set_display(display);
+        let mut c = cam(0.0, 1.6, 0.0, 0.0, -5.0);
+        c.far = 20.0;
+        let px = settled(&mut h, c);
+        let pixel = |x: u32, y: u32| {
+            let i = ((y * size.x + x) * 4) as usize;
+            [px[i], px[i + 1], px[i + 2]]
+        };
+        let sky = pixel(0, 0);
+        let dark = px
+            .chunks_exact(4)
+            .filter(|p| p[0].max(p[1]).max(p[2]) < 24)
+            .count();
+        assert_eq!(
+            dark, 0,
+            "{display:?}: {dark} pixels are black (unlit eye texels)"
+        );
+        // Pitched down 5° with a vertical field of view of 60°, the horizon lies 7.5 rows
+        // above the middle; the ground 20 units ahead (the far plane) 0.7 rows above it.
+        // Between them, past the far plane, the sky shows.
+        let row = size.y / 2 - 4;
+        for x in (0..size.x).step_by(8) {
+            assert_eq!(
+                pixel(x, row),
+                sky,
+                "{display:?}: pixel ({x}, {row}), past the far plane"
+            );
+        }
+        // And nearer than the far plane the ground does.
+        let near = pixel(size.x / 2, size.y - 1);
+        assert_ne!(near, sky, "{display:?}: the ground before the far plane");
+    }
 }

@@ -208,7 +208,9 @@ pub struct Camera {
     pub fov_y: f32,
     /// Near plane distance.
     pub near: f32,
-    /// Far plane distance.
+    /// Far plane distance. By default the probes' capture range
+    /// ([`crate::passes::capture::CAPTURE_FAR`]): past it they hold only the sky, so a farther
+    /// plane would show nothing more, and a nearer one would cut off what they hold.
     pub far: f32,
     /// `Some(h)`: an orthographic camera whose view is `h` world units tall (`fov_y` unused).
     pub ortho_height: Option<f32>,
@@ -222,7 +224,7 @@ impl Camera {
             forward: forward.normalize(),
             fov_y: 60f32.to_radians(),
             near: 0.05,
-            far: 400.0,
+            far: crate::passes::capture::CAPTURE_FAR,
             ortho_height: None,
         }
     }

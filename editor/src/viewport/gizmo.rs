@@ -4,7 +4,7 @@
 
 use egui::{Color32, Painter, Pos2, Stroke};
 use glam::Vec3;
-use texel_scene::Transform;
+use texel_scene::{EntityRow, Transform};
 
 use super::drag::{AXIS_COLOURS, HandleDrag};
 use crate::camera::Projector;
@@ -19,6 +19,18 @@ pub enum Mode {
     Rotate,
     /// Scale (R).
     Scale,
+}
+
+/// The mode the gizmo works in on `row`: a terrain lies along the world's axes and is placed
+/// by its translation only (`texel_scene::terrain::unapplied_transform`), so on a terrain the
+/// gizmo moves it whatever mode is chosen, rather than set a rotation or scale that would
+/// not be applied.
+pub fn mode_for(mode: Mode, row: &EntityRow) -> Mode {
+    if row.terrain.is_some() {
+        Mode::Translate
+    } else {
+        mode
+    }
 }
 
 /// Snap steps while Ctrl is held.
@@ -126,6 +138,17 @@ pub fn world_len(proj: &Projector, origin: Vec3) -> f32 {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn a_terrain_is_only_moved() {
+        let mut row = EntityRow::default();
+        assert_eq!(mode_for(Mode::Rotate, &row), Mode::Rotate);
+        assert_eq!(mode_for(Mode::Scale, &row), Mode::Scale);
+        row.terrain = Some(crate::terrain::default_terrain());
+        for mode in [Mode::Translate, Mode::Rotate, Mode::Scale] {
+            assert_eq!(mode_for(mode, &row), Mode::Translate);
+        }
+    }
 
     #[test]
     fn translate_follows_the_axis_and_snaps() {

@@ -593,15 +593,16 @@ impl Viewport {
         let Some((o, ends)) = gizmo::handles(proj, t.translation) else {
             return Ok(false);
         };
+        let mode = gizmo::mode_for(self.gizmo, &row);
         let pointer = Pointer::read(ui, response);
         let hit = |p| gizmo::hit(o, ends, p);
         let frame = drag::update(&mut self.drag, &pointer, hit, t);
-        gizmo::draw(painter, o, ends, self.gizmo, frame.highlight);
+        gizmo::draw(painter, o, ends, mode, frame.highlight);
         if let Some(d) = frame.dragged {
             let world_len = gizmo::world_len(proj, d.start.translation);
             let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
             let (o0, ends0) = gizmo::handles(proj, d.start.translation).unwrap_or((o, ends));
-            let next = gizmo::apply(&d, self.gizmo, o0, ends0[d.handle], world_len, snap);
+            let next = gizmo::apply(&d, mode, o0, ends0[d.handle], world_len, snap);
             let mut row = row;
             row.transform = Some(next);
             state.set_row(index, row, Some(MergeKey::Gizmo { index }))?;
