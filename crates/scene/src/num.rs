@@ -187,9 +187,9 @@ f32_with!(
     check_coord
 );
 f32_with!(
-    /// A positive length (radius, height, cell size).
+    /// A positive amount: a length (radius, height, cell size), a density, a tile size.
     positive,
-    |v| check_positive(v, "length")
+    |v| check_positive(v, "value")
 );
 f32_with!(
     /// A light intensity or other non-negative amount.
