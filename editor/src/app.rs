@@ -217,9 +217,15 @@ impl EditorApp {
             let r = self.viewport.gpu.as_ref().map(|g| &g.report);
             match r {
                 Some(r) => {
+                    // Before the first edit, what the renderer's start took.
+                    let (what, ms) = if r.upload_ms > 0.0 {
+                        ("scene upload", r.upload_ms)
+                    } else {
+                        ("renderer start", r.start_ms)
+                    };
                     ui.label(format!(
-                        "render {:.1} ms · scene upload {:.1} ms · {}×{}",
-                        r.frame_ms, r.upload_ms, r.size.x, r.size.y
+                        "render {:.1} ms · {what} {ms:.1} ms · {}×{}",
+                        r.frame_ms, r.size.x, r.size.y
                     ));
                     if let Some(s) = &r.stats {
                         let c = &s.counters;

@@ -31,6 +31,10 @@ fn viewport_renders_and_picks_on_eframes_kind_of_device() {
         "viewport 160x120 frame ms: {times:?}, upload {:.2} ms",
         gpu.report.upload_ms
     );
+    // The renderer's start (its shaders compiled) is not a scene upload: before any edit
+    // a stroke's refreshes are paced as for a quick upload.
+    assert!(gpu.report.start_ms > 0.0, "the start is timed");
+    assert_eq!(gpu.report.upload_ms, 0.0, "no edit, no upload");
     let stats = gpu.report.stats.clone().expect("stats");
     assert!(stats.counters.quads_splatted > 0);
     assert!(gpu.texture().is_some());
@@ -48,6 +52,7 @@ fn viewport_renders_and_picks_on_eframes_kind_of_device() {
             .expect("render");
     }
     assert_ne!(gpu.pick(size / 2).expect("pick"), Some(2));
+    assert!(gpu.report.upload_ms > 0.0, "the edit's upload is timed");
 }
 
 #[test]
@@ -70,6 +75,10 @@ fn orthographic_view_renders_from_orthographic_probes_and_picks() {
     let probes = gpu.probes.expect("probes of the last frame");
     assert!(probes.grid.ortho.is_some(), "{:?}", probes.grid);
     assert!(probes.eye.ortho.is_some());
+    // The renderer's start (its shaders compiled) is not a scene upload: before any edit
+    // a stroke's refreshes are paced as for a quick upload.
+    assert!(gpu.report.start_ms > 0.0, "the start is timed");
+    assert_eq!(gpu.report.upload_ms, 0.0, "no edit, no upload");
     let stats = gpu.report.stats.clone().expect("stats");
     assert!(stats.counters.quads_splatted > 0);
     // The centre still shows the upright the view is focused on.

@@ -31,8 +31,14 @@ pub struct RenderReport {
     pub stats: Option<FrameStats>,
     /// Wall time of the last `render` call, ms.
     pub frame_ms: f64,
-    /// Wall time of the last scene upload (meshes, BVH), ms.
+    /// Wall time of the last scene upload after an edit (meshes, BVH), ms; 0 before the
+    /// first edit. A stroke paces its refreshes by it (`sculpt::refresh_interval`).
     pub upload_ms: f64,
+    /// Wall time of the renderer's start: the session with its pipelines and the first
+    /// scene upload, ms. Kept apart from `upload_ms`: it is mostly compiling shaders (about
+    /// a second on lavapipe), which no edit repeats, and counted as an upload it held a
+    /// stroke begun right after opening a level to one refresh every three seconds.
+    pub start_ms: f64,
     /// Internal resolution of the last frame.
     pub size: UVec2,
 }
@@ -165,7 +171,8 @@ impl GpuView {
                     session.set_texture_density_view(true).map_err(err)?;
                 }
                 self.session = Some((session, revision));
-                self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
+                self.report.start_ms = t.elapsed().as_secs_f64() * 1e3;
+                self.report.upload_ms = 0.0;
             }
         }
         let id = self.ensure_target(size);
