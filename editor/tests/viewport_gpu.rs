@@ -91,3 +91,109 @@ fn orthographic_view_renders_from_orthographic_probes_and_picks() {
     let probes = gpu.probes.expect("probes of the last frame");
     assert!(probes.grid.ortho.is_none());
 }
+
+/// What egui draws of the viewport's texture, 1:1 into an `Rgba8Unorm` target as eframe's
+/// window: RGBA8 rows.
+fn egui_draws(
+    ctx: &texel_render::context::GpuContext,
+    egui: &egui::mutex::RwLock<egui_wgpu::Renderer>,
+    id: egui::TextureId,
+    size: UVec2,
+) -> Vec<u8> {
+    let target = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("test::egui_target"),
+        size: wgpu::Extent3d {
+            width: size.x,
+            height: size.y,
+            depth_or_array_layers: 1,
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::COPY_SRC,
+        view_formats: &[],
+    });
+    let view = target.create_view(&Default::default());
+    let rect =
+        egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.x as f32, size.y as f32));
+    let mut mesh = egui::Mesh::with_texture(id);
+    let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
+    mesh.add_rect_with_uv(rect, uv, egui::Color32::WHITE);
+    let jobs = [egui::ClippedPrimitive {
+        clip_rect: rect,
+        primitive: egui::epaint::Primitive::Mesh(mesh),
+    }];
+    let screen = egui_wgpu::ScreenDescriptor {
+        size_in_pixels: [size.x, size.y],
+        pixels_per_point: 1.0,
+    };
+    let mut encoder = ctx.device.create_command_encoder(&Default::default());
+    let mut renderer = egui.write();
+    let extra = renderer.update_buffers(&ctx.device, &ctx.queue, &mut encoder, &jobs, &screen);
+    {
+        let pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+            label: Some("test::egui"),
+            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+                view: &view,
+                resolve_target: None,
+                depth_slice: None,
+                ops: wgpu::Operations {
+                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                    store: wgpu::StoreOp::Store,
+                },
+            })],
+            depth_stencil_attachment: None,
+            timestamp_writes: None,
+            occlusion_query_set: None,
+            multiview_mask: None,
+        });
+        renderer.render(&mut pass.forget_lifetime(), &jobs, &screen);
+    }
+    ctx.queue
+        .submit(extra.into_iter().chain([encoder.finish()]));
+    texel_render::target::read_texture_layer(ctx, &target, 0, 4).expect("read back")
+}
+
+#[test]
+fn the_viewport_shows_the_colours_the_game_shows() {
+    // egui takes a texture's values as gamma-encoded; the renderer writes sRGB-encoded
+    // colours. Sampled through an sRGB view they were decoded once more, and the editor showed
+    // the level darker than `texel-run` (the sky 195 → 139).
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let (mut gpu, egui) = support::gpu_view_and_egui(&ctx);
+    let level = support::stone_circle();
+    let camera = support::camera().camera();
+    let size = UVec2::new(160, 120);
+    let mut session = texel_runtime::session::Session::headless(&ctx, &level, size, camera.fov_y)
+        .expect("session");
+    let mut game = Vec::new();
+    for _ in 0..4 {
+        gpu.render(&level, 0, camera, size, Schedule::Ours, 0.016)
+            .expect("render");
+        let request = texel_runtime::session::FrameRequest {
+            camera,
+            dt: 0.016,
+            schedule: Schedule::Ours,
+            size,
+        };
+        game = session.draw_offscreen(&ctx, &request).expect("frame").1;
+    }
+    let id = gpu.texture().expect("a texture");
+    let shown = egui_draws(&ctx, &egui, id, size);
+    assert_eq!(shown.len(), game.len());
+    let off = shown
+        .chunks_exact(4)
+        .zip(game.chunks_exact(4))
+        .filter(|(a, b)| (0..3).any(|c| a[c].abs_diff(b[c]) > 2))
+        .count();
+    let total = (size.x * size.y) as usize;
+    assert!(
+        off * 100 < total,
+        "{off} of {total} pixels egui shows differ from the game's frame (first: {:?} against {:?})",
+        &shown[..4],
+        &game[..4]
+    );
+}

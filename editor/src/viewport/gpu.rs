@@ -18,11 +18,12 @@ use texel_render::stats::FrameStats;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, SessionError};
 
-/// The viewport texture's format (sRGB, filterable, as egui samples it).
-pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8UnormSrgb;
-/// The view of it the renderer draws into: the same bytes, plain, so the renderer writes its
-/// sRGB-encoded colours without an encode per pixel.
-const DRAW_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The viewport texture's format: plain 8-bit, holding the renderer's sRGB-encoded colours
+/// as they are. egui samples it so: its shader takes a texture's values as gamma-encoded
+/// (egui-wgpu's `egui.wgsl`, `tex_gamma`), as `texel-run play` presents them. Sampled
+/// through an sRGB view, each colour was decoded once more and the view showed the level
+/// darker than the game (sky 195 → 139).
+pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 
 /// What the last render cost.
 #[derive(Debug, Clone, Default)]
@@ -44,7 +45,7 @@ pub struct RenderReport {
 }
 
 struct Target {
-    /// The plain view the renderer draws into (egui samples an sRGB one).
+    /// The view the renderer draws into, and egui samples.
     draw: wgpu::TextureView,
     id: egui::TextureId,
     size: UVec2,
@@ -164,7 +165,7 @@ impl GpuView {
             None => {
                 let fov_y = camera.fov_y;
                 let mut session =
-                    Session::new(&self.ctx, level, DRAW_FORMAT, size, fov_y).map_err(err)?;
+                    Session::new(&self.ctx, level, FORMAT, size, fov_y).map_err(err)?;
                 session.renderer_mut().set_lines(&self.ctx, &self.lines);
                 session.set_animation_paused(!self.animating);
                 if self.density_view {
@@ -245,13 +246,10 @@ impl GpuView {
             dimension: wgpu::TextureDimension::D2,
             format: FORMAT,
             usage: wgpu::TextureUsages::RENDER_ATTACHMENT | wgpu::TextureUsages::TEXTURE_BINDING,
-            view_formats: &[DRAW_FORMAT],
+            view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let draw = texture.create_view(&wgpu::TextureViewDescriptor {
-            format: Some(DRAW_FORMAT),
-            ..Default::default()
-        });
+        let draw = view.clone();
         let mut egui = self.egui.write();
         let id = match self.target.take() {
             Some(old) => {

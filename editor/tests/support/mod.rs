@@ -7,23 +7,32 @@ use std::sync::Arc;
 use egui::mutex::RwLock;
 use glam::Vec3;
 use texel_editor::camera::EditorCamera;
-use texel_editor::viewport::gpu::{FORMAT, GpuView};
+use texel_editor::viewport::gpu::GpuView;
 use texel_render::context::GpuContext;
 use texel_runtime::load::{LoadedLevel, load_level};
 
 /// The viewport's renderer on `ctx`'s device, as eframe would hand it over.
 pub fn gpu_view(ctx: &GpuContext) -> GpuView {
-    let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, FORMAT, Default::default());
+    gpu_view_and_egui(ctx).0
+}
+
+/// [`gpu_view`], with the egui renderer it registers its texture with (drawing into
+/// `Rgba8Unorm`, as eframe prefers).
+pub fn gpu_view_and_egui(ctx: &GpuContext) -> (GpuView, Arc<RwLock<egui_wgpu::Renderer>>) {
+    let target = wgpu::TextureFormat::Rgba8Unorm;
+    let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, target, Default::default());
+    let renderer = Arc::new(RwLock::new(egui_renderer));
     let rs = egui_wgpu::RenderState {
         adapter: ctx.adapter.clone(),
         available_adapters: vec![ctx.adapter.clone()],
         instance: ctx.instance.clone(),
         device: ctx.device.clone(),
         queue: ctx.queue.clone(),
-        target_format: FORMAT,
-        renderer: Arc::new(RwLock::new(egui_renderer)),
+        target_format: target,
+        renderer: renderer.clone(),
     };
-    GpuView::new(&rs).expect("renderer on the shared device")
+    let view = GpuView::new(&rs).expect("renderer on the shared device");
+    (view, renderer)
 }
 
 /// The `stone_circle` level.
