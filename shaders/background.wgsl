@@ -94,7 +94,7 @@ fn fs(in: FullscreenOut) -> FsOut {
     let clip = view.view_proj * vec4(p, 1.0);
     let in_depth = within_view_depth(clip);
     if id != 0u && !in_depth {
-        colour = sky_texel_colour();
+        colour = sky_texel(view.sky.rgb, view.bands);
     }
     if id != 0u && in_depth {
         key = texel_key(view.eye_slot, e.face, t, view.max_n) + 1u;

@@ -277,7 +277,7 @@ fn fs(in: FullscreenOut) -> FsOut {
     }
     let p = eye_point(e, load_geo(view.eye_slot, tx, e.face).w);
     if !within_view_depth(view.view_proj * vec4(p, 1.0)) {
-        return FsOut(vec4(linear_to_srgb(sky_texel_colour()), 1.0), 0u, NDC_FAR);
+        return FsOut(vec4(linear_to_srgb(sky_texel(view.sky.rgb, view.bands)), 1.0), 0u, NDC_FAR);
     }
     return shown(view.eye_slot, e.face, tx, p);
 }

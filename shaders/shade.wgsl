@@ -234,7 +234,7 @@ fn needs_light(t: vec2<u32>) -> bool {
     let n = sf.n;
     let me = load(sf.face, t);
     if me.id == 0u {
-        textureStore(lit_out, t, sf.face, vec4(half_precision(posterize(globals.sky.rgb, globals.bands, 0.0)), 0.0));
+        textureStore(lit_out, t, sf.face, vec4(sky_texel(globals.sky.rgb, globals.bands), 0.0));
         return false;
     }
     if sf.view_cull != 0u {

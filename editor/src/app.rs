@@ -218,10 +218,9 @@ impl EditorApp {
             match r {
                 Some(r) => {
                     // Before the first edit, what the renderer's start took.
-                    let (what, ms) = if r.upload_ms > 0.0 {
-                        ("scene upload", r.upload_ms)
-                    } else {
-                        ("renderer start", r.start_ms)
+                    let (what, ms) = match r.upload_ms {
+                        Some(ms) => ("scene upload", ms),
+                        None => ("renderer start", r.start_ms),
                     };
                     ui.label(format!(
                         "render {:.1} ms · {what} {ms:.1} ms · {}×{}",

@@ -175,6 +175,11 @@ fn half_precision(c: vec3<f32>) -> vec3<f32> {
     return bitcast<vec3<f32>>((bitcast<vec3<u32>>(c) + vec3(0x1000u)) & vec3(0xffffe000u));
 }
 
+// The colour a sky texel of a lit face holds, for a sky of `sky` posterized to `bands`.
+fn sky_texel(sky: vec3<f32>, bands: u32) -> vec3<f32> {
+    return half_precision(posterize(sky, bands, 0.0));
+}
+
 // Quantizes OKLab lightness to `bands` steps, after shifting it by `shift` bands.
 fn posterize(c: vec3<f32>, bands: u32, shift: f32) -> vec3<f32> {
     var lab = oklab_from_linear(max(c, vec3(0.0)));

@@ -221,10 +221,6 @@ fn within_view_depth(clip: vec4<f32>) -> bool {
     return clip.w > 0.0 && clip.z >= NDC_FAR * clip.w && clip.z <= NDC_NEAR * clip.w;
 }
 
-// The sky as a sky texel of a lit face holds it (shade.wgsl `needs_light`).
-fn sky_texel_colour() -> vec3<f32> {
-    return half_precision(posterize(view.sky.rgb, view.bands, 0.0));
-}
 
 // `same_surface` for frame `f`: an orthographic face's texels are one size at every depth.
 fn frame_same_surface(f: ProbeFrame, d: f32, dn: f32, n: u32) -> bool {

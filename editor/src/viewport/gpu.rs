@@ -18,12 +18,12 @@ use texel_render::stats::FrameStats;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, SessionError};
 
-/// The viewport texture's format: plain 8-bit, holding the renderer's sRGB-encoded colours
-/// as they are. egui samples it so: its shader takes a texture's values as gamma-encoded
-/// (egui-wgpu's `egui.wgsl`, `tex_gamma`), as `texel-run play` presents them. Sampled
-/// through an sRGB view, each colour was decoded once more and the view showed the level
-/// darker than the game (sky 195 → 139).
-pub const FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
+/// The viewport texture's format: the renderer's own frame format, plain 8-bit holding its
+/// sRGB-encoded colours as they are. egui samples it so: its shader takes a texture's values
+/// as gamma-encoded (egui-wgpu's `egui.wgsl`, `tex_gamma`), as `texel-run play` presents
+/// them. Sampled through an sRGB view, each colour was decoded once more and the view showed
+/// the level darker than the game (sky 195 → 139).
+pub const FORMAT: wgpu::TextureFormat = texel_render::target::FRAME_FORMAT;
 
 /// What the last render cost.
 #[derive(Debug, Clone, Default)]
@@ -32,9 +32,9 @@ pub struct RenderReport {
     pub stats: Option<FrameStats>,
     /// Wall time of the last `render` call, ms.
     pub frame_ms: f64,
-    /// Wall time of the last scene upload after an edit (meshes, BVH), ms; 0 before the
+    /// Wall time of the last scene upload after an edit (meshes, BVH), ms; `None` before the
     /// first edit. A stroke paces its refreshes by it (`sculpt::refresh_interval`).
-    pub upload_ms: f64,
+    pub upload_ms: Option<f64>,
     /// Wall time of the renderer's start: the session with its pipelines and the first
     /// scene upload, ms. Kept apart from `upload_ms`: it is mostly compiling shaders (about
     /// a second on lavapipe), which no edit repeats, and counted as an upload it held a
@@ -160,7 +160,7 @@ impl GpuView {
                     session.set_texture_density_view(true).map_err(err)?;
                 }
                 *r = revision;
-                self.report.upload_ms = t.elapsed().as_secs_f64() * 1e3;
+                self.report.upload_ms = Some(t.elapsed().as_secs_f64() * 1e3);
             }
             None => {
                 let fov_y = camera.fov_y;
@@ -173,7 +173,7 @@ impl GpuView {
                 }
                 self.session = Some((session, revision));
                 self.report.start_ms = t.elapsed().as_secs_f64() * 1e3;
-                self.report.upload_ms = 0.0;
+                self.report.upload_ms = None;
             }
         }
         let id = self.ensure_target(size);
@@ -249,7 +249,6 @@ impl GpuView {
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let draw = view.clone();
         let mut egui = self.egui.write();
         let id = match self.target.take() {
             Some(old) => {
@@ -265,7 +264,11 @@ impl GpuView {
                 egui.register_native_texture(&self.ctx.device, &view, wgpu::FilterMode::Nearest)
             }
         };
-        self.target = Some(Target { draw, id, size });
+        self.target = Some(Target {
+            draw: view,
+            id,
+            size,
+        });
         id
     }
 }

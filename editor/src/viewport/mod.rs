@@ -426,7 +426,7 @@ impl Viewport {
         let used = if sculpting {
             self.drag = None;
             self.face_drag = None;
-            let upload_ms = self.gpu.as_ref().map_or(0.0, |g| g.report.upload_ms);
+            let upload_ms = self.gpu.as_ref().and_then(|g| g.report.upload_ms);
             let refresh = sculpt::refresh_interval(upload_ms);
             self.terrain
                 .ui(ui, &response, &painter, &proj, state, refresh)?

@@ -31,10 +31,12 @@ use crate::terrain::{HeightChange, TerrainTarget, file_backed, selected_terrain}
 pub const REFRESH_EVERY: Duration = Duration::from_millis(100);
 
 /// How long a stroke waits between refreshes of the view when the last scene upload took
-/// `upload_ms`: [`REFRESH_EVERY`], or three uploads when that is longer, so rebuilding the
-/// level takes at most about a quarter of the stroke's time.
-pub fn refresh_interval(upload_ms: f64) -> Duration {
-    let slow = Duration::from_secs_f64((upload_ms * 3.0 / 1e3).clamp(0.0, 10.0));
+/// `upload_ms` (`None`: none yet since the renderer started): [`REFRESH_EVERY`], or three
+/// uploads when that is longer, so rebuilding the level takes at most about a quarter of the
+/// stroke's time.
+pub fn refresh_interval(upload_ms: Option<f64>) -> Duration {
+    let ms = upload_ms.unwrap_or(0.0);
+    let slow = Duration::from_secs_f64((ms * 3.0 / 1e3).clamp(0.0, 10.0));
     slow.max(REFRESH_EVERY)
 }
 /// Segments of the brush circle.

@@ -16,10 +16,10 @@ pub fn gpu_view(ctx: &GpuContext) -> GpuView {
     gpu_view_and_egui(ctx).0
 }
 
-/// [`gpu_view`], with the egui renderer it registers its texture with (drawing into
-/// `Rgba8Unorm`, as eframe prefers).
+/// [`gpu_view`], with the egui renderer it registers its texture with (drawing into plain
+/// RGBA8, as eframe prefers).
 pub fn gpu_view_and_egui(ctx: &GpuContext) -> (GpuView, Arc<RwLock<egui_wgpu::Renderer>>) {
-    let target = wgpu::TextureFormat::Rgba8Unorm;
+    let target = texel_render::target::FRAME_FORMAT;
     let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, target, Default::default());
     let renderer = Arc::new(RwLock::new(egui_renderer));
     let rs = egui_wgpu::RenderState {
