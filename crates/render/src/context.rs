@@ -182,6 +182,7 @@ impl GpuContext {
         device: wgpu::Device,
         queue: wgpu::Queue,
     ) -> Self {
+        record_device_for_test_plan();
         let wanted = TIMESTAMPS;
         let timestamps = device.features().contains(wanted);
         let errors = GpuErrors::install(&device);
@@ -213,6 +214,36 @@ impl GpuContext {
             .poll(wgpu::PollType::wait_indefinitely())
             .map(|_| ())
             .map_err(|e| GpuError::Readback(e.to_string()))
+    }
+}
+
+/// For the test plan (`cargo xtask test`, `xtask/src/plan.rs`): when `TEXEL_GPU_TEST_LOG`
+/// names a file, appends the running test's name (cargo-nextest's `NEXTEST_BINARY_ID` and
+/// `NEXTEST_TEST_NAME`, `?` outside nextest) to it, one line per device opened. A `texel-run`
+/// or `texel-eval` started by a test inherits both, so its device counts for that test. The
+/// tests recorded on one driver are the ones the second driver runs. Unset, it does nothing.
+fn record_device_for_test_plan() {
+    use std::io::Write as _;
+    let Some(path) = std::env::var_os("TEXEL_GPU_TEST_LOG") else {
+        return;
+    };
+    let var = |key| std::env::var(key).unwrap_or_else(|_| "?".to_owned());
+    let line = format!(
+        "{}\t{}\n",
+        var("NEXTEST_BINARY_ID"),
+        var("NEXTEST_TEST_NAME")
+    );
+    // One write to a file opened for appending: lines of concurrent processes stay whole.
+    let written = std::fs::OpenOptions::new()
+        .create(true)
+        .append(true)
+        .open(&path)
+        .and_then(|mut file| file.write_all(line.as_bytes()));
+    if let Err(e) = written {
+        eprintln!(
+            "warning: cannot record this GPU test in {}: {e}",
+            path.to_string_lossy()
+        );
     }
 }
 

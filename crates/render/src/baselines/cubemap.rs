@@ -4,6 +4,7 @@
 //! lit texel in its view direction, nearest-sampled.
 
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use crate::passes::bind_group;
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat4, Vec3};
@@ -58,7 +59,7 @@ pub struct CubeCamera {
 
 /// The pass drawing the cubemap at the output size.
 pub struct CubemapPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     uniform: wgpu::Buffer,
 }
@@ -130,7 +131,7 @@ impl CubemapPass {
             ],
         );
         let mut pass = out.begin(encoder, "baselines::cubemap::pass");
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.draw(0..3, 0..1);
     }

@@ -4,6 +4,7 @@
 //! evaluator's reference G-buffer.
 
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use crate::passes::bind_group;
 use crate::passes::raster::{self, RasterDraw, RasterTargets};
 use crate::passes::uniform_buffer;
@@ -157,14 +158,14 @@ pub struct SpriteCamera {
 
 /// The sprites' part of the G-buffer.
 struct SpriteRaster {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     camera: wgpu::Buffer,
 }
 
 /// The G-buffer pass.
 pub struct GBufferPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     camera: wgpu::Buffer,
     sprites: SpriteRaster,
@@ -260,7 +261,7 @@ impl GBufferPass {
         let mut runs = crate::gpu_scene::full_detail_runs(&scene.ranges);
         runs.extend(scene.animated_runs());
         let draw = RasterDraw {
-            pipeline: &self.pipeline,
+            pipeline: self.pipeline.get(),
             bind: &bind,
             offsets: &[],
             scissor: None,
@@ -316,7 +317,7 @@ impl GBufferPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&r.pipeline);
+        pass.set_pipeline(r.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.draw(0..4, 0..sprites.len());
     }

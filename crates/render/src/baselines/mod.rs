@@ -14,6 +14,7 @@ pub mod shade;
 pub mod snap;
 pub mod upscale;
 
+use crate::passes::LazyRender;
 use crate::passes::{RenderSpec, render_pipeline};
 use std::time::Instant;
 
@@ -166,7 +167,7 @@ pub(crate) fn fullscreen_pipeline(
     module: &wgpu::ShaderModule,
     layout: &wgpu::BindGroupLayout,
     owner: &str,
-) -> wgpu::RenderPipeline {
+) -> LazyRender {
     render_pipeline(
         device,
         RenderSpec {

@@ -3,6 +3,7 @@
 //! from texel splatting only in where colours are computed, never in how (haze included).
 
 use crate::context::GpuContext;
+use crate::passes::LazyCompute;
 use crate::passes::{bind_group, compute_pipeline, storage_texture, uniform_buffer};
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
@@ -47,7 +48,7 @@ pub struct Eye {
 
 /// The screen shade pass.
 pub struct ScreenShadePass {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: LazyCompute,
     layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
     globals: wgpu::Buffer,
@@ -148,7 +149,7 @@ impl ScreenShadePass {
             label: Some("baselines::shade::pass"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.set_bind_group(1, &bvh, &[]);
         pass.dispatch_workgroups(targets.size.x.div_ceil(8), targets.size.y.div_ceil(8), 1);

@@ -3,6 +3,7 @@
 //! scale 1, Naive at the art-pixel scale, Snap with its margin and restored remainder.
 
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use crate::passes::bind_group;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec2;
@@ -33,7 +34,7 @@ pub struct Mapping {
 
 /// The upscale pass.
 pub struct UpscalePass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     uniform: wgpu::Buffer,
 }
@@ -96,7 +97,7 @@ impl UpscalePass {
             ],
         );
         let mut pass = out.begin(encoder, "baselines::upscale::pass");
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.draw(0..3, 0..1);
     }

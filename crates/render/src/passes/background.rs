@@ -2,13 +2,14 @@
 
 use super::{ARRAY, FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, texture, uniform};
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::probe_store::SlotTextures;
 use crate::shader;
 
 /// The background pass.
 pub struct BackgroundPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
 }
 
@@ -73,7 +74,7 @@ impl BackgroundPass {
 
     /// Draws the fullscreen triangle.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, bind: &wgpu::BindGroup) {
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, bind, &[]);
         pass.draw(0..3, 0..1);
     }

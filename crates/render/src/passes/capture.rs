@@ -1,6 +1,8 @@
 //! Capture: rasterizes the scene into the cube faces the plan asks for (`shaders/capture.wgsl`).
 
 use crate::context::GpuContext;
+use crate::passes::LazyCompute;
+use crate::passes::LazyRender;
 use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
@@ -69,14 +71,14 @@ pub struct CapturePass {
     /// Where the eye probe's faces measure terrain bands from: the frame's grid probe
     /// origin (stable slots measure from their own origin).
     pub eye_band_origin: glam::Vec3,
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     /// Plain terrain chunks (`vs_terrain`, `fs_terrain`): the point and object alone pass
     /// to the fragments, which read the surface from the heightmap.
-    terrain_raster: wgpu::RenderPipeline,
+    terrain_raster: LazyRender,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
     /// `colour_terrain`: the drawn face's terrain texels coloured once each.
-    terrain: wgpu::ComputePipeline,
+    terrain: LazyCompute,
     drawn_layout: wgpu::BindGroupLayout,
 }
 
@@ -225,12 +227,12 @@ impl CapturePass {
                 keep_depth: false,
             };
             let draw = RasterDraw {
-                pipeline: &self.pipeline,
+                pipeline: self.pipeline.get(),
                 bind: &bind,
                 offsets: &[(i as u64 * UNIFORM_STRIDE) as u32],
                 scissor: rects.get(i).copied().flatten(),
                 runs: Some(&runs),
-                first: Some((&self.terrain_raster, &terrain_runs)),
+                first: Some((self.terrain_raster.get(), &terrain_runs)),
             };
             raster::record(encoder, "capture::face", &targets, scene, &draw);
         }
@@ -241,7 +243,7 @@ impl CapturePass {
             label: Some("capture::terrain"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.terrain);
+        pass.set_pipeline(self.terrain.get());
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
             let f = c.face.index();

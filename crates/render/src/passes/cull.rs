@@ -2,6 +2,7 @@
 //! (`shaders/cull.wgsl`).
 
 use crate::context::GpuContext;
+use crate::passes::LazyCompute;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -49,13 +50,13 @@ pub struct SplatList<'a> {
 
 /// The cull pass and the splat list it fills.
 pub struct CullPass {
-    pipeline: wgpu::ComputePipeline,
-    listed_pipeline: wgpu::ComputePipeline,
-    listed_args_pipeline: wgpu::ComputePipeline,
-    kept_pipeline: wgpu::ComputePipeline,
-    kept_args_pipeline: wgpu::ComputePipeline,
-    outlined_pipeline: wgpu::ComputePipeline,
-    outlined_args_pipeline: wgpu::ComputePipeline,
+    pipeline: LazyCompute,
+    listed_pipeline: LazyCompute,
+    listed_args_pipeline: LazyCompute,
+    kept_pipeline: LazyCompute,
+    kept_args_pipeline: LazyCompute,
+    outlined_pipeline: LazyCompute,
+    outlined_args_pipeline: LazyCompute,
     /// `listed`'s workgroup counts, sized on the GPU from the draw lists.
     dispatch: wgpu::Buffer,
     dispatch_bind: wgpu::BindGroup,
@@ -272,28 +273,28 @@ impl CullPass {
         pass.set_bind_group(1, &textures, &[]);
         pass.set_bind_group(2, &self.starts_bind, &[]);
         if work.count > 0 {
-            pass.set_pipeline(&self.pipeline);
+            pass.set_pipeline(self.pipeline.get());
             let groups = max_n.div_ceil(8);
             pass.dispatch_workgroups(groups, groups, work.count);
         }
         if work.listed > 0 {
-            pass.set_pipeline(&self.listed_args_pipeline);
+            pass.set_pipeline(self.listed_args_pipeline.get());
             pass.set_bind_group(3, &self.dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
-            pass.set_pipeline(&self.listed_pipeline);
+            pass.set_pipeline(self.listed_pipeline.get());
             pass.dispatch_workgroups_indirect(&self.dispatch, 0);
         }
         if !drawn.is_empty() {
             // The texels and runs the scan and the lists kept: plain, then outlined.
-            pass.set_pipeline(&self.kept_args_pipeline);
+            pass.set_pipeline(self.kept_args_pipeline.get());
             pass.set_bind_group(3, &self.kept_dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
-            pass.set_pipeline(&self.kept_pipeline);
+            pass.set_pipeline(self.kept_pipeline.get());
             pass.dispatch_workgroups_indirect(&self.kept_dispatch, 0);
-            pass.set_pipeline(&self.outlined_args_pipeline);
+            pass.set_pipeline(self.outlined_args_pipeline.get());
             pass.set_bind_group(3, &self.outlined_dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
-            pass.set_pipeline(&self.outlined_pipeline);
+            pass.set_pipeline(self.outlined_pipeline.get());
             pass.dispatch_workgroups_indirect(&self.outlined_dispatch, 0);
         }
         drop(pass);

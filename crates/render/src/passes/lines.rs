@@ -6,6 +6,7 @@
 use super::{RenderSpec, bind_group, entry, line_pipeline, uniform};
 use crate::context::GpuContext;
 use crate::frame::Renderer;
+use crate::passes::LazyRender;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::shader;
 
@@ -22,7 +23,7 @@ pub struct LineVertex {
 
 /// The lines pass: its pipeline and the current list.
 pub struct LinesPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     vertices: Option<wgpu::Buffer>,
     count: u32,
@@ -111,7 +112,7 @@ impl LinesPass {
             &self.layout,
             &[view.as_entire_binding()],
         );
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.draw(0..self.count, 0..1);

@@ -7,6 +7,7 @@
 use super::cull::{probe_textures_bind_group, probe_textures_layout};
 use super::{RenderSpec, bind_group, entry, render_pipeline, storage, uniform};
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::probe_store::ProbeStore;
 use crate::shader;
@@ -40,7 +41,7 @@ impl MarchCounts {
 
 /// The march pass.
 pub struct MarchPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     slots_layout: wgpu::BindGroupLayout,
     /// Steps and fallbacks of the last frame, cleared before each.
@@ -116,7 +117,7 @@ impl MarchPass {
 
     /// Draws the fullscreen triangle.
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, binds: &[wgpu::BindGroup; 2]) {
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &binds[0], &[]);
         pass.set_bind_group(1, &binds[1], &[]);
         pass.draw(0..3, 0..1);

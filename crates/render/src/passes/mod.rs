@@ -1,5 +1,8 @@
 //! The render passes, one module and one WGSL file each. Each pass owns its pipeline and
-//! layouts, built once; `frame.rs` is the only place that orders them.
+//! layouts, built once (pipelines compiled on first use: [`LazyCompute`], [`LazyRender`]);
+//! `frame.rs` is the only place that orders them.
+
+use std::sync::OnceLock;
 
 pub mod background;
 pub mod capture;
@@ -226,14 +229,14 @@ pub(crate) fn pipeline_layout(
     })
 }
 
-/// The render pipeline of `spec`.
-pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wgpu::RenderPipeline {
+/// The render pipeline of `spec`, compiled when first used ([`LazyRender::get`]).
+pub(crate) fn render_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> LazyRender {
     let writes = vec![(None, wgpu::ColorWrites::ALL); spec.targets.len()];
     pipeline_of(device, spec, &writes, wgpu::PrimitiveTopology::TriangleList)
 }
 
 /// The render pipeline of `spec` drawing 4-vertex triangle strips (one quad per instance).
-pub(crate) fn strip_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> wgpu::RenderPipeline {
+pub(crate) fn strip_pipeline(device: &wgpu::Device, spec: RenderSpec<'_>) -> LazyRender {
     let writes = vec![(None, wgpu::ColorWrites::ALL); spec.targets.len()];
     pipeline_of(
         device,
@@ -249,7 +252,7 @@ pub(crate) fn line_pipeline(
     device: &wgpu::Device,
     spec: RenderSpec<'_>,
     writes: &[(Option<wgpu::BlendState>, wgpu::ColorWrites)],
-) -> wgpu::RenderPipeline {
+) -> LazyRender {
     pipeline_of(device, spec, writes, wgpu::PrimitiveTopology::LineList)
 }
 
@@ -258,12 +261,8 @@ fn pipeline_of(
     spec: RenderSpec<'_>,
     writes: &[(Option<wgpu::BlendState>, wgpu::ColorWrites)],
     topology: wgpu::PrimitiveTopology,
-) -> wgpu::RenderPipeline {
-    let layout = pipeline_layout(device, spec.owner, spec.layouts);
-    let targets: Vec<Option<wgpu::ColorTargetState>> = spec
-        .targets
-        .iter()
-        .zip(writes)
+) -> LazyRender {
+    let targets = (spec.targets.iter().zip(writes))
         .map(|(&format, &(blend, write_mask))| {
             Some(wgpu::ColorTargetState {
                 format,
@@ -272,26 +271,25 @@ fn pipeline_of(
             })
         })
         .collect();
-    device.create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-        label: Some(&format!("{}::pipeline", spec.owner)),
-        layout: Some(&layout),
-        vertex: wgpu::VertexState {
-            module: spec.module,
-            entry_point: Some(spec.vertex),
-            compilation_options: Default::default(),
-            buffers: spec.vertex_buffers,
-        },
-        fragment: Some(wgpu::FragmentState {
-            module: spec.module,
-            entry_point: Some(spec.fragment),
-            compilation_options: Default::default(),
-            targets: &targets,
-        }),
-        primitive: wgpu::PrimitiveState {
-            topology,
-            ..Default::default()
-        },
-        depth_stencil: spec
+    let vertex_buffers = (spec.vertex_buffers.iter())
+        .map(|buffer| {
+            buffer.as_ref().map(|b| VertexBuffer {
+                stride: b.array_stride,
+                step_mode: b.step_mode,
+                attributes: b.attributes.to_vec(),
+            })
+        })
+        .collect();
+    LazyRender {
+        device: device.clone(),
+        layout: pipeline_layout(device, spec.owner, spec.layouts),
+        module: spec.module.clone(),
+        label: format!("{}::pipeline", spec.owner),
+        vertex: spec.vertex.to_owned(),
+        fragment: spec.fragment.to_owned(),
+        vertex_buffers,
+        targets,
+        depth: spec
             .depth
             .map(|(format, write, compare)| wgpu::DepthStencilState {
                 format,
@@ -300,29 +298,122 @@ fn pipeline_of(
                 stencil: Default::default(),
                 bias: Default::default(),
             }),
-        multisample: Default::default(),
-        multiview_mask: None,
-        cache: None,
-    })
+        topology,
+        pipeline: OnceLock::new(),
+    }
 }
 
-/// The compute pipeline of `entry` in `module`.
+/// A vertex buffer's layout, owned.
+struct VertexBuffer {
+    stride: wgpu::BufferAddress,
+    step_mode: wgpu::VertexStepMode,
+    attributes: Vec<wgpu::VertexAttribute>,
+}
+
+/// A render pipeline compiled on its first use, as [`LazyCompute`] is: the moving parts',
+/// sprites' and baselines' pipelines cost nothing where nothing draws them.
+pub(crate) struct LazyRender {
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    label: String,
+    vertex: String,
+    fragment: String,
+    vertex_buffers: Vec<Option<VertexBuffer>>,
+    targets: Vec<Option<wgpu::ColorTargetState>>,
+    depth: Option<wgpu::DepthStencilState>,
+    topology: wgpu::PrimitiveTopology,
+    pipeline: OnceLock<wgpu::RenderPipeline>,
+}
+
+impl LazyRender {
+    /// The pipeline, compiled now if this is its first use.
+    pub(crate) fn get(&self) -> &wgpu::RenderPipeline {
+        self.pipeline.get_or_init(|| {
+            let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> = (self.vertex_buffers.iter())
+                .map(|buffer| {
+                    buffer.as_ref().map(|b| wgpu::VertexBufferLayout {
+                        array_stride: b.stride,
+                        step_mode: b.step_mode,
+                        attributes: &b.attributes,
+                    })
+                })
+                .collect();
+            (self.device).create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+                label: Some(&self.label),
+                layout: Some(&self.layout),
+                vertex: wgpu::VertexState {
+                    module: &self.module,
+                    entry_point: Some(&self.vertex),
+                    compilation_options: Default::default(),
+                    buffers: &buffers,
+                },
+                fragment: Some(wgpu::FragmentState {
+                    module: &self.module,
+                    entry_point: Some(&self.fragment),
+                    compilation_options: Default::default(),
+                    targets: &self.targets,
+                }),
+                primitive: wgpu::PrimitiveState {
+                    topology: self.topology,
+                    ..Default::default()
+                },
+                depth_stencil: self.depth.clone(),
+                multisample: Default::default(),
+                multiview_mask: None,
+                cache: None,
+            })
+        })
+    }
+}
+
+/// The compute pipeline of `entry` in `module`, compiled when first used
+/// ([`LazyCompute::get`]).
 pub(crate) fn compute_pipeline(
     device: &wgpu::Device,
     owner: &str,
     module: &wgpu::ShaderModule,
     entry: &str,
     layouts: &[&wgpu::BindGroupLayout],
-) -> wgpu::ComputePipeline {
-    let layout = pipeline_layout(device, owner, layouts);
-    device.create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-        label: Some(&format!("{owner}::pipeline")),
-        layout: Some(&layout),
-        module,
-        entry_point: Some(entry),
-        compilation_options: Default::default(),
-        cache: None,
-    })
+) -> LazyCompute {
+    LazyCompute {
+        device: device.clone(),
+        layout: pipeline_layout(device, owner, layouts),
+        module: module.clone(),
+        label: format!("{owner}::pipeline"),
+        entry: entry.to_owned(),
+        pipeline: OnceLock::new(),
+    }
+}
+
+/// A compute pipeline compiled on its first use, so that a renderer pays only for the
+/// pipelines its scenes and schedules dispatch: the terrain's when there is a terrain, the
+/// paper schedule's when it runs. Compiling all of them took 1.9 s on lavapipe and 10-12 s
+/// on SwiftShader (`cargo run -p texel_render --example startup_cost`); the shader modules
+/// are still parsed and validated up front, so a WGSL error shows when the renderer starts.
+pub(crate) struct LazyCompute {
+    device: wgpu::Device,
+    layout: wgpu::PipelineLayout,
+    module: wgpu::ShaderModule,
+    label: String,
+    entry: String,
+    pipeline: OnceLock<wgpu::ComputePipeline>,
+}
+
+impl LazyCompute {
+    /// The pipeline, compiled now if this is its first use.
+    pub(crate) fn get(&self) -> &wgpu::ComputePipeline {
+        self.pipeline.get_or_init(|| {
+            (self.device).create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                label: Some(&self.label),
+                layout: Some(&self.layout),
+                module: &self.module,
+                entry_point: Some(&self.entry),
+                compilation_options: Default::default(),
+                cache: None,
+            })
+        })
+    }
 }
 
 /// A bind group binding `resources[i]` at binding `i`.

@@ -2,6 +2,7 @@
 //! cut on a grid fixed to each object and lit at the cells' centres where the objects are now
 //! (`shaders/moving.wgsl`). Nothing to do, and nothing bound, in a scene without them.
 
+use crate::passes::LazyRender;
 use bytemuck::{Pod, Zeroable};
 
 use super::shade::{Sun, gpu_suns};
@@ -26,7 +27,7 @@ pub struct LightGlobals {
 
 /// The moving pass.
 pub struct MovingPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     scene_layout: wgpu::BindGroupLayout,
     light_layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
@@ -153,7 +154,7 @@ impl MovingPass {
     /// Draws every animated object of `scene` into `pass` (the frame's colour, key and depth
     /// targets, after the splats).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, binds: &MovingBinds, scene: &GpuScene) {
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &binds.scene, &[]);
         pass.set_bind_group(1, &binds.light, &[]);
         pass.set_bind_group(2, &binds.bvh, &[]);

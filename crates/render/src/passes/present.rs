@@ -1,6 +1,7 @@
 //! Present: nearest upscale of the internal frame to the output (`shaders/present.wgsl`).
 
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -39,7 +40,7 @@ pub const SIZES_SIZE: usize = size_of::<Sizes>();
 
 /// The present pass.
 pub struct PresentPass {
-    pipeline: wgpu::RenderPipeline,
+    pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     sizes: wgpu::Buffer,
 }
@@ -124,7 +125,7 @@ impl PresentPass {
             occlusion_query_set: None,
             multiview_mask: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.draw(0..3, 0..1);
     }

@@ -2,6 +2,7 @@
 //! WGSL side): one pipeline shape over the scene's vertex buffer, and one recorded pass that
 //! clears the targets and draws every scene triangle.
 
+use crate::passes::LazyRender;
 use texel_probes::visibility::TexelRect;
 
 use super::{RenderSpec, render_pipeline};
@@ -19,7 +20,7 @@ pub(crate) fn pipeline(
     module: &wgpu::ShaderModule,
     layout: &wgpu::BindGroupLayout,
     targets: &[wgpu::TextureFormat],
-) -> wgpu::RenderPipeline {
+) -> LazyRender {
     let spec = RasterSpec {
         owner,
         module,
@@ -44,7 +45,7 @@ pub(crate) fn pipeline_with(
     spec: &RasterSpec<'_>,
     (vertex, fragment): (&str, &str),
     vertices: wgpu::VertexBufferLayout<'_>,
-) -> wgpu::RenderPipeline {
+) -> LazyRender {
     let vertex_buffers = [Some(vertices)];
     render_pipeline(
         device,

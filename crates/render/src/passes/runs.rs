@@ -4,6 +4,7 @@
 //! shading: only faces lit this frame are redone.
 
 use crate::context::GpuContext;
+use crate::passes::LazyCompute;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
@@ -33,8 +34,8 @@ pub const RUNS_FACES_SIZE: usize = size_of::<RunsFaces>();
 
 /// The runs pass.
 pub struct RunsPass {
-    rows: wgpu::ComputePipeline,
-    columns: wgpu::ComputePipeline,
+    rows: LazyCompute,
+    columns: LazyCompute,
     layout: wgpu::BindGroupLayout,
     faces: wgpu::Buffer,
 }
@@ -133,7 +134,7 @@ impl RunsPass {
             pass.set_bind_group(0, &bind, &[offset]);
             let groups = (t.n.div_ceil(SEGMENT) * t.n).div_ceil(64);
             for pipeline in [&self.rows, &self.columns] {
-                pass.set_pipeline(pipeline);
+                pass.set_pipeline(pipeline.get());
                 pass.dispatch_workgroups(groups, 1, 6);
             }
         }

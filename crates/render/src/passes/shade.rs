@@ -1,6 +1,7 @@
 //! Shade: lights the captured faces, once per texel (`shaders/shade.wgsl`).
 
 use crate::context::GpuContext;
+use crate::passes::LazyCompute;
 use bytemuck::{Pod, Zeroable};
 use glam::Vec3;
 
@@ -118,9 +119,9 @@ pub struct ShadeGlobals {
 
 /// The shade pass.
 pub struct ShadePass {
-    pipeline: wgpu::ComputePipeline,
-    light_pipeline: wgpu::ComputePipeline,
-    border_pipeline: wgpu::ComputePipeline,
+    pipeline: LazyCompute,
+    light_pipeline: LazyCompute,
+    border_pipeline: LazyCompute,
     layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
     stable_layout: wgpu::BindGroupLayout,
@@ -390,19 +391,19 @@ impl ShadePass {
                     continue;
                 }
                 pass.set_bind_group(0, &bind, &[offset(i)]);
-                pass.set_pipeline(&self.pipeline);
+                pass.set_pipeline(self.pipeline.get());
                 pass.set_bind_group(3, &job_args, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
             }
             if mine.iter().any(|(_, j)| area(j) > 0) {
                 pass.set_bind_group(0, &bind, &[offset(first)]);
-                pass.set_pipeline(&self.light_pipeline);
+                pass.set_pipeline(self.light_pipeline.get());
                 let args = slot.index() as u64 * JOB_ARGS_BYTES;
                 pass.dispatch_workgroups_indirect(&self.job_args, args);
             }
             for &(i, _) in mine.iter().filter(|(_, j)| j.border) {
                 pass.set_bind_group(0, &bind, &[offset(i)]);
-                pass.set_pipeline(&self.border_pipeline);
+                pass.set_pipeline(self.border_pipeline.get());
                 pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
             }
         }

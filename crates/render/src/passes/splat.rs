@@ -1,6 +1,7 @@
 //! Splat: draws the culled texels as indexed, instanced world-space quads (`shaders/splat.wgsl`).
 
 use crate::context::GpuContext;
+use crate::passes::LazyRender;
 use crate::passes::cull::SplatList;
 use wgpu::util::DeviceExt;
 
@@ -28,7 +29,7 @@ pub enum Fade {
 /// The splat pass.
 pub struct SplatPass {
     /// By (runs, [`Fade`]): quads that may span runs write each pixel's own texel key.
-    pipelines: [[wgpu::RenderPipeline; 3]; 2],
+    pipelines: [[LazyRender; 3]; 2],
     layout: wgpu::BindGroupLayout,
     indices: wgpu::Buffer,
 }
@@ -116,7 +117,7 @@ impl SplatPass {
         runs: bool,
         fade: Fade,
     ) {
-        pass.set_pipeline(&self.pipelines[usize::from(runs)][fade as usize]);
+        pass.set_pipeline(self.pipelines[usize::from(runs)][fade as usize].get());
         pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         pass.draw_indexed_indirect(list.args, 0);
@@ -132,7 +133,7 @@ impl SplatPass {
         pass.set_bind_group(0, bind, &[]);
         pass.set_index_buffer(self.indices.slice(..), wgpu::IndexFormat::Uint16);
         for pipeline in self.pipelines.iter().flatten() {
-            pass.set_pipeline(pipeline);
+            pass.set_pipeline(pipeline.get());
             pass.draw_indexed(0..6, 0, u32::MAX - 1..u32::MAX);
         }
     }

@@ -7,6 +7,8 @@
 //! or toward the camera in [`SpriteFacing::Camera`]. Nothing to do, and nothing bound,
 //! without sprites.
 
+use crate::passes::LazyCompute;
+use crate::passes::LazyRender;
 use bytemuck::{Pod, Zeroable};
 
 use super::shade::{Sun, gpu_suns};
@@ -39,11 +41,11 @@ pub struct SpriteGlobals {
 
 /// The sprite passes.
 pub struct SpritePass {
-    shade: wgpu::ComputePipeline,
+    shade: LazyCompute,
     shade_layout: wgpu::BindGroupLayout,
     probes_layout: wgpu::BindGroupLayout,
     bvh_layout: wgpu::BindGroupLayout,
-    draw: wgpu::RenderPipeline,
+    draw: LazyRender,
     draw_layout: wgpu::BindGroupLayout,
     globals: wgpu::Buffer,
     /// What sprites turn toward.
@@ -248,7 +250,7 @@ impl SpritePass {
             label: Some("sprites::shade"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.shade);
+        pass.set_pipeline(self.shade.get());
         pass.set_bind_group(0, &binds.shade, &[]);
         pass.set_bind_group(1, &binds.probes, &[]);
         pass.set_bind_group(2, &binds.bvh, &[]);
@@ -259,7 +261,7 @@ impl SpritePass {
 
     /// Draws the sprites into `pass` (the frame's colour, key and depth targets).
     pub fn draw(&self, pass: &mut wgpu::RenderPass<'_>, binds: &SpriteBinds) {
-        pass.set_pipeline(&self.draw);
+        pass.set_pipeline(self.draw.get());
         pass.set_bind_group(0, &binds.draw, &[]);
         pass.draw(0..4, 0..binds.count * binds.copies);
     }

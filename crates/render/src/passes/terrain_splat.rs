@@ -17,6 +17,7 @@
 
 use crate::context::GpuContext;
 use crate::gpu_scene::{CasterNow, GpuScene};
+use crate::passes::LazyCompute;
 use crate::passes::cull::{MAX_SPLATS, SPLAT_BYTES, SplatList};
 use crate::passes::shade::ShadeGlobals;
 use crate::shader;
@@ -53,10 +54,10 @@ pub struct TerrainSplatInputs<'a> {
 /// The terrain splat pass.
 pub struct TerrainSplatPass {
     /// `main`: each quad's record from the cache, or its index queued as a miss.
-    pipeline: wgpu::ComputePipeline,
-    size_pipeline: wgpu::ComputePipeline,
+    pipeline: LazyCompute,
+    size_pipeline: LazyCompute,
     /// `haze`: the haze over every record, dispatched as `main` is, on a frame with haze.
-    haze_pipeline: wgpu::ComputePipeline,
+    haze_pipeline: LazyCompute,
     /// `shadows`: each queued miss's block, its record where the block's slot holds it,
     /// else which lights reach its pixels as far as the table knows.
     shadows: Stage,
@@ -514,11 +515,11 @@ impl TerrainSplatPass {
             label: Some("terrain_splat"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.size_pipeline);
+        pass.set_pipeline(self.size_pipeline.get());
         pass.set_bind_group(0, &size_bind, &[]);
         pass.set_bind_group(1, &self.dispatch_bind, &[]);
         pass.dispatch_workgroups(1, 1, 1);
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups_indirect(&self.dispatch, 0);
         let cast_groups = [&cast_bind, &self.empty_bind, &bvh_bind];
@@ -527,18 +528,18 @@ impl TerrainSplatPass {
             (&self.cast_rays, &cast_groups[..]),
             (&self.make, &[&bind][..]),
         ] {
-            pass.set_pipeline(&stage.size);
+            pass.set_pipeline(stage.size.get());
             pass.set_bind_group(0, &self.misses.bind, &[]);
             pass.set_bind_group(1, &stage.dispatch_bind, &[]);
             pass.dispatch_workgroups(1, 1, 1);
-            pass.set_pipeline(&stage.run);
+            pass.set_pipeline(stage.run.get());
             for (i, group) in groups.iter().enumerate() {
                 pass.set_bind_group(i as u32, *group, &[]);
             }
             pass.dispatch_workgroups_indirect(&stage.dispatch, 0);
         }
         if haze {
-            pass.set_pipeline(&self.haze_pipeline);
+            pass.set_pipeline(self.haze_pipeline.get());
             pass.set_bind_group(0, &bind, &[]);
             pass.dispatch_workgroups_indirect(&self.dispatch, 0);
         }
@@ -548,8 +549,8 @@ impl TerrainSplatPass {
 /// One dispatch over a list of misses: `size` writes its workgroup counts from the list's
 /// count into `dispatch` (bound in group 1 only then), `run` is dispatched by them.
 struct Stage {
-    size: wgpu::ComputePipeline,
-    run: wgpu::ComputePipeline,
+    size: LazyCompute,
+    run: LazyCompute,
     dispatch: wgpu::Buffer,
     dispatch_bind: wgpu::BindGroup,
 }

@@ -2,11 +2,12 @@
 
 use super::{UINT, bind_group, compute_pipeline, entry, storage, texture};
 use crate::context::GpuContext;
+use crate::passes::LazyCompute;
 use crate::shader;
 
 /// The visible-texel counting pass and its bitset.
 pub struct VisiblePass {
-    pipeline: wgpu::ComputePipeline,
+    pipeline: LazyCompute,
     layout: wgpu::BindGroupLayout,
     /// One bit per texel key.
     pub bits: wgpu::Buffer,
@@ -70,7 +71,7 @@ impl VisiblePass {
             label: Some("visible::pass"),
             timestamp_writes: None,
         });
-        pass.set_pipeline(&self.pipeline);
+        pass.set_pipeline(self.pipeline.get());
         pass.set_bind_group(0, &bind, &[]);
         pass.dispatch_workgroups(size.0.div_ceil(8), size.1.div_ceil(8), 1);
     }
