@@ -126,12 +126,28 @@ fn ahead(camera: &Camera) -> Vec2 {
     Vec2::new(camera.position.x, camera.position.z) + 8.0 * f
 }
 
+/// Whether criterion measures (`cargo bench` passes `--bench`) rather than running each
+/// routine once as a smoke test (`cargo test --benches`).
+fn measuring() -> bool {
+    std::env::args().any(|a| a == "--bench")
+}
+
+/// The frame size: 1280×720 when measuring; as a smoke test 160×90, which draws the same
+/// passes (a 1280×720 smoke test took minutes on lavapipe and told nothing more).
+fn frame_size() -> UVec2 {
+    if measuring() {
+        UVec2::new(1280, 720)
+    } else {
+        UVec2::new(160, 90)
+    }
+}
+
 fn walk(c: &mut Criterion) {
     // Without an adapter this fails, unless TEXEL_ALLOW_NO_GPU opts out.
     let Some(ctx) = test_context() else {
         return;
     };
-    let size = UVec2::new(1280, 720);
+    let size = frame_size();
     let mut group = c.benchmark_group("walk_1280x720");
     // An iteration is a whole walk along the path (about half a minute), a sample one
     // iteration. Before, an iteration was one frame of the path played forth and back: a
@@ -146,8 +162,7 @@ fn walk(c: &mut Criterion) {
         .sampling_mode(SamplingMode::Flat)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(60));
-    // `cargo bench` passes --bench; `cargo test --benches` runs each routine once.
-    let measuring = std::env::args().any(|a| a == "--bench");
+    let measuring = measuring();
     for (name, level, path) in [
         (
             "stone_circle",
@@ -201,7 +216,7 @@ fn dabs(c: &mut Criterion) {
     let Some(ctx) = test_context() else {
         return;
     };
-    let size = UVec2::new(1280, 720);
+    let size = frame_size();
     let path = path("terrain_walk.ron");
     let fov = path.fov_y(60f32.to_radians());
     let mut group = c.benchmark_group("dab");

@@ -12,8 +12,9 @@
 //!   ones with `apt-get` when it can (root or passwordless sudo), or says exactly
 //!   what to install when it cannot;
 //! * `cargo xtask run [-- ARGS]` does the setup, then runs the project's main job;
-//! * `cargo xtask test` does the setup, then runs formatting, clippy, all tests
-//!   (benches once, in test mode) and doc tests, stopping at the first failure.
+//! * `cargo xtask test` does the setup, then runs formatting, clippy, every test on
+//!   lavapipe (benches once, in test mode) and the GPU tests again on SwiftShader,
+//!   stopping at the first failure (`--quick`: a shorter everyday loop; [`plan`]).
 //!
 //! The decisions (argument parsing, what to install and how, which steps to run)
 //! are pure functions with unit tests; the rest is thin glue around processes.
@@ -103,24 +104,87 @@ impl MainJob {
             args: cargo_args,
             env: Vec::new(),
             needs_display: self.needs_display,
+            role: Role::Check,
         }
     }
 }
 
+/// What a step of `cargo xtask test` is, beyond the command it runs.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Role {
+    /// A check (fmt, clippy) or the benches in test mode.
+    Check,
+    /// A nextest pass on one driver: its device log is kept and its slowest tests shown.
+    Tests(Driver),
+}
+
+/// A Vulkan driver the tests run on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Driver {
+    /// Mesa's lavapipe: every test runs here.
+    Lavapipe,
+    /// SwiftShader: the GPU tests recorded on lavapipe run again here (less the exceptions).
+    SwiftShader,
+}
+
+impl Driver {
+    /// The driver's name, which is also its nextest profile (`.config/nextest.toml`).
+    fn name(self) -> &'static str {
+        match self {
+            Driver::Lavapipe => "lavapipe",
+            Driver::SwiftShader => "swiftshader",
+        }
+    }
+
+    /// The file this driver's pass records its device-opening tests in.
+    fn device_log(self) -> PathBuf {
+        test_plan_dir().join(format!("{}-devices.txt", self.name()))
+    }
+
+    /// nextest's JUnit report of this driver's pass.
+    fn junit(self) -> PathBuf {
+        workspace_root()
+            .join("target/nextest")
+            .join(self.name())
+            .join("junit.xml")
+    }
+}
+
+/// Where the test plan's records are kept between steps (and for `--quick`).
+fn test_plan_dir() -> PathBuf {
+    workspace_root().join("target/test-plan")
+}
+
+/// Which tests `cargo xtask test` runs.
+#[derive(Clone, Debug, PartialEq, Eq)]
+enum Scope {
+    /// Everything CI runs: both drivers, the benches in test mode.
+    Full,
+    /// The everyday loop: fmt, clippy, the CPU tests, and on lavapipe the GPU tests of one
+    /// package (or of none).
+    Quick {
+        /// The package whose GPU tests run too.
+        package: Option<String>,
+    },
+}
+
 /// The steps of `cargo xtask test`, in order.
 ///
-/// GPU tests must run one at a time on lavapipe. That is asked of libtest with
-/// `RUST_TEST_THREADS=1` rather than `-- --test-threads=1`: `--all-targets`
-/// also runs criterion benches (once, in test mode), and criterion rejects
-/// `--test-threads` as an unknown argument, while both ignore or honour the
-/// variable correctly. GPU and window tests fail when no adapter or display exists
-/// (`TEXEL_ALLOW_NO_GPU` / `TEXEL_ALLOW_NO_DISPLAY` would skip them; CI never sets
-/// them). `--no-fail-fast`: a failing test binary does
-/// not hide the others' results (a SwiftShader failure in one crate's tests had
-/// left the later crates untested in that step).
-fn test_steps() -> Vec<Step> {
-    let test_env = vec![("RUST_TEST_THREADS".to_owned(), "1".to_owned())];
-    vec![
+/// Tests run under cargo-nextest, one process per test, one test at a time (GPU tests must
+/// not share lavapipe's cores; `.config/nextest.toml`). GPU and window tests fail when no
+/// adapter or display exists (`TEXEL_ALLOW_NO_GPU` / `TEXEL_ALLOW_NO_DISPLAY` would skip
+/// them; the steps never see them). The SwiftShader pass runs the tests that opened a device
+/// on lavapipe (the filter is added when it runs; [`plan`]). Criterion benches run once in
+/// test mode through `cargo test` (nextest does not run them), on lavapipe;
+/// `RUST_TEST_THREADS=1` because criterion rejects `--test-threads`.
+fn test_steps(scope: &Scope) -> Vec<Step> {
+    let lavapipe = Step {
+        args: strings(&["nextest", "run", "--workspace", "--profile", "lavapipe"]),
+        env: Vec::new(),
+        needs_display: true,
+        role: Role::Tests(Driver::Lavapipe),
+    };
+    let mut steps = vec![
         Step::cargo(&["fmt", "--all", "--", "--check"]),
         Step::cargo(&[
             "clippy",
@@ -130,46 +194,42 @@ fn test_steps() -> Vec<Step> {
             "-D",
             "warnings",
         ]),
-        Step {
-            args: strings(&["test", "--workspace", "--all-targets", "--no-fail-fast"]),
-            env: test_env.clone(),
-            needs_display: true,
-        },
-        Step {
-            args: strings(&["test", "--workspace", "--doc", "--no-fail-fast"]),
-            env: test_env.clone(),
-            needs_display: false,
-        },
-        // Every test again on SwiftShader, a second conformant Vulkan (4-bit sub-pixel
-        // precision, its own shader compiler and depth rounding), except the golden images,
-        // which are lavapipe's pixels, and the one test that presents to a window: the
-        // SwiftShader Chromium ships has no window-system surfaces (play says so, no panic).
-        Step {
-            args: strings(&[
-                "test",
-                "--workspace",
-                "--tests",
-                "--no-fail-fast",
-                "--",
-                "--skip",
-                "golden_images",
-                "--skip",
-                "plays_five_frames_of_the_stone_circle_and_exits",
-            ]),
-            env: [
-                test_env,
-                vec![
+    ];
+    match scope {
+        Scope::Quick { .. } => steps.push(lavapipe),
+        Scope::Full => {
+            steps.push(Step {
+                env: vec![(
+                    plan::DEVICE_LOG_VAR.to_owned(),
+                    Driver::Lavapipe.device_log().display().to_string(),
+                )],
+                ..lavapipe
+            });
+            steps.push(Step {
+                args: strings(&["test", "--workspace", "--benches", "--no-fail-fast"]),
+                env: vec![("RUST_TEST_THREADS".to_owned(), "1".to_owned())],
+                needs_display: false,
+                role: Role::Check,
+            });
+            steps.push(Step {
+                args: strings(&["nextest", "run", "--workspace", "--profile", "swiftshader"]),
+                env: vec![
                     ("VK_ICD_FILENAMES".to_owned(), SWIFTSHADER_ICD.to_owned()),
                     (
                         "TEXEL_EXPECT_ADAPTER".to_owned(),
                         SWIFTSHADER_ADAPTER.to_owned(),
                     ),
+                    (
+                        plan::DEVICE_LOG_VAR.to_owned(),
+                        Driver::SwiftShader.device_log().display().to_string(),
+                    ),
                 ],
-            ]
-            .concat(),
-            needs_display: true,
-        },
-    ]
+                needs_display: true,
+                role: Role::Tests(Driver::SwiftShader),
+            });
+        }
+    }
+    steps
 }
 
 // ---------------------------------------------------------------------------
@@ -194,7 +254,7 @@ fn main() -> ExitCode {
         }
         Cli::Setup => ensure_system(),
         Cli::Run { args } => run_main_job(args.as_deref()),
-        Cli::Test => run_tests(),
+        Cli::Test(scope) => run_tests(&scope),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
@@ -271,8 +331,8 @@ enum Cli {
         /// The arguments after `--`, if `--` was given.
         args: Option<Vec<String>>,
     },
-    /// Ensure system packages, then run the checks and tests.
-    Test,
+    /// Ensure system packages, then run the checks and the tests in `Scope`.
+    Test(Scope),
     /// Only ensure system packages.
     Setup,
 }
@@ -332,6 +392,9 @@ fn parse_args(args: &[String]) -> Result<Cli, UsageError> {
     if options.iter().any(|arg| is_help_flag(arg)) {
         return Ok(Cli::Help(Some(sub)));
     }
+    if sub == Sub::Test {
+        return parse_test_options(options).map(Cli::Test);
+    }
     if let Some(arg) = options.first() {
         let hint = if sub == Sub::Run {
             "; give the program's arguments after `--`"
@@ -345,9 +408,35 @@ fn parse_args(args: &[String]) -> Result<Cli, UsageError> {
     }
     Ok(match sub {
         Sub::Run => Cli::Run { args: program_args },
-        Sub::Test => Cli::Test,
+        Sub::Test => unreachable!("`test` returned above"),
         Sub::Setup => Cli::Setup,
     })
+}
+
+/// `test`'s options: none (the full run), or `--quick` with an optional `-p PACKAGE`.
+fn parse_test_options(options: &[String]) -> Result<Scope, UsageError> {
+    let error = |message: String| UsageError {
+        message,
+        topic: Some(Sub::Test),
+    };
+    let mut quick = false;
+    let mut package = None;
+    let mut rest = options.iter();
+    while let Some(arg) = rest.next() {
+        match arg.as_str() {
+            "--quick" => quick = true,
+            "-p" | "--package" => match rest.next() {
+                Some(name) if !name.starts_with('-') => package = Some(name.clone()),
+                _ => return Err(error(format!("`{arg}` needs a package name"))),
+            },
+            other => return Err(error(format!("unexpected argument `{other}` for `test`"))),
+        }
+    }
+    match (quick, package) {
+        (false, Some(_)) => Err(error("`-p` is for `--quick` runs".to_owned())),
+        (false, None) => Ok(Scope::Full),
+        (true, package) => Ok(Scope::Quick { package }),
+    }
 }
 
 /// The help text for the tool or one subcommand.
@@ -371,8 +460,9 @@ fn usage(topic: Option<Sub>) -> String {
              \x20                  with apt-get\n\
              \x20 run [-- ARGS]    Set up, then run the main job:\n\
              \x20                    {default_run}\n\
-             \x20 test             Set up, then fmt check, clippy, tests (and benches in test\n\
-             \x20                  mode) and doc tests; stops after the first failing step\n\
+             \x20 test             Set up, then fmt check, clippy, every test on lavapipe (and\n\
+             \x20                  the benches in test mode), the GPU tests on SwiftShader;\n\
+             \x20                  stops after the first failing step (--quick: a short loop)\n\
              \x20 help [COMMAND]   Print this help or a command's help\n\
              \n\
              Options:\n\
@@ -403,32 +493,52 @@ fn usage(topic: Option<Sub>) -> String {
              `cargo xtask run --` with nothing after it runs the program with no arguments."
         ),
         Some(Sub::Test) => {
-            let steps: Vec<String> = test_steps()
+            let steps: Vec<String> = test_steps(&Scope::Full)
                 .iter()
                 .map(|step| format!("  {}", step.describe()))
+                .collect();
+            let exceptions: Vec<String> = plan::SECOND_DRIVER_EXCEPTIONS
+                .iter()
+                .map(|(part, reason)| format!("  *{part}*: {reason}"))
                 .collect();
             format!(
                 "cargo xtask test: set up, then run every check CI runs\n\
                  \n\
-                 Usage: cargo xtask test\n\
+                 Usage: cargo xtask test [--quick [-p PACKAGE]]\n\
                  \n\
                  Steps, in order (stops after the first failing step; a test step runs every\n\
-                 test binary, failing or not):\n\
+                 test, failing or not):\n\
                  {}\n\
                  \n\
-                 GPU tests run one at a time (RUST_TEST_THREADS=1; criterion benches reject\n\
-                 `-- --test-threads=1`) and fail without an adapter or a display.\n\
+                 Tests run under cargo-nextest, one process per test, one at a time\n\
+                 (.config/nextest.toml: the per-test time budget, and the tests allowed longer\n\
+                 with their reasons). Each test that opens a GPU device on lavapipe is\n\
+                 recorded ({}) and runs again on SwiftShader, except:\n\
+                 {}\n\
+                 A GPU test that did not run on both fails the run by name. Each pass ends\n\
+                 with its {} slowest tests. GPU and window tests fail without an adapter or\n\
+                 a display.\n\
+                 \n\
+                 --quick        the everyday loop: fmt, clippy, and on lavapipe the CPU tests\n\
+                 \x20              and no GPU test (which tests open a device comes from the\n\
+                 \x20              last full run's record; without one, every test runs)\n\
+                 -p PACKAGE     with --quick: also PACKAGE's GPU tests\n\
+                 \n\
                  Environment: WGPU_BACKEND=vulkan unless set; XDG_RUNTIME_DIR set to a fresh\n\
                  private directory unless set; when DISPLAY is unset and Xvfb exists,\n\
                  \x20 Xvfb :99 {}\n\
-                 is started for the test step and stopped at the end (also on failure).",
+                 is started for the test steps and stopped at the end (also on failure).",
                 steps.join("\n"),
+                plan::DEVICE_LOG_VAR,
+                exceptions.join("\n"),
+                plan::SLOWEST_SHOWN,
                 XVFB_ARGS.join(" ")
             )
         }
     }
 }
 
+mod plan;
 mod session;
 mod setup;
 use session::*;
@@ -449,28 +559,38 @@ fn run_main_job(args: Option<&[String]>) -> Result<(), Failure> {
 
 /// `cargo xtask test`: set up, then run [`test_steps`] in order, stopping at the
 /// first failure, with a header and the elapsed time for each step.
-fn run_tests() -> Result<(), Failure> {
+fn run_tests(scope: &Scope) -> Result<(), Failure> {
     ensure_system()?;
     check_test_components()?;
     let mut session = Session::new()?;
-    let steps = test_steps();
+    let steps = test_steps(scope);
     let total = Instant::now();
     let mut results = Vec::new();
+    let mut reports = Vec::new();
     for (index, step) in steps.iter().enumerate() {
+        let step = prepare_step(step, scope)?;
         let title = step.describe();
         println!("\n==> [{}/{}] {title}", index + 1, steps.len());
         let started = Instant::now();
-        let result = session.run(step);
+        let mut result = session.run(&step);
+        if let Role::Tests(driver) = step.role {
+            let report = driver_report(driver);
+            println!("{report}");
+            reports.push(report);
+            if result.is_ok() && *scope == Scope::Full && driver == Driver::SwiftShader {
+                result = check_second_driver();
+            }
+        }
         let elapsed = format_duration(started.elapsed());
         let verdict = if result.is_ok() { "ok" } else { "FAILED" };
         println!("==> [{}/{}] {verdict} in {elapsed}", index + 1, steps.len());
-        results.push(format!("  {verdict:<6} {elapsed:>8}  {title}"));
+        results.push(format!("  {verdict:<6} {elapsed:>8}  {}", step.short()));
         if result.is_err() {
-            print_summary(&results, total.elapsed());
+            print_summary(&results, &reports, total.elapsed());
             return result;
         }
     }
-    print_summary(&results, total.elapsed());
+    print_summary(&results, &reports, total.elapsed());
     // One closing line over every test binary, so CI reads the whole run's count.
     println!(
         "tests: {} passed, {} failed",
@@ -479,8 +599,121 @@ fn run_tests() -> Result<(), Failure> {
     Ok(())
 }
 
-/// Prints the per-step results and the total time.
-fn print_summary(results: &[String], total: Duration) {
+/// `step` ready to run: a device log emptied before the pass that writes it, and the
+/// filter the pass needs (the GPU tests for SwiftShader; no GPU tests for `--quick`).
+fn prepare_step(step: &Step, scope: &Scope) -> Result<Step, Failure> {
+    let mut step = step.clone();
+    let Role::Tests(driver) = step.role else {
+        return Ok(step);
+    };
+    if let Some((_, log)) = step.env.iter().find(|(k, _)| k == plan::DEVICE_LOG_VAR) {
+        fs::create_dir_all(test_plan_dir())
+            .and_then(|()| fs::write(log, ""))
+            .map_err(|e| Failure::new(format!("could not reset the device log {log}: {e}")))?;
+    }
+    let filter = match (scope, driver) {
+        (Scope::Full, Driver::Lavapipe) => None,
+        (Scope::Full, Driver::SwiftShader) => {
+            let gpu = read_device_log(Driver::Lavapipe)?;
+            println!(
+                "==> {} tests opened a GPU device on lavapipe; {} run on SwiftShader",
+                gpu.tests.len(),
+                plan::second_driver_tests(&gpu.tests).len()
+            );
+            Some(
+                plan::filterset(&plan::second_driver_tests(&gpu.tests)).ok_or_else(|| {
+                    Failure::new(
+                        "no test opened a GPU device on lavapipe, so the plan has no GPU \
+                         tests for SwiftShader: the device log is not being written",
+                    )
+                })?,
+            )
+        }
+        (Scope::Quick { package }, _) => quick_filter(package.as_deref()),
+    };
+    if let Some(filter) = filter {
+        step.args.extend(["-E".to_owned(), filter]);
+    }
+    Ok(step)
+}
+
+/// `--quick`'s filter: every test but the GPU tests the last full run recorded, plus
+/// `package`'s. Without a record, `None` (every test), which it says.
+fn quick_filter(package: Option<&str>) -> Option<String> {
+    let gpu = read_device_log(Driver::Lavapipe)
+        .ok()
+        .filter(|log| !log.tests.is_empty());
+    let Some(gpu) = gpu else {
+        println!(
+            "==> no record of which tests open a GPU device yet ({}; the full \
+             `cargo xtask test` writes it): running every test",
+            Driver::Lavapipe.device_log().display()
+        );
+        return None;
+    };
+    let gpu: Vec<plan::TestId> = gpu.tests.into_iter().collect();
+    let not_gpu = format!("not ({})", plan::filterset(&gpu)?);
+    Some(match package {
+        Some(package) => format!("{not_gpu} | package({package})"),
+        None => not_gpu,
+    })
+}
+
+/// The tests that opened a device in `driver`'s last pass.
+fn read_device_log(driver: Driver) -> Result<plan::DeviceLog, Failure> {
+    let path = driver.device_log();
+    let text = fs::read_to_string(&path)
+        .map_err(|e| Failure::new(format!("cannot read {}: {e}", path.display())))?;
+    let log = plan::parse_device_log(&text);
+    if log.unnamed > 0 {
+        println!(
+            "==> warning: {} devices in {} were opened outside a named test",
+            log.unnamed,
+            path.display()
+        );
+    }
+    Ok(log)
+}
+
+/// After the SwiftShader pass: every GPU test of the lavapipe pass (but the exceptions)
+/// opened a device on SwiftShader too.
+fn check_second_driver() -> Result<(), Failure> {
+    let first = read_device_log(Driver::Lavapipe)?.tests;
+    let second = read_device_log(Driver::SwiftShader)?.tests;
+    let missing = plan::missing_from_second(&first, &second);
+    println!(
+        "==> GPU tests: {} on lavapipe, {} on SwiftShader ({} excepted by name)",
+        first.len(),
+        second.len(),
+        first.len() - plan::second_driver_tests(&first).len()
+    );
+    if missing.is_empty() {
+        return Ok(());
+    }
+    let names: Vec<String> = missing.iter().map(|t| format!("  {t}")).collect();
+    Err(Failure::new(format!(
+        "these GPU tests opened a device on lavapipe but not on SwiftShader:\n{}",
+        names.join("\n")
+    )))
+}
+
+/// The slowest tests of `driver`'s last pass, from nextest's JUnit report.
+fn driver_report(driver: Driver) -> String {
+    match fs::read_to_string(driver.junit()) {
+        Ok(xml) => plan::slowest_report(driver.name(), &plan::parse_junit(&xml)),
+        Err(e) => format!(
+            "==> no timings for {} ({}: {e})",
+            driver.name(),
+            driver.junit().display()
+        ),
+    }
+}
+
+/// Prints each pass's slowest tests, the per-step results and the total time.
+fn print_summary(results: &[String], reports: &[String], total: Duration) {
+    for report in reports {
+        println!("\n{report}");
+    }
     println!("\n==> summary ({})", format_duration(total));
     for line in results {
         println!("{line}");

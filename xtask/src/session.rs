@@ -13,6 +13,8 @@ pub(crate) struct Step {
     pub(crate) env: Vec<(String, String)>,
     /// Whether the step may open windows (an X display is provided if possible).
     pub(crate) needs_display: bool,
+    /// A check, or a test pass on one driver.
+    pub(crate) role: Role,
 }
 
 impl Step {
@@ -22,10 +24,12 @@ impl Step {
             args: strings(args),
             env: Vec::new(),
             needs_display: false,
+            role: Role::Check,
         }
     }
 
-    /// The step as a shell-like line, with its extra variables first.
+    /// The step as a shell-like line, with its extra variables first (a filter of many
+    /// tests is shown by its length).
     pub(crate) fn describe(&self) -> String {
         let mut words: Vec<String> = self
             .env
@@ -33,8 +37,25 @@ impl Step {
             .map(|(key, value)| format!("{key}={value}"))
             .collect();
         words.push("cargo".to_owned());
-        words.extend(self.args.iter().cloned());
+        words.extend(self.args.iter().map(|arg| {
+            if arg.len() > 100 {
+                format!("'<a filter of {} characters>'", arg.len())
+            } else if arg.contains(' ') {
+                format!("'{arg}'")
+            } else {
+                arg.clone()
+            }
+        }));
         words.join(" ")
+    }
+
+    /// The step's command without its environment, for the summary.
+    pub(crate) fn short(&self) -> String {
+        Step {
+            env: Vec::new(),
+            ..self.clone()
+        }
+        .describe()
     }
 }
 
@@ -64,9 +85,29 @@ pub(crate) struct Tally {
 
 impl Tally {
     /// Adds the counts of one libtest summary line
-    /// (`test result: ok. 9 passed; 0 failed; 0 ignored; ...`); other lines are ignored.
+    /// (`test result: ok. 9 passed; 0 failed; 0 ignored; ...`) or nextest summary line
+    /// (`Summary [ 12.3s] 9 tests run: 7 passed, 1 failed, 1 timed out, 2 skipped`); other
+    /// lines are ignored.
     pub(crate) fn add_line(&mut self, line: &str) {
-        let Some(rest) = line.trim_start().strip_prefix("test result: ") else {
+        let line = line.trim_start();
+        if line.starts_with("Summary [")
+            && let Some((_, counts)) = line.split_once(" run: ")
+        {
+            for part in counts.split(',') {
+                let mut words = part.split_whitespace();
+                let (Some(n), Some(what)) = (words.next(), words.next()) else {
+                    continue;
+                };
+                let Ok(n) = n.parse::<u64>() else { continue };
+                match what {
+                    "passed" => self.passed += n,
+                    "failed" | "timed" => self.failed += n,
+                    _ => {}
+                }
+            }
+            return;
+        }
+        let Some(rest) = line.strip_prefix("test result: ") else {
             return;
         };
         let count = |word: &str| {
@@ -156,7 +197,11 @@ impl Session {
         {
             command.env("DISPLAY", display);
         }
-        let status = if step.args.first().is_some_and(|a| a == "test") {
+        let status = if step
+            .args
+            .first()
+            .is_some_and(|a| a == "test" || a == "nextest")
+        {
             self.run_counting(command)
         } else {
             command.status()

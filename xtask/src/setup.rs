@@ -235,13 +235,31 @@ pub(crate) fn check_toolchain() -> Result<(), Failure> {
     Ok(())
 }
 
-/// Checks that the cargo subcommands used by `test` are installed.
+/// Checks that the cargo subcommands used by `test` are installed, and installs
+/// cargo-nextest when it is not.
 pub(crate) fn check_test_components() -> Result<(), Failure> {
     for (component, subcommand) in [("rustfmt", "fmt"), ("clippy", "clippy")] {
         if command_output(&cargo_program(), &[subcommand, "--version"]).is_none() {
             return Err(Failure::new(format!(
                 "`cargo {subcommand}` is not available: install it with \
                  `rustup component add {component}`"
+            )));
+        }
+    }
+    if command_output(&cargo_program(), &["nextest", "--version"]).is_none() {
+        // nextest runs the tests (one process per test, per-test budgets, JUnit timings).
+        // Only crates.io may be reachable, so it is built from source (a few minutes, once).
+        let install = ["install", "--locked", "cargo-nextest"];
+        println!("==> cargo-nextest is missing: cargo {}", install.join(" "));
+        let status = Command::new(cargo_program())
+            .args(install)
+            .status()
+            .map_err(|e| Failure::new(format!("could not start cargo install: {e}")))?;
+        if !status.success() {
+            return Err(Failure::new(format!(
+                "`cargo {}` failed ({status}); install cargo-nextest \
+                 (https://nexte.st) and run this again",
+                install.join(" ")
             )));
         }
     }

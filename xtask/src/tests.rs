@@ -33,7 +33,19 @@ fn access(is_root: bool, has_sudo: bool, has_apt: bool) -> HostAccess {
 
 #[test]
 fn parses_subcommands() {
-    assert_eq!(parse(&["test"]), Ok(Cli::Test));
+    assert_eq!(parse(&["test"]), Ok(Cli::Test(Scope::Full)));
+    assert_eq!(
+        parse(&["test", "--quick"]),
+        Ok(Cli::Test(Scope::Quick { package: None }))
+    );
+    assert_eq!(
+        parse(&["test", "--quick", "-p", "texel_render"]),
+        Ok(Cli::Test(Scope::Quick {
+            package: Some("texel_render".to_owned())
+        }))
+    );
+    assert!(parse(&["test", "-p", "texel_render"]).is_err());
+    assert!(parse(&["test", "--quick", "-p"]).is_err());
     assert_eq!(parse(&["setup"]), Ok(Cli::Setup));
     assert_eq!(parse(&["run"]), Ok(Cli::Run { args: None }));
 }
@@ -213,23 +225,158 @@ fn recognises_lavapipe_and_the_loader() {
 
 #[test]
 fn test_steps_are_in_order_with_their_environment() {
-    let steps = test_steps();
-    let lines: Vec<String> = steps.iter().map(Step::describe).collect();
+    let steps = test_steps(&Scope::Full);
+    let lines: Vec<String> = steps.iter().map(Step::short).collect();
     assert_eq!(
         lines,
         [
             "cargo fmt --all -- --check",
             "cargo clippy --workspace --all-targets -- -D warnings",
-            "RUST_TEST_THREADS=1 cargo test --workspace --all-targets --no-fail-fast",
-            "RUST_TEST_THREADS=1 cargo test --workspace --doc --no-fail-fast",
-            "RUST_TEST_THREADS=1 \
-             VK_ICD_FILENAMES=/usr/lib/chromium/vk_swiftshader_icd.json \
-             TEXEL_EXPECT_ADAPTER=SwiftShader cargo test --workspace --tests --no-fail-fast -- --skip golden_images \
-             --skip plays_five_frames_of_the_stone_circle_and_exits",
+            "cargo nextest run --workspace --profile lavapipe",
+            "cargo test --workspace --benches --no-fail-fast",
+            "cargo nextest run --workspace --profile swiftshader",
         ]
     );
     let display: Vec<bool> = steps.iter().map(|step| step.needs_display).collect();
     assert_eq!(display, [false, false, true, false, true]);
+    let roles: Vec<Role> = steps.iter().map(|step| step.role).collect();
+    assert_eq!(
+        roles[2..],
+        [
+            Role::Tests(Driver::Lavapipe),
+            Role::Check,
+            Role::Tests(Driver::SwiftShader)
+        ]
+    );
+    // Both passes record their devices, each in its own file; SwiftShader is checked by name.
+    let env = |step: &Step, key: &str| {
+        step.env
+            .iter()
+            .find(|(k, _)| k == key)
+            .map(|(_, v)| v.clone())
+    };
+    let lavapipe_log = env(&steps[2], plan::DEVICE_LOG_VAR).unwrap();
+    let swiftshader_log = env(&steps[4], plan::DEVICE_LOG_VAR).unwrap();
+    assert_ne!(lavapipe_log, swiftshader_log);
+    assert_eq!(
+        env(&steps[4], "TEXEL_EXPECT_ADAPTER").as_deref(),
+        Some("SwiftShader")
+    );
+    assert_eq!(
+        env(&steps[4], "VK_ICD_FILENAMES").as_deref(),
+        Some(SWIFTSHADER_ICD)
+    );
+    assert_eq!(env(&steps[2], "VK_ICD_FILENAMES"), None);
+    // The quick loop runs one pass on lavapipe and records nothing.
+    let quick = test_steps(&Scope::Quick { package: None });
+    assert_eq!(quick.len(), 3);
+    assert!(quick[2].env.is_empty());
+}
+
+fn id(binary: &str, name: &str) -> plan::TestId {
+    plan::TestId {
+        binary: binary.to_owned(),
+        name: name.to_owned(),
+    }
+}
+
+#[test]
+fn the_device_log_names_tests_once_and_counts_unnamed_devices() {
+    let log = plan::parse_device_log(
+        "texel_eval::stability\twalk_is_stable\n\
+         texel_eval::stability\twalk_is_stable\n\
+         texel_render\tpasses::cull::tests::keeps\n\
+         ?\t?\n\
+         \n\
+         broken line\n",
+    );
+    assert_eq!(log.tests.len(), 2);
+    assert!(
+        log.tests
+            .contains(&id("texel_render", "passes::cull::tests::keeps"))
+    );
+    assert_eq!(log.unnamed, 2);
+}
+
+#[test]
+fn the_second_driver_runs_every_gpu_test_but_the_named_exceptions() {
+    let gpu: std::collections::BTreeSet<_> = [
+        id(
+            "texel_tests::splat_gpu",
+            "stone_circle_golden_images_from_three_cameras",
+        ),
+        id("texel_tests::splat_gpu", "splats_cover_the_view"),
+        id(
+            "texel_runtime::play_window",
+            "plays_five_frames_of_the_stone_circle_and_exits",
+        ),
+        id("texel_eval::stability", "walk_is_stable"),
+    ]
+    .into();
+    let second = plan::second_driver_tests(&gpu);
+    assert_eq!(
+        second,
+        [
+            id("texel_eval::stability", "walk_is_stable"),
+            id("texel_tests::splat_gpu", "splats_cover_the_view"),
+        ]
+    );
+    // Every exception says why.
+    for (part, reason) in plan::SECOND_DRIVER_EXCEPTIONS {
+        assert!(!part.is_empty() && reason.len() > 40, "{part}: {reason}");
+    }
+    assert_eq!(
+        plan::filterset(&second).unwrap(),
+        "(binary_id(=texel_eval::stability) & (test(=walk_is_stable))) | \
+         (binary_id(=texel_tests::splat_gpu) & (test(=splats_cover_the_view)))"
+    );
+    assert_eq!(plan::filterset(&[]), None);
+    // A GPU test that opened no device on the second driver is named; exceptions are not.
+    let ran: std::collections::BTreeSet<_> = [id("texel_eval::stability", "walk_is_stable")].into();
+    assert_eq!(
+        plan::missing_from_second(&gpu, &ran),
+        [id("texel_tests::splat_gpu", "splats_cover_the_view")]
+    );
+    assert!(plan::missing_from_second(&gpu, &second.into_iter().collect()).is_empty());
+}
+
+#[test]
+fn junit_timings_and_the_slowest() {
+    let xml = r#"<?xml version="1.0" encoding="UTF-8"?>
+<testsuites name="nextest-run" tests="3" failures="0" errors="0" uuid="x" timestamp="t" time="9.5">
+    <testsuite name="texel_scene" tests="2" disabled="0" errors="0" failures="0">
+        <testcase name="level::tests::a&lt;b&gt;" classname="texel_scene" timestamp="t" time="0.250">
+        </testcase>
+        <testcase name="level::tests::slow" classname="texel_scene" timestamp="t" time="7.000"/>
+    </testsuite>
+    <testsuite name="texel_eval::stability" tests="1">
+        <testcase name="walk" classname="texel_eval::stability" timestamp="t" time="2.25">
+            <failure type="test failure">x</failure>
+        </testcase>
+    </testsuite>
+</testsuites>"#;
+    let timings = plan::parse_junit(xml);
+    assert_eq!(timings.len(), 3);
+    assert_eq!(timings[0].test, id("texel_scene", "level::tests::a<b>"));
+    let slowest = plan::slowest(&timings, 2);
+    assert_eq!(slowest[0].test.name, "level::tests::slow");
+    assert_eq!(slowest[1].seconds, 2.25);
+    let report = plan::slowest_report("lavapipe", &timings);
+    assert!(report.contains("the 3 slowest of 3 tests on lavapipe"));
+    assert!(report.contains("7.0 s  texel_scene level::tests::slow"));
+}
+
+#[test]
+fn tally_reads_nextest_summaries() {
+    let mut t = Tally::default();
+    t.add_line("     Summary [ 412.118s] 634 tests run: 630 passed (3 slow), 3 failed, 1 timed out, 2 skipped");
+    assert_eq!(
+        t,
+        Tally {
+            passed: 630,
+            failed: 4
+        }
+    );
 }
 
 #[test]
