@@ -329,7 +329,12 @@ pub(crate) struct LazyRender {
 impl LazyRender {
     /// The pipeline, compiled now if this is its first use.
     pub(crate) fn get(&self) -> &wgpu::RenderPipeline {
-        self.pipeline.get_or_init(|| {
+        self.pipeline
+            .get_or_init(|| timed_compile(&self.label, &self.vertex, || self.compile()))
+    }
+
+    fn compile(&self) -> wgpu::RenderPipeline {
+        {
             let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> = (self.vertex_buffers.iter())
                 .map(|buffer| {
                     buffer.as_ref().map(|b| wgpu::VertexBufferLayout {
@@ -363,8 +368,21 @@ impl LazyRender {
                 multiview_mask: None,
                 cache: None,
             })
-        })
+        }
     }
+}
+
+/// Runs `compile`; with `TEXEL_PIPELINE_TIMES` set, prints what it compiled and how long
+/// that took (where a first frame's time goes on a driver that compiles slowly).
+fn timed_compile<T>(label: &str, entry: &str, compile: impl FnOnce() -> T) -> T {
+    if std::env::var_os("TEXEL_PIPELINE_TIMES").is_none() {
+        return compile();
+    }
+    let start = std::time::Instant::now();
+    let pipeline = compile();
+    let ms = start.elapsed().as_secs_f64() * 1e3;
+    eprintln!("pipeline {label} ({entry}) compiled in {ms:.1} ms");
+    pipeline
 }
 
 /// The compute pipeline of `entry` in `module`, compiled when first used
@@ -404,13 +422,15 @@ impl LazyCompute {
     /// The pipeline, compiled now if this is its first use.
     pub(crate) fn get(&self) -> &wgpu::ComputePipeline {
         self.pipeline.get_or_init(|| {
-            (self.device).create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                label: Some(&self.label),
-                layout: Some(&self.layout),
-                module: &self.module,
-                entry_point: Some(&self.entry),
-                compilation_options: Default::default(),
-                cache: None,
+            timed_compile(&self.label, &self.entry, || {
+                (self.device).create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                    label: Some(&self.label),
+                    layout: Some(&self.layout),
+                    module: &self.module,
+                    entry_point: Some(&self.entry),
+                    compilation_options: Default::default(),
+                    cache: None,
+                })
             })
         })
     }
