@@ -206,7 +206,9 @@ fn test_steps(scope: &Scope) -> Vec<Step> {
                 ..lavapipe
             });
             steps.push(Step {
-                args: strings(&["test", "--workspace", "--benches", "--no-fail-fast"]),
+                // `--bench '*'`: the bench targets only (`--benches` also takes every lib,
+                // whose unit tests nextest has run).
+                args: strings(&["test", "--workspace", "--bench", "*", "--no-fail-fast"]),
                 env: vec![("RUST_TEST_THREADS".to_owned(), "1".to_owned())],
                 needs_display: false,
                 role: Role::Check,
@@ -574,6 +576,13 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
         let started = Instant::now();
         let mut result = session.run(&step);
         if let Role::Tests(driver) = step.role {
+            // nextest prints its summary on stderr: the counts come from its report.
+            if let Some((tests, failed)) =
+                (fs::read_to_string(driver.junit()).ok()).and_then(|xml| plan::junit_counts(&xml))
+            {
+                session.tally.passed += tests - failed.min(tests);
+                session.tally.failed += failed;
+            }
             let report = driver_report(driver);
             println!("{report}");
             reports.push(report);

@@ -162,6 +162,17 @@ pub(crate) fn parse_junit(xml: &str) -> Vec<Timing> {
     timings
 }
 
+/// The run's counts from a JUnit report's `<testsuites tests=.. failures=.. errors=..>`:
+/// `(tests, failed)`, failures and errors together; `None` without that element.
+pub(crate) fn junit_counts(xml: &str) -> Option<(u64, u64)> {
+    let tag = xml.split("<testsuites ").nth(1)?.split('>').next()?;
+    let count = |key| attribute(tag, key).and_then(|v| v.parse::<u64>().ok());
+    Some((
+        count("tests")?,
+        count("failures")? + count("errors").unwrap_or(0),
+    ))
+}
+
 /// The value of attribute `key` in an XML start tag's text.
 fn attribute(tag: &str, key: &str) -> Option<String> {
     let mut rest = tag;

@@ -40,7 +40,7 @@ impl Step {
         words.extend(self.args.iter().map(|arg| {
             if arg.len() > 100 {
                 format!("'<a filter of {} characters>'", arg.len())
-            } else if arg.contains(' ') {
+            } else if arg.contains([' ', '*']) {
                 format!("'{arg}'")
             } else {
                 arg.clone()
@@ -85,28 +85,10 @@ pub(crate) struct Tally {
 
 impl Tally {
     /// Adds the counts of one libtest summary line
-    /// (`test result: ok. 9 passed; 0 failed; 0 ignored; ...`) or nextest summary line
-    /// (`Summary [ 12.3s] 9 tests run: 7 passed, 1 failed, 1 timed out, 2 skipped`); other
-    /// lines are ignored.
+    /// (`test result: ok. 9 passed; 0 failed; 0 ignored; ...`); other lines are ignored.
+    /// (nextest's counts come from its JUnit report: `plan::junit_counts`.)
     pub(crate) fn add_line(&mut self, line: &str) {
         let line = line.trim_start();
-        if line.starts_with("Summary [")
-            && let Some((_, counts)) = line.split_once(" run: ")
-        {
-            for part in counts.split(',') {
-                let mut words = part.split_whitespace();
-                let (Some(n), Some(what)) = (words.next(), words.next()) else {
-                    continue;
-                };
-                let Ok(n) = n.parse::<u64>() else { continue };
-                match what {
-                    "passed" => self.passed += n,
-                    "failed" | "timed" => self.failed += n,
-                    _ => {}
-                }
-            }
-            return;
-        }
         let Some(rest) = line.strip_prefix("test result: ") else {
             return;
         };
