@@ -51,6 +51,9 @@ pub enum Command {
     /// Render many frames headless along a looping camera path and watch resident memory;
     /// exits 1 when it grew by more than --max-growth-mib after the first frames.
     Soak(SoakArgs),
+    /// Generate a town or forest level of N entities at a constant density, deterministic
+    /// from a seed (for benchmarks and tests of large levels).
+    Gen(GenArgs),
     /// Open a window and walk through a level (exit status 1 without a display or GPU).
     Play {
         /// The level file (.ron).
@@ -91,6 +94,35 @@ pub struct RenderArgs {
     #[arg(long)]
     pub all_frames: bool,
     /// Output folder for PNGs and stats.json.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// Options of `texel-run gen`.
+#[derive(Debug, clap::Args)]
+pub struct GenArgs {
+    /// The kind of place.
+    #[arg(long, value_enum, default_value = "town")]
+    pub kind: crate::generate::Kind,
+    /// Entities in all (ground, sun, lights and player start included).
+    #[arg(long, default_value_t = 1000)]
+    pub count: usize,
+    /// Seed of every random choice: the same options write the same file.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Entities per 100 m² (the level's side grows with the square root of the count).
+    #[arg(long, default_value_t = 4.0)]
+    pub density: f32,
+    /// Stand everything on a noise terrain instead of a flat plane.
+    #[arg(long)]
+    pub terrain: bool,
+    /// Most point lights.
+    #[arg(long, default_value_t = 64)]
+    pub max_lights: usize,
+    /// A glTF mesh to place copies of (repeat for several); written relative to the level.
+    #[arg(long = "mesh")]
+    pub meshes: Vec<PathBuf>,
+    /// The level file to write (atomically).
     #[arg(long)]
     pub out: PathBuf,
 }
@@ -136,7 +168,55 @@ pub fn run(cli: Cli) -> ExitCode {
         Command::Play { level, size } => play(&level, &size),
         Command::Render(args) => render(&args),
         Command::Soak(args) => soak(&args),
+        Command::Gen(args) => gen_level(&args),
     }
+}
+
+fn gen_level(args: &GenArgs) -> ExitCode {
+    match try_gen_level(args) {
+        Ok(summary) => {
+            println!("{summary}");
+            ExitCode::SUCCESS
+        }
+        Err(e) => {
+            eprintln!("texel-run gen: {e:#}");
+            ExitCode::from(EXIT_BAD_INPUT)
+        }
+    }
+}
+
+fn try_gen_level(args: &GenArgs) -> anyhow::Result<String> {
+    use anyhow::Context as _;
+    let out = std::path::absolute(&args.out).context("--out")?;
+    let folder = out.parent().context("--out names no file")?;
+    anyhow::ensure!(folder.is_dir(), "--out: no folder {}", folder.display());
+    let mut meshes = Vec::new();
+    for mesh in &args.meshes {
+        anyhow::ensure!(mesh.is_file(), "--mesh: no file {}", mesh.display());
+        let mesh = std::path::absolute(mesh).context("--mesh")?;
+        meshes.push(crate::generate::relative_path(folder, &mesh));
+    }
+    let options = crate::generate::GenOptions {
+        kind: args.kind,
+        count: args.count,
+        seed: args.seed,
+        density: args.density,
+        terrain: args.terrain,
+        max_lights: args.max_lights,
+        meshes,
+    };
+    let level = crate::generate::generate(&options)?;
+    level.save(&out)?;
+    let side = crate::generate::side(options.count, options.density);
+    let lights = (level.entities.iter())
+        .filter(|e| e.point_light.is_some())
+        .count();
+    Ok(format!(
+        "{}: {} entities over {side:.0} × {side:.0} m, {lights} point lights (seed {})",
+        out.display(),
+        level.entities.len(),
+        options.seed
+    ))
 }
 
 fn soak(args: &SoakArgs) -> ExitCode {

@@ -8,6 +8,7 @@ pub mod cli;
 pub mod density;
 pub mod driver;
 pub mod extract;
+pub mod generate;
 pub mod headless;
 pub mod load;
 pub mod path;

@@ -190,3 +190,49 @@ fn check_density_lists_the_entities_far_from_one_to_one() {
     assert!(!bad.status.success());
     assert!(String::from_utf8_lossy(&bad.stderr).contains("--size"));
 }
+
+#[test]
+fn gen_writes_a_level_that_loads_with_its_meshes_and_refuses_bad_options() {
+    let dir = tempfile::tempdir().unwrap();
+    let sub = dir.path().join("levels");
+    std::fs::create_dir(&sub).unwrap();
+    let out = sub.join("town.ron");
+    let out = out.to_str().unwrap();
+    let crate_glb = repo("assets/meshes/crate.glb");
+    let args = [
+        "gen",
+        "--count",
+        "500",
+        "--terrain",
+        "--mesh",
+        crate_glb.to_str().unwrap(),
+        "--out",
+        out,
+    ];
+    let made = texel_run(&args);
+    assert!(made.status.success(), "{}", stderr(&made));
+    let first = std::fs::read_to_string(out).unwrap();
+    // The mesh is named relative to the level, and every copy refers to the one file.
+    assert!(first.contains("Mesh(path: \""), "no mesh copies");
+    let checked = texel_run(&["check", out]);
+    let summary = String::from_utf8_lossy(&checked.stdout);
+    assert!(checked.status.success(), "{}", stderr(&checked));
+    assert!(summary.contains("1 mesh files"), "{summary}");
+    // The same options write the same file.
+    assert!(texel_run(&args).status.success());
+    assert_eq!(std::fs::read_to_string(out).unwrap(), first);
+    for (bad, phrase) in [
+        (vec!["gen", "--count", "2", "--out", out], "count"),
+        (
+            vec!["gen", "--mesh", "nowhere.glb", "--out", out],
+            "nowhere.glb",
+        ),
+        (vec!["gen", "--out", "/no/such/folder/x.ron"], "no folder"),
+    ] {
+        let o = texel_run(&bad);
+        assert_eq!(o.status.code(), Some(2), "{bad:?}");
+        assert!(stderr(&o).contains(phrase), "{bad:?}: {}", stderr(&o));
+    }
+    // A refused run left the good file alone.
+    assert_eq!(std::fs::read_to_string(out).unwrap(), first);
+}
