@@ -495,7 +495,7 @@ impl EditorApp {
                 Some("save the level first: mesh paths are relative to the level file".into());
             return;
         };
-        let rel = relative_path(&level, file);
+        let rel = texel_scene::assets::relative_path(&level, file);
         let row = EntityRow {
             name: file
                 .file_stem()
@@ -726,26 +726,4 @@ impl eframe::App for EditorApp {
     fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
         EditorApp::ui(self, ui);
     }
-}
-
-/// `file` relative to the directory of `level`, with `/` separators (absolute when it
-/// cannot be made relative).
-pub fn relative_path(level: &Path, file: &Path) -> String {
-    let base = level
-        .parent()
-        .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned()))
-        .unwrap_or_default();
-    let file = std::fs::canonicalize(file).unwrap_or_else(|_| file.to_owned());
-    let mut b = base.components().peekable();
-    let mut f = file.components().peekable();
-    while let (Some(x), Some(y)) = (b.peek(), f.peek()) {
-        if x != y {
-            break;
-        }
-        b.next();
-        f.next();
-    }
-    let mut parts: Vec<String> = b.map(|_| "..".to_owned()).collect();
-    parts.extend(f.map(|c| c.as_os_str().to_string_lossy().into_owned()));
-    parts.join("/")
 }

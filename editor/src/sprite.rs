@@ -12,8 +12,8 @@ use texel_scene::sprite::{MAX_ANIMATION_FRAMES, Sprite, SpriteAnimation, SpriteS
 use texel_scene::texture::load_texture;
 use texel_scene::{EntityRow, Name, Transform};
 
-use crate::app::relative_path;
 use crate::state::EditorState;
+use texel_scene::assets::relative_path;
 
 /// Frames per second of the animation Add → Sprite makes for a strip of frames.
 pub const DEFAULT_FPS: f32 = 8.0;

@@ -193,8 +193,7 @@ fn try_gen_level(args: &GenArgs) -> anyhow::Result<String> {
     let mut meshes = Vec::new();
     for mesh in &args.meshes {
         anyhow::ensure!(mesh.is_file(), "--mesh: no file {}", mesh.display());
-        let mesh = std::path::absolute(mesh).context("--mesh")?;
-        meshes.push(crate::generate::relative_path(folder, &mesh));
+        meshes.push(texel_scene::assets::relative_path(&out, mesh));
     }
     let options = crate::generate::GenOptions {
         kind: args.kind,

@@ -16,6 +16,7 @@
 //! the same options give the same file on every machine.
 
 use glam::{Vec2, Vec3};
+use texel_scene::sculpt::Placement;
 use texel_scene::terrain::{GradientStop, HeightSource, Heightfield, Terrain};
 use texel_scene::{
     DirectionalLight, EntityRow, Geometry, Level, Material, Name, PlayerStart, PointLight,
@@ -124,7 +125,7 @@ struct Generator<'a> {
     rng: fastrand::Rng,
     rows: Vec<EntityRow>,
     half: f32,
-    ground: Option<(Heightfield, Vec2)>,
+    ground: Option<(Placement, Heightfield)>,
     lights: usize,
     serial: usize,
 }
@@ -156,32 +157,34 @@ impl<'a> Generator<'a> {
                 island: 0.0,
             };
             let max_height = 6.0;
-            self.ground = Heightfield::from_noise(&heightmap, size, max_height).map(|h| (h, size));
             let stop = |at, r, g, b| GradientStop {
                 at,
                 colour: Vec3::new(r, g, b),
             };
+            let terrain = Terrain {
+                size,
+                heightmap,
+                max_height,
+                gradient: vec![
+                    stop(0.0, 0.45, 0.42, 0.3),
+                    stop(0.3, 0.25, 0.42, 0.16),
+                    stop(0.7, 0.18, 0.34, 0.12),
+                    stop(1.0, 0.5, 0.48, 0.45),
+                ],
+                displacement: None,
+                paint: None,
+                pixel_density: 4.0,
+                band_distance: 12.0,
+                band_transition: 0.3,
+                casts_shadows: true,
+                outlined: true,
+            };
+            self.ground = Heightfield::from_noise(&terrain.heightmap, size, max_height)
+                .map(|field| (Placement::new(&terrain, Vec3::ZERO, &field), field));
             self.rows.push(EntityRow {
                 name: Some(Name("Ground".into())),
                 transform: Some(Transform::default()),
-                terrain: Some(Terrain {
-                    size,
-                    heightmap,
-                    max_height,
-                    gradient: vec![
-                        stop(0.0, 0.45, 0.42, 0.3),
-                        stop(0.3, 0.25, 0.42, 0.16),
-                        stop(0.7, 0.18, 0.34, 0.12),
-                        stop(1.0, 0.5, 0.48, 0.45),
-                    ],
-                    displacement: None,
-                    paint: None,
-                    pixel_density: 4.0,
-                    band_distance: 12.0,
-                    band_transition: 0.3,
-                    casts_shadows: true,
-                    outlined: true,
-                }),
+                terrain: Some(terrain),
                 ..EntityRow::default()
             });
         } else {
@@ -216,12 +219,9 @@ impl<'a> Generator<'a> {
 
     /// The ground's height at (x, z).
     fn height(&self, x: f32, z: f32) -> f32 {
-        let Some((field, size)) = &self.ground else {
-            return 0.0;
-        };
-        let gx = (x / size.x + 0.5) * (field.width - 1) as f32;
-        let gz = (z / size.y + 0.5) * (field.depth - 1) as f32;
-        field.sample(gx, gz)
+        (self.ground.as_ref()).map_or(0.0, |(placement, field)| {
+            placement.surface(field, Vec3::new(x, 0.0, z)).y
+        })
     }
 
     /// A random spot off the street, and the ground's height there.
@@ -247,6 +247,12 @@ impl<'a> Generator<'a> {
             material: Some(material(albedo, true)),
             ..EntityRow::default()
         });
+    }
+
+    /// A box of `size` standing on `base` (its bottom face's centre), turned by `yaw`.
+    fn push_box(&mut self, what: &str, base: Vec3, yaw: f32, size: Vec3, albedo: Vec3) {
+        let centre = base + Vec3::Y * size.y / 2.0;
+        self.push(what, centre, yaw, Geometry::Box { size }, albedo);
     }
 
     fn tint(&mut self, base: Vec3, spread: f32) -> Vec3 {
@@ -294,36 +300,16 @@ impl<'a> Generator<'a> {
             let at = self.spot(size.x.max(size.z) / 2.0);
             let yaw = (self.rng.u32(0..4) * 90) as f32;
             let wall = self.tint(Vec3::new(0.7, 0.62, 0.5), 0.2);
-            self.push(
-                "House",
-                at + Vec3::Y * size.y / 2.0,
-                yaw,
-                Geometry::Box { size },
-                wall,
-            );
+            self.push_box("House", at, yaw, size, wall);
             let roof = Vec3::new(size.x + 0.4, 0.5, size.z + 0.4);
             let red = self.tint(Vec3::new(0.55, 0.22, 0.16), 0.15);
-            self.push(
-                "Roof",
-                at + Vec3::Y * (size.y + 0.25),
-                yaw,
-                Geometry::Box { size: roof },
-                red,
-            );
+            self.push_box("Roof", at + Vec3::Y * size.y, yaw, roof, red);
         } else if roll < 0.5 {
             let length = 2.0 + self.rng.f32() * 5.0;
             let at = self.spot(length / 2.0);
             let yaw = self.rng.f32() * 180.0;
             let stone = self.tint(Vec3::new(0.5, 0.48, 0.45), 0.1);
-            self.push(
-                "Wall",
-                at + Vec3::Y * 0.6,
-                yaw,
-                Geometry::Box {
-                    size: Vec3::new(length, 1.2, 0.4),
-                },
-                stone,
-            );
+            self.push_box("Wall", at, yaw, Vec3::new(length, 1.2, 0.4), stone);
         } else if roll < 0.6 {
             // A lamp post at the street's edge, with its light.
             let side = if self.rng.bool() { 1.0 } else { -1.0 };
@@ -344,13 +330,7 @@ impl<'a> Generator<'a> {
                 let wood = self.tint(Vec3::new(0.5, 0.36, 0.2), 0.1);
                 let size = Vec3::splat(0.6 + self.rng.f32() * 0.6);
                 let yaw = self.rng.f32() * 90.0;
-                self.push(
-                    "Crate",
-                    at + Vec3::Y * size.y / 2.0,
-                    yaw,
-                    Geometry::Box { size },
-                    wood,
-                );
+                self.push_box("Crate", at, yaw, size, wood);
             }
         } else {
             let radius = 0.2 + self.rng.f32() * 0.5;
@@ -404,7 +384,7 @@ impl<'a> Generator<'a> {
                 let log = self.tint(Vec3::new(0.4, 0.3, 0.2), 0.1);
                 let yaw = self.rng.f32() * 180.0;
                 let size = Vec3::new(2.0, 0.4, 0.4);
-                self.push("Log", at + Vec3::Y * 0.2, yaw, Geometry::Box { size }, log);
+                self.push_box("Log", at, yaw, size, log);
             }
         } else {
             let at = self.spot(1.0);
@@ -419,20 +399,6 @@ fn material(albedo: Vec3, casts_shadows: bool) -> Material {
         casts_shadows,
         ..Material::default()
     }
-}
-
-/// `target` as a path relative to the folder `from`, with `/` separators (both absolute).
-pub fn relative_path(from: &std::path::Path, target: &std::path::Path) -> String {
-    let from: Vec<_> = from.components().collect();
-    let to: Vec<_> = target.components().collect();
-    let common = from.iter().zip(&to).take_while(|(a, b)| a == b).count();
-    let mut parts: Vec<String> = vec!["..".to_owned(); from.len() - common];
-    parts.extend(
-        to[common..]
-            .iter()
-            .map(|c| c.as_os_str().to_string_lossy().into_owned()),
-    );
-    parts.join("/")
 }
 
 #[cfg(test)]
@@ -544,15 +510,5 @@ mod tests {
             let e = generate(&o).unwrap_err();
             assert!(e.to_string().contains(phrase), "{e}");
         }
-    }
-
-    #[test]
-    fn relative_paths_climb_and_descend() {
-        let p = |s| Path::new(s);
-        assert_eq!(
-            relative_path(p("/w/levels/gen"), p("/w/assets/meshes/crate.glb")),
-            "../../assets/meshes/crate.glb"
-        );
-        assert_eq!(relative_path(p("/w"), p("/w/a.glb")), "a.glb");
     }
 }

@@ -624,19 +624,18 @@ fn prepare_step(step: &Step, scope: &Scope) -> Result<Step, Failure> {
         (Scope::Full, Driver::Lavapipe) => None,
         (Scope::Full, Driver::SwiftShader) => {
             let gpu = read_device_log(Driver::Lavapipe)?;
+            let second = plan::second_driver_tests(&gpu.tests);
             println!(
                 "==> {} tests opened a GPU device on lavapipe; {} run on SwiftShader",
                 gpu.tests.len(),
-                plan::second_driver_tests(&gpu.tests).len()
+                second.len()
             );
-            Some(
-                plan::filterset(&plan::second_driver_tests(&gpu.tests)).ok_or_else(|| {
-                    Failure::new(
-                        "no test opened a GPU device on lavapipe, so the plan has no GPU \
+            Some(plan::filterset(&second).ok_or_else(|| {
+                Failure::new(
+                    "no test opened a GPU device on lavapipe, so the plan has no GPU \
                          tests for SwiftShader: the device log is not being written",
-                    )
-                })?,
-            )
+                )
+            })?)
         }
         (Scope::Quick { package }, _) => quick_filter(package.as_deref()),
     };

@@ -229,6 +229,28 @@ pub fn resolve(level_path: &Path, rel: &str) -> PathBuf {
     dir.join(rel)
 }
 
+/// `file` relative to the directory of `level`, with `/` separators: what [`resolve`]
+/// undoes (absolute when it cannot be made relative).
+pub fn relative_path(level: &Path, file: &Path) -> String {
+    let base = level
+        .parent()
+        .map(|p| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_owned()))
+        .unwrap_or_default();
+    let file = std::fs::canonicalize(file).unwrap_or_else(|_| file.to_owned());
+    let mut b = base.components().peekable();
+    let mut f = file.components().peekable();
+    while let (Some(x), Some(y)) = (b.peek(), f.peek()) {
+        if x != y {
+            break;
+        }
+        b.next();
+        f.next();
+    }
+    let mut parts: Vec<String> = b.map(|_| "..".to_owned()).collect();
+    parts.extend(f.map(|c| c.as_os_str().to_string_lossy().into_owned()));
+    parts.join("/")
+}
+
 /// Loads every glTF mesh and texture `level` refers to. `level_path` is the level file (for
 /// relative paths and messages); `level_text`, if given, is its text, used to point errors
 /// at the line that names the file.
@@ -496,6 +518,23 @@ fn line_col_at(text: &str, at: usize) -> (usize, usize) {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn relative_paths_climb_and_descend_and_resolve_back() {
+        let p = Path::new;
+        let level = p("/nowhere/levels/gen/town.ron");
+        let mesh = p("/nowhere/assets/meshes/crate.glb");
+        let rel = super::relative_path(level, mesh);
+        assert_eq!(rel, "../../assets/meshes/crate.glb");
+        assert_eq!(
+            super::resolve(level, &rel),
+            p("/nowhere/levels/gen/../../assets/meshes/crate.glb")
+        );
+        assert_eq!(
+            super::relative_path(p("/nowhere/a.ron"), p("/nowhere/b.glb")),
+            "b.glb"
+        );
+    }
+
     use super::*;
     use crate::level::EntityRow;
 

@@ -334,41 +334,39 @@ impl LazyRender {
     }
 
     fn compile(&self) -> wgpu::RenderPipeline {
-        {
-            let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> = (self.vertex_buffers.iter())
-                .map(|buffer| {
-                    buffer.as_ref().map(|b| wgpu::VertexBufferLayout {
-                        array_stride: b.stride,
-                        step_mode: b.step_mode,
-                        attributes: &b.attributes,
-                    })
+        let buffers: Vec<Option<wgpu::VertexBufferLayout<'_>>> = (self.vertex_buffers.iter())
+            .map(|buffer| {
+                buffer.as_ref().map(|b| wgpu::VertexBufferLayout {
+                    array_stride: b.stride,
+                    step_mode: b.step_mode,
+                    attributes: &b.attributes,
                 })
-                .collect();
-            (self.device).create_render_pipeline(&wgpu::RenderPipelineDescriptor {
-                label: Some(&self.label),
-                layout: Some(&self.layout),
-                vertex: wgpu::VertexState {
-                    module: &self.module,
-                    entry_point: Some(&self.vertex),
-                    compilation_options: Default::default(),
-                    buffers: &buffers,
-                },
-                fragment: Some(wgpu::FragmentState {
-                    module: &self.module,
-                    entry_point: Some(&self.fragment),
-                    compilation_options: Default::default(),
-                    targets: &self.targets,
-                }),
-                primitive: wgpu::PrimitiveState {
-                    topology: self.topology,
-                    ..Default::default()
-                },
-                depth_stencil: self.depth.clone(),
-                multisample: Default::default(),
-                multiview_mask: None,
-                cache: None,
             })
-        }
+            .collect();
+        (self.device).create_render_pipeline(&wgpu::RenderPipelineDescriptor {
+            label: Some(&self.label),
+            layout: Some(&self.layout),
+            vertex: wgpu::VertexState {
+                module: &self.module,
+                entry_point: Some(&self.vertex),
+                compilation_options: Default::default(),
+                buffers: &buffers,
+            },
+            fragment: Some(wgpu::FragmentState {
+                module: &self.module,
+                entry_point: Some(&self.fragment),
+                compilation_options: Default::default(),
+                targets: &self.targets,
+            }),
+            primitive: wgpu::PrimitiveState {
+                topology: self.topology,
+                ..Default::default()
+            },
+            depth_stencil: self.depth.clone(),
+            multisample: Default::default(),
+            multiview_mask: None,
+            cache: None,
+        })
     }
 }
 
