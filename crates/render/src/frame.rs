@@ -160,8 +160,9 @@ impl Renderer {
     /// Builds every pass for views of `colour` format to draw into. A plain format (say
     /// `Rgba8Unorm`) is the fast path: it receives sRGB-encoded bytes, as a PNG or a window
     /// shows them; an sRGB format costs a decode per output pixel (the frame is drawn into
-    /// an internal plain texture first). A shader or pipeline the device rejects is an
-    /// error, not a panic.
+    /// an internal plain texture first). A shader the device rejects is an error here; a
+    /// pipeline compiles on its first use (`passes::LazyCompute`), so one the device rejects
+    /// fails the first frame that draws with it (`GpuContext::check`). Neither panics.
     pub fn new(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let built = Self::build(ctx, colour);
