@@ -3,7 +3,7 @@
 //! Texel renders through wgpu, and its tests and tools need things Cargo cannot
 //! provide: a Vulkan loader, a Vulkan driver that works without a GPU (Mesa's
 //! lavapipe), and an X server for window tests (Xvfb). They also need a
-//! particular environment (single-threaded GPU tests, the Vulkan backend, GPU
+//! particular environment (one device per test process, the Vulkan backend, GPU
 //! tests that fail rather than skip). Rather than spreading that knowledge over
 //! shell scripts and CI files, this crate holds it in plain Rust with no
 //! dependencies, so it compiles in seconds on any machine with a toolchain:
@@ -512,7 +512,7 @@ fn usage(topic: Option<Sub>) -> String {
                  test, failing or not):\n\
                  {}\n\
                  \n\
-                 Tests run under cargo-nextest, one process per test, one at a time\n\
+                 Tests run under cargo-nextest, one process per test, one per core at a time\n\
                  (.config/nextest.toml: the per-test time budget, and the tests allowed longer\n\
                  with their reasons). Each test that opens a GPU device on lavapipe is\n\
                  recorded ({}) and runs again on SwiftShader, except:\n\
