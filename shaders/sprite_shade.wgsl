@@ -20,7 +20,7 @@
 @group(0) @binding(3) var<uniform> globals: SpriteGlobals;
 @group(0) @binding(4) var<storage, read> points: array<PointLight>;
 @group(0) @binding(5) var<storage, read_write> lit: array<vec2<u32>>;
-// Per sprite and copy, what its texels were last lit for (crates/render/src/sprites.rs).
+// Per sprite and copy, what its texels were last lit for (crates/render/src/gpu_sprites.rs).
 @group(0) @binding(6) var<storage, read_write> lit_keys: array<vec4<u32>>;
 @group(2) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(2) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;

@@ -17,7 +17,7 @@ use crate::terrain;
 use crate::ui::dialogs::{Answer, Dialogs, Pending, Prompt, Purpose};
 use crate::ui::inspector::PixelCalc;
 use crate::ui::menu::{self, Action};
-use crate::ui::sprite::SpritePanel;
+use crate::ui::sprite_section::SpritePanel;
 use crate::ui::{hierarchy, inspector};
 use crate::viewport::Viewport;
 use crate::viewport::gpu::GpuView;
@@ -519,12 +519,12 @@ impl EditorApp {
     }
 
     /// Adds a sprite of the sheet `file` standing at the view's focus
-    /// ([`crate::sprite::add_sprite`]); a file that is not an image is shown in the error
+    /// ([`crate::add_sprite::add_sprite`]); a file that is not an image is shown in the error
     /// dialog, and nothing is added.
     pub fn add_sprite(&mut self, file: &Path) {
         self.viewport.stop();
         let at = self.viewport.ground_focus();
-        if let Err(e) = crate::sprite::add_sprite(&mut self.state, file, at) {
+        if let Err(e) = crate::add_sprite::add_sprite(&mut self.state, file, at) {
             self.dialogs.error = Some(format!("cannot add the sprite: {e}"));
         }
     }

@@ -4,6 +4,7 @@
 //! the [`state::EditorState`] they need; the viewport renders the level with `texel_render`
 //! on eframe's own wgpu device.
 
+pub mod add_sprite;
 pub mod app;
 pub mod camera;
 pub mod command;
@@ -12,7 +13,6 @@ pub mod files;
 pub mod history;
 pub mod paint;
 pub mod pixel;
-pub mod sprite;
 pub mod state;
 pub mod terrain;
 pub mod ui;

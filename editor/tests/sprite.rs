@@ -438,7 +438,7 @@ fn the_preview_shows_the_frame_frame_at_gives() {
         assert_eq!(shown.frame, want, "t {t}");
         assert_eq!(shown.uv, uv_of(want), "t {t}");
         assert!(shown.zoom >= 1);
-        let step = texel_editor::ui::sprite::step_at(&s.animations[0], t);
+        let step = texel_editor::ui::sprite_section::step_at(&s.animations[0], t);
         h.get_by_label(&format!("Frame {}/4 · sheet frame {want}", step + 1));
     }
     // One frame on: paused, on the next.

@@ -30,7 +30,7 @@ use texel_render::context::{GpuContext, test_context};
 use texel_render::input::{Camera, Schedule};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::CameraPath;
-use texel_runtime::sculpt::{DABS_PER_SECOND, brush};
+use texel_runtime::play_sculpt::{DABS_PER_SECOND, brush};
 use texel_runtime::session::{FrameRequest, Session};
 use texel_scene::Transform;
 use texel_scene::sculpt::{self, Dab, Placement};
@@ -100,7 +100,7 @@ fn settled(ctx: &GpuContext, level: &LoadedLevel, camera: Camera, size: UVec2) -
     session
 }
 
-/// One dab of `texel-run play`'s raise (or lower) brush ([`texel_runtime::sculpt::brush`]:
+/// One dab of `texel-run play`'s raise (or lower) brush ([`texel_runtime::play_sculpt::brush`]:
 /// radius 3, a tenth of a second) at `at` (world X, Z); returns the box it may change
 /// ([`Placement::region_bounds`]).
 fn dab(level: &mut LoadedLevel, at: Vec2, raise: bool) -> (Vec3, Vec3) {

@@ -338,7 +338,10 @@ fn check(path: &std::path::Path, density: Option<(&str, f32)>) -> ExitCode {
                 loaded.assets.texture_count()
             );
             if let Some((size, viewport)) = viewport {
-                println!("{}", crate::density::format_report(&loaded, viewport, size));
+                println!(
+                    "{}",
+                    crate::density_check::format_report(&loaded, viewport, size)
+                );
             }
             ExitCode::SUCCESS
         }

@@ -47,7 +47,7 @@ use texel_scene::{
 
 use crate::extract::{Viewport, face_resolution, grid_overrides};
 use crate::load::LoadedLevel;
-use crate::placement::SceneRays;
+use crate::occluders::SceneRays;
 
 /// Faces captured per frame at most in our schedule (eye faces count against it).
 pub const FACE_BUDGET: u32 = 9;
@@ -108,7 +108,7 @@ pub struct PreparedLevel {
 pub struct Animation {
     objects: Vec<Animated>,
     /// Sprites whose frames play or whose entity an animator moves.
-    sprites: Vec<crate::sprites::SpriteClock>,
+    sprites: Vec<crate::level_sprites::SpriteClock>,
 }
 
 impl Animation {
@@ -232,7 +232,10 @@ fn animated_objects(level: &LoadedLevel, scene: &SceneInput) -> Vec<Animated> {
         .collect()
 }
 
-fn sprite_clocks(level: &LoadedLevel, scene: &SceneInput) -> Vec<crate::sprites::SpriteClock> {
+fn sprite_clocks(
+    level: &LoadedLevel,
+    scene: &SceneInput,
+) -> Vec<crate::level_sprites::SpriteClock> {
     let w = level.scene.world();
     let entities: Vec<hecs::Entity> = level.scene.entities().collect();
     (scene.sprites.iter().enumerate())
@@ -242,7 +245,7 @@ fn sprite_clocks(level: &LoadedLevel, scene: &SceneInput) -> Vec<crate::sprites:
             let base = w.get::<&Transform>(e).map(|t| *t).ok()?;
             let animator =
                 (w.get::<&texel_scene::animator::Animator>(e).ok()).map(|a| (*a).clone());
-            crate::sprites::SpriteClock::new(index, &sprite, input, base, animator)
+            crate::level_sprites::SpriteClock::new(index, &sprite, input, base, animator)
         })
         .collect()
 }
@@ -1034,7 +1037,7 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
         }
         if let Ok(sprite) = w.get::<&texel_scene::sprite::Sprite>(e)
             && let Some(input) =
-                crate::sprites::sprite_input(&sprite, &t, &level.assets, entity_id(index))
+                crate::level_sprites::sprite_input(&sprite, &t, &level.assets, entity_id(index))
         {
             out.sprites.push(input);
         }

@@ -3,19 +3,19 @@
 //! the renderer consumes, and drives the frame loop. The `texel-run` binary is a thin
 //! wrapper over [`cli`], so tests and the editor reuse the same code.
 
-pub mod camera;
 pub mod cli;
-pub mod density;
+pub mod density_check;
 pub mod driver;
 pub mod extract;
+pub mod first_person;
 pub mod generate;
 pub mod headless;
+pub mod level_sprites;
 pub mod load;
+pub mod occluders;
 pub mod path;
-pub mod placement;
 pub mod play;
-pub mod sculpt;
+pub mod play_sculpt;
 pub mod session;
 pub mod soak;
-pub mod sprites;
 pub mod walk;

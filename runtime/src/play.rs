@@ -6,7 +6,7 @@
 //! Controls: click to capture the mouse, WASD to walk, Shift to run, Space/E to jump, F to
 //! toggle flying (through everything; Space/E and Ctrl/Q rise and sink), Tab to switch the
 //! schedule, F3 to hide the overlay, R and G to raise and lower the terrain under the
-//! crosshair (`crate::sculpt`), Esc to release the mouse and Esc again (or closing the window)
+//! crosshair (`crate::play_sculpt`), Esc to release the mouse and Esc again (or closing the window)
 //! to quit.
 
 use std::path::Path;
@@ -25,9 +25,9 @@ use winit::event_loop::{ActiveEventLoop, EventLoop};
 use winit::keyboard::{KeyCode, PhysicalKey};
 use winit::window::{CursorGrabMode, Window, WindowId};
 
-use crate::camera::{InputState, WalkCamera};
+use crate::first_person::{InputState, WalkCamera};
 use crate::load::{LoadedLevel, load_level};
-use crate::sculpt::{SculptKeys, dab_at_centre};
+use crate::play_sculpt::{SculptKeys, dab_at_centre};
 use crate::session::{FrameRequest, Session};
 use crate::walk::Walker;
 

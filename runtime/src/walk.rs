@@ -21,7 +21,7 @@ use texel_scene::sculpt::Placement;
 use texel_scene::terrain::Terrain;
 use texel_scene::{Scene, Transform};
 
-use crate::camera::{InputState, WalkCamera};
+use crate::first_person::{InputState, WalkCamera};
 
 /// A level's physics world and the player walking through it.
 #[derive(Debug)]
@@ -162,7 +162,7 @@ mod tests {
 
     use super::*;
     use crate::load::{LoadedLevel, load_level};
-    use crate::sculpt::dab_level;
+    use crate::play_sculpt::dab_level;
 
     const DT: f32 = 1.0 / 60.0;
 

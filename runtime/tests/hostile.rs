@@ -3,7 +3,7 @@
 //! numbers out of range. Every case runs `texel-run` as a process with a time limit and asserts
 //! a non-zero exit that is not a panic (101), no panic message, and the expected error text.
 //! The level loader's content catalogue is `crates/scene/tests/levels.rs`; reports for
-//! `texel-eval chart` are in `crates/eval/tests/hostile_reports.rs`.
+//! `texel-eval chart` are in `eval/tests/hostile_reports.rs`.
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};

@@ -6,7 +6,7 @@ use glam::{UVec2, Vec2, Vec3};
 use texel_render::context::test_context;
 use texel_render::input::{Camera, FrameInput, Schedule};
 use texel_runtime::load::{LoadedLevel, load_level};
-use texel_runtime::sculpt::dab_at_centre;
+use texel_runtime::play_sculpt::dab_at_centre;
 use texel_runtime::session::{FrameRequest, Session, set_face_resolution, shadow_extended};
 use texel_scene::sculpt::scene_ray_hit;
 
@@ -192,7 +192,7 @@ fn a_play_dab_at_the_sky_changes_nothing() -> anyhow::Result<()> {
     let mut level = hills()?;
     let camera = Camera::from_yaw_pitch(Vec3::new(0.0, 9.0, 40.0), 0.0, 20.0);
     let before = ground(&level, Vec3::new(0.0, 0.0, 30.0));
-    assert!(texel_runtime::sculpt::dab_level(&mut level, &camera, true, 3).is_none());
+    assert!(texel_runtime::play_sculpt::dab_level(&mut level, &camera, true, 3).is_none());
     assert_eq!(ground(&level, Vec3::new(0.0, 0.0, 30.0)), before);
     Ok(())
 }

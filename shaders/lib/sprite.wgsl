@@ -1,4 +1,4 @@
-// Sprites (crates/render/src/sprites.rs): one instance record per sprite, expanded to a quad
+// Sprites (crates/render/src/gpu_sprites.rs): one instance record per sprite, expanded to a quad
 // in the vertex stage, turned toward a viewer point. Shared by the sprite pass
 // (shaders/sprites.wgsl) and the G-buffer (shaders/gbuffer.wgsl). The includer declares
 // `sprites: array<Sprite>` and `sprite_frames: texture_2d_array<f32>` and includes
@@ -19,7 +19,7 @@ struct Sprite {
     relief_depth: f32,
     index_ratio: f32,
     frames: u32,
-    // Where its lit texels start (crates/render/src/sprites.rs).
+    // Where its lit texels start (crates/render/src/gpu_sprites.rs).
     lit_base: u32,
 }
 

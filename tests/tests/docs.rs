@@ -445,7 +445,7 @@ fn check_texel_run(args: &[String]) -> Result<(), String> {
 
 /// What `texel-eval SUB --help` prints.
 fn eval_help(sub: &str) -> Result<String, String> {
-    let sources = ["crates/eval/src/cli.rs", "crates/eval/src/main.rs"];
+    let sources = ["eval/src/cli.rs", "eval/src/main.rs"];
     let bin = built_binary("texel-eval", "texel_eval", &sources)?;
     let out = Command::new(&bin)
         .args([sub, "--help"])

@@ -524,7 +524,7 @@ pub enum UploadError {
     Atlas(#[from] AtlasError),
     /// The sprites' sheets.
     #[error(transparent)]
-    Sprites(#[from] crate::sprites::SpriteError),
+    Sprites(#[from] crate::gpu_sprites::SpriteError),
 }
 
 /// The horizontal direction toward the first sun (sprites' shadow proxies face it), +Z
@@ -579,7 +579,7 @@ pub struct GpuScene {
     /// Terrains in the scene (records in use).
     pub terrain_count: usize,
     /// The sprites, if the scene has any.
-    pub sprites: Option<crate::sprites::GpuSprites>,
+    pub sprites: Option<crate::gpu_sprites::GpuSprites>,
     /// Terrain heights and gradient stops (at least one word).
     pub terrain_data: wgpu::Buffer,
     /// The shadow-casting terrains walked as heightfields: their records
@@ -822,9 +822,9 @@ impl GpuScene {
         // Shadow-casting sprites: frame 0's silhouette, standing toward the first sun.
         let toward_sun = suns_toward(scene);
         for sprite in scene.sprites.iter().filter(|s| s.casts_shadows) {
-            casters.extend(crate::sprites::shadow_triangles(sprite, toward_sun));
+            casters.extend(crate::gpu_sprites::shadow_triangles(sprite, toward_sun));
         }
-        let sprites = crate::sprites::GpuSprites::upload(ctx, &scene.sprites)?;
+        let sprites = crate::gpu_sprites::GpuSprites::upload(ctx, &scene.sprites)?;
         let mut bvh: GpuBvh = build_bvh(&casters);
         // Each animated caster's own tree, in its base pose, after the static one.
         for (i, tris) in &animated_casters {

@@ -157,8 +157,8 @@ fn relief_scene(with_wall: bool) -> SceneInput {
     scene
 }
 
-fn relief_quad(depth: &dyn Fn(UVec2) -> f32) -> texel_render::sprites::ReliefQuad<'_> {
-    texel_render::sprites::ReliefQuad {
+fn relief_quad(depth: &dyn Fn(UVec2) -> f32) -> texel_render::gpu_sprites::ReliefQuad<'_> {
+    texel_render::gpu_sprites::ReliefQuad {
         axes: [Vec3::X, Vec3::Y, Vec3::Z],
         size: Vec2::ONE,
         frame_px: UVec2::splat(N),
@@ -176,8 +176,11 @@ fn depth_at(t: UVec2) -> f32 {
 fn texel_rays(camera: &Camera) -> Vec<(Vec3, Option<(Vec2, f32)>)> {
     let quad = relief_quad(&depth_at);
     // The anchor (the sprite's centre) where the pass draws it: on the probe's texel grid.
-    let anchor =
-        texel_render::sprites::snap_to_probe_texel(Vec3::new(0.0, 1.0, -2.0), camera.position, 128);
+    let anchor = texel_render::gpu_sprites::snap_to_probe_texel(
+        Vec3::new(0.0, 1.0, -2.0),
+        camera.position,
+        128,
+    );
     let corner = anchor + Vec3::new(-0.5, 0.5, 0.0);
     let mut out = Vec::new();
     for j in 0..N {

@@ -17,7 +17,7 @@ use crate::command::{Command, CommandError};
 use crate::history::MergeKey;
 use crate::pixel::{PixelInfo, face_resolution_for_one_to_one};
 use crate::state::EditorState;
-use crate::ui::sprite::SpritePanel;
+use crate::ui::sprite_section::SpritePanel;
 use crate::ui::widgets::{colour, integer, scalar, vec2, vec3};
 
 const BIG: f32 = 1.0e6;
@@ -42,7 +42,7 @@ pub fn entity(
         panel: sprites,
     };
     edit_row(ui, &mut row, &terrain, sprite);
-    crate::ui::sprite::keep_row_valid(ui.ctx(), &before, &mut row, sprites);
+    crate::ui::sprite_section::keep_row_valid(ui.ctx(), &before, &mut row, sprites);
     let cleared = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_none());
     let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
     if painted(&before) && cleared(&row) {
@@ -117,7 +117,7 @@ fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo, sprite: Sprite
     if let Some(message) = unapplied {
         ui.colored_label(ui.visuals().warn_fg_color, format!("Terrain: {message}."));
     }
-    crate::ui::sprite::section(ui, sprite.index, row, sprite.assets, sprite.panel);
+    crate::ui::sprite_section::section(ui, sprite.index, row, sprite.assets, sprite.panel);
     section_with(
         ui,
         "Geometry",

@@ -5,5 +5,5 @@ pub mod dialogs;
 pub mod hierarchy;
 pub mod inspector;
 pub mod menu;
-pub mod sprite;
+pub mod sprite_section;
 pub mod widgets;

@@ -13,15 +13,15 @@ pub mod gpu;
 pub mod handles;
 pub mod overlay;
 pub mod play;
-pub mod sculpt;
+pub mod terrain_tool;
 
 use std::time::Instant;
 
 use egui::{Color32, Key, PointerButton, Sense, Ui};
 use glam::{UVec2, Vec2, Vec3};
 use texel_render::input::Schedule;
-use texel_runtime::camera::{InputState, WalkCamera};
 use texel_runtime::extract::Viewport as ExtractViewport;
+use texel_runtime::first_person::{InputState, WalkCamera};
 
 use crate::camera::{EditorCamera, FOV_Y_DEG, Projector};
 use crate::command::CommandError;
@@ -33,7 +33,7 @@ use gizmo::{Drag, Mode};
 use gpu::GpuView;
 use handles::FaceDrag;
 use play::PlayPhysics;
-use sculpt::TerrainTool;
+use terrain_tool::TerrainTool;
 
 /// Internal resolution relative to the panel's physical pixels while the view is still, and
 /// while it moves (cheaper frames keep the camera responsive on a CPU rasterizer).
@@ -427,7 +427,7 @@ impl Viewport {
             self.drag = None;
             self.face_drag = None;
             let upload_ms = self.gpu.as_ref().and_then(|g| g.report.upload_ms);
-            let refresh = sculpt::refresh_interval(upload_ms);
+            let refresh = terrain_tool::refresh_interval(upload_ms);
             self.terrain
                 .ui(ui, &response, &painter, &proj, state, refresh)?
         } else {

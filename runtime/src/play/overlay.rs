@@ -8,7 +8,7 @@ use texel_render::stats::FrameStats;
 use winit::event::WindowEvent;
 use winit::window::Window;
 
-use crate::camera::WalkCamera;
+use crate::first_person::WalkCamera;
 use crate::headless::schedule_name;
 
 /// Seconds over which the overlay averages frames per second.

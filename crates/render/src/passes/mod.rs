@@ -184,7 +184,7 @@ pub fn shared_layouts() -> Vec<(&'static str, &'static str, usize)> {
         (
             "sprites.wgsl",
             "Sprite",
-            size_of::<crate::sprites::GpuSprite>(),
+            size_of::<crate::gpu_sprites::GpuSprite>(),
         ),
         (
             "moving.wgsl",

@@ -1,6 +1,6 @@
 //! Sprites, in two steps. `shade` (`shaders/sprite_shade.wgsl`, compute): every texel of every
 //! sprite in view lit once, for the grid probe's copy and during a crossfade the previous
-//! probe's, into [`crate::sprites::GpuSprites::lit`]. `draw` (`shaders/sprites.wgsl`): one
+//! probe's, into [`crate::gpu_sprites::GpuSprites::lit`]. `draw` (`shaders/sprites.wgsl`): one
 //! instance per sprite expanded to a quad in the vertex stage, drawn into the frame after the
 //! splats and the moving objects, each pixel taking its texel's colour. Turned toward the
 //! grid probe's origin (the two copies splitting the pixels with the splats' Bayer pattern),

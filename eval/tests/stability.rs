@@ -13,7 +13,7 @@ use texel_render::context::test_context;
 const SIZE: UVec2 = UVec2::new(160, 90);
 
 fn assets() -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets")
 }
 
 /// Runs `methods` at `face_res` along `path` on `level`; `None` without a GPU.
@@ -262,7 +262,7 @@ fn along_the_wall_at_faces_of_64_silhouettes_are_as_tight_as_naive() {
 /// test, `tests/data/slanted_edges.ron`), strafing across a cell face, at faces of 64.
 #[test]
 fn slanting_silhouettes_are_as_tight_as_low_resolution_rendering() {
-    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../tests/data");
+    let data = Path::new(env!("CARGO_MANIFEST_DIR")).join("../tests/data");
     let Some((splat, naive)) = splat_and_naive_files(
         data.join("slanted_edges.ron"),
         data.join("slanted_strafe.ron"),

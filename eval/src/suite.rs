@@ -389,7 +389,7 @@ mod tests {
     use super::*;
 
     fn assets() -> PathBuf {
-        Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets")
     }
 
     #[test]

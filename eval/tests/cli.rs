@@ -8,7 +8,7 @@ use std::process::Command;
 use texel_render::context::test_context;
 
 fn assets() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets")
 }
 
 #[test]

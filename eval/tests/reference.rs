@@ -18,7 +18,7 @@ fn gpu_and_cpu_references_agree_off_silhouettes() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels/stone_circle.ron");
+    let file = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/stone_circle.ron");
     let level = load_level(&file).expect("level loads");
     let scene = scene_input(&level);
     let camera = start_camera(&level.scene);

@@ -342,11 +342,11 @@ mod tests {
     use std::path::Path;
     use texel_runtime::driver::scene_input;
     use texel_runtime::load::load_level;
-    use texel_runtime::placement::SceneRays;
+    use texel_runtime::occluders::SceneRays;
 
     fn level(name: &str) -> (SceneRays, f32) {
         let path = Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("../../assets/levels")
+            .join("../assets/levels")
             .join(name);
         let level = load_level(&path).expect("bundled level loads");
         let rays = SceneRays::new(scene_input(&level));

@@ -2,7 +2,7 @@
 //! learn its size (and refused with the decoder's message if it is not an image), its path is
 //! stored relative to the level like a glTF mesh's, and the decoded image goes straight into
 //! the document's asset library, so nothing is read twice. The inspector's sprite section
-//! and preview are [`crate::ui::sprite`].
+//! and preview are [`crate::ui::sprite_section`].
 
 use std::path::Path;
 use std::sync::Arc;

@@ -436,7 +436,7 @@ fn animations(ui: &mut Ui, index: usize, list: &mut Vec<SpriteAnimation>) -> Res
         list.push(SpriteAnimation {
             name,
             frames: vec![0],
-            fps: crate::sprite::DEFAULT_FPS,
+            fps: crate::add_sprite::DEFAULT_FPS,
         });
     }
     result

@@ -13,7 +13,7 @@ use texel_eval::suite::{ReferenceKind, RunPlan, run_plan};
 use texel_render::context::test_context;
 
 fn assets() -> std::path::PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets")
+    Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets")
 }
 
 #[test]
