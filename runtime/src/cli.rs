@@ -387,11 +387,19 @@ fn render(args: &RenderArgs) -> ExitCode {
     match render_inner(args) {
         Ok(record) => {
             let median = record.median_frame_ms;
+            let sum = |f: fn(&texel_render::stats::Counters) -> u64| -> u64 {
+                record.frames.iter().map(|r| f(&r.stats.counters)).sum()
+            };
+            let faces = sum(|c| u64::from(c.faces_captured)).max(1) as f64;
             println!(
-                "{}: {} frames on {}, median {median:.1} ms, stats in {}",
+                "{}: {} frames on {}, median {median:.1} ms; {} faces captured, {:.0} objects \
+                 and {:.0} triangles a face; stats in {}",
                 args.level.display(),
                 record.frames.len(),
                 record.adapter,
+                sum(|c| u64::from(c.faces_captured)),
+                sum(|c| c.objects_captured) as f64 / faces,
+                sum(|c| c.triangles_captured) as f64 / faces,
                 args.out.join("stats.json").display()
             );
             ExitCode::SUCCESS

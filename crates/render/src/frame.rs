@@ -368,9 +368,10 @@ impl Renderer {
         let fading = input.previous.is_some() && input.fade_t < 1.0;
         let sprites = (self.sprites).prepare(ctx, &self.view, scene, store, &input.look, fading);
         let rects = capture_rects(input, &globals, store);
+        let mut captured = crate::passes::capture::CaptureWork::default();
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.cell_probe().origin;
-            (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
+            captured = (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         let mut jobs = shade_jobs(input, &rects);
         // Only splat quads end at edges (texel marching meets the texel planes).
@@ -520,6 +521,8 @@ impl Renderer {
             frame_ms: started.elapsed().as_secs_f64() * 1e3,
             counters: Counters {
                 faces_captured: input.captures.len() as u32,
+                objects_captured: captured.ranges,
+                triangles_captured: captured.triangles,
                 texels_shaded,
                 quads_splatted,
                 cull_entries,

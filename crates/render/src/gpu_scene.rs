@@ -452,6 +452,37 @@ fn lod_for_span(r: &DrawRange, span: f32) -> u32 {
     (ratio.log2().floor() as u32).min(r.max_lod)
 }
 
+/// Probe texels an object's bounds must span, where the face sees them, for a capture to
+/// draw it: an object smaller than that at its distance covers at most a few texels'
+/// centres, so it is left out and a far field of small things costs nothing (its shadows
+/// stay: rays trace the whole scene).
+pub const DRAW_MIN_TEXELS: f32 = 1.0;
+
+/// Whether a face capturing for `lod` draws `r`: terrain chunks always (their levels thin
+/// them instead), other ranges when the diagonal of their bounds is at least
+/// [`DRAW_MIN_TEXELS`] texels at their nearest point. A cube-face texel there measures
+/// `2d / n × cos²φ` (d the distance, φ the angle from the face's axis: a texel toward a
+/// face's edge subtends less, down to a third at its corners), an orthographic face's
+/// texel its world size; a full-detail raster (a reference G-buffer) draws everything.
+pub fn spans_a_texel(r: &DrawRange, lod: LodFrom) -> bool {
+    if r.terrain {
+        return true;
+    }
+    let diagonal = (r.max - r.min).length();
+    match lod {
+        LodFrom::Full => true,
+        LodFrom::Texel(size) => diagonal >= DRAW_MIN_TEXELS * size,
+        LodFrom::Probe(origin, n) | LodFrom::Eye(origin, n) => {
+            let nearest = origin.clamp(r.min, r.max) - origin;
+            let d = nearest.length();
+            let toward = ((r.min + r.max) * 0.5 - origin).normalize_or_zero();
+            let cos = toward.abs().max_element().max(1.0 / 3f32.sqrt());
+            let texel = 2.0 * d / n as f32 * cos * cos;
+            diagonal >= DRAW_MIN_TEXELS * texel
+        }
+    }
+}
+
 /// How a raster picks terrain levels: from a probe (`origin`, `n` texels per face edge), or
 /// level 0 everywhere (a G-buffer).
 #[derive(Debug, Clone, Copy)]
@@ -478,15 +509,17 @@ pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) 
 }
 
 /// [`visible_runs`] split by [`DrawRange::terrain`]: the plain terrain's runs, then the rest
-/// (each in the order `visible_runs` draws them).
+/// (each in the order `visible_runs` draws them); and how many ranges they hold.
 pub fn visible_runs_by_kind(
     ranges: &[DrawRange],
     view_proj: &glam::Mat4,
     lod: LodFrom,
-) -> [Vec<(u32, u32)>; 2] {
+) -> ([Vec<(u32, u32)>; 2], usize) {
+    let visible = visible_ranges(ranges, view_proj, lod);
+    let count = visible.len();
     let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =
-        (visible_ranges(ranges, view_proj, lod).into_iter()).partition(|r| r.terrain);
-    [terrain, rest].map(|r| merge_runs(r.into_iter()))
+        visible.into_iter().partition(|r| r.terrain);
+    ([terrain, rest].map(|r| merge_runs(r.into_iter())), count)
 }
 
 /// The ranges [`visible_runs`] draws, in its order.
@@ -503,7 +536,7 @@ fn visible_ranges<'a>(
     };
     let mut visible: Vec<&DrawRange> = ranges
         .iter()
-        .filter(|r| wanted(r) && r.may_be_visible(view_proj))
+        .filter(|r| wanted(r) && spans_a_texel(r, lod) && r.may_be_visible(view_proj))
         .collect();
     if let LodFrom::Probe(origin, _) | LodFrom::Eye(origin, _) = lod {
         let distance = |r: &DrawRange| (origin.clamp(r.min, r.max) - origin).length_squared();
@@ -1088,6 +1121,48 @@ mod tests {
     }
 
     #[test]
+    fn a_probe_leaves_out_what_spans_less_than_a_texel_where_it_sees_it() {
+        // A box of diagonal 2·√3 ≈ 3.46 straight ahead: one texel at distance d on faces of
+        // 64 is d/32 there, so it is drawn up to d ≈ 111 and not beyond.
+        let (_, r) = down_z();
+        let probe = LodFrom::Probe(Vec3::ZERO, 64);
+        assert!(spans_a_texel(&r(0, -100.0), probe));
+        assert!(!spans_a_texel(&r(0, -125.0), probe));
+        // Toward a face's corner a texel subtends a third: drawn three times as far.
+        let corner = |d: f32| DrawRange {
+            min: Vec3::splat(-d) - 1.0,
+            max: Vec3::splat(-d) + 1.0,
+            ..r(0, 0.0)
+        };
+        let d = |c: f32| (Vec3::splat(c - 1.0)).length();
+        assert!(spans_a_texel(&corner(180.0), probe), "{}", d(180.0));
+        assert!(!spans_a_texel(&corner(200.0), probe), "{}", d(200.0));
+        // The eye likewise; a full-detail raster and terrain chunks draw everything; an
+        // orthographic face compares with its texel's world size.
+        assert!(!spans_a_texel(&r(0, -125.0), LodFrom::Eye(Vec3::ZERO, 64)));
+        assert!(spans_a_texel(&r(0, -125.0), LodFrom::Full));
+        let terrain = DrawRange {
+            terrain: true,
+            ..r(0, -1000.0)
+        };
+        assert!(spans_a_texel(&terrain, probe));
+        assert!(spans_a_texel(&r(0, -1000.0), LodFrom::Texel(3.4)));
+        assert!(!spans_a_texel(&r(0, -1.0), LodFrom::Texel(3.5)));
+        // And the far box is not among a probe face's runs.
+        let mut camera = crate::input::Camera::looking(Vec3::ZERO, -Vec3::Z);
+        camera.far = 1000.0;
+        let far = camera.projection(1.0) * camera.view();
+        assert_eq!(
+            visible_runs(&[r(0, -5.0), r(3, -125.0)], &far, probe),
+            vec![(0, 3)]
+        );
+        assert_eq!(
+            visible_runs(&[r(0, -5.0), r(3, -125.0)], &far, LodFrom::Full),
+            vec![(0, 6)]
+        );
+    }
+
+    #[test]
     fn a_capture_splits_plain_terrain_runs_from_the_rest() {
         let (view_proj, r) = down_z();
         let terrain = |first, z| DrawRange {
@@ -1103,7 +1178,8 @@ mod tests {
             terrain(9, -5.0),
         ];
         let lod = LodFrom::Probe(Vec3::ZERO, 64);
-        let [plain, rest] = visible_runs_by_kind(&ranges, &view_proj, lod);
+        let ([plain, rest], count) = visible_runs_by_kind(&ranges, &view_proj, lod);
+        assert_eq!(count, 4);
         assert_eq!(plain, vec![(3, 3), (9, 3), (0, 3)]);
         assert_eq!(rest, vec![(6, 3)]);
         // Drawn together, the middle three are one run.

@@ -7,6 +7,11 @@ use serde::Serialize;
 pub struct Counters {
     /// Cube faces rasterized (capture pass).
     pub faces_captured: u32,
+    /// Objects and terrain chunks the captures drew, summed over the faces (each face draws
+    /// those its frustum meets that span a texel: `gpu_scene::spans_a_texel`).
+    pub objects_captured: u64,
+    /// Their triangles, summed over the faces.
+    pub triangles_captured: u64,
     /// Texels lit by the shade pass.
     pub texels_shaded: u64,
     /// Quads drawn by the splat pass.

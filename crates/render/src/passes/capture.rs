@@ -149,6 +149,7 @@ impl CapturePass {
 
     /// Records one render pass per capture (at most [`MAX_CAPTURES`]). `rects[i]`, when
     /// given, limits capture `i` to those texels (the rest of the face is cleared to sky).
+    /// Returns what the faces draw.
     pub fn record(
         &self,
         ctx: &GpuContext,
@@ -157,8 +158,9 @@ impl CapturePass {
         rects: &[Option<TexelRect>],
         store: &ProbeStore,
         scene: &GpuScene,
-    ) {
+    ) -> CaptureWork {
         let mode = self.mode;
+        let mut work = CaptureWork::default();
         let (device, queue) = (&ctx.device, &ctx.queue);
         let captures = &captures[..captures.len().min(MAX_CAPTURES)];
         let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
@@ -189,7 +191,7 @@ impl CapturePass {
             bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
         }
         if bytes.is_empty() {
-            return;
+            return work;
         }
         queue.write_buffer(&self.faces, 0, &bytes);
         let face = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
@@ -212,8 +214,12 @@ impl CapturePass {
                 }
                 None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
             };
-            let [terrain_runs, runs] =
+            let ([terrain_runs, runs], count) =
                 crate::gpu_scene::visible_runs_by_kind(&scene.ranges, &view_proj, lod);
+            work.ranges += count as u64;
+            work.triangles += (terrain_runs.iter().chain(&runs))
+                .map(|&(_, n)| u64::from(n / 3))
+                .sum::<u64>();
             let f = c.face.index();
             let clear = wgpu::Color::TRANSPARENT;
             let targets = RasterTargets {
@@ -237,7 +243,7 @@ impl CapturePass {
             raster::record(encoder, "capture::face", &targets, scene, &draw);
         }
         if mode == CaptureMode::TextureDensity || scene.terrain_count == 0 {
-            return;
+            return work;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("capture::terrain"),
@@ -266,7 +272,17 @@ impl CapturePass {
             pass.set_bind_group(1, &drawn, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
+        work
     }
+}
+
+/// What a frame's captures drew, summed over its faces.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct CaptureWork {
+    /// Draw ranges (objects, terrain chunks) drawn.
+    pub ranges: u64,
+    /// Their triangles.
+    pub triangles: u64,
 }
 
 /// The texels a capture draws, `[x0, y0, x1, y1]`: its rectangle, or the whole face.
