@@ -504,3 +504,89 @@ fn past_the_far_plane_the_sky_shows_not_an_unlit_texel() {
         assert_ne!(near, sky, "{display:?}: the ground before the far plane");
     }
 }
+
+/// Culling never drops what a face sees. On two levels (the terrain's chunks and objects
+/// toward the stone circle; a generated town's street), along a walk through cell
+/// crossings, frames whose captures leave out what lies outside each face's frustum are the
+/// frames of captures that draw everything, pixel for pixel, while drawing less. Leaving
+/// out, besides, what spans less than a texel (the town's far props: at faces of 32 a texel
+/// is a sixteenth of its distance) draws fewer objects and changes at most a few pixels (a
+/// sub-texel object may still cover a texel's centre).
+#[test]
+fn culled_captures_draw_the_frames_of_captures_that_draw_everything() {
+    use texel_render::gpu_scene::CaptureCull;
+    let size = UVec2::new(128, 72);
+    let dir = tempfile::tempdir().expect("a temporary folder");
+    let town = dir.path().join("town.ron");
+    let options = texel_runtime::generate::GenOptions {
+        count: 400,
+        max_lights: 4,
+        ..Default::default()
+    };
+    (texel_runtime::generate::generate(&options).expect("a town"))
+        .save(&town)
+        .expect("the town saves");
+    // The town's street runs along Z through x = 0 from z = side / 2 = 50.
+    let walks = [
+        (
+            "assets/levels/terrain_hills.ron".to_owned(),
+            Vec3::new(-8.0, 7.2, 40.0),
+            -15.0,
+        ),
+        (town.display().to_string(), Vec3::new(0.0, 1.6, 48.0), 0.0),
+    ];
+    type Walk = (Vec<Vec<u8>>, u64, u64);
+    let walk = |level: &str, start: Vec3, yaw: f32, cull: CaptureCull| -> Option<Walk> {
+        let mut h = Harness::new(level, size, 32)?;
+        h.session.renderer_mut().set_capture_cull(cull);
+        let (mut frames, mut objects, mut triangles) = (Vec::new(), 0, 0);
+        for i in 0..8 {
+            let p = start - Vec3::Z * (1.1 * i as f32);
+            let (_, stats, px) = h.frame(cam(p.x, p.y, p.z, yaw, -6.0), DT);
+            objects += stats.counters.objects_captured;
+            triangles += stats.counters.triangles_captured;
+            frames.push(px);
+        }
+        Some((frames, objects, triangles))
+    };
+    let differing = |a: &Walk, b: &Walk| -> Vec<usize> {
+        (a.0.iter().zip(&b.0))
+            .map(|(x, y)| x.chunks(4).zip(y.chunks(4)).filter(|(p, q)| p != q).count())
+            .collect()
+    };
+    for (level, start, yaw) in &walks {
+        let Some(everything) = walk(level, *start, *yaw, CaptureCull::Nothing) else {
+            return;
+        };
+        let frustum = walk(level, *start, *yaw, CaptureCull::Frustum).expect("a harness");
+        let footprint = walk(level, *start, *yaw, CaptureCull::Footprint).expect("a harness");
+        println!(
+            "{level}: objects, triangles captured: everything {:?}, frustum {:?}, footprint {:?}",
+            (everything.1, everything.2),
+            (frustum.1, frustum.2),
+            (footprint.1, footprint.2)
+        );
+        let d = differing(&everything, &frustum);
+        assert!(
+            d.iter().all(|&n| n == 0),
+            "{level}: pixels differing per frame with frustum culling: {d:?}"
+        );
+        assert!(
+            frustum.1 * 2 < everything.1 && frustum.2 < everything.2,
+            "{level}: frustum culling should draw less"
+        );
+        let d = differing(&everything, &footprint);
+        let pixels = (size.x * size.y) as usize;
+        assert!(
+            d.iter().all(|&n| n * 100 <= pixels),
+            "{level}: pixels differing per frame without sub-texel objects: {d:?}"
+        );
+        assert!(footprint.1 <= frustum.1 && footprint.2 <= frustum.2);
+        if level.ends_with("town.ron") {
+            assert!(
+                footprint.1 < frustum.1,
+                "{level}: the town's far props should be left out"
+            );
+        }
+    }
+}

@@ -252,6 +252,13 @@ impl Renderer {
         self.runs_on = on;
     }
 
+    /// What captures leave out of each face ([`crate::gpu_scene::CaptureCull`]; by default
+    /// what a face cannot see or spans less than a texel). Only faces captured from now on
+    /// change.
+    pub fn set_capture_cull(&mut self, cull: crate::gpu_scene::CaptureCull) {
+        self.capture.cull = cull;
+    }
+
     /// Whether captures store a texture-density colour instead of the albedo (a debug view:
     /// green where one texture pixel is one probe texel, blue where textures are magnified,
     /// red where minified, grey untextured). Only faces captured from now on change: start

@@ -509,13 +509,15 @@ pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) 
 }
 
 /// [`visible_runs`] split by [`DrawRange::terrain`]: the plain terrain's runs, then the rest
-/// (each in the order `visible_runs` draws them); and how many ranges they hold.
+/// (each in the order `visible_runs` draws them), under `cull`; and how many ranges they
+/// hold.
 pub fn visible_runs_by_kind(
     ranges: &[DrawRange],
     view_proj: &glam::Mat4,
     lod: LodFrom,
+    cull: CaptureCull,
 ) -> ([Vec<(u32, u32)>; 2], usize) {
-    let visible = visible_ranges(ranges, view_proj, lod);
+    let visible = ranges_drawn(ranges, view_proj, lod, cull);
     let count = visible.len();
     let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =
         visible.into_iter().partition(|r| r.terrain);
@@ -528,6 +530,28 @@ fn visible_ranges<'a>(
     view_proj: &glam::Mat4,
     lod: LodFrom,
 ) -> Vec<&'a DrawRange> {
+    ranges_drawn(ranges, view_proj, lod, CaptureCull::Footprint)
+}
+
+/// What a capture leaves out of a face.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
+pub enum CaptureCull {
+    /// Nothing: every range at its level (to test the others against).
+    Nothing,
+    /// What lies wholly outside the face's frustum.
+    Frustum,
+    /// That, and what spans less than a texel there ([`spans_a_texel`]).
+    #[default]
+    Footprint,
+}
+
+/// The ranges a face draws under `cull`, in the order it draws them.
+fn ranges_drawn<'a>(
+    ranges: &'a [DrawRange],
+    view_proj: &glam::Mat4,
+    lod: LodFrom,
+    cull: CaptureCull,
+) -> Vec<&'a DrawRange> {
     let wanted = |r: &DrawRange| match lod {
         LodFrom::Full => r.lod == 0,
         LodFrom::Probe(origin, n) => r.lod == chunk_lod(r, origin, n),
@@ -536,7 +560,11 @@ fn visible_ranges<'a>(
     };
     let mut visible: Vec<&DrawRange> = ranges
         .iter()
-        .filter(|r| wanted(r) && spans_a_texel(r, lod) && r.may_be_visible(view_proj))
+        .filter(|r| {
+            wanted(r)
+                && (cull != CaptureCull::Footprint || spans_a_texel(r, lod))
+                && (cull == CaptureCull::Nothing || r.may_be_visible(view_proj))
+        })
         .collect();
     if let LodFrom::Probe(origin, _) | LodFrom::Eye(origin, _) = lod {
         let distance = |r: &DrawRange| (origin.clamp(r.min, r.max) - origin).length_squared();
@@ -1178,7 +1206,8 @@ mod tests {
             terrain(9, -5.0),
         ];
         let lod = LodFrom::Probe(Vec3::ZERO, 64);
-        let ([plain, rest], count) = visible_runs_by_kind(&ranges, &view_proj, lod);
+        let ([plain, rest], count) =
+            visible_runs_by_kind(&ranges, &view_proj, lod, CaptureCull::Footprint);
         assert_eq!(count, 4);
         assert_eq!(plain, vec![(3, 3), (9, 3), (0, 3)]);
         assert_eq!(rest, vec![(6, 3)]);

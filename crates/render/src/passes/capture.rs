@@ -71,6 +71,8 @@ pub struct CapturePass {
     /// Where the eye probe's faces measure terrain bands from: the frame's grid probe
     /// origin (stable slots measure from their own origin).
     pub eye_band_origin: glam::Vec3,
+    /// What each face leaves out (everything it cannot show, unless a test asks otherwise).
+    pub cull: crate::gpu_scene::CaptureCull,
     pipeline: LazyRender,
     /// Plain terrain chunks (`vs_terrain`, `fs_terrain`): the point and object alone pass
     /// to the fragments, which read the surface from the heightmap.
@@ -138,6 +140,7 @@ impl CapturePass {
         Ok(CapturePass {
             mode: CaptureMode::Surface,
             eye_band_origin: glam::Vec3::ZERO,
+            cull: crate::gpu_scene::CaptureCull::default(),
             pipeline,
             terrain_raster,
             layout,
@@ -215,7 +218,7 @@ impl CapturePass {
                 None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
             };
             let ([terrain_runs, runs], count) =
-                crate::gpu_scene::visible_runs_by_kind(&scene.ranges, &view_proj, lod);
+                crate::gpu_scene::visible_runs_by_kind(&scene.ranges, &view_proj, lod, self.cull);
             work.ranges += count as u64;
             work.triangles += (terrain_runs.iter().chain(&runs))
                 .map(|&(_, n)| u64::from(n / 3))
