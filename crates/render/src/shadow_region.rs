@@ -33,15 +33,21 @@ fn corners(min: Vec3, max: Vec3) -> impl Iterator<Item = Vec3> {
     })
 }
 
-/// The lowest point of `scene`'s objects (infinity for none).
+/// The lowest point of `scene`'s objects (infinity for none). A mesh shared by many objects
+/// (copies of one glTF file) has its bounds found once.
 pub fn scene_floor(scene: &SceneInput) -> f32 {
+    let mut bounds: std::collections::HashMap<
+        *const texel_geom::mesh::TriMesh,
+        Option<(Vec3, Vec3)>,
+    > = std::collections::HashMap::new();
     scene
         .objects
         .iter()
         .filter_map(|o| {
-            o.mesh
-                .bounds()
-                .map(|(lo, hi)| bounds_under(o.transform, lo, hi).0.y)
+            let local = *bounds
+                .entry(std::sync::Arc::as_ptr(&o.mesh))
+                .or_insert_with(|| o.mesh.bounds());
+            local.map(|(lo, hi)| bounds_under(o.transform, lo, hi).0.y)
         })
         .fold(f32::INFINITY, f32::min)
 }
