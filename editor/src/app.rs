@@ -37,6 +37,10 @@ pub struct EditorApp {
     rename: Option<(usize, String)>,
     last_autosave: Instant,
     autosaved_id: u64,
+    /// The history state last seen, and the edits seen since the last autosave.
+    edits_seen: (u64, u32),
+    /// The autosave being written beside the editor, if any.
+    autosaving: Option<std::thread::JoinHandle<Result<(), String>>>,
     title: String,
     focus_seen: Option<egui::Id>,
     allow_close: bool,
@@ -68,6 +72,8 @@ impl EditorApp {
             rename: None,
             last_autosave: Instant::now(),
             autosaved_id: 0,
+            edits_seen: (0, 0),
+            autosaving: None,
             title: String::new(),
             focus_seen: None,
             allow_close: false,
@@ -95,6 +101,7 @@ impl EditorApp {
 
     /// Replaces the document with `path`; on failure keeps the current one and shows why.
     pub fn load(&mut self, path: &Path) {
+        self.finish_autosave();
         match Document::open(path) {
             Ok(doc) => {
                 self.state = EditorState::new(doc);
@@ -459,6 +466,8 @@ impl EditorApp {
 
     /// Saves to `path` (atomically) and forgets the autosave.
     pub fn save_to(&mut self, path: &Path) {
+        // An autosave still being written would land after the save and outlive it.
+        self.finish_autosave();
         let old = self.autosave_file();
         match self.state.save_as(path) {
             Ok(()) => {
@@ -677,13 +686,41 @@ impl EditorApp {
         }
     }
 
+    /// Autosaves a modified document every [`files::AUTOSAVE_EVERY`], or sooner after
+    /// [`files::AUTOSAVE_AFTER_EDITS`] edits, on a thread of its own (the rows and images are
+    /// taken now; formatting and writing them does not hold up the window). One write at a
+    /// time; each is atomic, so a crash mid-write leaves the previous autosave.
     fn autosave(&mut self) {
+        if self.autosaving.as_ref().is_some_and(|h| h.is_finished()) {
+            self.finish_autosave();
+        }
         let id = self.state.history.state_id();
-        if self.state.is_dirty()
-            && id != self.autosaved_id
-            && self.last_autosave.elapsed() >= files::AUTOSAVE_EVERY
-        {
-            self.autosave_now();
+        if id != self.edits_seen.0 {
+            self.edits_seen = (id, self.edits_seen.1.saturating_add(1));
+        }
+        let due = self.last_autosave.elapsed() >= files::AUTOSAVE_EVERY
+            || self.edits_seen.1 >= files::AUTOSAVE_AFTER_EDITS;
+        if !(self.state.is_dirty() && id != self.autosaved_id && due && self.autosaving.is_none()) {
+            return;
+        }
+        self.last_autosave = Instant::now();
+        self.autosaved_id = id;
+        self.edits_seen.1 = 0;
+        let Some(file) = self.autosave_file() else {
+            return;
+        };
+        let job = self.state.document.autosave_job(&file);
+        self.autosaving = Some(std::thread::spawn(move || write_autosave_job(job)));
+    }
+
+    /// Waits for the autosave being written, if any, and reports its failure.
+    fn finish_autosave(&mut self) {
+        let Some(handle) = self.autosaving.take() else {
+            return;
+        };
+        let result = (handle.join()).unwrap_or_else(|_| Err("the autosave thread panicked".into()));
+        if let Err(e) = result {
+            self.dialogs.error = Some(format!("autosave failed: {e}"));
         }
     }
 
@@ -696,30 +733,42 @@ impl EditorApp {
         }
     }
 
-    /// Writes the autosave now.
+    /// Writes the autosave now (after the one being written, if any).
     pub fn autosave_now(&mut self) {
+        self.finish_autosave();
         self.last_autosave = Instant::now();
         self.autosaved_id = self.state.history.state_id();
+        self.edits_seen.1 = 0;
         let Some(file) = self.autosave_file() else {
             return;
         };
-        let before = files::autosave_heightmaps(&file);
-        match self.state.document.write_autosave(&file) {
-            // Heightmaps the previous autosave kept and this one does not are dropped.
-            Ok(kept) => {
-                for png in before.iter().filter(|p| !kept.contains(p)) {
-                    let _ = std::fs::remove_file(png);
-                }
-            }
-            Err(e) => self.dialogs.error = Some(format!("autosave failed: {e}")),
+        if let Err(e) = write_autosave_job(self.state.document.autosave_job(&file)) {
+            self.dialogs.error = Some(format!("autosave failed: {e}"));
         }
     }
 
+    /// Whether an autosave is being written beside the editor.
+    pub fn autosave_in_flight(&self) -> bool {
+        self.autosaving.is_some()
+    }
+
     fn discard_autosave(&mut self) {
+        self.finish_autosave();
         if let Some(file) = self.autosave_file() {
             files::remove_autosave_file(&file);
         }
     }
+}
+
+/// Writes `job`, then drops the heightmaps the previous autosave in its place kept and this
+/// one does not.
+fn write_autosave_job(job: crate::document::AutosaveJob) -> Result<(), String> {
+    let before = files::autosave_heightmaps(&job.file);
+    let kept = job.write()?;
+    for png in before.iter().filter(|p| !kept.contains(p)) {
+        let _ = std::fs::remove_file(png);
+    }
+    Ok(())
 }
 
 impl eframe::App for EditorApp {

@@ -216,42 +216,39 @@ impl Document {
     /// beside `file` as `name.autosave.png` ([`files::autosave_heightmap`]), which the
     /// autosave names instead; so has a paint layer that is not saved. Returns those files.
     pub fn write_autosave(&self, file: &Path) -> Result<Vec<PathBuf>, String> {
-        if let Some(dir) = file.parent().filter(|d| !d.as_os_str().is_empty()) {
-            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
-        }
+        self.autosave_job(file).write()
+    }
+
+    /// What [`Document::write_autosave`] writes, taken from the document now (the rows, and
+    /// the unsaved heightmaps and paint layers, shared, not copied), to write later or on
+    /// another thread while the editor goes on.
+    pub fn autosave_job(&self, file: &Path) -> AutosaveJob {
         let mut level = self.level.scene.to_level();
-        let mut written = Vec::new();
-        for row in &mut level.entities {
-            let Some(t) = &mut row.terrain else {
-                continue;
-            };
-            let HeightSource::File { path } = &t.heightmap else {
-                continue;
-            };
-            let Some(field) = self.level.assets.heightfield(t) else {
-                continue;
-            };
-            let saved = self.path.is_some()
-                && self
-                    .on_disk
-                    .get(path)
-                    .is_some_and(|f| Arc::ptr_eq(f, field))
-                && resolve(&self.level.path, path).is_file();
-            if saved {
-                continue;
-            }
+        let mut images = Vec::new();
+        let named = |images: &mut Vec<(PathBuf, AutosaveImage)>, path: &str, image| {
             let auto = files::autosave_heightmap(path);
             let png = resolve(file, &auto);
-            if !written.contains(&png) {
-                crate::terrain::write_heightmap(&png, field, t.max_height)?;
-                written.push(png);
+            if !images.iter().any(|(p, _)| *p == png) {
+                images.push((png, image));
             }
-            t.heightmap = HeightSource::File { path: auto };
-        }
+            auto
+        };
         for row in &mut level.entities {
             let Some(t) = &mut row.terrain else {
                 continue;
             };
+            if let HeightSource::File { path } = &t.heightmap
+                && let Some(field) = self.level.assets.heightfield(t)
+            {
+                let saved = self.path.is_some()
+                    && (self.on_disk.get(path)).is_some_and(|f| Arc::ptr_eq(f, field))
+                    && resolve(&self.level.path, path).is_file();
+                if !saved {
+                    let image = AutosaveImage::Heights(Arc::clone(field), t.max_height);
+                    let auto = named(&mut images, path, image);
+                    t.heightmap = HeightSource::File { path: auto };
+                }
+            }
             let Some(image) = self.level.assets.paint(t) else {
                 continue;
             };
@@ -261,19 +258,19 @@ impl Document {
             let saved = self.path.is_some()
                 && (self.paint_on_disk.get(&p.path)).is_some_and(|i| Arc::ptr_eq(i, image))
                 && resolve(&self.level.path, &p.path).is_file();
-            if saved {
-                continue;
+            if !saved {
+                p.path = named(
+                    &mut images,
+                    &p.path,
+                    AutosaveImage::Paint(Arc::clone(image)),
+                );
             }
-            let auto = files::autosave_heightmap(&p.path);
-            let png = resolve(file, &auto);
-            if !written.contains(&png) {
-                crate::paint::write_paint(&png, image)?;
-                written.push(png);
-            }
-            p.path = auto;
         }
-        level.save(file).map_err(|e| e.to_string())?;
-        Ok(written)
+        AutosaveJob {
+            file: file.to_owned(),
+            level,
+            images,
+        }
     }
 
     /// After opening an autosave: terrains reading a `name.autosave.png` name `name.png`
@@ -501,5 +498,45 @@ mod region_tests {
             d.region_since(d.revision - 1),
             Some((Vec3::ZERO, Vec3::ONE))
         );
+    }
+}
+
+/// A heightmap or paint layer an autosave keeps beside it.
+#[derive(Debug, Clone)]
+pub enum AutosaveImage {
+    /// A terrain's heights and the height its white stands for.
+    Heights(Arc<Heightfield>, f32),
+    /// A terrain's paint layer.
+    Paint(Arc<Image>),
+}
+
+/// An autosave taken from the document ([`Document::autosave_job`]), to be written.
+#[derive(Debug, Clone)]
+pub struct AutosaveJob {
+    /// The autosave file.
+    pub file: PathBuf,
+    level: texel_scene::Level,
+    images: Vec<(PathBuf, AutosaveImage)>,
+}
+
+impl AutosaveJob {
+    /// Writes the images, then the level, each atomically (creating the folder); returns
+    /// the images written.
+    pub fn write(self) -> Result<Vec<PathBuf>, String> {
+        if let Some(dir) = self.file.parent().filter(|d| !d.as_os_str().is_empty()) {
+            std::fs::create_dir_all(dir).map_err(|e| format!("{}: {e}", dir.display()))?;
+        }
+        let mut written = Vec::new();
+        for (png, image) in self.images {
+            match &image {
+                AutosaveImage::Heights(field, max) => {
+                    crate::terrain::write_heightmap(&png, field, *max)?
+                }
+                AutosaveImage::Paint(image) => crate::paint::write_paint(&png, image)?,
+            }
+            written.push(png);
+        }
+        self.level.save(&self.file).map_err(|e| e.to_string())?;
+        Ok(written)
     }
 }

@@ -9,8 +9,11 @@ use texel_scene::Scene;
 
 /// How many recent files are remembered.
 pub const RECENT_MAX: usize = 8;
-/// How often a modified document is autosaved.
-pub const AUTOSAVE_EVERY: Duration = Duration::from_secs(60);
+/// How often a modified document is autosaved: a crash loses at most this much work (and
+/// the write, which runs beside the editor: on a 10,000-entity level about 0.3 s).
+pub const AUTOSAVE_EVERY: Duration = Duration::from_secs(5);
+/// Edits after which a modified document is autosaved without waiting for the timer.
+pub const AUTOSAVE_AFTER_EDITS: u32 = 20;
 /// A dialog that answers faster than this found no dialog service (rfd without a portal).
 const NO_SERVICE: Duration = Duration::from_millis(150);
 

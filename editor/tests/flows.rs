@@ -252,6 +252,43 @@ fn typed_path_saves_and_autosave_is_recovered() {
     assert!(!files::autosave_path(&path).exists());
 }
 
+/// Work is never lost for more than a few seconds: edits reach the autosave beside the level
+/// on their own (after [`files::AUTOSAVE_AFTER_EDITS`] edits or [`files::AUTOSAVE_EVERY`],
+/// written beside the editor), and the level itself is never written over.
+#[test]
+fn edits_reach_the_autosave_within_seconds_without_a_save() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = level_copy(dir.path());
+    let level_before = std::fs::read(&path).expect("the level");
+    let mut h = harness(EditorApp::with_recent(Some(&path), Recent::default()));
+    h.run();
+    let start = h.state().state.scene().len();
+    let edits = files::AUTOSAVE_AFTER_EDITS as usize + 2;
+    // One added, then duplicated: an edit each.
+    add_from_menu(&mut h, "Cylinder");
+    for _ in 1..edits {
+        h.key_press_modifiers(Modifiers::COMMAND, Key::D);
+        h.run();
+    }
+    assert_eq!(h.state().state.scene().len(), start + edits);
+    let auto = files::autosave_path(&path);
+    let deadline = std::time::Instant::now() + files::AUTOSAVE_EVERY * 3;
+    let mut held = 0;
+    while std::time::Instant::now() < deadline {
+        h.run();
+        if !h.state().autosave_in_flight() {
+            held = Scene::load(&auto).map_or(0, |s| s.len());
+            if held == start + edits {
+                break;
+            }
+        }
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    assert_eq!(held, start + edits, "the autosave should hold every edit");
+    assert_eq!(std::fs::read(&path).expect("the level"), level_before);
+    assert_eq!(files::recoverable(&path), Some(auto));
+}
+
 #[test]
 fn an_untitled_document_is_autosaved_and_recovered() {
     let dir = tempfile::tempdir().expect("tempdir");
