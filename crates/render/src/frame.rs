@@ -6,13 +6,14 @@ use std::time::Instant;
 
 use texel_probes::probe_set::Slot;
 
-use crate::context::{GpuContext, GpuError};
+use crate::context::GpuContext;
+pub use crate::error::RenderError;
 use crate::gpu_scene::GpuScene;
 use crate::input::{Display, FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::{CaptureMode, CapturePass};
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
-use crate::passes::lines::LinesPass;
+use crate::passes::lines::{LineVertex, LinesPass};
 use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
 use crate::passes::moving::MovingPass;
 use crate::passes::present::PresentPass;
@@ -25,36 +26,12 @@ use crate::passes::terrain_splat::{
 };
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
-use crate::shader::ShaderError;
 use crate::stats::{Counters, FrameStats};
 use crate::target::{FRAME_FORMAT, OffscreenTarget};
 use crate::timing::{self, Stages};
 use crate::view::ViewGlobals;
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::visibility::{TexelRect, face_cone_rect};
-
-/// Why a frame could not be rendered.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// A shader failed to assemble.
-    #[error(transparent)]
-    Shader(#[from] ShaderError),
-    /// The GPU failed.
-    #[error(transparent)]
-    Gpu(#[from] GpuError),
-    /// `render` was called before `set_scene`.
-    #[error("no scene uploaded: call Renderer::set_scene first")]
-    NoScene,
-    /// The device rejected a shader or pipeline (a bug, or a device lacking a feature).
-    #[error("the GPU rejected a render pipeline: {0}")]
-    Pipeline(String),
-    /// The frame asks for something the renderer cannot do.
-    #[error("invalid frame: {0}")]
-    InvalidFrame(String),
-    /// The scene needs more than the device allows.
-    #[error("{0}")]
-    SceneTooLarge(String),
-}
 
 /// Screen-sized targets besides the colour target.
 pub(crate) struct Screen {
@@ -142,7 +119,7 @@ pub struct Renderer {
     sprites: SpritePass,
     /// Built on the first marched frame: splatting never pays for its pipeline.
     march: Option<MarchPass>,
-    pub(crate) lines: LinesPass,
+    lines: LinesPass,
     visible: VisiblePass,
     present: PresentPass,
     colour: wgpu::TextureFormat,
@@ -268,6 +245,12 @@ impl Renderer {
     /// the camera (screen-space sprites, kept to compare against).
     pub fn set_sprite_facing(&mut self, facing: crate::input::SpriteFacing) {
         self.sprites.facing = facing;
+    }
+
+    /// Sets the world-space line segments drawn over every following frame (consecutive
+    /// pairs of `lines`), depth-tested against the scene; an empty list draws nothing.
+    pub fn set_lines(&mut self, ctx: &GpuContext, lines: &[LineVertex]) {
+        self.lines.set(ctx, lines);
     }
 
     /// How texels reach the pixels: splatted (the default) or marched.
