@@ -6,55 +6,32 @@ use std::time::Instant;
 
 use texel_probes::probe_set::Slot;
 
-use crate::context::{GpuContext, GpuError};
+use crate::context::GpuContext;
+pub use crate::error::RenderError;
 use crate::gpu_scene::GpuScene;
 use crate::input::{Display, FrameInput, ProbeView, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::{CaptureMode, CapturePass};
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
-use crate::passes::lines::LinesPass;
+use crate::passes::lines::{LineVertex, LinesPass};
 use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
-use crate::passes::moving::MovingPass;
+use crate::passes::moving::{MovingBinds, MovingPass};
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
 use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
 use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
-use crate::passes::sprites::SpritePass;
+use crate::passes::sprites::{SpriteBinds, SpritePass};
 use crate::passes::terrain_splat::{
     TERRAIN_COUNTS_BYTES, TerrainCounts, TerrainSplatInputs, TerrainSplatPass,
 };
 use crate::passes::visible::VisiblePass;
 use crate::probe_store::ProbeStore;
-use crate::shader::ShaderError;
 use crate::stats::{Counters, FrameStats};
 use crate::target::{FRAME_FORMAT, OffscreenTarget};
 use crate::timing::{self, Stages};
 use crate::view::ViewGlobals;
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::visibility::{TexelRect, face_cone_rect};
-
-/// Why a frame could not be rendered.
-#[derive(Debug, thiserror::Error)]
-pub enum RenderError {
-    /// A shader failed to assemble.
-    #[error(transparent)]
-    Shader(#[from] ShaderError),
-    /// The GPU failed.
-    #[error(transparent)]
-    Gpu(#[from] GpuError),
-    /// `render` was called before `set_scene`.
-    #[error("no scene uploaded: call Renderer::set_scene first")]
-    NoScene,
-    /// The device rejected a shader or pipeline (a bug, or a device lacking a feature).
-    #[error("the GPU rejected a render pipeline: {0}")]
-    Pipeline(String),
-    /// The frame asks for something the renderer cannot do.
-    #[error("invalid frame: {0}")]
-    InvalidFrame(String),
-    /// The scene needs more than the device allows.
-    #[error("{0}")]
-    SceneTooLarge(String),
-}
 
 /// Screen-sized targets besides the colour target.
 pub(crate) struct Screen {
@@ -125,6 +102,8 @@ impl Screen {
 /// Everything long-lived on the GPU side.
 pub struct Renderer {
     capture: CapturePass,
+    /// What the last frame's captures drew (its counters).
+    captured: crate::passes::capture::CaptureWork,
     shade: ShadePass,
     runs: RunsPass,
     /// Stable faces lit in the paper schedule, whose runs are not yet recomputed.
@@ -142,7 +121,7 @@ pub struct Renderer {
     sprites: SpritePass,
     /// Built on the first marched frame: splatting never pays for its pipeline.
     march: Option<MarchPass>,
-    pub(crate) lines: LinesPass,
+    lines: LinesPass,
     visible: VisiblePass,
     present: PresentPass,
     colour: wgpu::TextureFormat,
@@ -177,6 +156,7 @@ impl Renderer {
         let queries = timing::query_set(ctx, "frame::timestamps");
         Ok(Renderer {
             capture: CapturePass::new(d)?,
+            captured: Default::default(),
             shade: ShadePass::new(d)?,
             runs: RunsPass::new(d)?,
             runs_stale: [FaceMask::EMPTY; 3],
@@ -277,6 +257,12 @@ impl Renderer {
         self.sprites.facing = facing;
     }
 
+    /// Sets the world-space line segments drawn over every following frame (consecutive
+    /// pairs of `lines`), depth-tested against the scene; an empty list draws nothing.
+    pub fn set_lines(&mut self, ctx: &GpuContext, lines: &[LineVertex]) {
+        self.lines.set(ctx, lines);
+    }
+
     /// How texels reach the pixels: splatted (the default) or marched.
     pub fn set_display(&mut self, display: Display) {
         self.display = display;
@@ -325,7 +311,9 @@ impl Renderer {
         self.draw(ctx, input, target)
     }
 
-    /// [`Renderer::render`] of a validated `input`.
+    /// [`Renderer::render`] of a validated `input`: the frame's targets and globals, its
+    /// probes captured and lit, the texels shown by the display in use ([`Display`]), then
+    /// the visible texels, the output and the frame's counts.
     fn draw(
         &mut self,
         ctx: &GpuContext,
@@ -333,6 +321,27 @@ impl Renderer {
         target: &wgpu::TextureView,
     ) -> Result<FrameStats, RenderError> {
         let started = Instant::now();
+        let globals = self.prepare(ctx, input)?;
+        let queries = self.queries.clone();
+        let mut stages = Stages::new(ctx, queries.as_ref());
+        let lit = self.light(ctx, input, &globals, &mut stages)?;
+        let shown = match self.display {
+            Display::Splat => {
+                self.draw_splatted(ctx, input, target, &globals, &lit, &mut stages)?
+            }
+            Display::March => self.draw_marched(ctx, input, target, &lit, &mut stages)?,
+        };
+        self.finish(ctx, input, target, started, stages, shown)
+    }
+
+    /// Readies the frame: the sprites' state, the probe slots it uses, the animated objects'
+    /// poses, the view globals (returned), the passes' capacities, the screen targets and,
+    /// for the first marched frame, the march pass.
+    fn prepare(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+    ) -> Result<ViewGlobals, RenderError> {
         if let Some(sprites) = self.scene.as_mut().and_then(|s| s.sprites.as_mut()) {
             sprites.update(ctx, &input.sprites);
         }
@@ -366,20 +375,30 @@ impl Renderer {
             let colour = self.colour.remove_srgb_suffix();
             self.march = Some(MarchPass::new(&ctx.device, colour)?);
         }
-        let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
-        let draw_target = screen.colour.as_ref().unwrap_or(target);
+        Ok(globals)
+    }
 
+    /// Captures the frame's faces and lights them (then the sprites' texels); returns what
+    /// the display draws with besides the probes.
+    fn light(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+        globals: &ViewGlobals,
+        stages: &mut Stages<'_>,
+    ) -> Result<Lit, RenderError> {
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
         let store = &self.store;
-        let mut stages = Stages::new(ctx, self.queries.as_ref());
         let moving = (self.moving).prepare(ctx, &self.view, scene, &input.look);
         let fading = input.previous.is_some() && input.fade_t < 1.0;
         let sprites = (self.sprites).prepare(ctx, &self.view, scene, store, &input.look, fading);
-        let rects = capture_rects(input, &globals, store);
+        let rects = capture_rects(input, globals, store);
         let mut captured = crate::passes::capture::CaptureWork::default();
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.cell_probe().origin;
             captured = (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
+        self.captured = captured;
         let mut jobs = shade_jobs(input, &rects);
         // Only splat quads end at edges (texel marching meets the texel planes).
         let edges = input.schedule == Schedule::Ours && self.display == Display::Splat;
@@ -397,95 +416,153 @@ impl Renderer {
             stages.run("sprite shade", |enc| self.sprites.shade(enc, binds));
         }
         let runs_faces = runs_to_compute(&mut self.runs_stale, input.schedule, shaded);
-        let mut copies: Vec<(&wgpu::Buffer, u64)> = Vec::with_capacity(5);
-        let terrain_drawn = self.display == Display::Splat && scene.terrain_count > 0;
-        let pixels_marched = match self.display {
-            Display::Splat => {
-                stages.run("runs", |enc| self.runs.record(ctx, enc, store, runs_faces));
-                let drawn = drawn_faces(input, self.runs_on);
-                let list = stages.run("cull", |enc| {
-                    (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
-                });
-                if scene.terrain_count > 0 {
-                    stages.run("terrain splats", |enc| {
-                        let inputs = TerrainSplatInputs {
-                            view: &self.view,
-                            scene,
-                            shade_globals: self.shade.globals(),
-                            globals_key: self.shade.globals_key(),
-                            list,
-                            max_n: globals.max_n,
-                            haze: input.look.haze > 0.0,
-                        };
-                        (self.terrain_splat).record(ctx, enc, &inputs);
-                    });
-                }
-                let terrain = self.terrain_splat.records();
-                let splat_bind = (self.splat).bind_group(ctx, &self.view, list, terrain);
-                let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
-                let fade = match input.previous {
-                    Some(_) if input.fade_t >= 1.0 => Fade::None,
-                    Some(_) if !input.grid_complete => Fade::DitherPartial,
-                    Some(_) => Fade::Dither,
-                    None => Fade::None,
+        Ok(Lit {
+            moving,
+            sprites,
+            runs_faces,
+        })
+    }
+
+    /// [`Display::Splat`]: the runs, the cull, the terrain splats, then the splats, the
+    /// animated objects, the sprites, the background and the lines into `target` (or the
+    /// internal colour target).
+    fn draw_splatted(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+        target: &wgpu::TextureView,
+        globals: &ViewGlobals,
+        lit: &Lit,
+        stages: &mut Stages<'_>,
+    ) -> Result<Shown, RenderError> {
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
+        let draw_target = screen.colour.as_ref().unwrap_or(target);
+        let store = &self.store;
+        stages.run("runs", |enc| {
+            (self.runs).record(ctx, enc, store, lit.runs_faces)
+        });
+        let drawn = drawn_faces(input, self.runs_on);
+        let list = stages.run("cull", |enc| {
+            (self.cull).record(ctx, enc, &self.view, store, globals.max_n, &drawn)
+        });
+        if scene.terrain_count > 0 {
+            stages.run("terrain splats", |enc| {
+                let inputs = TerrainSplatInputs {
+                    view: &self.view,
+                    scene,
+                    shade_globals: self.shade.globals(),
+                    globals_key: self.shade.globals_key(),
+                    list,
+                    max_n: globals.max_n,
+                    haze: input.look.haze > 0.0,
                 };
-                let runs = (drawn.iter())
-                    .any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
-                stages.run("splat", |enc| {
-                    let mut pass = begin_draw(enc, draw_target, screen, true);
-                    if !self.splat_warm {
-                        self.splat.warm_up(&mut pass, &splat_bind);
-                        self.splat_warm = true;
-                    }
-                    self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
-                });
-                if let Some(binds) = &moving {
-                    stages.run("moving", |enc| {
-                        let mut pass = begin_draw(enc, draw_target, screen, false);
-                        self.moving.draw(&mut pass, binds, scene);
-                    });
-                }
-                if let Some(binds) = &sprites {
-                    stages.run("sprites", |enc| {
-                        let mut pass = begin_draw(enc, draw_target, screen, false);
-                        self.sprites.draw(&mut pass, binds);
-                    });
-                }
-                stages.run("background", |enc| {
-                    let mut pass = begin_draw(enc, draw_target, screen, false);
-                    self.background.draw(&mut pass, &bg_bind);
-                    self.lines.draw(ctx, &mut pass, &self.view);
-                });
-                copies.push((list.args, size_of::<DrawArgs>() as u64));
-                if terrain_drawn {
-                    copies.push((self.terrain_splat.counts(), TERRAIN_COUNTS_BYTES));
-                }
-                0
-            }
-            Display::March => {
-                // The runs are not drawn, but stay owed to the faces just lit.
-                for (stale, lit) in self.runs_stale.iter_mut().zip(runs_faces) {
-                    *stale = stale.union(lit);
-                }
-                let march = (self.march.as_ref())
-                    .ok_or_else(|| RenderError::Pipeline("the march pass was not built".into()))?;
-                let binds = march.bind_groups(ctx, &self.view, store);
-                stages.run("march", |enc| {
-                    march.clear(enc);
-                    let mut pass = begin_draw(enc, draw_target, screen, true);
-                    march.draw(&mut pass, &binds);
-                    if let Some(binds) = &moving {
-                        self.moving.draw(&mut pass, binds, scene);
-                    }
-                    if let Some(binds) = &sprites {
-                        self.sprites.draw(&mut pass, binds);
-                    }
-                    self.lines.draw(ctx, &mut pass, &self.view);
-                });
-                copies.push((&march.counters, COUNTERS_BYTES));
-                u64::from(size.0) * u64::from(size.1)
-            }
+                (self.terrain_splat).record(ctx, enc, &inputs);
+            });
+        }
+        let terrain = self.terrain_splat.records();
+        let splat_bind = (self.splat).bind_group(ctx, &self.view, list, terrain);
+        let bg_bind = (self.background).bind_group(ctx, &self.view, store.slot(Slot::Eye));
+        let fade = match input.previous {
+            Some(_) if input.fade_t >= 1.0 => Fade::None,
+            Some(_) if !input.grid_complete => Fade::DitherPartial,
+            Some(_) => Fade::Dither,
+            None => Fade::None,
         };
+        let runs =
+            (drawn.iter()).any(|(slot, _, visit)| *slot != Slot::Eye && *visit == Visit::List);
+        stages.run("splat", |enc| {
+            let mut pass = begin_draw(enc, draw_target, screen, true);
+            if !self.splat_warm {
+                self.splat.warm_up(&mut pass, &splat_bind);
+                self.splat_warm = true;
+            }
+            self.splat.draw(&mut pass, &splat_bind, list, runs, fade);
+        });
+        if let Some(binds) = &lit.moving {
+            stages.run("moving", |enc| {
+                let mut pass = begin_draw(enc, draw_target, screen, false);
+                self.moving.draw(&mut pass, binds, scene);
+            });
+        }
+        if let Some(binds) = &lit.sprites {
+            stages.run("sprites", |enc| {
+                let mut pass = begin_draw(enc, draw_target, screen, false);
+                self.sprites.draw(&mut pass, binds);
+            });
+        }
+        stages.run("background", |enc| {
+            let mut pass = begin_draw(enc, draw_target, screen, false);
+            self.background.draw(&mut pass, &bg_bind);
+            self.lines.draw(ctx, &mut pass, &self.view);
+        });
+        let mut copies = vec![(list.args.clone(), size_of::<DrawArgs>() as u64)];
+        let terrain_drawn = scene.terrain_count > 0;
+        if terrain_drawn {
+            copies.push((self.terrain_splat.counts().clone(), TERRAIN_COUNTS_BYTES));
+        }
+        Ok(Shown {
+            copies,
+            terrain_drawn,
+            pixels_marched: 0,
+        })
+    }
+
+    /// [`Display::March`]: every pixel marched through the probes, then the animated
+    /// objects, the sprites and the lines, in one pass into `target` (or the internal colour
+    /// target).
+    fn draw_marched(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+        target: &wgpu::TextureView,
+        lit: &Lit,
+        stages: &mut Stages<'_>,
+    ) -> Result<Shown, RenderError> {
+        let scene = self.scene.as_ref().ok_or(RenderError::NoScene)?;
+        let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
+        let draw_target = screen.colour.as_ref().unwrap_or(target);
+        // The runs are not drawn, but stay owed to the faces just lit.
+        for (stale, lit) in self.runs_stale.iter_mut().zip(lit.runs_faces) {
+            *stale = stale.union(lit);
+        }
+        let march = (self.march.as_ref())
+            .ok_or_else(|| RenderError::Pipeline("the march pass was not built".into()))?;
+        let binds = march.bind_groups(ctx, &self.view, &self.store);
+        stages.run("march", |enc| {
+            march.clear(enc);
+            let mut pass = begin_draw(enc, draw_target, screen, true);
+            march.draw(&mut pass, &binds);
+            if let Some(binds) = &lit.moving {
+                self.moving.draw(&mut pass, binds, scene);
+            }
+            if let Some(binds) = &lit.sprites {
+                self.sprites.draw(&mut pass, binds);
+            }
+            self.lines.draw(ctx, &mut pass, &self.view);
+        });
+        let size = (input.internal_size.x, input.internal_size.y);
+        Ok(Shown {
+            copies: vec![(march.counters.clone(), COUNTERS_BYTES)],
+            terrain_drawn: false,
+            pixels_marched: u64::from(size.0) * u64::from(size.1),
+        })
+    }
+
+    /// Ends the frame: the visible texels, the output into `target`, then the frame's work
+    /// read back and counted.
+    fn finish(
+        &mut self,
+        ctx: &GpuContext,
+        input: &FrameInput,
+        target: &wgpu::TextureView,
+        started: Instant,
+        mut stages: Stages<'_>,
+        shown: Shown,
+    ) -> Result<FrameStats, RenderError> {
+        let screen = self.screen.as_ref().ok_or(RenderError::NoScene)?;
+        let output = (input.size.x, input.size.y);
+        let size = (input.internal_size.x, input.internal_size.y);
         stages.run("visible", |enc| {
             self.visible.record(ctx, enc, &screen.keys_view, size);
         });
@@ -494,6 +571,8 @@ impl Renderer {
                 self.present.record(ctx, enc, frame, target, size, output);
             }
         });
+        let mut copies: Vec<(&wgpu::Buffer, u64)> =
+            (shown.copies.iter()).map(|(b, n)| (b, *n)).collect();
         copies.push((self.shade.texels_lit(), 4));
         copies.push((&self.visible.bits, self.visible.bytes()));
         let timed = stages.finish(&copies)?;
@@ -507,7 +586,7 @@ impl Renderer {
             Display::March => (0, 0, MarchCounts::from_bytes(head)),
         };
         let mut terrain = TerrainCounts::default();
-        if terrain_drawn {
+        if shown.terrain_drawn {
             let (counts, after) = rest.split_at(TERRAIN_COUNTS_BYTES as usize);
             terrain = TerrainCounts::from_bytes(counts);
             rest = after;
@@ -528,13 +607,13 @@ impl Renderer {
             frame_ms: started.elapsed().as_secs_f64() * 1e3,
             counters: Counters {
                 faces_captured: input.captures.len() as u32,
-                objects_captured: captured.ranges,
-                triangles_captured: captured.triangles,
+                objects_captured: self.captured.ranges,
+                triangles_captured: self.captured.triangles,
                 texels_shaded,
                 quads_splatted,
                 cull_entries,
                 screen_visible_texels,
-                pixels_marched,
+                pixels_marched: shown.pixels_marched,
                 march_steps: march.steps,
                 march_fallbacks: march.fallbacks,
                 texture_bytes: self.scene.as_ref().map_or(0, |s| s.textures.bytes()),
@@ -544,6 +623,29 @@ impl Renderer {
             },
         })
     }
+}
+
+/// What the lighting leaves the display: the animated objects' and the sprites' bindings
+/// (when the scene has them) and the stable faces whose runs to recompute.
+struct Lit {
+    /// The moving pass's bindings.
+    moving: Option<MovingBinds>,
+    /// The sprite passes' bindings.
+    sprites: Option<SpriteBinds>,
+    /// Per slot, the stable faces whose runs to recompute ([`runs_to_compute`]).
+    runs_faces: [FaceMask; 3],
+}
+
+/// What a display drew: the buffers of its counts to read back (first the splat list's
+/// draw arguments or the march counters, then the terrain splats' counts when
+/// `terrain_drawn`), and how many pixels it marched.
+struct Shown {
+    /// Buffers and byte counts to copy back.
+    copies: Vec<(wgpu::Buffer, u64)>,
+    /// The terrain splats ran (their counts follow the first copy).
+    terrain_drawn: bool,
+    /// Pixels marched (0 when splatting).
+    pixels_marched: u64,
 }
 
 /// The stable faces whose runs to recompute: in our schedule, the faces just lit and those

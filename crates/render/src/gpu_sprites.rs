@@ -129,6 +129,182 @@ struct Cut<'a> {
     first: u32,
 }
 
+/// The sprites' sheets and maps cut into frames (each image once per frame size), their
+/// records, and the texels their lighting needs.
+struct Sheets<'a> {
+    /// Every image cut, in layer order.
+    cuts: Vec<Cut<'a>>,
+    /// Layers used (the next free one).
+    layers: u32,
+    /// One record per sprite.
+    records: Vec<GpuSprite>,
+    /// Lit texels of every sprite (two frames' worth each).
+    lit_texels: u64,
+}
+
+impl<'a> Sheets<'a> {
+    /// Cuts every sprite's sheet and maps, failing on a frame size that does not divide its
+    /// sheet or a map of another size than its sheet.
+    fn cut(sprites: &'a [SpriteInput]) -> Result<Self, SpriteError> {
+        let mut sheets = Sheets {
+            cuts: Vec::new(),
+            layers: 0,
+            records: Vec::with_capacity(sprites.len()),
+            lit_texels: 0,
+        };
+        for s in sprites {
+            let f = s.frame_size;
+            let layers = sheets.sprite_layers(s)?;
+            let base = u32::try_from(sheets.lit_texels).unwrap_or(u32::MAX);
+            sheets.records.push(GpuSprite::new(s, layers, base));
+            sheets.lit_texels += 2 * u64::from(f.x) * u64::from(f.y);
+        }
+        Ok(sheets)
+    }
+
+    /// The first layer of `s`'s sheet, normal map, depth map and back depth map
+    /// ([`NO_LAYER`] where missing), cutting those not cut yet.
+    fn sprite_layers(&mut self, s: &'a SpriteInput) -> Result<[u32; 4], SpriteError> {
+        let f = s.frame_size;
+        let fail = |message: String| SpriteError::Sheet { id: s.id, message };
+        if f.x == 0
+            || f.y == 0
+            || !s.sheet.width.is_multiple_of(f.x)
+            || !s.sheet.height.is_multiple_of(f.y)
+        {
+            return Err(fail(format!(
+                "frame size {}×{} does not divide its sheet `{}` ({}×{})",
+                f.x, f.y, s.sheet.name, s.sheet.width, s.sheet.height
+            )));
+        }
+        let maps = [
+            s.normal_map.as_ref(),
+            s.relief.as_ref().map(|r| &r.0),
+            s.refraction.as_ref().map(|r| &r.0),
+        ];
+        let mut layers = [NO_LAYER; 4];
+        for (k, image) in std::iter::once(Some(&s.sheet)).chain(maps).enumerate() {
+            let Some(image) = image else { continue };
+            if (image.width, image.height) != (s.sheet.width, s.sheet.height) {
+                return Err(fail(format!(
+                    "map `{}` is {}×{}, its sheet `{}` {}×{}",
+                    image.name,
+                    image.width,
+                    image.height,
+                    s.sheet.name,
+                    s.sheet.width,
+                    s.sheet.height
+                )));
+            }
+            layers[k] = self.layer_of(image, f);
+        }
+        Ok(layers)
+    }
+
+    /// The first layer of `image` cut into `frame`-sized frames, cut now if it was not.
+    fn layer_of(&mut self, image: &'a Arc<Image>, frame: UVec2) -> u32 {
+        let found = (self.cuts.iter()).find(|c| Arc::ptr_eq(c.image, image) && c.frame == frame);
+        match found {
+            Some(c) => c.first,
+            None => {
+                let first = self.layers;
+                self.layers += (image.width / frame.x) * (image.height / frame.y);
+                self.cuts.push(Cut {
+                    image,
+                    frame,
+                    first,
+                });
+                first
+            }
+        }
+    }
+
+    /// The size of one layer: the largest frame.
+    fn layer_size(&self) -> UVec2 {
+        self.cuts.iter().fold(UVec2::ONE, |m, c| m.max(c.frame))
+    }
+}
+
+/// Fails when the sprites' lit texels (`lit_bytes`) or their frames do not fit `limits`.
+fn check_limits(limits: &wgpu::Limits, sheets: &Sheets, lit_bytes: u64) -> Result<(), SpriteError> {
+    let layer = sheets.layer_size();
+    if lit_bytes
+        > limits
+            .max_storage_buffer_binding_size
+            .min(limits.max_buffer_size)
+    {
+        return Err(SpriteError::TooManyTexels {
+            bytes: lit_bytes,
+            max: limits.max_storage_buffer_binding_size,
+        });
+    }
+    if sheets.layers > limits.max_texture_array_layers
+        || layer.x > limits.max_texture_dimension_2d
+        || layer.y > limits.max_texture_dimension_2d
+    {
+        return Err(SpriteError::TooLarge {
+            layers: sheets.layers,
+            width: layer.x,
+            height: layer.y,
+            max_layers: limits.max_texture_array_layers,
+            max_size: limits.max_texture_dimension_2d,
+        });
+    }
+    Ok(())
+}
+
+/// The frames' array texture, every cut frame written to its layer, and its view.
+fn upload_frames(ctx: &GpuContext, sheets: &Sheets) -> (wgpu::Texture, wgpu::TextureView) {
+    let layer = sheets.layer_size();
+    let frames = ctx.device.create_texture(&wgpu::TextureDescriptor {
+        label: Some("sprites::frames"),
+        size: wgpu::Extent3d {
+            width: layer.x,
+            height: layer.y,
+            depth_or_array_layers: sheets.layers.max(1),
+        },
+        mip_level_count: 1,
+        sample_count: 1,
+        dimension: wgpu::TextureDimension::D2,
+        format: wgpu::TextureFormat::Rgba8Unorm,
+        usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
+        view_formats: &[],
+    });
+    for c in &sheets.cuts {
+        let count = (c.image.width / c.frame.x) * (c.image.height / c.frame.y);
+        for i in 0..count {
+            ctx.queue.write_texture(
+                wgpu::TexelCopyTextureInfo {
+                    texture: &frames,
+                    mip_level: 0,
+                    origin: wgpu::Origin3d {
+                        x: 0,
+                        y: 0,
+                        z: c.first + i,
+                    },
+                    aspect: wgpu::TextureAspect::All,
+                },
+                &frame_pixels(c.image, c.frame, i, layer),
+                wgpu::TexelCopyBufferLayout {
+                    offset: 0,
+                    bytes_per_row: Some(layer.x * 4),
+                    rows_per_image: Some(layer.y),
+                },
+                wgpu::Extent3d {
+                    width: layer.x,
+                    height: layer.y,
+                    depth_or_array_layers: 1,
+                },
+            );
+        }
+    }
+    let frames_view = frames.create_view(&wgpu::TextureViewDescriptor {
+        dimension: Some(wgpu::TextureViewDimension::D2Array),
+        ..Default::default()
+    });
+    (frames, frames_view)
+}
+
 /// Frame `i` of `image` cut into `frame`-sized frames, padded to `layer` with transparent
 /// pixels.
 fn frame_pixels(image: &Image, frame: UVec2, i: u32, layer: UVec2) -> Vec<u8> {
@@ -244,134 +420,11 @@ impl GpuSprites {
         if sprites.is_empty() {
             return Ok(None);
         }
-        let mut cuts: Vec<Cut<'_>> = Vec::new();
-        let mut next = 0u32;
-        let mut records = Vec::with_capacity(sprites.len());
-        let mut lit_texels = 0u64;
-        for s in sprites {
-            let f = s.frame_size;
-            let fail = |message: String| SpriteError::Sheet { id: s.id, message };
-            if f.x == 0
-                || f.y == 0
-                || !s.sheet.width.is_multiple_of(f.x)
-                || !s.sheet.height.is_multiple_of(f.y)
-            {
-                return Err(fail(format!(
-                    "frame size {}×{} does not divide its sheet `{}` ({}×{})",
-                    f.x, f.y, s.sheet.name, s.sheet.width, s.sheet.height
-                )));
-            }
-            let maps = [
-                s.normal_map.as_ref(),
-                s.relief.as_ref().map(|r| &r.0),
-                s.refraction.as_ref().map(|r| &r.0),
-            ];
-            let mut layers = [NO_LAYER; 4];
-            for (k, image) in std::iter::once(Some(&s.sheet)).chain(maps).enumerate() {
-                let Some(image) = image else { continue };
-                if (image.width, image.height) != (s.sheet.width, s.sheet.height) {
-                    return Err(fail(format!(
-                        "map `{}` is {}×{}, its sheet `{}` {}×{}",
-                        image.name,
-                        image.width,
-                        image.height,
-                        s.sheet.name,
-                        s.sheet.width,
-                        s.sheet.height
-                    )));
-                }
-                let found = cuts
-                    .iter()
-                    .find(|c| Arc::ptr_eq(c.image, image) && c.frame == f);
-                layers[k] = match found {
-                    Some(c) => c.first,
-                    None => {
-                        let first = next;
-                        next += (image.width / f.x) * (image.height / f.y);
-                        cuts.push(Cut {
-                            image,
-                            frame: f,
-                            first,
-                        });
-                        first
-                    }
-                };
-            }
-            let base = u32::try_from(lit_texels).unwrap_or(u32::MAX);
-            records.push(GpuSprite::new(s, layers, base));
-            lit_texels += 2 * u64::from(f.x) * u64::from(f.y);
-        }
-        let layer = cuts.iter().fold(UVec2::ONE, |m, c| m.max(c.frame));
-        let limits = ctx.device.limits();
-        let lit_bytes = lit_texels * 8;
-        if lit_bytes
-            > limits
-                .max_storage_buffer_binding_size
-                .min(limits.max_buffer_size)
-        {
-            return Err(SpriteError::TooManyTexels {
-                bytes: lit_bytes,
-                max: limits.max_storage_buffer_binding_size,
-            });
-        }
-        if next > limits.max_texture_array_layers
-            || layer.x > limits.max_texture_dimension_2d
-            || layer.y > limits.max_texture_dimension_2d
-        {
-            return Err(SpriteError::TooLarge {
-                layers: next,
-                width: layer.x,
-                height: layer.y,
-                max_layers: limits.max_texture_array_layers,
-                max_size: limits.max_texture_dimension_2d,
-            });
-        }
-        let frames = ctx.device.create_texture(&wgpu::TextureDescriptor {
-            label: Some("sprites::frames"),
-            size: wgpu::Extent3d {
-                width: layer.x,
-                height: layer.y,
-                depth_or_array_layers: next.max(1),
-            },
-            mip_level_count: 1,
-            sample_count: 1,
-            dimension: wgpu::TextureDimension::D2,
-            format: wgpu::TextureFormat::Rgba8Unorm,
-            usage: wgpu::TextureUsages::TEXTURE_BINDING | wgpu::TextureUsages::COPY_DST,
-            view_formats: &[],
-        });
-        for c in &cuts {
-            let count = (c.image.width / c.frame.x) * (c.image.height / c.frame.y);
-            for i in 0..count {
-                ctx.queue.write_texture(
-                    wgpu::TexelCopyTextureInfo {
-                        texture: &frames,
-                        mip_level: 0,
-                        origin: wgpu::Origin3d {
-                            x: 0,
-                            y: 0,
-                            z: c.first + i,
-                        },
-                        aspect: wgpu::TextureAspect::All,
-                    },
-                    &frame_pixels(c.image, c.frame, i, layer),
-                    wgpu::TexelCopyBufferLayout {
-                        offset: 0,
-                        bytes_per_row: Some(layer.x * 4),
-                        rows_per_image: Some(layer.y),
-                    },
-                    wgpu::Extent3d {
-                        width: layer.x,
-                        height: layer.y,
-                        depth_or_array_layers: 1,
-                    },
-                );
-            }
-        }
-        let frames_view = frames.create_view(&wgpu::TextureViewDescriptor {
-            dimension: Some(wgpu::TextureViewDimension::D2Array),
-            ..Default::default()
-        });
+        let sheets = Sheets::cut(sprites)?;
+        let lit_bytes = sheets.lit_texels * 8;
+        check_limits(&ctx.device.limits(), &sheets, lit_bytes)?;
+        let (frames, frames_view) = upload_frames(ctx, &sheets);
+        let records = sheets.records;
         use wgpu::util::DeviceExt;
         let buffer = ctx
             .device

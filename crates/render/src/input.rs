@@ -11,6 +11,13 @@ use texel_geom::{SurfaceMaps, TriMesh};
 use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::{Role, Slot};
 
+/// Near and far planes of a capture, world units. Beyond `CAPTURE_FAR` is sky. Here rather
+/// than in the capture pass that uses them, so the input (a camera's default far plane)
+/// does not reach up into a pass.
+pub const CAPTURE_NEAR: f32 = 0.02;
+/// See [`CAPTURE_NEAR`].
+pub const CAPTURE_FAR: f32 = 500.0;
+
 /// How a surface is shaded.
 #[derive(Debug, Clone, PartialEq)]
 pub struct MaterialInput {
@@ -209,7 +216,7 @@ pub struct Camera {
     /// Near plane distance.
     pub near: f32,
     /// Far plane distance. By default the probes' capture range
-    /// ([`crate::passes::capture::CAPTURE_FAR`]): past it they hold only the sky, so a farther
+    /// ([`CAPTURE_FAR`]): past it they hold only the sky, so a farther
     /// plane would show nothing more, and a nearer one would cut off what they hold.
     pub far: f32,
     /// `Some(h)`: an orthographic camera whose view is `h` world units tall (`fov_y` unused).
@@ -224,7 +231,7 @@ impl Camera {
             forward: forward.normalize(),
             fov_y: 60f32.to_radians(),
             near: 0.05,
-            far: crate::passes::capture::CAPTURE_FAR,
+            far: CAPTURE_FAR,
             ortho_height: None,
         }
     }

@@ -4,7 +4,8 @@
 //! plain [`input::FrameInput`] and never sees hecs, egui or winit, so its tests can build a
 //! frame by hand and the same passes serve the runtime, the editor and the evaluator.
 //!
-//! Modules: [`context`] opens the GPU; [`input`] is the data it consumes; [`gpu_scene`] and
+//! Modules: [`context`] opens the GPU; [`input`] is the data it consumes; [`error`] is why
+//! a frame fails; [`gpu_scene`] and
 //! [`bvh`] upload the scene; [`probe_store`] holds the probe textures; [`passes`] are the
 //! passes, one per WGSL file in `shaders/`; [`frame`] orders them; [`stats`] is what a frame
 //! reports.
@@ -12,6 +13,7 @@
 pub mod baselines;
 pub mod bvh;
 pub mod context;
+pub mod error;
 pub mod frame;
 pub mod gpu_scene;
 pub mod gpu_sprites;

@@ -1,6 +1,8 @@
 //! Reading a rendered frame back to the CPU, for tests, the editor's picking and the
 //! evaluator: the splat list, the entity under a pixel, per-pixel provenance, and a probe
 //! slot's lit faces as sRGB8 images (the editor's debug view).
+//! The GPU copies themselves are `crate::target`'s (`read_texture_region`, `read_buffer`):
+//! that module is below the renderer, this one above it.
 
 use texel_probes::probe_set::Slot;
 
@@ -8,7 +10,7 @@ use crate::context::{GpuContext, GpuError};
 use crate::frame::Renderer;
 use crate::passes::cull::{DrawArgs, SPLAT_BYTES};
 use crate::passes::present::source_pixel;
-use crate::target::read_buffer;
+use crate::target::{read_buffer, read_texture_layer, read_texture_region};
 
 /// One splat quad of a frame, as read back by [`Renderer::read_splats`].
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -164,7 +166,7 @@ impl Renderer {
         let (Some(screen), Some(scene)) = (self.screen.as_ref(), self.scene.as_ref()) else {
             return Ok(FrameIds::default());
         };
-        let keys = crate::target::read_texture_layer(ctx, &screen.keys, 0, 4)?;
+        let keys = read_texture_layer(ctx, &screen.keys, 0, 4)?;
         let max_n = Slot::ALL
             .map(|s| self.store.slot(s).n)
             .into_iter()
@@ -197,12 +199,7 @@ impl Renderer {
             let tex = self.store.slot(slot);
             if layers[layer].is_none() {
                 let face = (layer % 6) as u32;
-                layers[layer] = Some(crate::target::read_texture_layer(
-                    ctx,
-                    &tex.ids.texture,
-                    face,
-                    4,
-                )?);
+                layers[layer] = Some(read_texture_layer(ctx, &tex.ids.texture, face, 4)?);
             }
             let ids = layers[layer].as_deref().unwrap_or_default();
             let i = ((y * tex.n + x) * 4) as usize;
@@ -259,8 +256,7 @@ impl Renderer {
         let textures = self.store.slot(slot);
         let faces = (0..6)
             .map(|layer| {
-                crate::target::read_texture_layer(ctx, &textures.lit.texture, layer, 16)
-                    .map(|raw| convert(&raw))
+                read_texture_layer(ctx, &textures.lit.texture, layer, 16).map(|raw| convert(&raw))
             })
             .collect::<Result<_, _>>()?;
         Ok((textures.n, faces))
@@ -306,40 +302,7 @@ fn read_texel_u32(
     layer: u32,
     at: glam::UVec2,
 ) -> Result<u32, GpuError> {
-    let buffer = ctx.device.create_buffer(&wgpu::BufferDescriptor {
-        label: Some("frame::pick"),
-        size: 4,
-        usage: wgpu::BufferUsages::COPY_DST | wgpu::BufferUsages::MAP_READ,
-        mapped_at_creation: false,
-    });
-    let mut enc = ctx.device.create_command_encoder(&Default::default());
-    enc.copy_texture_to_buffer(
-        wgpu::TexelCopyTextureInfo {
-            texture,
-            mip_level: 0,
-            origin: wgpu::Origin3d {
-                x: at.x,
-                y: at.y,
-                z: layer,
-            },
-            aspect: wgpu::TextureAspect::All,
-        },
-        wgpu::TexelCopyBufferInfo {
-            buffer: &buffer,
-            layout: wgpu::TexelCopyBufferLayout {
-                offset: 0,
-                bytes_per_row: None,
-                rows_per_image: None,
-            },
-        },
-        wgpu::Extent3d {
-            width: 1,
-            height: 1,
-            depth_or_array_layers: 1,
-        },
-    );
-    ctx.queue.submit([enc.finish()]);
-    let bytes = read_buffer(ctx, &buffer)?;
+    let bytes = read_texture_region(ctx, texture, layer, at, glam::UVec2::ONE, 4)?;
     Ok(u32::from_le_bytes([bytes[0], bytes[1], bytes[2], bytes[3]]))
 }
 

@@ -68,7 +68,29 @@ pub fn read_texture_layer(
     layer: u32,
     bytes_per_texel: u32,
 ) -> Result<Vec<u8>, GpuError> {
-    let (w, h) = (texture.width(), texture.height());
+    let size = glam::UVec2::new(texture.width(), texture.height());
+    read_texture_region(
+        ctx,
+        texture,
+        layer,
+        glam::UVec2::ZERO,
+        size,
+        bytes_per_texel,
+    )
+}
+
+/// Reads the `size` texels from `origin` of one array layer of a 2D texture with
+/// `bytes_per_texel` bytes per texel, tightly packed (row padding removed): the one texture
+/// read-back (whole layers, the editor's picked texel).
+pub fn read_texture_region(
+    ctx: &GpuContext,
+    texture: &wgpu::Texture,
+    layer: u32,
+    origin: glam::UVec2,
+    size: glam::UVec2,
+    bytes_per_texel: u32,
+) -> Result<Vec<u8>, GpuError> {
+    let (w, h) = (size.x, size.y);
     let row = w * bytes_per_texel;
     let padded =
         row.div_ceil(wgpu::COPY_BYTES_PER_ROW_ALIGNMENT) * wgpu::COPY_BYTES_PER_ROW_ALIGNMENT;
@@ -84,8 +106,8 @@ pub fn read_texture_layer(
             texture,
             mip_level: 0,
             origin: wgpu::Origin3d {
-                x: 0,
-                y: 0,
+                x: origin.x,
+                y: origin.y,
                 z: layer,
             },
             aspect: wgpu::TextureAspect::All,

@@ -4,7 +4,7 @@
 use glam::UVec2;
 use texel_geom::limits::{FACE_RESOLUTIONS, face_resolution_error};
 
-use crate::frame::RenderError;
+use crate::error::RenderError;
 use crate::input::{Camera, FrameInput, SceneInput};
 
 /// Largest output side, in pixels.

@@ -21,7 +21,7 @@ use std::time::Instant;
 use glam::{UVec2, Vec2};
 
 use crate::context::GpuContext;
-use crate::frame::RenderError;
+use crate::error::RenderError;
 use crate::gpu_scene::GpuScene;
 use crate::input::{Camera, Look, SceneInput};
 use crate::passes::capture::CapturePass;

@@ -6,7 +6,7 @@
 
 use glam::{Mat4, UVec2, Vec2, Vec3};
 
-use crate::frame::RenderError;
+use crate::error::RenderError;
 use crate::input::Camera;
 
 /// For a perspective camera, the depth (world units along the view axis) at which snapping

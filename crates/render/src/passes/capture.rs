@@ -18,10 +18,9 @@ use crate::input::CaptureInput;
 use crate::probe_store::{ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore, SHADING_FORMAT};
 use crate::shader;
 
-/// Near and far planes of a capture, world units. Beyond `CAPTURE_FAR` is sky.
-pub const CAPTURE_NEAR: f32 = 0.02;
-/// See [`CAPTURE_NEAR`].
-pub const CAPTURE_FAR: f32 = 500.0;
+/// The capture planes live with the input that defaults a camera's far plane to them
+/// ([`crate::input::Camera::looking`]); a capture is their user.
+pub use crate::input::{CAPTURE_FAR, CAPTURE_NEAR};
 /// Most faces captured in one frame (three probes × six faces).
 pub const MAX_CAPTURES: usize = 18;
 

@@ -1,11 +1,10 @@
 //! Lines: world-space segments (the editor's ground grid) drawn into the frame after the
 //! background, depth-tested against the splats without writing depth, alpha-blended, texel
-//! keys untouched (`shaders/lines.wgsl`). The list is set by [`Renderer::set_lines`]; an
-//! empty list (the default) draws nothing and costs nothing.
+//! keys untouched (`shaders/lines.wgsl`). The list is set by the renderer (`Renderer::set_lines`
+//! calls [`LinesPass::set`]); an empty list (the default) draws nothing and costs nothing.
 
 use super::{RenderSpec, bind_group, entry, line_pipeline, uniform};
 use crate::context::GpuContext;
-use crate::frame::Renderer;
 use crate::passes::LazyRender;
 use crate::passes::splat::{KEY_FORMAT, SPLAT_DEPTH_FORMAT};
 use crate::shader;
@@ -116,13 +115,5 @@ impl LinesPass {
         pass.set_bind_group(0, &bind, &[]);
         pass.set_vertex_buffer(0, vertices.slice(..));
         pass.draw(0..self.count, 0..1);
-    }
-}
-
-impl Renderer {
-    /// Sets the world-space line segments drawn over every following frame (consecutive
-    /// pairs of `lines`), depth-tested against the scene; an empty list draws nothing.
-    pub fn set_lines(&mut self, ctx: &GpuContext, lines: &[LineVertex]) {
-        self.lines.set(ctx, lines);
     }
 }
