@@ -236,12 +236,27 @@ impl EditorApp {
                     if let Some(s) = &r.stats {
                         let c = &s.counters;
                         ui.label(format!(
-                            "faces {} · texels shaded {} · quads {} · visible texels {}",
+                            "faces {} · objects a face {} · texels shaded {} · quads {} · \
+                             visible texels {}",
                             c.faces_captured,
+                            c.objects_captured / u64::from(c.faces_captured.max(1)),
                             c.texels_shaded,
                             c.quads_splatted,
                             c.screen_visible_texels
                         ));
+                        let gpu = c.gpu_scene_bytes
+                            + c.gpu_bvh_bytes
+                            + c.texture_bytes
+                            + c.gpu_probe_bytes;
+                        ui.label(format!("GPU {:.0} MB", gpu as f64 / 1e6))
+                            .on_hover_text(format!(
+                                "scene {:.1} MB, shadow trees {:.1} MB, textures {:.1} MB, \
+                                 probes {:.1} MB",
+                                c.gpu_scene_bytes as f64 / 1e6,
+                                c.gpu_bvh_bytes as f64 / 1e6,
+                                c.texture_bytes as f64 / 1e6,
+                                c.gpu_probe_bytes as f64 / 1e6
+                            ));
                     }
                 }
                 None => {

@@ -391,6 +391,7 @@ fn render(args: &RenderArgs) -> ExitCode {
                 record.frames.iter().map(|r| f(&r.stats.counters)).sum()
             };
             let faces = sum(|c| u64::from(c.faces_captured)).max(1) as f64;
+            let mb = |b: u64| b as f64 / 1e6;
             println!(
                 "{}: {} frames on {}, median {median:.1} ms; {} faces captured, {:.0} objects \
                  and {:.0} triangles a face; stats in {}",
@@ -402,6 +403,19 @@ fn render(args: &RenderArgs) -> ExitCode {
                 sum(|c| c.triangles_captured) as f64 / faces,
                 args.out.join("stats.json").display()
             );
+            if let Some(c) = record.frames.last().map(|f| f.stats.counters) {
+                let peak = (record.peak_resident_bytes).map_or(String::new(), |b| {
+                    format!("; peak resident {:.0} MB", mb(b))
+                });
+                println!(
+                    "GPU memory: scene {:.1} MB, shadow trees {:.1} MB, textures {:.1} MB, \
+                     probes {:.1} MB{peak}",
+                    mb(c.gpu_scene_bytes),
+                    mb(c.gpu_bvh_bytes),
+                    mb(c.texture_bytes),
+                    mb(c.gpu_probe_bytes),
+                );
+            }
             ExitCode::SUCCESS
         }
         Err(e) if e.is::<crate::load::LoadError>() => {

@@ -70,6 +70,8 @@ pub struct RunRecord {
     pub face_resolution: Option<u32>,
     /// Median frame time over the frames, ms.
     pub median_frame_ms: f64,
+    /// The most the process had resident by the end, bytes (Linux; none elsewhere).
+    pub peak_resident_bytes: Option<u64>,
     /// Per frame.
     pub frames: Vec<FrameRecord>,
 }
@@ -162,6 +164,7 @@ pub fn render(level: &Path, path: Option<&CameraPath>, opts: &RenderOptions) -> 
         schedule: schedule_name(opts.schedule),
         face_resolution: opts.face_res,
         median_frame_ms: ms.get(ms.len() / 2).copied().unwrap_or(0.0),
+        peak_resident_bytes: crate::soak::peak_rss_bytes(),
         frames,
     };
     let json = serde_json::to_string_pretty(&record)?;

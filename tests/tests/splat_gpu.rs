@@ -546,6 +546,16 @@ fn culled_captures_draw_the_frames_of_captures_that_draw_everything() {
             objects += stats.counters.objects_captured;
             triangles += stats.counters.triangles_captured;
             frames.push(px);
+            // The memory counted is the memory held: three slots of six 32² faces, each
+            // texel in seven textures of at least 4 bytes; vertices of 3 floats or more
+            // for every triangle captured on a face.
+            let c = stats.counters;
+            assert!(c.gpu_probe_bytes >= 3 * 6 * 32 * 32 * 7 * 4, "{c:?}");
+            assert!(
+                c.gpu_scene_bytes >= c.triangles_captured / c.faces_captured.max(1) as u64 * 36,
+                "{c:?}"
+            );
+            assert!(c.gpu_bvh_bytes > 0, "{c:?}");
         }
         Some((frames, objects, triangles))
     };

@@ -232,6 +232,13 @@ impl Renderer {
         self.runs_on = on;
     }
 
+    /// GPU bytes the renderer holds for its scene and probes.
+    pub fn memory(&self) -> crate::memory::GpuMemory {
+        let mut m = (self.scene.as_ref()).map_or_else(Default::default, |s| s.memory());
+        m.probes = self.store.bytes();
+        m
+    }
+
     /// What captures leave out of each face ([`crate::gpu_scene::CaptureCull`]; by default
     /// what a face cannot see or spans less than a texel). Only faces captured from now on
     /// change.
@@ -601,6 +608,7 @@ impl Renderer {
         // A validation error or a lost device anywhere in this frame's work (or in an upload
         // since the last frame) fails the frame with the device's message.
         ctx.check()?;
+        let memory = self.memory();
         Ok(FrameStats {
             passes: timed.passes,
             gpu_timestamps: timed.gpu_timestamps,
@@ -616,7 +624,10 @@ impl Renderer {
                 pixels_marched: shown.pixels_marched,
                 march_steps: march.steps,
                 march_fallbacks: march.fallbacks,
-                texture_bytes: self.scene.as_ref().map_or(0, |s| s.textures.bytes()),
+                texture_bytes: memory.textures,
+                gpu_scene_bytes: memory.scene,
+                gpu_bvh_bytes: memory.bvh,
+                gpu_probe_bytes: memory.probes,
                 terrain_records_made: u64::from(terrain.records_made),
                 terrain_pixels_cast: u64::from(terrain.pixels_cast),
                 terrain_records_shared: u64::from(terrain.records_shared),

@@ -323,6 +323,34 @@ pub struct CasterNow {
 }
 
 impl GpuScene {
+    /// GPU bytes of the scene, its shadow trees and its textures (the probes are the
+    /// renderer's: [`crate::probe_store::ProbeStore::bytes`]).
+    pub fn memory(&self) -> crate::memory::GpuMemory {
+        use crate::memory::{buffer_bytes, texture_bytes};
+        let sprites = self.sprites.as_ref().map_or(0, |s| {
+            texture_bytes(&s.frames) + buffer_bytes(&[&s.records, &s.lit, &s.lit_keys])
+        });
+        crate::memory::GpuMemory {
+            scene: buffer_bytes(&[
+                &self.vertices,
+                &self.objects,
+                &self.points,
+                &self.motions,
+                &self.terrains,
+                &self.terrain_data,
+                &self.textures.surfaces,
+            ]),
+            bvh: buffer_bytes(&[
+                &self.bvh_nodes,
+                &self.bvh_triangles,
+                &self.bvh_instances,
+                &self.bvh_fields,
+            ]) + texture_bytes(self.field_data.texture()),
+            textures: self.textures.bytes() + sprites,
+            probes: 0,
+        }
+    }
+
     /// What the shadow BVH group binds ([`crate::passes::bvh_layout`]).
     pub fn bvh_resources(&self) -> [wgpu::BindingResource<'_>; 5] {
         [

@@ -18,6 +18,7 @@ pub mod frame;
 pub mod gpu_scene;
 pub mod gpu_sprites;
 pub mod input;
+pub mod memory;
 pub mod passes;
 pub mod probe_store;
 pub mod readback;

@@ -180,6 +180,22 @@ impl ProbeStore {
         store
     }
 
+    /// GPU bytes of every slot's faces and draw lists.
+    pub fn bytes(&self) -> u64 {
+        use crate::memory::texture_bytes;
+        (self.slots.iter())
+            .map(|s| {
+                [
+                    &s.geo, &s.ids, &s.albedo, &s.shading, &s.depth, &s.lit, &s.runs,
+                ]
+                .iter()
+                .map(|t| texture_bytes(&t.texture))
+                .sum::<u64>()
+                    + s.list.size()
+            })
+            .sum()
+    }
+
     /// The textures of `slot`.
     pub fn slot(&self, slot: Slot) -> &SlotTextures {
         &self.slots[slot.index()]

@@ -29,7 +29,13 @@ pub struct Counters {
     /// Marched pixels the first probe they asked could not resolve (they fell back to the
     /// other stable probe, the eye probe or the sky).
     pub march_fallbacks: u64,
-    /// GPU memory of the scene's texture atlas, bytes (0 without textures).
+    /// GPU bytes of the scene (vertices, records, lights, terrain heights).
+    pub gpu_scene_bytes: u64,
+    /// GPU bytes of the shadow-ray trees.
+    pub gpu_bvh_bytes: u64,
+    /// GPU bytes of the probe slots' faces and draw lists.
+    pub gpu_probe_bytes: u64,
+    /// GPU memory of the scene's texture atlas and sprite sheets, bytes (0 without them).
     pub texture_bytes: u64,
     /// Terrain quads whose record the terrain splats pass made (in its cache neither by
     /// texel nor by block).

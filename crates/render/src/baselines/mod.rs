@@ -286,7 +286,7 @@ impl BaselineRenderer {
             _ => self.record_screen(ctx, method, view)?,
         };
         let frame_ms = started.elapsed().as_secs_f64() * 1e3;
-        counters.texture_bytes = self.scene.as_ref().map_or(0, |s| s.textures.bytes());
+        counters.texture_bytes = self.scene.as_ref().map_or(0, |s| s.memory().textures);
         let out = self.output.as_ref().ok_or(RenderError::NoScene)?;
         let pixels = out.colour.read_rgba(ctx)?;
         let ids = read_texture_layer(ctx, &out.ids.texture, 0, 4)?;
