@@ -1,5 +1,6 @@
-//! Charts of a report (plotters): frame time against shimmer (log scale) and against coverage
-//! error, one labelled point per method × face resolution (averaged over paths); and per
+//! Charts of a report (plotters): frame time against shimmer (log scale) and against colour
+//! error (in a report without the raster, coverage error), one labelled point per method ×
+//! face resolution (averaged over paths); and per
 //! path, bars of shimmer by method. Written as PNG (text through a bundled font, so no
 //! system font is needed) and SVG.
 
@@ -62,11 +63,13 @@ pub struct Point {
     pub shimmer: f64,
     /// Mean over paths of the coverage error.
     pub coverage_error: f64,
+    /// Mean over paths of the mean colour error (none when no run has one).
+    pub colour_error: Option<f64>,
 }
 
 /// The scatter points of `report`: one per method × face resolution, averaged over paths.
 pub fn points(report: &Report) -> Vec<Point> {
-    let mut groups: BTreeMap<(usize, u32, String), Vec<[f64; 3]>> = BTreeMap::new();
+    let mut groups: BTreeMap<(usize, u32, String), Vec<[f64; 4]>> = BTreeMap::new();
     for r in report
         .runs
         .iter()
@@ -78,18 +81,26 @@ pub fn points(report: &Report) -> Vec<Point> {
         groups
             .entry((order, face_res, r.method.clone()))
             .or_default()
-            .push([r.frame_ms.median, r.shimmer.mean, r.coverage_error]);
+            .push([
+                r.frame_ms.median,
+                r.shimmer.mean,
+                r.coverage_error,
+                r.colour_error.map_or(f64::NAN, |c| c.mean),
+            ]);
     }
     groups
         .into_iter()
         .map(|((_, face_res, method), v)| {
             let mean = |k: usize| v.iter().map(|x| x[k]).sum::<f64>() / v.len() as f64;
+            let colours: Vec<f64> = v.iter().map(|x| x[3]).filter(|c| !c.is_nan()).collect();
             Point {
                 method,
                 face_res,
                 frame_ms: mean(0),
                 shimmer: mean(1),
                 coverage_error: mean(2),
+                colour_error: (!colours.is_empty())
+                    .then(|| colours.iter().sum::<f64>() / colours.len() as f64),
             }
         })
         .collect()
@@ -143,10 +154,13 @@ fn scatter<DB: DrawingBackend>(
     shimmer: bool,
 ) -> DrawResult<DB> {
     let x_max = pts.iter().map(|p| p.frame_ms).fold(1.0, f64::max) * 1.15;
-    let title = if shimmer {
-        "Shimmer (mean flicker fraction, log) vs frame time"
-    } else {
-        "Coverage error vs frame time"
+    // The right panel shows the colour error against the full-resolution raster when the
+    // report has it (the raster ran), the coverage error otherwise.
+    let by_colour = pts.iter().any(|p| p.colour_error.is_some());
+    let title = match (shimmer, by_colour) {
+        (true, _) => "Shimmer (mean flicker fraction, log) vs frame time",
+        (false, true) => "Colour error (mean OKLab ΔE against the raster) vs frame time",
+        (false, false) => "Coverage error vs frame time",
     };
     let mut builder = ChartBuilder::on(area);
     builder
@@ -176,18 +190,31 @@ fn scatter<DB: DrawingBackend>(
                 + Text::new(label(p), (7, -7), (FONT, 13))
         }))?;
     } else {
-        let y_max = pts.iter().map(|p| p.coverage_error).fold(0.01, f64::max) * 1.2;
+        let value = |p: &Point| {
+            if by_colour {
+                p.colour_error
+            } else {
+                Some(p.coverage_error)
+            }
+        };
+        let y_max = pts.iter().filter_map(value).fold(0.01, f64::max) * 1.2;
         let mut chart = builder.build_cartesian_2d(0.0..x_max, 0.0..y_max)?;
         chart
             .configure_mesh()
             .x_desc("median frame ms (lavapipe)")
-            .y_desc("coverage error")
+            .y_desc(if by_colour {
+                "colour error (ΔE)"
+            } else {
+                "coverage error"
+            })
             .label_style((FONT, 13))
             .draw()?;
-        chart.draw_series(pts.iter().map(|p| {
-            EmptyElement::at((p.frame_ms, p.coverage_error))
-                + Circle::new((0, 0), 5, style(p))
-                + Text::new(label(p), (7, -7), (FONT, 13))
+        chart.draw_series(pts.iter().filter_map(|p| {
+            Some(
+                EmptyElement::at((p.frame_ms, value(p)?))
+                    + Circle::new((0, 0), 5, style(p))
+                    + Text::new(label(p), (7, -7), (FONT, 13)),
+            )
         }))?;
     }
     Ok(())

@@ -41,7 +41,7 @@ enum Command {
         common: Common,
     },
     /// Runs every bundled path on its level (stone_circle, colonnade, textured, terrain_hills,
-    /// moving_parts) with every method.
+    /// moving_parts, sprites) with every method.
     Suite {
         /// The assets folder holding levels/ and paths/.
         #[arg(long, default_value = "assets")]
@@ -59,6 +59,19 @@ enum Command {
     /// each frame's shimmer under each method (the values `run` reports), and the per-frame
     /// numbers as DIR/NAME.json.
     Compare(CompareArgs),
+    /// Rewrites the results tables in Markdown files from the reports they name: each block
+    /// between `<!-- texel-eval table=shimmer|speed report=FILE [rows=level:path,...]
+    /// [methods=...] [passes=...] -->` and `<!-- /texel-eval -->` (FILE relative to the
+    /// Markdown file's folder). Files are replaced atomically.
+    Tables {
+        /// Markdown files to rewrite (README.md, docs/guide/*.md, ...).
+        #[arg(required = true)]
+        files: Vec<PathBuf>,
+        /// Change nothing: list the files whose tables differ from their reports, and fail
+        /// if any does.
+        #[arg(long)]
+        check: bool,
+    },
     /// Redraws the charts (and table.md) of an existing report.
     Chart {
         /// The report.json to read.
@@ -128,6 +141,7 @@ pub fn main() -> Result<()> {
         }
         Command::Compare(args) => compare(&args),
         Command::Survey(args) => survey(&args, command_line),
+        Command::Tables { files, check } => tables(&files, check),
         Command::Chart { report, out } => {
             let r = Report::load(&report)?;
             write_outputs(&r, &out, false)
@@ -161,6 +175,7 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<Report
     let mut report = Report {
         adapter: ctx.describe(),
         command,
+        stamp: texel_eval::stamp::Stamp::now(),
         ..Default::default()
     };
     for plan in plans {
@@ -428,6 +443,35 @@ fn write_outputs(report: &Report, out: &Path, with_json: bool) -> Result<()> {
     let text = format!("{}\n{}", report.summary_table(), report.markdown_table());
     std::fs::write(&table, text).with_context(|| format!("writing {}", table.display()))?;
     write_charts(report, out, "chart")?;
+    Ok(())
+}
+
+/// `texel-eval tables`: every file's blocks from their reports; with `check`, only which
+/// files differ.
+fn tables(files: &[PathBuf], check: bool) -> Result<()> {
+    let mut stale = Vec::new();
+    for file in files {
+        let text =
+            texel_scene::read::read_bounded_string(file, texel_scene::read::FileKind::Report)?;
+        let new = texel_eval::tables::refresh(&text, file)?;
+        if new == text {
+            continue;
+        }
+        if check {
+            stale.push(file.display().to_string());
+        } else {
+            let tmp = file.with_extension("md.tmp");
+            std::fs::write(&tmp, &new).with_context(|| format!("writing {}", tmp.display()))?;
+            std::fs::rename(&tmp, file).with_context(|| format!("replacing {}", file.display()))?;
+            eprintln!("{}: tables rewritten", file.display());
+        }
+    }
+    if !stale.is_empty() {
+        bail!(
+            "tables differ from their reports in {} (run `texel-eval tables` on them)",
+            stale.join(", ")
+        );
+    }
     Ok(())
 }
 

@@ -7,10 +7,12 @@
 //! [`reference`](mod@reference) (a CPU reference G-buffer), [`meter`] (per-run accumulation), [`runner`]
 //! (one method along one path, GPU-independent), [`gpu`] (the real sources), [`suite`]
 //! (levels × paths × methods × resolutions), [`report`] (`report.json` and its table),
-//! [`chart`] (the charts), [`compare`] (the methods side by side as an animated GIF),
+//! [`chart`] (the charts), [`tables`] (the docs' results tables, from reports), [`stamp`]
+//! (when, which commit, which machine), [`compare`] (the methods side by side as an animated GIF),
 //! [`survey`] (random walks through a level, for views nobody tuned for).
 
 pub mod chart;
+pub mod colour;
 pub mod compare;
 pub mod gpu;
 pub mod meter;
@@ -18,5 +20,7 @@ pub mod metrics;
 pub mod reference;
 pub mod report;
 pub mod runner;
+pub mod stamp;
 pub mod suite;
 pub mod survey;
+pub mod tables;

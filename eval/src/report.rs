@@ -7,6 +7,7 @@
 //!   "adapter":    string,          // GPU adapter and backend the frames were timed on
 //!   "command":    string,          // the command line that produced the report
 //!   "duration_s": number,          // wall time of the whole run or suite
+//!   "stamp": {"date", "commit", "machine": string},  // when, which commit, which CPU
 //!   "runs": [ {                    // one record per level × path × method × face_res
 //!     "level":      string,        // level file
 //!     "path":       string,        // camera-path file
@@ -23,6 +24,8 @@
 //!     "shimmer":    {"mean", "p95", "max": number},      // per-frame flicker fraction, 0..1
 //!     "shimmer_per_frame": [number],                     // frames 1.. (0 has no predecessor)
 //!     "coverage_error": number,    // mean fraction of pixels whose id differs from reference
+//!     "colour_error": {"mean", "p95": number}|absent, // OKLab ΔE against the raster's frames,
+//!                                  // both reduced to art pixels (absent without raster)
 //!     "hole_rate":  number,        // mean fraction of pixels with geometry shown as sky
 //!     "eye_fraction": number|null, // mean fraction of pixels from the eye probe (splat only)
 //!     "eye_flicker_share": number|null, // share of flickering pixels from the eye probe
@@ -94,6 +97,10 @@ pub struct RunRecord {
     pub shimmer_per_frame: Vec<f64>,
     /// Mean coverage error.
     pub coverage_error: f64,
+    /// Mean colour error against the raster's frames, at the art-pixel scale
+    /// ([`crate::colour`]); none when the raster did not run first.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub colour_error: Option<crate::colour::ColourError>,
     /// Mean hole rate.
     pub hole_rate: f64,
     /// Mean eye fraction (splat methods).
@@ -147,6 +154,10 @@ pub struct Report {
     pub command: String,
     /// Wall time of the whole run, seconds.
     pub duration_s: f64,
+    /// When, from which commit and on what machine it ran (empty in reports written before
+    /// the stamp existed).
+    #[serde(default)]
+    pub stamp: crate::stamp::Stamp,
     /// One record per run.
     pub runs: Vec<RunRecord>,
 }
@@ -230,6 +241,11 @@ impl Report {
             for (field, v) in fractions {
                 within(v, 1.0, &at(field))?;
             }
+            // OKLab distances stay below about 1.1 (black to white is 1).
+            if let Some(c) = r.colour_error {
+                within(c.mean, 2.0, &at("colour_error.mean"))?;
+                within(c.p95, 2.0, &at("colour_error.p95"))?;
+            }
             let times = [
                 ("frame_ms.median", r.frame_ms.median),
                 ("frame_ms.p90", r.frame_ms.p90),
@@ -307,14 +323,21 @@ impl Report {
             }
             out.push('\n');
         }
-        let rows: [SummaryRow; 2] = [
+        let rows: [SummaryRow; 3] = [
             ("coverage error (mean)", |r| r.coverage_error, 4),
+            (
+                "colour error, mean ΔE (mean)",
+                |r| r.colour_error.map_or(f64::NAN, |c| c.mean),
+                4,
+            ),
             ("median frame ms (mean)", |r| r.frame_ms.median, 1),
         ];
         for (name, f, digits) in rows {
             let _ = write!(out, "| *{name}* |");
             for m in &methods {
-                let v: Vec<f64> = pick(None, m).iter().map(|r| f(r)).collect();
+                let v: Vec<f64> = (pick(None, m).iter().map(|r| f(r)))
+                    .filter(|v| !v.is_nan())
+                    .collect();
                 let _ = write!(out, " {} |", cell(&v, digits));
             }
             out.push('\n');

@@ -11,6 +11,7 @@ use texel_runtime::driver::{Animation, scene_input};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::{CameraPath, Projection};
 
+use crate::colour::{ColourError, colour_error};
 use crate::gpu::{
     BaselineSource, GpuReference, SplatSource, baseline_of, level_look, set_face_res,
 };
@@ -19,7 +20,7 @@ use crate::reference::CpuScene;
 use crate::report::RunRecord;
 use crate::runner::{
     CachedReferences, EvalError, FrameSource, Method, ReferenceSource, counter_means, frame_timing,
-    march_means, pass_medians, run_path,
+    march_means, pass_medians, run_path_observed,
 };
 
 /// Vertical field of view of paths that do not set one: 60°.
@@ -178,6 +179,10 @@ pub fn run_plan(
     let warm_up = path.camera(0, fov_y);
     let look = level_look(&level);
     let mut records = Vec::new();
+    // The raster runs first: its frames are the truth of the colour error.
+    let mut methods = plan.methods.clone();
+    methods.sort_by_key(|m| *m != Method::Raster);
+    let mut truth: Option<Vec<(Vec<u8>, Vec<u32>)>> = None;
     for &n in &plan.face_res {
         set_face_res(&mut level, n)?;
         if refs.is_none() || per_res {
@@ -195,7 +200,12 @@ pub fn run_plan(
         let refs = refs
             .as_ref()
             .ok_or(EvalError::Input("no references".into()))?;
-        for &method in &plan.methods {
+        let grid = texel_render::baselines::low_res_size(
+            plan.size,
+            texel_render::baselines::art_pixel_height(n, fov_y)
+                .map_err(|e| EvalError::Input(e.to_string()))?,
+        );
+        for &method in &methods {
             if !runs_on(method, &path) || (method == Method::Raster && n != plan.face_res[0]) {
                 // Raster does not depend on the face resolution: run it once.
                 continue;
@@ -210,9 +220,33 @@ pub fn run_plan(
             let mut source = method_source(ctx, &level, moving, method, &view)?;
             let label = format!("{name}: {} @{n}", method.name());
             let params = MetricParams::default();
-            let outcome = run_path(&path, fov_y, source.as_mut(), refs, params, &mut || {
-                tick(&label)
-            })?;
+            let mut kept = Vec::new();
+            let mut colours: Vec<ColourError> = Vec::new();
+            let outcome = run_path_observed(
+                &path,
+                fov_y,
+                source.as_mut(),
+                refs,
+                params,
+                &mut |i, frame| {
+                    tick(&label);
+                    if method == Method::Raster {
+                        kept.push((frame.pixels.clone(), frame.ids.clone()));
+                    } else if let Some((t, ids)) = truth.as_ref().and_then(|t| t.get(i as usize))
+                        && let Some(e) = colour_error(&frame.pixels, t, ids, plan.size, grid)
+                    {
+                        colours.push(e);
+                    }
+                },
+            )?;
+            if method == Method::Raster {
+                truth = Some(kept);
+            }
+            let colour_error = match method {
+                Method::Raster => Some(ColourError::default()),
+                _ if colours.is_empty() => None,
+                _ => Some(ColourError::mean_of(&colours)),
+            };
             let (steps_per_pixel, fallback_fraction) = march_means(&outcome.stats);
             records.push(RunRecord {
                 level: plan.level.display().to_string(),
@@ -228,6 +262,7 @@ pub fn run_plan(
                 shimmer: outcome.scores.shimmer,
                 shimmer_per_frame: outcome.scores.shimmer_per_frame,
                 coverage_error: outcome.scores.coverage_error,
+                colour_error,
                 hole_rate: outcome.scores.hole_rate,
                 eye_fraction: outcome.scores.eye_fraction,
                 eye_flicker_share: outcome.scores.eye_flicker_share,

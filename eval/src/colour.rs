@@ -1,0 +1,218 @@
+//! **Colour error**: whether a method's colours are right, not only whether they hold still.
+//!
+//! A method's frame and a truth frame of the same camera and lighting (the `raster` method:
+//! the full-resolution raster, every pixel lit on its own) are both reduced to the art-pixel
+//! grid (a box filter in linear light over the output pixels each art pixel covers, the
+//! grid `naive` renders at), and each art pixel where the truth shows an object on at least
+//! half its pixels scores the OKLab distance (ΔE) between the two. A frame scores the mean
+//! and the 95th percentile over those art pixels. Dark streaks, light leaks, wrong shadows
+//! or a sprite drawn too dark raise it even when they hold still; a picture shifted by less
+//! than an art pixel raises it little, as the box filter blends what moved.
+
+use glam::UVec2;
+
+use crate::metrics::percentile;
+
+/// A frame's colour error.
+#[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct ColourError {
+    /// Mean OKLab ΔE over the art pixels showing an object.
+    pub mean: f64,
+    /// Its 95th percentile.
+    pub p95: f64,
+}
+
+impl ColourError {
+    /// The mean of frames' means and of their 95th percentiles (zero for none).
+    pub fn mean_of(frames: &[ColourError]) -> ColourError {
+        let n = frames.len().max(1) as f64;
+        ColourError {
+            mean: frames.iter().map(|f| f.mean).sum::<f64>() / n,
+            p95: frames.iter().map(|f| f.p95).sum::<f64>() / n,
+        }
+    }
+}
+
+/// sRGB8 → linear.
+fn linear(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear RGB → OKLab.
+fn oklab(rgb: [f32; 3]) -> [f32; 3] {
+    let [r, g, b] = rgb;
+    let l = (0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b).cbrt();
+    let m = (0.211_903_5 * r + 0.680_699_5 * g + 0.107_396_96 * b).cbrt();
+    let s = (0.088_302_46 * r + 0.281_718_85 * g + 0.629_978_7 * b).cbrt();
+    [
+        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
+        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
+        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
+    ]
+}
+
+/// Per art pixel of a `grid` over a `size` frame: the mean linear colour of `rgba` and the
+/// share of its pixels whose `ids` are not 0.
+fn reduce(rgba: &[u8], ids: &[u32], size: UVec2, grid: UVec2) -> Vec<([f32; 3], f32)> {
+    let cells = (grid.x * grid.y) as usize;
+    let mut sum = vec![([0f32; 3], 0u32, 0u32); cells];
+    for y in 0..size.y {
+        let gy = (u64::from(y) * u64::from(grid.y) / u64::from(size.y)) as u32;
+        for x in 0..size.x {
+            let gx = (u64::from(x) * u64::from(grid.x) / u64::from(size.x)) as u32;
+            let i = (y * size.x + x) as usize;
+            let cell = &mut sum[(gy * grid.x + gx) as usize];
+            for c in 0..3 {
+                cell.0[c] += linear(rgba[4 * i + c]);
+            }
+            cell.1 += 1;
+            cell.2 += u32::from(ids[i] != 0);
+        }
+    }
+    sum.into_iter()
+        .map(|(c, n, objects)| {
+            let n = n.max(1) as f32;
+            (c.map(|v| v / n), objects as f32 / n)
+        })
+        .collect()
+}
+
+/// The colour error of `frame` (RGBA8 sRGB) against `truth` and its ids, both `size`,
+/// reduced to art pixels on a `grid`; `None` when the truth shows no object.
+pub fn colour_error(
+    frame: &[u8],
+    truth: &[u8],
+    truth_ids: &[u32],
+    size: UVec2,
+    grid: UVec2,
+) -> Option<ColourError> {
+    let pixels = (size.x * size.y) as usize;
+    assert!(
+        frame.len() == 4 * pixels && truth.len() == 4 * pixels && truth_ids.len() == pixels,
+        "colour_error: frames of {size} pixels expected"
+    );
+    let grid = grid.clamp(UVec2::ONE, size);
+    let ones = vec![1u32; pixels];
+    let a = reduce(frame, &ones, size, grid);
+    let b = reduce(truth, truth_ids, size, grid);
+    let mut errors: Vec<f64> = (a.iter().zip(&b))
+        .filter(|(_, (_, objects))| *objects >= 0.5)
+        .map(|((ca, _), (cb, _))| {
+            let (p, q) = (oklab(*ca), oklab(*cb));
+            f64::from(
+                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt(),
+            )
+        })
+        .collect();
+    if errors.is_empty() {
+        return None;
+    }
+    errors.sort_by(f64::total_cmp);
+    Some(ColourError {
+        mean: errors.iter().sum::<f64>() / errors.len() as f64,
+        p95: percentile(&errors, 0.95),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const SIZE: UVec2 = UVec2::new(64, 64);
+    /// Art pixels of 4 × 4 output pixels.
+    const GRID: UVec2 = UVec2::new(16, 16);
+
+    fn srgb8(linear: f32) -> u8 {
+        let c = if linear <= 0.003_130_8 {
+            linear * 12.92
+        } else {
+            1.055 * linear.powf(1.0 / 2.4) - 0.055
+        };
+        (c * 255.0).round() as u8
+    }
+
+    /// A frame of linear greys `f(x, y)`, every pixel an object.
+    fn grey(f: impl Fn(u32, u32) -> f32) -> (Vec<u8>, Vec<u32>) {
+        let mut px = Vec::new();
+        for y in 0..SIZE.y {
+            for x in 0..SIZE.x {
+                let v = srgb8(f(x, y));
+                px.extend([v, v, v, 255]);
+            }
+        }
+        (px, vec![1; (SIZE.x * SIZE.y) as usize])
+    }
+
+    /// A checker of 16-pixel squares (four art pixels), linear greys 0.4 and 0.6, moved
+    /// `dx` pixels to the right.
+    fn checker(dx: u32) -> (Vec<u8>, Vec<u32>) {
+        grey(|x, y| {
+            if ((x + 64 - dx) / 16 + y / 16) % 2 == 0 {
+                0.6
+            } else {
+                0.4
+            }
+        })
+    }
+
+    #[test]
+    fn the_truth_against_itself_scores_zero() {
+        let (t, ids) = checker(0);
+        let e = colour_error(&t, &t, &ids, SIZE, GRID).expect("objects");
+        assert_eq!((e.mean, e.p95), (0.0, 0.0));
+    }
+
+    #[test]
+    fn a_frame_ten_percent_darker_scores_what_oklab_says() {
+        // For a grey, OKLab's L is the cube root of the linear value (a and b are 0), so 10 %
+        // less light lowers L by (1 - 0.9^(1/3)) L = 0.0345 L: here L lies between
+        // 0.4^(1/3) = 0.737 and 0.6^(1/3) = 0.843, so ΔE lies in [0.0254, 0.0291] (widened
+        // by sRGB8's rounding).
+        let (t, ids) = checker(0);
+        let (dark, _) = grey(|x, y| 0.9 * if (x / 16 + y / 16) % 2 == 0 { 0.6 } else { 0.4 });
+        let e = colour_error(&dark, &t, &ids, SIZE, GRID).expect("objects");
+        assert!((0.024..=0.031).contains(&e.mean), "{e:?}");
+        assert!((0.024..=0.031).contains(&e.p95), "{e:?}");
+    }
+
+    #[test]
+    fn a_one_art_pixel_shift_of_a_checker_scores_less_than_a_wrong_shadow() {
+        let (t, ids) = checker(0);
+        // One art pixel to the right: one column in four of art pixels changes square.
+        let (shifted, _) = checker(4);
+        let shift = colour_error(&shifted, &t, &ids, SIZE, GRID).expect("objects");
+        // Half a texel: the art pixels at the squares' edges blend the two greys.
+        let (half, _) = checker(2);
+        let half = colour_error(&half, &t, &ids, SIZE, GRID).expect("objects");
+        // A wrong shadow: a quarter of the frame (a 32 × 32 square) at half the light.
+        let (shadow, _) = grey(|x, y| {
+            let base = if (x / 16 + y / 16) % 2 == 0 { 0.6 } else { 0.4 };
+            if x < 32 && y < 32 { base * 0.5 } else { base }
+        });
+        let shadow = colour_error(&shadow, &t, &ids, SIZE, GRID).expect("objects");
+        assert!(half.mean < shift.mean, "{half:?} {shift:?}");
+        assert!(shift.mean < shadow.mean, "{shift:?} {shadow:?}");
+        assert!(shift.p95 < shadow.p95, "{shift:?} {shadow:?}");
+    }
+
+    #[test]
+    fn only_art_pixels_mostly_on_objects_count() {
+        let (t, mut ids) = checker(0);
+        let (wrong, _) = grey(|_, _| 0.0);
+        ids.iter_mut().for_each(|i| *i = 0);
+        assert_eq!(colour_error(&wrong, &t, &ids, SIZE, GRID), None);
+        // One art pixel of objects: only it counts.
+        for y in 0..4 {
+            for x in 0..4 {
+                ids[y * 64 + x] = 7;
+            }
+        }
+        let e = colour_error(&t, &t, &ids, SIZE, GRID).expect("one art pixel");
+        assert_eq!(e.mean, 0.0);
+    }
+}
