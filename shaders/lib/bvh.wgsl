@@ -21,14 +21,13 @@
 // holding the top-level root).
 
 #include "lib/constants.wgsl"
+#include "lib/ray.wgsl"
 
 // Traversal stack entries. The builder merges subtrees deeper than this into leaves, so
 // the stack cannot overflow; if it ever did, the ray counts as hit (shadowed).
 const BVH_STACK_SIZE: u32 = 32u;
 // `BvhNode::count` of an inner node.
 const BVH_INNER: u32 = 0xffffffffu;
-// Hits closer than this are ignored (the surface the ray starts on).
-const BVH_T_MIN: f32 = 1e-4;
 // Smaller direction components are replaced by this before inverting (no 0 * inf).
 const BVH_DIR_EPS: f32 = 1e-20;
 
@@ -65,26 +64,9 @@ struct BvhTriangle {
     pad1: u32,
 }
 
-// Möller–Trumbore, both faces: a hit at t in (BVH_T_MIN, t_max).
+// A hit at t in (RAY_T_MIN, t_max) (lib/ray.wgsl, the shared test).
 fn bvh_triangle_hit(tri: BvhTriangle, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
-    let p = cross(dir, tri.e2);
-    let det = dot(tri.e1, p);
-    if det == 0.0 {
-        return false;
-    }
-    let inv = 1.0 / det;
-    let s = origin - tri.v0;
-    let u = dot(s, p) * inv;
-    if u < 0.0 || u > 1.0 {
-        return false;
-    }
-    let q = cross(s, tri.e1);
-    let v = dot(dir, q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return false;
-    }
-    let t = dot(tri.e2, q) * inv;
-    return t > BVH_T_MIN && t < t_max;
+    return ray_triangle_hit(tri.v0, tri.e1, tri.e2, origin, dir, t_max);
 }
 
 // Entry distance into the node's box clipped to [0, t_max], or -1 for a miss.
@@ -180,7 +162,7 @@ fn field_cell_hit(f: BvhField, x: u32, z: u32, o: vec3<f32>, d: vec3<f32>, t_max
         || bvh_triangle_hit(BvhTriangle(b, 0u, c - b, 0u, e - b, 0u), o, d, t_max);
 }
 
-// Whether the ray crosses field `f`'s surface at t in (BVH_T_MIN, t_max): the quadtree
+// Whether the ray crosses field `f`'s surface at t in (RAY_T_MIN, t_max): the quadtree
 // walked nearest child first (farthest first if `far_first`), a node skipped where the ray
 // passes above its highest height (`HeightField::hit` on the CPU, step for step).
 fn field_hit(f: BvhField, origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool) -> bool {
