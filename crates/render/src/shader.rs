@@ -100,6 +100,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         "terrain_splat.wgsl",
         include_str!("../../../shaders/terrain_splat.wgsl"),
     ),
+    (
+        "lib/march.wgsl",
+        include_str!("../../../shaders/lib/march.wgsl"),
+    ),
     ("march.wgsl", include_str!("../../../shaders/march.wgsl")),
     (
         "visible.wgsl",
