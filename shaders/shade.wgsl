@@ -279,7 +279,7 @@ fn on_silhouette(t: vec2<u32>, id: u32) -> bool {
 // the sky, four times this texel's depth) is still on this side. Only for surfaces in the
 // BVH (`FLAG_IN_BVH`: they cast shadows and do not move); elsewhere half a texel. An
 // orthographic probe's rays are parallel: its edge rays start between the two texels'
-// starts (`toward_ray`). `light_texel` casts these rays in its shadow rays' loop, over the
+// starts (`toward_ray`). `trace_rays` casts these rays in its shadow rays' loop, over the
 // searched sides only.
 //
 // A farther neighbour that lies in front of this texel's plane (`hides_plane`: a wall
