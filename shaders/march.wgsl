@@ -13,6 +13,7 @@
 #include "lib/view.wgsl"
 #include "lib/fullscreen.wgsl"
 #include "lib/slots.wgsl"
+#include "lib/march.wgsl"
 
 @group(0) @binding(0) var<uniform> view: ViewGlobals;
 // [0] texels crossed, [1] pixels that fell back past their first probe.
@@ -24,18 +25,6 @@ const MAX_STEPS: u32 = 512u;
 // the reach of a splat quad toward a dissimilar neighbour, so marching closes the same gaps.
 const REACH_TEXELS: f32 = 1.5;
 
-const STATUS_HIT: u32 = 0u;
-const STATUS_ESCAPED: u32 = 1u;
-const STATUS_UNKNOWN: u32 = 2u;
-
-struct March {
-    status: u32,
-    steps: u32,
-    face: u32,
-    texel: vec2<u32>,
-    t: f32,
-}
-
 // The ray parameter where the face coordinate along `axis_uv` (a face's u or v vector)
 // reaches `b`, for the ray `q0 + t rd` from the probe origin seen on the face of `axis`; the
 // projection of a line is a line, so each texel boundary is crossed at most once.
@@ -45,27 +34,6 @@ fn crossing(q0: vec3<f32>, rd: vec3<f32>, axis: vec3<f32>, axis_uv: vec3<f32>, b
         return 3.0e38;
     }
     return (b * dot(q0, axis) - dot(q0, axis_uv)) / den;
-}
-
-// What the ray learns in a texel of depth `d`, entered at depth `entry` (ray parameter `t`)
-// and left at `t_out`, reaching depth `d` at `tc` when `along` > 0 (it goes deeper). Entered
-// in behind the surface through the texel's side: from a texel of the same surface (`same`:
-// a floor seen at a grazing angle steps in depth from row to row) the ray crossed it; else
-// within `reach` the texel's quad still covers it; beyond, the probe cannot see what the
-// ray hits. STATUS_ESCAPED: nothing here, on to the next texel.
-struct Verdict {
-    status: u32,
-    t: f32,
-}
-
-fn texel_verdict(entry: f32, d: f32, same: bool, reach: f32, t: f32, tc: f32, along: f32, t_out: f32) -> Verdict {
-    if entry >= d {
-        return Verdict(select(STATUS_UNKNOWN, STATUS_HIT, same || entry - d <= reach), t);
-    }
-    if along > 0.0 && tc <= t_out {
-        return Verdict(STATUS_HIT, tc);
-    }
-    return Verdict(STATUS_ESCAPED, t_out);
 }
 
 // `march` through an orthographic slot's one face (lib/common.wgsl `ProbeFrame`): in the
@@ -95,32 +63,23 @@ fn march_ortho(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March 
         var t_out = t1;
         if da.x != 0.0 {
             let b = select(cell.x, cell.x + 1.0, da.x > 0.0) * texel;
-            let tu = (b - a0.x) / da.x;
-            if tu > t { t_out = min(t_out, tu); }
+            t_out = exit_before(t_out, (b - a0.x) / da.x, t);
         }
         if da.y != 0.0 {
             let b = select(cell.y, cell.y + 1.0, da.y > 0.0) * texel;
-            let tv = (b - a0.y) / da.y;
-            if tv > t { t_out = min(t_out, tv); }
+            t_out = exit_before(t_out, (b - a0.y) / da.y, t);
         }
         var d = -1.0;
+        var verdict = Verdict(STATUS_ESCAPED, t_out);
         if (v.draw_mask & 1u) != 0u && load_id(s, tx, 0u) != 0u {
             d = load_geo(s, tx, 0u).w;
             let same = prev_d > 0.0 && frame_same_surface(f, prev_d, d, v.n);
             let tc = (d - a0.z) / da.z;
-            let verdict = texel_verdict(a.z, d, same, REACH_TEXELS * texel, t, tc, da.z, t_out);
-            if verdict.status != STATUS_ESCAPED {
-                out.status = verdict.status;
-                out.texel = tx;
-                out.t = verdict.t;
-                return out;
-            }
+            verdict = texel_verdict(a.z, d, same, REACH_TEXELS * texel, t, tc, da.z, t_out);
         }
-        if t_out >= t1 {
+        if march_step(&out, &t, &prev_d, verdict, 0u, tx, d, t_out, t1) {
             return out;
         }
-        prev_d = d;
-        t = t_out + max(1e-5 * t_out, 1e-6);
     }
     out.status = STATUS_UNKNOWN;
     return out;
@@ -155,34 +114,25 @@ fn march(s: u32, ro: vec3<f32>, rd: vec3<f32>, t0: f32, t1: f32) -> March {
         var t_out = t1;
         if du != 0.0 {
             let tu = crossing(q0, rd, axis, au, select(lo.x, lo.x + step, du > 0.0));
-            if tu > t { t_out = min(t_out, tu); }
+            t_out = exit_before(t_out, tu, t);
         }
         if dv != 0.0 {
             let tv = crossing(q0, rd, axis, av, select(lo.y, lo.y + step, dv > 0.0));
-            if tv > t { t_out = min(t_out, tv); }
+            t_out = exit_before(t_out, tv, t);
         }
         var d = -1.0;
+        var verdict = Verdict(STATUS_ESCAPED, t_out);
         if (v.draw_mask & (1u << fu.face)) != 0u && load_id(s, tx, fu.face) != 0u {
             d = load_geo(s, tx, fu.face).w;
             let same = prev_d > 0.0 && same_surface(prev_d, d, v.n);
             let reach = REACH_TEXELS * texel_world_size(d, v.n, q / qa);
             let along = dot(rd, axis);
             let tc = (d - dot(q0, axis)) / along;
-            let verdict = texel_verdict(qa, d, same, reach, t, tc, along, t_out);
-            if verdict.status != STATUS_ESCAPED {
-                out.status = verdict.status;
-                out.face = fu.face;
-                out.texel = tx;
-                out.t = verdict.t;
-                return out;
-            }
+            verdict = texel_verdict(qa, d, same, reach, t, tc, along, t_out);
         }
-        if t_out >= t1 {
+        if march_step(&out, &t, &prev_d, verdict, fu.face, tx, d, t_out, t1) {
             return out;
         }
-        prev_d = d;
-        // Just past the boundary, into the next texel.
-        t = t_out + max(1e-5 * t_out, 1e-6);
     }
     out.status = STATUS_UNKNOWN;
     return out;

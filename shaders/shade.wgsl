@@ -279,7 +279,7 @@ fn on_silhouette(t: vec2<u32>, id: u32) -> bool {
 // the sky, four times this texel's depth) is still on this side. Only for surfaces in the
 // BVH (`FLAG_IN_BVH`: they cast shadows and do not move); elsewhere half a texel. An
 // orthographic probe's rays are parallel: its edge rays start between the two texels'
-// starts (`toward_ray`). `light_texel` casts these rays in its shadow rays' loop, over the
+// starts (`toward_ray`). `trace_rays` casts these rays in its shadow rays' loop, over the
 // searched sides only.
 //
 // A farther neighbour that lies in front of this texel's plane (`hides_plane`: a wall
@@ -388,6 +388,317 @@ fn edge_reach(t: vec2<u32>, d: f32, bits: u32, k: u32) -> f32 {
 // Similar neighbours' normals at least this close are one flat surface (`SIMILAR_CURVED`).
 const FLAT_DOT: f32 = 0.99995;
 
+// The texel being lit, as `light_texel`'s steps read it: its texel, sample, face coordinates,
+// the face's frame, its ray (`frame_ray`), depth, point and albedo flags.
+struct Texel {
+    t: vec2<u32>,
+    me: Sample,
+    uv: vec2<f32>,
+    fr: ProbeFrame,
+    ray: vec3<f32>,
+    d: f32,
+    p: vec3<f32>,
+    flags: u32,
+}
+
+// What a texel's four neighbours say (`texel_sides`).
+struct Sides {
+    // The whole texel's outline shift: darkened, lightened.
+    darken: bool,
+    lighten: bool,
+    // Bit k: side k is outlined as a silhouette, a crease, a lit crease.
+    silhouettes: u32,
+    creases: u32,
+    lit_creases: u32,
+    // The similar-neighbour bits (`SIMILAR_CURVED`, `SIMILAR_APART` included).
+    similar: u32,
+    // Bit k: side k's edge is searched (a silhouette, or where a neighbour hides the plane).
+    seek: u32,
+    // Bit k: side k's neighbour hides this texel's plane (`hides_plane`).
+    hidden: u32,
+}
+
+// Outlines, similar-neighbour bits and the sides to search, from the four neighbours of `x`
+// (`object_flags`: its object's).
+fn texel_sides(x: Texel, object_flags: u32) -> Sides {
+    let normal = x.me.geo.xyz;
+    let facing = dot(normal, -normalize(x.ray));
+    var s = Sides(false, false, 0u, 0u, 0u, 0u, 0u, 0u);
+    // Whether a similar neighbour shows this surface flat here, or turning (short of a
+    // crease); a texel with neither counts as curved.
+    var flat = false;
+    var curved = false;
+    // A farther neighbour is not this surface turning a convex crease (`SIMILAR_APART`).
+    var apart = false;
+    let me_in_bvh = (x.flags & FLAG_IN_BVH) != 0u;
+    // The field that walks this texel's terrain, if it is one (`terrain_goes_on`).
+    var field = BVH_MAX_FIELDS;
+    if me_in_bvh && (object_flags & FLAG_TERRAIN) != 0u {
+        field = field_of_terrain(object_flags >> 8u);
+    }
+    // Depth step between neighbours on a surface tilted ~37° from the face plane.
+    let tolerance = frame_texel_size(x.fr, x.d, sf.n, x.ray) / length(x.ray) * 0.75;
+    for (var k = 0u; k < 4u; k++) {
+        let nb = neighbour(x.t, NEIGHBOURS[k]);
+        // Two bits per side (k and 4 + k), read by cull.wgsl `half_size`: 01 a similar
+        // neighbour; 10 a silhouette against farther geometry (this texel occludes it, so
+        // its quad ends at the edge and the farther quad reaches under it); 11 a silhouette
+        // against the sky; 00 a nearer surface, which this texel's quad reaches under.
+        if nb.id == x.me.id && abs(nb.geo.w - x.d) <= tolerance {
+            s.similar |= 1u << k;
+            let turn = dot(normal, nb.geo.xyz);
+            if turn >= FLAT_DOT {
+                flat = true;
+            } else if turn >= 0.7 {
+                curved = true;
+            }
+        } else if nb.id == 0u {
+            s.similar |= 17u << k;
+            s.seek |= select(0u, 1u << k, me_in_bvh);
+        } else if nb.geo.w > x.d {
+            s.similar |= 16u << k;
+            // Searched for its edge, unless the surface goes on there: against the neighbour
+            // where it hides the plane, else against this surface.
+            let nr = toward_ray(x.fr, x.uv, k, 1.0);
+            if nb.id == x.me.id && terrain_goes_on(x.fr, x.uv, k, x.p, nb.geo.w, field) {
+                // Nothing to search: the edge lies halfway.
+            } else if hides_plane(x.me, x.p, nb, nr) {
+                if in_bvh(nb.id) {
+                    s.seek |= 1u << k;
+                    s.hidden |= 1u << k;
+                }
+            } else if me_in_bvh && !on_plane(x.me, x.p, nb, nr) {
+                s.seek |= 1u << k;
+            }
+            // Another object, or this one hiding itself: the edge lies on this plane.
+            if nb.id != x.me.id || (s.hidden & (1u << k)) != 0u {
+                apart = true;
+            }
+        }
+        if (x.flags & FLAG_OUTLINED) == 0u {
+            continue;
+        }
+        if nb.id != x.me.id {
+            // Silhouette: the nearer side (the occluder) is outlined.
+            if nb.id == 0u || x.d <= nb.geo.w {
+                s.darken = true;
+                s.silhouettes |= 1u << k;
+            }
+        } else if dot(normal, nb.geo.xyz) < 0.7 {
+            // Crease: the side that faces the probe more is lit, the other darkened.
+            let nb_facing = dot(nb.geo.xyz, -normalize(x.ray));
+            s.creases |= 1u << k;
+            if facing >= nb_facing {
+                s.lighten = true;
+                s.lit_creases |= 1u << k;
+            } else {
+                s.darken = true;
+            }
+        }
+    }
+    if curved || !flat {
+        s.similar |= SIMILAR_CURVED;
+        // The plane of a curved surface is only its tangent: nothing it hides is known.
+        s.seek &= ~s.hidden;
+        s.hidden = 0u;
+    } else if apart && globals.edges != 0u {
+        // Only where edges are searched (the paper's schedule keeps its quads as they were).
+        s.similar |= SIMILAR_APART;
+    }
+    return s;
+}
+
+// A shadow or edge ray: from `origin` along `dir`, up to `t_max`.
+struct CastRay {
+    origin: vec3<f32>,
+    dir: vec3<f32>,
+    t_max: f32,
+}
+
+// The silhouette edges' search as `trace_rays` walks it: the sides left to search (bit k:
+// side k), the one searched now, its bisection's interval and far limit, the corners left
+// (bit j: side j's corner with `ky`), and the edges found so far (`SIMILAR_EDGE_AT`).
+struct EdgeSearch {
+    left: u32,
+    k: u32,
+    lo: f32,
+    hi: f32,
+    reach: f32,
+    corners_left: u32,
+    edges: u32,
+}
+
+// A ray three quarters of the way from the centre of `x` to the corner where the edges of
+// the search's next corner side and of side `ky` meet: a slanting edge through the two
+// edges' crossings passes nearer the centre (at half the way), a box's corner lies at the
+// corner. Starts `skip` along the way (`trace_rays`).
+fn corner_ray(e: ptr<function, EdgeSearch>, x: Texel, similar: u32, ky: u32, skip: f32) -> CastRay {
+    (*e).k = firstTrailingBit((*e).corners_left);
+    (*e).corners_left &= (*e).corners_left - 1u;
+    let k = (*e).k;
+    let at = vec2(side_edge((*e).edges, k), side_edge((*e).edges, ky));
+    let toward = vec2(f32(NEIGHBOURS[k].x), f32(NEIGHBOURS[ky].y));
+    let cr = probe_ray(x.fr, x.uv + toward * at * (1.5 / f32(sf.n)));
+    let dir = cr.dir;
+    let t_max = min(edge_reach(x.t, x.d, similar, k), edge_reach(x.t, x.d, similar, ky)) - skip;
+    return CastRay(cr.start + dir * skip, dir, t_max);
+}
+
+// Step `step` of the bisection on the search's side (the next side at step 0): the ray
+// through the middle of its interval, up to its far limit, or for a hidden side up to the
+// plane, short of the surface itself where it is in the BVH (`offset`).
+fn side_ray(e: ptr<function, EdgeSearch>, x: Texel, similar: u32, hidden: u32, step: u32, skip: f32, offset: f32) -> CastRay {
+    if step == 0u {
+        (*e).k = firstTrailingBit((*e).left);
+        (*e).left &= (*e).left - 1u;
+        (*e).lo = 0.0;
+        (*e).hi = 1.0;
+        (*e).reach = edge_reach(x.t, x.d, similar, (*e).k);
+    }
+    let k = (*e).k;
+    let er = toward_ray(x.fr, x.uv, k, 0.5 * ((*e).lo + (*e).hi));
+    let dir = er.dir;
+    var t_max = (*e).reach - skip;
+    if ((hidden >> k) & 1u) != 0u {
+        t_max = plane_depth(x.me.geo.xyz, x.p, er) - skip - offset / length(dir);
+    }
+    return CastRay(er.start + dir * skip, dir, t_max);
+}
+
+// Narrows the search's side by one step's `hit`: on this side the ray meets this surface (a
+// silhouette) or nothing before its plane (a hidden side); the last step stores the edge.
+fn settle_side(e: ptr<function, EdgeSearch>, hit: bool, hidden: u32, step: u32) {
+    let k = (*e).k;
+    if hit != (((hidden >> k) & 1u) != 0u) {
+        (*e).lo = 0.5 * ((*e).lo + (*e).hi);
+    } else {
+        (*e).hi = 0.5 * ((*e).lo + (*e).hi);
+    }
+    if step == EDGE_STEPS - 1u {
+        let at = SIMILAR_EDGE_AT + 3u * k;
+        let c = u32(clamp(round(4.0 * ((*e).lo + (*e).hi)), 1.0, 8.0));
+        (*e).edges = ((*e).edges & ~(7u << at)) | ((c - 1u) << at);
+    }
+}
+
+// What `trace_rays` found: the light reaching the texel, the lights not shadowed (bit i:
+// light i, or not traced: behind the texel's normal, out of a point light's reach, which a
+// terrain pixel decides by its own normal), the similar bits with the edges and corner
+// cuts, and the number of lights.
+struct Traced {
+    light: vec3<f32>,
+    unshadowed: u32,
+    similar: u32,
+    lights: u32,
+}
+
+// Lights and shadows, then the silhouette edges' search: one loop, one call of the BVH
+// traversal (every call site is a copy of it in the compiled shader: with the edge
+// search's own, lavapipe took 4.8 s longer to build the pipelines).
+fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
+    let normal = x.me.geo.xyz;
+    // A texel's point is interpolated across its triangle by the rasterizer, a few
+    // hundredths of a texel off the surface far from the probe (more on some drivers:
+    // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow rays
+    // start a tenth of a texel off, and never nearer than the screen's offset.
+    let offset = max(SHADOW_OFFSET, 0.1 * frame_texel_size(x.fr, x.d, sf.n, x.ray));
+    let shading = textureLoad(shading_tex, x.t, sf.face, 0).r;
+    var lit_normal = normal;
+    if shading != 0u {
+        lit_normal = normalize(unpack4x8snorm(shading).xyz);
+    }
+    let start = x.p + lit_normal * offset;
+    var out = Traced(globals.ambient.rgb, 0xffffffffu, sides.similar, select(light_count(), 0u, emissive));
+    let lights = out.lights;
+    let hidden = sides.hidden;
+    let search = globals.edges != 0u && sides.seek != 0u;
+    var e = EdgeSearch(select(0u, sides.seek, search), 0u, 0.0, 1.0, 0.0, 0u, EDGES_UNKNOWN);
+    // Edge rays start halfway to the surface (nothing nearer lies on this texel's ray, and
+    // the traversal skips the boxes before it).
+    let skip = 0.5 * x.d;
+    let side_rays = EDGE_STEPS * countOneBits(e.left);
+    // Corner rays (`CORNER_CUT_LEFT`), after the sides' search: bit j where the corner of
+    // side j (left, right) with `corner_side` has both sides searched as silhouettes (not
+    // where a neighbour hides the plane: there the edge is a junction, not the surface's
+    // end).
+    let open = e.left & ~hidden;
+    let ky = corner_side(out.similar);
+    let corners = select(0u, open & 3u, ((open >> ky) & 1u) != 0u);
+    e.corners_left = corners;
+    let rays = lights + side_rays + countOneBits(corners);
+    for (var i = 0u; i < rays; i++) {
+        var shot: CastRay;
+        var r: LightRay;
+        // The edge search's step on its side (from `lights` on).
+        let step = select(0u, i - lights, i >= lights) % EDGE_STEPS;
+        if i < lights {
+            r = light_ray(i, x.p);
+            if dot(lit_normal, r.dir) <= 0.0 || r.reach <= 0.0 {
+                continue;
+            }
+            shot = CastRay(start, r.dir, light_reach(r, offset));
+        } else if i >= lights + side_rays {
+            shot = corner_ray(&e, x, out.similar, ky, skip);
+        } else {
+            shot = side_ray(&e, x, out.similar, hidden, step, skip, offset);
+        }
+        // An edge ray's hit, if any, lies near the silhouette, at its far end.
+        let hit = bvh_any_hit_from(shot.origin, shot.dir, shot.t_max, i >= lights);
+        if i < lights {
+            if !hit {
+                out.light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
+            } else {
+                out.unshadowed &= ~(1u << i);
+            }
+        } else if i >= lights + side_rays {
+            if !hit {
+                out.similar |= select(CORNER_CUT_LEFT, CORNER_CUT_RIGHT, e.k == 1u);
+            }
+        } else {
+            settle_side(&e, hit, hidden, step);
+        }
+    }
+    out.similar |= e.edges;
+    return out;
+}
+
+// The lit colour of `x` (albedo `albedo`, `object_flags` its object's) from the light
+// `traced` found, posterized with the outline's shift, or as outline strips (`OUTLINE_MARK`).
+fn texel_colour(x: Texel, albedo: vec3<f32>, object_flags: u32, sides: Sides, traced: Traced) -> vec3<f32> {
+    let emissive = (x.flags & FLAG_EMISSIVE) != 0u;
+    var colour = albedo * traced.light;
+    if emissive {
+        colour = objects[x.me.id - 1u].emissive;
+    }
+    var darken = sides.darken;
+    var lighten = sides.lighten;
+    var shift = 0.0;
+    // A grid or previous probe's outline is drawn as strips from its edges (OUTLINE_MARK);
+    // the eye's texels keep the whole-texel shift (its quads are exact, lie at the camera,
+    // and its colours are read directly where no stable quad covers a pixel), and so do an
+    // orthographic probe's (its texels do not roll as the camera pans; with strips the eye
+    // filled 0.7 % of ortho_pan's pixels at faces of 32, against none: not looked into yet).
+    var outline = 0u;
+    if sf.view_cull == 0u && x.fr.half <= 0.0 && (sides.silhouettes | sides.creases) != 0u && !emissive {
+        darken = false;
+        lighten = false;
+        outline = OUTLINE_MARK | (sides.silhouettes << OUTLINE_SILHOUETTE_AT) | (sides.creases << OUTLINE_CREASE_AT) | (sides.lit_creases << OUTLINE_LIT_AT);
+    }
+    if darken {
+        shift = -1.0;
+    } else if lighten {
+        shift = 1.0;
+    }
+    var lit = half_precision(posterize(colour, globals.bands, shift));
+    if !emissive && (object_flags & FLAG_TERRAIN) != 0u && traced.lights <= TERRAIN_LIGHTS {
+        lit = lit_with_terrain(lit, traced.unshadowed, shift);
+    }
+    if outline != 0u {
+        lit = lit_with_outline(lit, outline);
+    }
+    return lit;
+}
+
 // Lights one texel: lights and shadows, posterization, outlines, similar-neighbour bits.
 fn light_texel(t: vec2<u32>) {
     let n = sf.n;
@@ -397,249 +708,14 @@ fn light_texel(t: vec2<u32>) {
     let ray = frame_ray(fr, sf.face, uv);
     let d = me.geo.w;
     let p = frame_point(fr, sf.face, uv, d);
-    let normal = me.geo.xyz;
     let alb = textureLoad(albedo_tex, t, sf.face, 0);
     let flags = u32(round(alb.a * 255.0));
-    // Outlines and similar-neighbour bits from the four neighbours.
-    let facing = dot(normal, -normalize(ray));
-    var darken = false;
-    var lighten = false;
-    // Bit k: side k is outlined as a silhouette, a crease, a lit crease.
-    var silhouettes = 0u;
-    var creases = 0u;
-    var lit_creases = 0u;
-    var similar = 0u;
-    // Whether a similar neighbour shows this surface flat here, or turning (short of a
-    // crease); a texel with neither counts as curved.
-    var flat = false;
-    var curved = false;
-    // Bit k: side k's edge is searched (a silhouette, or where a neighbour hides the plane).
-    var seek = 0u;
-    // Bit k: side k's neighbour hides this texel's plane (`hides_plane`).
-    var hidden = 0u;
-    // A farther neighbour is not this surface turning a convex crease (`SIMILAR_APART`).
-    var apart = false;
-    let me_in_bvh = (flags & FLAG_IN_BVH) != 0u;
-    // The field that walks this texel's terrain, if it is one (`terrain_goes_on`).
+    let x = Texel(t, me, uv, fr, ray, d, p, flags);
     let object_flags = objects[me.id - 1u].flags;
-    var field = BVH_MAX_FIELDS;
-    if me_in_bvh && (object_flags & FLAG_TERRAIN) != 0u {
-        field = field_of_terrain(object_flags >> 8u);
-    }
-    // Depth step between neighbours on a surface tilted ~37° from the face plane.
-    let tolerance = frame_texel_size(fr, d, n, ray) / length(ray) * 0.75;
-    for (var k = 0u; k < 4u; k++) {
-        let nb = neighbour(t, NEIGHBOURS[k]);
-        // Two bits per side (k and 4 + k), read by cull.wgsl `half_size`: 01 a similar
-        // neighbour; 10 a silhouette against farther geometry (this texel occludes it, so
-        // its quad ends at the edge and the farther quad reaches under it); 11 a silhouette
-        // against the sky; 00 a nearer surface, which this texel's quad reaches under.
-        if nb.id == me.id && abs(nb.geo.w - d) <= tolerance {
-            similar |= 1u << k;
-            let turn = dot(normal, nb.geo.xyz);
-            if turn >= FLAT_DOT {
-                flat = true;
-            } else if turn >= 0.7 {
-                curved = true;
-            }
-        } else if nb.id == 0u {
-            similar |= 17u << k;
-            seek |= select(0u, 1u << k, me_in_bvh);
-        } else if nb.geo.w > d {
-            similar |= 16u << k;
-            // Searched for its edge, unless the surface goes on there: against the neighbour
-            // where it hides the plane, else against this surface.
-            let nr = toward_ray(fr, uv, k, 1.0);
-            if nb.id == me.id && terrain_goes_on(fr, uv, k, p, nb.geo.w, field) {
-                // Nothing to search: the edge lies halfway.
-            } else if hides_plane(me, p, nb, nr) {
-                if in_bvh(nb.id) {
-                    seek |= 1u << k;
-                    hidden |= 1u << k;
-                }
-            } else if me_in_bvh && !on_plane(me, p, nb, nr) {
-                seek |= 1u << k;
-            }
-            // Another object, or this one hiding itself: the edge lies on this plane.
-            if nb.id != me.id || (hidden & (1u << k)) != 0u {
-                apart = true;
-            }
-        }
-        if (flags & FLAG_OUTLINED) == 0u {
-            continue;
-        }
-        if nb.id != me.id {
-            // Silhouette: the nearer side (the occluder) is outlined.
-            if nb.id == 0u || d <= nb.geo.w {
-                darken = true;
-                silhouettes |= 1u << k;
-            }
-        } else if dot(normal, nb.geo.xyz) < 0.7 {
-            // Crease: the side that faces the probe more is lit, the other darkened.
-            let nb_facing = dot(nb.geo.xyz, -normalize(ray));
-            creases |= 1u << k;
-            if facing >= nb_facing {
-                lighten = true;
-                lit_creases |= 1u << k;
-            } else {
-                darken = true;
-            }
-        }
-    }
-    if curved || !flat {
-        similar |= SIMILAR_CURVED;
-        // The plane of a curved surface is only its tangent: nothing it hides is known.
-        seek &= ~hidden;
-        hidden = 0u;
-    } else if apart && globals.edges != 0u {
-        // Only where edges are searched (the paper's schedule keeps its quads as they were).
-        similar |= SIMILAR_APART;
-    }
-
-    // Lights and shadows, then the silhouette edges' search: one loop, one call of the BVH
-    // traversal (every call site is a copy of it in the compiled shader: with the edge
-    // search's own, lavapipe took 4.8 s longer to build the pipelines).
-    let emissive = (flags & FLAG_EMISSIVE) != 0u;
-    // A texel's point is interpolated across its triangle by the rasterizer, a few
-    // hundredths of a texel off the surface far from the probe (more on some drivers:
-    // SwiftShader's far floor lay 0.02 below itself and shadowed itself): the shadow rays
-    // start a tenth of a texel off, and never nearer than the screen's offset.
-    let offset = max(SHADOW_OFFSET, 0.1 * frame_texel_size(fr, d, n, ray));
-    let shading = textureLoad(shading_tex, t, sf.face, 0).r;
-    var lit_normal = normal;
-    if shading != 0u {
-        lit_normal = normalize(unpack4x8snorm(shading).xyz);
-    }
-    let start = p + lit_normal * offset;
-    var light = globals.ambient.rgb;
-    let lights = select(light_count(), 0u, emissive);
-    // Bit i: light i is not shadowed here, or was not traced (behind the texel's normal, or
-    // out of a point light's reach), which a terrain pixel decides by its own normal.
-    var unshadowed = 0xffffffffu;
-    let search = globals.edges != 0u && seek != 0u;
-    var edges = EDGES_UNKNOWN;
-    // The sides left to search (bit k: side k), the one searched now, its bisection's
-    // interval and far limit.
-    var left = select(0u, seek, search);
-    var k = 0u;
-    var lo = 0.0;
-    var hi = 1.0;
-    var reach = 0.0;
-    // Edge rays start halfway to the surface (nothing nearer lies on this texel's ray, and
-    // the traversal skips the boxes before it).
-    let skip = 0.5 * d;
-    let side_rays = EDGE_STEPS * countOneBits(left);
-    // Corner rays (`CORNER_CUT_LEFT`), after the sides' search: bit j where the corner of
-    // side j (left, right) with `corner_side` has both sides searched as silhouettes (not
-    // where a neighbour hides the plane: there the edge is a junction, not the surface's
-    // end).
-    let open = left & ~hidden;
-    let ky = corner_side(similar);
-    let corners = select(0u, open & 3u, ((open >> ky) & 1u) != 0u);
-    var corners_left = corners;
-    let rays = lights + side_rays + countOneBits(corners);
-    for (var i = 0u; i < rays; i++) {
-        var origin = start;
-        var dir: vec3<f32>;
-        var t_max: f32;
-        var r: LightRay;
-        // The edge search's step on its side (from `lights` on).
-        let step = select(0u, i - lights, i >= lights) % EDGE_STEPS;
-        if i < lights {
-            r = light_ray(i, p);
-            if dot(lit_normal, r.dir) <= 0.0 || r.reach <= 0.0 {
-                continue;
-            }
-            dir = r.dir;
-            t_max = light_reach(r, offset);
-        } else if i >= lights + side_rays {
-            // A ray three quarters of the way from the centre to the corner where the two
-            // sides' edges meet: a slanting edge through the two edges' crossings passes
-            // nearer the centre (at half the way), a box's corner lies at the corner.
-            k = firstTrailingBit(corners_left);
-            corners_left &= corners_left - 1u;
-            let at = vec2(side_edge(edges, k), side_edge(edges, ky));
-            let toward = vec2(f32(NEIGHBOURS[k].x), f32(NEIGHBOURS[ky].y));
-            let cr = probe_ray(fr, uv + toward * at * (1.5 / f32(n)));
-            dir = cr.dir;
-            origin = cr.start + dir * skip;
-            t_max = min(edge_reach(t, d, similar, k), edge_reach(t, d, similar, ky)) - skip;
-        } else {
-            if step == 0u {
-                k = firstTrailingBit(left);
-                left &= left - 1u;
-                lo = 0.0;
-                hi = 1.0;
-                reach = edge_reach(t, d, similar, k);
-            }
-            let er = toward_ray(fr, uv, k, 0.5 * (lo + hi));
-            dir = er.dir;
-            origin = er.start + dir * skip;
-            t_max = reach - skip;
-            if ((hidden >> k) & 1u) != 0u {
-                // Up to the plane, short of the surface itself where it is in the BVH.
-                t_max = plane_depth(normal, p, er) - skip - offset / length(dir);
-            }
-        }
-        // An edge ray's hit, if any, lies near the silhouette, at its far end.
-        let hit = bvh_any_hit_from(origin, dir, t_max, i >= lights);
-        if i < lights {
-            if !hit {
-                light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
-            } else {
-                unshadowed &= ~(1u << i);
-            }
-            continue;
-        }
-        if i >= lights + side_rays {
-            if !hit {
-                similar |= select(CORNER_CUT_LEFT, CORNER_CUT_RIGHT, k == 1u);
-            }
-            continue;
-        }
-        // On this side: the ray meets this surface (a silhouette) or nothing before its plane
-        // (a hidden side).
-        if hit != (((hidden >> k) & 1u) != 0u) {
-            lo = 0.5 * (lo + hi);
-        } else {
-            hi = 0.5 * (lo + hi);
-        }
-        if step == EDGE_STEPS - 1u {
-            let at = SIMILAR_EDGE_AT + 3u * k;
-            let c = u32(clamp(round(4.0 * (lo + hi)), 1.0, 8.0));
-            edges = (edges & ~(7u << at)) | ((c - 1u) << at);
-        }
-    }
-    similar |= edges;
-    var colour = alb.rgb * light;
-    if emissive {
-        colour = objects[me.id - 1u].emissive;
-    }
-    var shift = 0.0;
-    // A grid or previous probe's outline is drawn as strips from its edges (OUTLINE_MARK);
-    // the eye's texels keep the whole-texel shift (its quads are exact, lie at the camera,
-    // and its colours are read directly where no stable quad covers a pixel), and so do an
-    // orthographic probe's (its texels do not roll as the camera pans; with strips the eye
-    // filled 0.7 % of ortho_pan's pixels at faces of 32, against none: not looked into yet).
-    var outline = 0u;
-    if sf.view_cull == 0u && fr.half <= 0.0 && (silhouettes | creases) != 0u && !emissive {
-        darken = false;
-        lighten = false;
-        outline = OUTLINE_MARK | (silhouettes << OUTLINE_SILHOUETTE_AT) | (creases << OUTLINE_CREASE_AT) | (lit_creases << OUTLINE_LIT_AT);
-    }
-    if darken {
-        shift = -1.0;
-    } else if lighten {
-        shift = 1.0;
-    }
-    var lit = half_precision(posterize(colour, globals.bands, shift));
-    if !emissive && (object_flags & FLAG_TERRAIN) != 0u && lights <= TERRAIN_LIGHTS {
-        lit = lit_with_terrain(lit, unshadowed, shift);
-    }
-    if outline != 0u {
-        lit = lit_with_outline(lit, outline);
-    }
-    textureStore(lit_out, t, sf.face, vec4(lit, f32(similar)));
+    let sides = texel_sides(x, object_flags);
+    let traced = trace_rays(x, sides, (flags & FLAG_EMISSIVE) != 0u);
+    let lit = texel_colour(x, alb.rgb, object_flags, sides, traced);
+    textureStore(lit_out, t, sf.face, vec4(lit, f32(traced.similar)));
     // The cull pass draws exactly the eye texels lit this frame.
     if sf.view_cull != 0u {
         list_push(sf.face, n, t);

@@ -3,6 +3,7 @@
 //! plain unit tests, and it serves the runner when no GPU reference is available.
 
 use glam::{UVec2, Vec3};
+use texel_geom::ray::ray_triangle;
 use texel_render::input::{Camera, SceneInput};
 
 use crate::metrics::{Reference, view_proj};
@@ -67,7 +68,8 @@ impl CpuScene {
         self.has_sprites
     }
 
-    /// The nearest hit along `origin + t·dir` for t in (0, t_max): distance and object id.
+    /// The nearest hit along `origin + t·dir` for t in (`RAY_T_MIN`, t_max) (the renderer's
+    /// ray–triangle test, [`texel_geom::ray::ray_triangle`]): distance and object id.
     pub fn cast(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<(f32, u32)> {
         let inv = dir.recip();
         let mut best: Option<(f32, u32)> = None;
@@ -78,9 +80,8 @@ impl CpuScene {
             }
             for t in &o.triangles {
                 let limit = best.map_or(t_max, |b| b.0);
-                if let Some(d) = ray_triangle(origin, dir, t)
-                    && d < limit
-                {
+                let [a, b, c] = *t;
+                if let Some(d) = ray_triangle(origin, dir, a, b - a, c - a, limit) {
                     best = Some((d, o.id));
                 }
             }
@@ -124,29 +125,6 @@ fn ray_box(origin: Vec3, inv: Vec3, min: Vec3, max: Vec3, t_max: f32) -> bool {
     let exit = hi.min_element().min(t_max);
     // NaN (a ray in a box's plane) compares false: treat as a possible hit.
     enter.partial_cmp(&exit) != Some(std::cmp::Ordering::Greater)
-}
-
-/// Möller–Trumbore, both faces.
-fn ray_triangle(origin: Vec3, dir: Vec3, [a, b, c]: &[Vec3; 3]) -> Option<f32> {
-    let (e1, e2) = (*b - *a, *c - *a);
-    let p = dir.cross(e2);
-    let det = e1.dot(p);
-    if det.abs() < 1e-12 {
-        return None;
-    }
-    let inv = 1.0 / det;
-    let s = origin - *a;
-    let u = s.dot(p) * inv;
-    if !(0.0..=1.0).contains(&u) {
-        return None;
-    }
-    let q = s.cross(e1);
-    let v = dir.dot(q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return None;
-    }
-    let t = e2.dot(q) * inv;
-    (t > 1e-5).then_some(t)
 }
 
 #[cfg(test)]

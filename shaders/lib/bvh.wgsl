@@ -21,14 +21,13 @@
 // holding the top-level root).
 
 #include "lib/constants.wgsl"
+#include "lib/ray.wgsl"
 
 // Traversal stack entries. The builder merges subtrees deeper than this into leaves, so
 // the stack cannot overflow; if it ever did, the ray counts as hit (shadowed).
 const BVH_STACK_SIZE: u32 = 32u;
 // `BvhNode::count` of an inner node.
 const BVH_INNER: u32 = 0xffffffffu;
-// Hits closer than this are ignored (the surface the ray starts on).
-const BVH_T_MIN: f32 = 1e-4;
 // Smaller direction components are replaced by this before inverting (no 0 * inf).
 const BVH_DIR_EPS: f32 = 1e-20;
 
@@ -65,26 +64,9 @@ struct BvhTriangle {
     pad1: u32,
 }
 
-// Möller–Trumbore, both faces: a hit at t in (BVH_T_MIN, t_max).
+// A hit at t in (RAY_T_MIN, t_max) (lib/ray.wgsl, the shared test).
 fn bvh_triangle_hit(tri: BvhTriangle, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
-    let p = cross(dir, tri.e2);
-    let det = dot(tri.e1, p);
-    if det == 0.0 {
-        return false;
-    }
-    let inv = 1.0 / det;
-    let s = origin - tri.v0;
-    let u = dot(s, p) * inv;
-    if u < 0.0 || u > 1.0 {
-        return false;
-    }
-    let q = cross(s, tri.e1);
-    let v = dot(dir, q) * inv;
-    if v < 0.0 || u + v > 1.0 {
-        return false;
-    }
-    let t = dot(tri.e2, q) * inv;
-    return t > BVH_T_MIN && t < t_max;
+    return ray_triangle_hit(tri.v0, tri.e1, tri.e2, origin, dir, t_max);
 }
 
 // Entry distance into the node's box clipped to [0, t_max], or -1 for a miss.
@@ -180,7 +162,7 @@ fn field_cell_hit(f: BvhField, x: u32, z: u32, o: vec3<f32>, d: vec3<f32>, t_max
         || bvh_triangle_hit(BvhTriangle(b, 0u, c - b, 0u, e - b, 0u), o, d, t_max);
 }
 
-// Whether the ray crosses field `f`'s surface at t in (BVH_T_MIN, t_max): the quadtree
+// Whether the ray crosses field `f`'s surface at t in (RAY_T_MIN, t_max): the quadtree
 // walked nearest child first (farthest first if `far_first`), a node skipped where the ray
 // passes above its highest height (`HeightField::hit` on the CPU, step for step).
 fn field_hit(f: BvhField, origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool) -> bool {
@@ -313,11 +295,57 @@ fn bvh_top_leaf_hit(node: BvhNode, origin: vec3<f32>, dir: vec3<f32>, t_max: f32
     return false;
 }
 
-// `bvh_tree_hit`'s walk over the top-level tree, whose leaves name instances (WGSL has no
-// recursion, so the walk is written twice rather than calling itself through a leaf).
-fn bvh_top_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+// Where a walk down a tree goes next (`bvh_walk_next`).
+const BVH_WALK_ON: u32 = 0u;
+const BVH_WALK_MISSED: u32 = 1u;
+const BVH_WALK_FULL: u32 = 2u;
+
+// A walk down one tree, shared by `bvh_tree_hit` and `bvh_top_hit` (WGSL has no recursion,
+// so the two walks, whose leaves differ, are two functions around these steps): the pairs
+// of children still to visit and the pair at hand.
+struct BvhWalk {
+    stack: array<u32, BVH_STACK_SIZE>,
+    sp: u32,
+    pair: u32,
+}
+
+// The inverse of `dir` for the slab test, tiny components replaced (no 0 * inf).
+fn bvh_inv_dir(dir: vec3<f32>) -> vec3<f32> {
     let safe = select(dir, vec3<f32>(BVH_DIR_EPS), abs(dir) < vec3<f32>(BVH_DIR_EPS));
-    let inv_dir = 1.0 / safe;
+    return 1.0 / safe;
+}
+
+// After the pair (`a`, `b`) whose boxes the ray enters at `ta` and `tb` (negative: missed,
+// or a leaf already tested): descends into the nearer box and keeps the farther one for
+// later, or takes the one entered, or the last one kept. BVH_WALK_MISSED when none is left;
+// BVH_WALK_FULL when the stack would overflow (the ray counts as hit).
+fn bvh_walk_next(w: ptr<function, BvhWalk>, a: BvhNode, b: BvhNode, ta: f32, tb: f32) -> u32 {
+    if ta >= 0.0 && tb >= 0.0 {
+        if (*w).sp == BVH_STACK_SIZE {
+            return BVH_WALK_FULL;
+        }
+        // Descend into the nearer box, keep the farther one for later.
+        let a_first = ta <= tb;
+        (*w).stack[(*w).sp] = select(a.first, b.first, a_first);
+        (*w).sp += 1u;
+        (*w).pair = select(b.first, a.first, a_first);
+    } else if ta >= 0.0 {
+        (*w).pair = a.first;
+    } else if tb >= 0.0 {
+        (*w).pair = b.first;
+    } else {
+        if (*w).sp == 0u {
+            return BVH_WALK_MISSED;
+        }
+        (*w).sp -= 1u;
+        (*w).pair = (*w).stack[(*w).sp];
+    }
+    return BVH_WALK_ON;
+}
+
+// `bvh_tree_hit`'s walk over the top-level tree, whose leaves name instances.
+fn bvh_top_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
+    let inv_dir = bvh_inv_dir(dir);
     let root = bvh_nodes[root_index];
     if bvh_box_entry(root, origin, inv_dir, t_max) < 0.0 {
         return false;
@@ -325,13 +353,12 @@ fn bvh_top_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -
     if root.count != BVH_INNER {
         return bvh_top_leaf_hit(root, origin, dir, t_max);
     }
-    var stack: array<u32, BVH_STACK_SIZE>;
-    var sp = 0u;
-    var pair = root.first;
+    var w: BvhWalk;
+    w.pair = root.first;
     let steps = arrayLength(&bvh_nodes);
     for (var step = 0u; step < steps; step++) {
-        let a = bvh_nodes[pair];
-        let b = bvh_nodes[pair + 1u];
+        let a = bvh_nodes[w.pair];
+        let b = bvh_nodes[w.pair + 1u];
         var ta = bvh_box_entry(a, origin, inv_dir, t_max);
         var tb = bvh_box_entry(b, origin, inv_dir, t_max);
         if ta >= 0.0 && a.count != BVH_INNER {
@@ -346,23 +373,9 @@ fn bvh_top_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -
             }
             tb = -1.0;
         }
-        if ta >= 0.0 && tb >= 0.0 {
-            if sp == BVH_STACK_SIZE {
-                return true;
-            }
-            stack[sp] = select(a.first, b.first, ta <= tb);
-            sp += 1u;
-            pair = select(b.first, a.first, ta <= tb);
-        } else if ta >= 0.0 {
-            pair = a.first;
-        } else if tb >= 0.0 {
-            pair = b.first;
-        } else {
-            if sp == 0u {
-                return false;
-            }
-            sp -= 1u;
-            pair = stack[sp];
+        let next = bvh_walk_next(&w, a, b, ta, tb);
+        if next != BVH_WALK_ON {
+            return next == BVH_WALK_FULL;
         }
     }
     return true;
@@ -370,8 +383,7 @@ fn bvh_top_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -
 
 // Whether the ray hits a triangle of the tree whose root is node `root`.
 fn bvh_tree_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
-    let safe = select(dir, vec3<f32>(BVH_DIR_EPS), abs(dir) < vec3<f32>(BVH_DIR_EPS));
-    let inv_dir = 1.0 / safe;
+    let inv_dir = bvh_inv_dir(dir);
     let root = bvh_nodes[root_index];
     if bvh_box_entry(root, origin, inv_dir, t_max) < 0.0 {
         return false;
@@ -379,14 +391,13 @@ fn bvh_tree_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) 
     if root.count != BVH_INNER {
         return bvh_leaf_hit(root, origin, dir, t_max);
     }
-    var stack: array<u32, BVH_STACK_SIZE>;
-    var sp = 0u;
-    var pair = root.first;
+    var w: BvhWalk;
+    w.pair = root.first;
     // Each pair of children is visited at most once: the bound only stops a corrupt tree.
     let steps = arrayLength(&bvh_nodes);
     for (var step = 0u; step < steps; step++) {
-        let a = bvh_nodes[pair];
-        let b = bvh_nodes[pair + 1u];
+        let a = bvh_nodes[w.pair];
+        let b = bvh_nodes[w.pair + 1u];
         var ta = bvh_box_entry(a, origin, inv_dir, t_max);
         var tb = bvh_box_entry(b, origin, inv_dir, t_max);
         if ta >= 0.0 && a.count != BVH_INNER {
@@ -401,25 +412,9 @@ fn bvh_tree_hit(root_index: u32, origin: vec3<f32>, dir: vec3<f32>, t_max: f32) 
             }
             tb = -1.0;
         }
-        if ta >= 0.0 && tb >= 0.0 {
-            if sp == BVH_STACK_SIZE {
-                return true;
-            }
-            // Descend into the nearer box, keep the farther one for later.
-            let a_first = ta <= tb;
-            stack[sp] = select(a.first, b.first, a_first);
-            sp += 1u;
-            pair = select(b.first, a.first, a_first);
-        } else if ta >= 0.0 {
-            pair = a.first;
-        } else if tb >= 0.0 {
-            pair = b.first;
-        } else {
-            if sp == 0u {
-                return false;
-            }
-            sp -= 1u;
-            pair = stack[sp];
+        let next = bvh_walk_next(&w, a, b, ta, tb);
+        if next != BVH_WALK_ON {
+            return next == BVH_WALK_FULL;
         }
     }
     return true;

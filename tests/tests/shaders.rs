@@ -46,7 +46,7 @@ fn every_shader_file_on_disk_is_embedded() {
 #[test]
 fn rust_records_match_their_wgsl_layouts() {
     let mut checked = 0;
-    for (file, name, rust_size) in texel_render::passes::shared_layouts() {
+    for (file, name, rust_size) in texel_render::layouts::shared_layouts() {
         let src = assemble(file).unwrap();
         let module = naga::front::wgsl::parse_str(&src).unwrap();
         let mut layouter = naga::proc::Layouter::default();

@@ -69,8 +69,8 @@ pub const STACK_SIZE: usize = 32;
 /// `BvhNode::count` of an inner node.
 pub const INNER: u32 = u32::MAX;
 /// Hits closer than this along the ray are ignored (self-shadowing of the surface the ray
-/// starts on).
-pub const T_MIN: f32 = 1e-4;
+/// starts on): the shared ray–triangle test's [`texel_geom::ray::RAY_T_MIN`].
+pub const T_MIN: f32 = texel_geom::ray::RAY_T_MIN;
 /// Most triangles the builder puts in one leaf (fewer where the SAH prefers).
 pub const MAX_LEAF_TRIANGLES: u32 = 4;
 
@@ -133,7 +133,8 @@ impl BvhTriangle {
     }
 
     /// Whether the ray crosses this triangle at `t` in `(T_MIN, t_max)` (Möller–Trumbore,
-    /// both faces; the same operations as `bvh_triangle_hit` in WGSL).
+    /// both faces: [`texel_geom::ray::ray_triangle`], the same operations as
+    /// `ray_triangle_hit` in WGSL).
     pub fn hit(&self, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
         self.hit_at(origin, dir, t_max).is_some()
     }
@@ -141,29 +142,8 @@ impl BvhTriangle {
     /// The `t` at which the ray crosses this triangle, if in `(T_MIN, t_max)` (see
     /// [`BvhTriangle::hit`]).
     pub fn hit_at(&self, origin: Vec3, dir: Vec3, t_max: f32) -> Option<f32> {
-        let (v0, e1, e2) = (
-            Vec3::from(self.v0),
-            Vec3::from(self.e1),
-            Vec3::from(self.e2),
-        );
-        let p = dir.cross(e2);
-        let det = e1.dot(p);
-        if det == 0.0 {
-            return None;
-        }
-        let inv = 1.0 / det;
-        let s = origin - v0;
-        let u = s.dot(p) * inv;
-        if !(0.0..=1.0).contains(&u) {
-            return None;
-        }
-        let q = s.cross(e1);
-        let v = dir.dot(q) * inv;
-        if v < 0.0 || u + v > 1.0 {
-            return None;
-        }
-        let t = e2.dot(q) * inv;
-        (t > T_MIN && t < t_max).then_some(t)
+        let (v0, e1, e2) = (self.v0.into(), self.e1.into(), self.e2.into());
+        texel_geom::ray::ray_triangle(origin, dir, v0, e1, e2, t_max)
     }
 
     /// The geometric normal `e1 × e2` (not normalised): it points out of the side the

@@ -1,6 +1,7 @@
 //! The renderer: owns the passes and the probe store, and orders one frame
 //! (capture → shade → runs → cull → splat → background (+ lines) → visible → present). This
-//! is the only file that knows the pass order.
+//! is the only file that knows the pass order; what the passes work on is planned in
+//! `frame/jobs.rs`.
 
 use std::time::Instant;
 
@@ -9,7 +10,7 @@ use texel_probes::probe_set::Slot;
 use crate::context::GpuContext;
 pub use crate::error::RenderError;
 use crate::gpu_scene::GpuScene;
-use crate::input::{Display, FrameInput, ProbeView, SceneInput, Schedule};
+use crate::input::{Display, FrameInput, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::capture::{CaptureMode, CapturePass};
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
@@ -18,7 +19,7 @@ use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
 use crate::passes::moving::{MovingBinds, MovingPass};
 use crate::passes::present::PresentPass;
 use crate::passes::runs::RunsPass;
-use crate::passes::shade::{ShadeInputs, ShadeJob, ShadePass};
+use crate::passes::shade::{ShadeInputs, ShadePass};
 use crate::passes::splat::{Fade, KEY_FORMAT, SPLAT_DEPTH_FORMAT, SplatPass};
 use crate::passes::sprites::{SpriteBinds, SpritePass};
 use crate::passes::terrain_splat::{
@@ -30,8 +31,10 @@ use crate::stats::{Counters, FrameStats};
 use crate::target::{FRAME_FORMAT, OffscreenTarget};
 use crate::timing::{self, Stages};
 use crate::view::ViewGlobals;
-use texel_probes::cube::{Face, FaceMask};
-use texel_probes::visibility::{TexelRect, face_cone_rect};
+use texel_probes::cube::FaceMask;
+
+mod jobs;
+use jobs::{capture_rects, drawn_faces, runs_to_compute, settle_edges, shade_jobs};
 
 /// Screen-sized targets besides the colour target.
 pub(crate) struct Screen {
@@ -659,27 +662,6 @@ struct Shown {
     pixels_marched: u64,
 }
 
-/// The stable faces whose runs to recompute: in our schedule, the faces just lit and those
-/// the paper schedule lit since our schedule last drew (it draws texel by texel and leaves
-/// its faces `stale`); in the paper schedule none (they are added to `stale`).
-fn runs_to_compute(
-    stale: &mut [FaceMask; 3],
-    schedule: Schedule,
-    lit: [FaceMask; 3],
-) -> [FaceMask; 3] {
-    let mut out = lit;
-    for (stale, lit) in stale.iter_mut().zip(&mut out) {
-        if schedule == Schedule::Ours {
-            *lit = lit.union(*stale);
-            *stale = FaceMask::EMPTY;
-        } else {
-            *stale = stale.union(*lit);
-            *lit = FaceMask::EMPTY;
-        }
-    }
-    out
-}
-
 /// The on-screen render pass: colour and key targets, splat depth. The first pass of a frame
 /// (`first`) clears them; later ones load.
 fn begin_draw<'e>(
@@ -723,185 +705,4 @@ fn begin_draw<'e>(
         occlusion_query_set: None,
         multiview_mask: None,
     })
-}
-
-/// What to light this frame: every captured face, whole; and the edges of each valid face
-/// next to a face captured this frame but not captured itself (its seam texels looked
-/// across into data that has just changed).
-fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> {
-    let probes: Vec<&ProbeView> = [
-        Some(&input.eye),
-        Some(&input.grid),
-        input.previous.as_ref(),
-        input.prefetch.as_ref(),
-    ]
-    .into_iter()
-    .flatten()
-    .collect();
-    let valid_of = |slot| {
-        probes
-            .iter()
-            .find(|p| p.slot == slot)
-            .map_or(FaceMask::ALL, |p| p.valid)
-    };
-    let mut jobs: Vec<ShadeJob> = input
-        .captures
-        .iter()
-        .zip(rects.iter().chain(std::iter::repeat(&None)))
-        .map(|(c, rect)| ShadeJob {
-            slot: c.slot,
-            face: c.face,
-            origin: c.origin,
-            valid: valid_of(c.slot),
-            border: false,
-            view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
-            rect: *rect,
-        })
-        .collect();
-    // Faces lit again for a moving object's shadow: whole, unless captured anyway (stable
-    // slots only: the eye's texels are lit as the view needs them).
-    for r in input.relight.iter().filter(|r| r.slot != Slot::Eye) {
-        let (slot, face) = (r.slot, r.face);
-        let captured = (input.captures.iter()).any(|c| c.slot == slot && c.face == face);
-        let Some(p) = probes.iter().find(|p| p.slot == slot) else {
-            continue;
-        };
-        if captured
-            || !p.valid.contains(face)
-            || jobs.iter().any(|j| j.slot == slot && j.face == face)
-        {
-            continue;
-        }
-        jobs.push(ShadeJob {
-            slot,
-            face,
-            origin: p.origin,
-            valid: p.valid,
-            border: false,
-            view_cull: false,
-            rect: Some(r.rect),
-        });
-    }
-    for p in &probes {
-        let captured: Vec<Face> = input
-            .captures
-            .iter()
-            .filter(|c| c.slot == p.slot)
-            .map(|c| c.face)
-            .collect();
-        for face in p.valid.iter() {
-            let touched = captured.iter().any(|c| *c != face && c.opposite() != face);
-            let relit = (input.relight.iter()).any(|r| r.slot == p.slot && r.face == face);
-            if touched && !captured.contains(&face) && !relit {
-                jobs.push(ShadeJob {
-                    slot: p.slot,
-                    face,
-                    origin: p.origin,
-                    valid: p.valid,
-                    border: true,
-                    view_cull: false,
-                    rect: None,
-                });
-            }
-        }
-    }
-    jobs
-}
-
-/// Keeps `owed` (per slot, the stable faces lit without the silhouette edges' search) and,
-/// when this frame searches (`edges`), adds a whole-face job for each owed face of a stable
-/// probe that no job lights whole already: switching from the paper schedule (or from
-/// marching) shows the same picture as splatting all along.
-fn settle_edges(
-    jobs: &mut Vec<ShadeJob>,
-    input: &FrameInput,
-    owed: &mut [FaceMask; 3],
-    edges: bool,
-) {
-    let whole = |j: &ShadeJob| j.slot != Slot::Eye && !j.border && j.rect.is_none();
-    if !edges {
-        for j in jobs.iter().filter(|j| whole(j)) {
-            owed[j.slot.index()].insert(j.face);
-        }
-        return;
-    }
-    let stable = [
-        Some(&input.grid),
-        input.previous.as_ref(),
-        input.prefetch.as_ref(),
-    ];
-    for p in stable.into_iter().flatten() {
-        for face in owed[p.slot.index()].iter() {
-            let lit = jobs
-                .iter()
-                .any(|j| whole(j) && j.slot == p.slot && j.face == face);
-            if p.valid.contains(face) && !lit {
-                jobs.push(ShadeJob {
-                    slot: p.slot,
-                    face,
-                    origin: p.origin,
-                    valid: p.valid,
-                    border: false,
-                    view_cull: false,
-                    rect: None,
-                });
-            }
-        }
-    }
-    for j in jobs.iter().filter(|j| whole(j)) {
-        let o = &mut owed[j.slot.index()];
-        *o = o.difference(FaceMask::single(j.face));
-    }
-}
-
-/// How far past the view cone, in texels (of 2/n radians), an eye face is still captured and
-/// lit: a texel is drawn when a sphere of 2.5 texels around it reaches the view
-/// (`quad_in_view`), and its outline and neighbour bits read one texel further.
-const EYE_CONE_MARGIN_TEXELS: f32 = 4.0;
-
-/// Per capture, the texels to capture and light: in our schedule with a perspective camera,
-/// an eye face only where the view cone meets it (the eye sits at the camera, so that is
-/// exact up to the margin; an empty rectangle when it misses the face); otherwise the whole
-/// face.
-fn capture_rects(
-    input: &FrameInput,
-    globals: &ViewGlobals,
-    store: &ProbeStore,
-) -> Vec<Option<TexelRect>> {
-    let normals: Vec<glam::Vec3> = globals
-        .side_planes()
-        .iter()
-        .map(|p| glam::Vec3::new(p[0], p[1], p[2]))
-        .collect();
-    let cone = input.camera.ortho_height.is_none() && input.schedule == Schedule::Ours;
-    input
-        .captures
-        .iter()
-        .map(|c| {
-            (c.slot == Slot::Eye && cone).then(|| {
-                let n = store.slot(c.slot).n;
-                let margin = EYE_CONE_MARGIN_TEXELS * 2.0 / n as f32;
-                face_cone_rect(&normals, c.face, n, margin).unwrap_or(TexelRect {
-                    x0: 0,
-                    y0: 0,
-                    x1: 0,
-                    y1: 0,
-                })
-            })
-        })
-        .collect()
-}
-
-/// The (slot, face) pairs the frame splats, and how the cull pass visits each: our
-/// schedule walks the draw lists (the eye's lit texels; stable run heads, with runs on).
-fn drawn_faces(input: &FrameInput, runs: bool) -> Vec<(Slot, Face, Visit)> {
-    let visit = |slot: Slot| match input.schedule {
-        Schedule::Ours if slot == Slot::Eye || runs => Visit::List,
-        _ => Visit::Scan,
-    };
-    [Some(&input.eye), Some(&input.grid), input.previous.as_ref()]
-        .into_iter()
-        .flatten()
-        .flat_map(|p| p.draw.iter().map(move |f| (p.slot, f, visit(p.slot))))
-        .collect()
 }

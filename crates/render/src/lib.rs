@@ -8,7 +8,7 @@
 //! a frame fails; [`gpu_scene`] and
 //! [`bvh`] upload the scene; [`probe_store`] holds the probe textures; [`passes`] are the
 //! passes, one per WGSL file in `shaders/`; [`frame`] orders them; [`stats`] is what a frame
-//! reports.
+//! reports; [`layouts`] lists the records Rust and WGSL share.
 
 pub mod baselines;
 pub mod bvh;
@@ -18,6 +18,7 @@ pub mod frame;
 pub mod gpu_scene;
 pub mod gpu_sprites;
 pub mod input;
+pub mod layouts;
 pub mod memory;
 pub mod passes;
 pub mod probe_store;

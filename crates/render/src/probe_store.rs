@@ -27,8 +27,8 @@ pub const ID_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
 pub const ALBEDO_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba8Unorm;
 /// Normal-mapped normals.
 pub const SHADING_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::R32Uint;
-/// Capture depth.
-pub use crate::passes::raster::DEPTH_FORMAT;
+/// Capture depth, and the depth of every scene raster (`passes::raster`).
+pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
 /// Lit colour.
 pub const LIT_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Rgba32Float;
 /// Runs of alike texels.

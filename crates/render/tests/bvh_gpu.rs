@@ -13,7 +13,7 @@ use texel_render::bvh::{
     BvhNode, BvhTriangle, GpuBvh, T_MIN, any_hit_brute, any_hit_cpu, build_bvh,
 };
 use texel_render::context::{GpuContext, test_context};
-use texel_render::shader::{SOURCES, constants_wgsl};
+use texel_render::shader::assemble_source;
 use texel_render::target::read_buffer;
 use texel_scene::TriMesh;
 use texel_scene::primitives::{box_mesh, cylinder};
@@ -325,14 +325,7 @@ fn run(
     entry: &str,
     threads: usize,
 ) -> Vec<u32> {
-    let lib = SOURCES
-        .iter()
-        .find(|(name, _)| *name == "lib/bvh.wgsl")
-        .expect("lib/bvh.wgsl is in shader::SOURCES")
-        .1;
-    let source = TEST_SHADER
-        .replace("#include \"lib/bvh.wgsl\"", lib)
-        .replace("#include \"lib/constants.wgsl\"", &constants_wgsl());
+    let source = assemble_source("bvh_gpu", TEST_SHADER).expect("the test shader assembles");
     assert!(!source.contains("#include"));
     let device = &ctx.device;
     let scope = device.push_error_scope(wgpu::ErrorFilter::Validation);

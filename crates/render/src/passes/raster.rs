@@ -8,8 +8,9 @@ use texel_probes::visibility::TexelRect;
 use super::{RenderSpec, render_pipeline};
 use crate::gpu_scene::GpuScene;
 
-/// Depth format of every scene raster.
-pub const DEPTH_FORMAT: wgpu::TextureFormat = wgpu::TextureFormat::Depth32Float;
+/// Depth format of every scene raster: the probes' capture depth
+/// ([`crate::probe_store::DEPTH_FORMAT`]).
+pub use crate::probe_store::DEPTH_FORMAT;
 
 /// A scene-raster pipeline (entry points `vs`, `fs`) writing `targets`. Both sides of each
 /// triangle are drawn (default primitive state): a cube face's projection flips Y (and so the
