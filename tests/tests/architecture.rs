@@ -91,7 +91,10 @@ fn no_library_depends_on_an_app() {
         .map(|m| package_name(&root.join(m)))
         .collect();
     for must in ["texel_runtime", "texel_eval", "texel_editor"] {
-        assert!(apps.iter().any(|a| a == must), "{must} not among the apps: {apps:?}");
+        assert!(
+            apps.iter().any(|a| a == must),
+            "{must} not among the apps: {apps:?}"
+        );
     }
     let libraries: Vec<_> = std::fs::read_dir(root.join("crates"))
         .expect("crates/")
