@@ -19,7 +19,7 @@ use ab_glyph::{Font, FontRef, PxScale, ScaleFont, point};
 use glam::UVec2;
 use serde::{Deserialize, Serialize};
 use texel_render::context::GpuContext;
-use texel_runtime::driver::{Animation, scene_input};
+use texel_runtime::frame_plan::{Animation, scene_input};
 use texel_runtime::load::load_level;
 
 use crate::gpu::{level_look, set_face_res};

@@ -626,7 +626,7 @@ impl Viewport {
             ((uv.y * size.y as f32) as u32).min(size.y - 1),
         );
         match gpu.pick(pixel) {
-            Ok(id) => state.selection = id.and_then(texel_runtime::driver::entity_index),
+            Ok(id) => state.selection = id.and_then(texel_runtime::frame_plan::entity_index),
             Err(e) => self.error = Some(e),
         }
     }
