@@ -345,14 +345,64 @@ impl EntityRow {
         check("terrain", self.terrain.as_ref().map(|v| v as _))?;
         check("animator", self.animator.as_ref().map(|v| v as _))?;
         check("sprite", self.sprite.as_ref().map(|v| v as _))?;
-        crate::animator::check_row(self).map_err(|e| ("animator", e))?;
-        crate::sprite::check_row(self).map_err(|e| ("sprite", e))
+        check_animator_row(self).map_err(|e| ("animator", e))?;
+        check_sprite_row(self).map_err(|e| ("sprite", e))
     }
 
     /// The entity's name, or `unnamed`.
     fn display_name(&self) -> &str {
         self.name.as_ref().map_or("unnamed", |n| n.0.as_str())
     }
+}
+
+/// What an entity row must hold for its animator: a transform to move, and no terrain
+/// (terrains do not move). `Err((field, message))` names the missing or forbidden component.
+pub fn check_animator_row(row: &EntityRow) -> Result<(), (&'static str, String)> {
+    if row.animator.is_none() {
+        return Ok(());
+    }
+    if row.transform.is_none() {
+        return Err((
+            "transform",
+            "an animator moves its entity's transform, and this entity has none".to_owned(),
+        ));
+    }
+    if row.terrain.is_some() {
+        return Err((
+            "terrain",
+            "terrains do not move: an entity with a terrain cannot have an animator".to_owned(),
+        ));
+    }
+    Ok(())
+}
+
+/// What an entity row must hold for its sprite: a transform to place it, no geometry (a
+/// sprite entity's only surface is the sprite) and no terrain. `Err((field, message))`
+/// names the missing or forbidden component.
+pub fn check_sprite_row(row: &EntityRow) -> Result<(), (&'static str, String)> {
+    if row.sprite.is_none() {
+        return Ok(());
+    }
+    if row.transform.is_none() {
+        return Err((
+            "transform",
+            "a sprite is placed by its entity's transform, and this entity has none".to_owned(),
+        ));
+    }
+    if row.geometry.is_some() {
+        return Err((
+            "geometry",
+            "a sprite entity has no mesh: put the sprite and the geometry on separate entities"
+                .to_owned(),
+        ));
+    }
+    if row.terrain.is_some() {
+        return Err((
+            "terrain",
+            "an entity with a terrain cannot have a sprite".to_owned(),
+        ));
+    }
+    Ok(())
 }
 
 /// Reads the entity rows, checking each row's components against each other as it ends
@@ -371,7 +421,7 @@ fn de_entities<'de, D: serde::Deserializer<'de>>(d: D) -> Result<Vec<EntityRow>,
             let mut rows = Vec::new();
             while let Some(row) = seq.next_element::<EntityRow>()? {
                 if let Err((_, message)) =
-                    crate::animator::check_row(&row).and_then(|()| crate::sprite::check_row(&row))
+                    check_animator_row(&row).and_then(|()| check_sprite_row(&row))
                 {
                     return Err(serde::de::Error::custom(format!(
                         "entity {} ({}): {message}",

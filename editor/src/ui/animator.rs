@@ -7,7 +7,8 @@
 
 use egui::Ui;
 use glam::Vec3;
-use texel_scene::animator::{Animator, Easing, MAX_PATH_KEYS, Motion, PathKey, check_row};
+use texel_scene::animator::{Animator, Easing, MAX_PATH_KEYS, Motion, PathKey};
+use texel_scene::level::check_animator_row;
 use texel_scene::{EntityRow, Transform, Validate};
 
 use crate::ui::widgets::{scalar, vec3};
@@ -22,7 +23,7 @@ const MIN_STEP: f32 = 0.01;
 /// a transform or with a terrain). Removing the transform or adding a terrain removes the
 /// animator in the same step: a level cannot hold it then.
 pub fn section(ui: &mut Ui, row: &mut EntityRow) {
-    if row.animator.is_some() && check_row(row).is_err() {
+    if row.animator.is_some() && check_animator_row(row).is_err() {
         row.animator = None;
     }
     let base = row.transform.unwrap_or_default();

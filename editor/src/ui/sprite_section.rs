@@ -21,9 +21,10 @@ use egui::emath::GuiRounding;
 use egui::{Color32, DragValue, Rect, Ui, pos2};
 use glam::{UVec2, Vec2};
 use texel_scene::assets::AssetLibrary;
+use texel_scene::level::check_sprite_row;
 use texel_scene::sprite::{
     Billboard, DIRECTIONS, INDEX_RATIOS, MAX_ANIMATIONS, MAX_FPS, MAX_RELIEF_DEPTH, Refraction,
-    Relief, Sprite, SpriteAnimation, SpriteSize, check_row,
+    Relief, Sprite, SpriteAnimation, SpriteSize,
 };
 use texel_scene::texture::Image;
 use texel_scene::{EntityRow, Validate};
@@ -209,7 +210,7 @@ pub fn keep_row_valid(
     if row.sprite.is_none() {
         return;
     }
-    if let Err((_, why)) = check_row(row) {
+    if let Err((_, why)) = check_sprite_row(row) {
         row.transform = before.transform;
         row.geometry = before.geometry.clone();
         row.terrain = before.terrain.clone();
