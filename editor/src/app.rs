@@ -129,7 +129,7 @@ impl EditorApp {
                 schedule: self.viewport.schedule,
                 debug: self.viewport.debug.flags,
                 textured_selection: info.is_some(),
-                terrain_selection: terrain::selected_terrain(&self.state).is_some(),
+                terrain_selection: crate::terrain_edits::selected_terrain(&self.state).is_some(),
                 terrain_tool: self.viewport.terrain.active,
                 ortho: self.viewport.camera.ortho,
             };
@@ -533,7 +533,7 @@ impl EditorApp {
     /// step; a file that cannot be imported is shown in the error dialog and changes nothing.
     pub fn import_heightmap(&mut self, file: &Path) {
         let result = match self.state.selection {
-            Some(i) => terrain::import_heightmap(&mut self.state, i, file),
+            Some(i) => crate::terrain_edits::import_heightmap(&mut self.state, i, file),
             None => Err("select a terrain first".to_owned()),
         };
         if let Err(e) = result {
@@ -545,7 +545,7 @@ impl EditorApp {
     /// in the error dialog.
     pub fn export_heightmap(&mut self, file: &Path) {
         let result = match self.state.selection {
-            Some(i) => terrain::export_heightmap(&self.state, i, file),
+            Some(i) => crate::terrain_edits::export_heightmap(&self.state, i, file),
             None => Err("select a terrain first".to_owned()),
         };
         if let Err(e) = result {

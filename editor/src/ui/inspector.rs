@@ -47,7 +47,7 @@ pub fn entity(
     let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
     if painted(&before) && cleared(&row) {
         // "Clear paint": the layer goes with the undo step, so undo brings it back.
-        crate::paint::clear_paint(state, index, row)?;
+        crate::terrain_edits::clear_paint(state, index, row)?;
     } else if row != before {
         let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Row { index, widget });
         state.set_row(index, row, key)?;
@@ -72,7 +72,7 @@ impl TerrainInfo {
                 paint: None,
             };
         };
-        let file_name = match &crate::terrain::file_backed(state, index, row).terrain {
+        let file_name = match &crate::terrain_edits::file_backed(state, index, row).terrain {
             Some(Terrain {
                 heightmap: HeightSource::File { path },
                 ..

@@ -287,7 +287,8 @@ impl Viewport {
         }
         overlay::markers(&painter, &proj, state.scene(), state.selection);
         // The terrain tool on a selected terrain takes the primary button (no gizmo).
-        let sculpting = self.terrain.active && crate::terrain::selected_terrain(state).is_some();
+        let sculpting =
+            self.terrain.active && crate::terrain_edits::selected_terrain(state).is_some();
         let used = if sculpting {
             self.drag = None;
             self.face_drag = None;
