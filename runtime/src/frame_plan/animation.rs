@@ -6,10 +6,9 @@
 use glam::Vec3;
 use texel_probes::visibility::{TexelRect, face_box_rect};
 use texel_render::input::{FrameInput, SceneInput};
-use texel_render::shadow_region::{bounds_under, point_shadow_bounds};
+use texel_render::shadow_region::{bounds_under, point_shadow_bounds, sun_shadow_bounds};
 use texel_scene::Transform;
 
-use super::FrameDriver;
 use crate::load::LoadedLevel;
 
 /// The level's animated objects and what drives them: poses as a function of time, the same
@@ -23,7 +22,8 @@ pub struct Animation {
 }
 
 impl Animation {
-    /// The animated objects of `scene` (extracted from `level` by [`scene_input`](super::scene_input)).
+    /// The animated objects of `scene` (extracted from `level` by
+    /// [`scene_input`](super::scene_input)).
     pub fn new(level: &LoadedLevel, scene: &SceneInput) -> Self {
         Animation {
             objects: animated_objects(level, scene),
@@ -80,8 +80,9 @@ struct Animated {
     local_max: Vec3,
 }
 
-/// The animated objects of `scene` (extracted from `level` by [`scene_input`](super::scene_input)): entities with
-/// geometry and an animator, matched to their objects by entity id.
+/// The animated objects of `scene` (extracted from `level` by
+/// [`scene_input`](super::scene_input)): entities with geometry and an animator, matched to
+/// their objects by entity id.
 fn animated_objects(level: &LoadedLevel, scene: &SceneInput) -> Vec<Animated> {
     let w = level.scene.world();
     let entities: Vec<hecs::Entity> = level.scene.entities().collect();
@@ -123,39 +124,34 @@ fn sprite_clocks(
         .collect()
 }
 
-impl FrameDriver {
-    /// Animation time of the next frame, seconds.
-    pub fn time(&self) -> f64 {
-        self.time
-    }
+/// A frame driver's animation clock: the time the next frame is posed at, whether it
+/// stands still, and the poses the last frame drew.
+#[derive(Debug, Clone, Default)]
+pub(super) struct Clock {
+    /// Animation time, seconds: the sum of the frames' `dt` (so a replayed path poses
+    /// every frame as it did).
+    pub(super) time: f64,
+    /// Each animated object's transform last frame, for the faces its shadow left.
+    last_poses: Vec<glam::Mat4>,
+    /// Whether the animation time stands still (the editor outside Play).
+    pub(super) paused: bool,
+}
 
-    /// Sets the animation time of the next frame (seconds; a time that is not a finite,
-    /// non-negative number is ignored).
-    pub fn set_time(&mut self, t: f64) {
-        if t.is_finite() && t >= 0.0 {
-            self.time = t;
-        }
-    }
-
-    /// Stops (or restarts) the animation clock: paused, every frame poses the animated
-    /// objects at the same time.
-    pub fn set_paused(&mut self, paused: bool) {
-        self.paused = paused;
-    }
-
-    /// Takes over `other`'s animation clock (its time and whether it is paused): a driver
-    /// planned afresh for a new viewport or level does not restart the animations.
-    pub fn keep_clock(&mut self, other: &FrameDriver) {
-        self.time = other.time;
-        self.paused = other.paused;
-    }
-
+impl Clock {
     /// Poses the animated objects at this frame's time (then advances it by `dt`), and lists
     /// the stable faces to light again where a moved object's shadow may have come or gone:
     /// those that may see its old or new bounds, pushed along each sun to the ground, or the
     /// reach of a point light the object is within.
-    pub(super) fn animate(&mut self, input: &mut FrameInput, dt: f32) {
-        let animation = &self.level.animation;
+    /// `scene` is the level's, with its lowest point at `floor` ([`scene_floor`](texel_render::shadow_region::scene_floor)), and
+    /// `animation` its animated objects.
+    pub(super) fn animate(
+        &mut self,
+        animation: &Animation,
+        scene: &SceneInput,
+        floor: f32,
+        input: &mut FrameInput,
+        dt: f32,
+    ) {
         if animation.is_empty() {
             return;
         }
@@ -164,7 +160,6 @@ impl FrameDriver {
         if !self.paused {
             self.time = Animation::next_time(self.time, dt);
         }
-        let scene = self.level.scene();
         // Where each moved object's shadows may have come or gone: its old and new bounds
         // and their shadows, along each sun to the ground and away from each point light
         // whose reach it is in, out to that reach.
@@ -177,7 +172,7 @@ impl FrameDriver {
             }
             let (a, b) = (animation.bounds(k, before), animation.bounds(k, now));
             let (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
-            let (mut lo2, mut hi2) = self.level.shadow_region(lo, hi);
+            let (mut lo2, mut hi2) = sun_shadow_bounds(&scene.suns, floor, lo, hi);
             for p in &scene.points {
                 if let Some((plo, phi)) = point_shadow_bounds(p.position, p.radius, lo, hi) {
                     lo2 = lo2.min(plo);

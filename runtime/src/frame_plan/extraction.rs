@@ -16,7 +16,7 @@ use texel_scene::{
     DirectionalLight, Geometry, Material, PixelScale, PlayerStart, PointLight, Scene, Transform,
 };
 
-use super::Animation;
+use super::animation::Animation;
 use crate::extract::{Viewport, face_resolution, grid_overrides};
 use crate::load::LoadedLevel;
 use crate::occluders::SceneRays;
@@ -37,7 +37,7 @@ pub struct PreparedLevel {
     /// What drives each animated object.
     pub animation: Animation,
     /// The lowest point of the scene, where sun shadows end ([`scene_floor`]).
-    floor: f32,
+    pub(super) floor: f32,
 }
 
 impl PreparedLevel {

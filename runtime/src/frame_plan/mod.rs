@@ -18,10 +18,12 @@
 //!
 //! Moving objects and sprites keep one clock (`animation`): a pose is a function of the
 //! frame's time, and a moved object's shadow marks the stable faces it may have changed.
-//! An orthographic camera's probes are planes of texels, not points (`ortho`).
+//! An orthographic camera's probes are planes of texels, not points (`ortho`); a crossing's
+//! crossfade runs at our pace or the reference's (`fade`).
 
 mod animation;
 mod extraction;
+mod fade;
 mod ortho;
 mod planning;
 #[cfg(test)]
@@ -32,9 +34,9 @@ pub use extraction::{
     PreparedLevel, entity_id, entity_index, level_look, scene_input, shadow_extended, start_camera,
     terrain_input,
 };
+pub use fade::{OUR_FADE_CELLS, OUR_FADE_SECONDS, OUR_MIN_FADE_FRAMES};
 pub use ortho::ORTHO_TURN_STEP_DEG;
 pub use planning::{
-    CAPTURE_FAR, CROSSING_STABLE_FACES, DriverError, FACE_BUDGET, FrameDriver, OUR_FADE_CELLS,
-    OUR_FADE_SECONDS, OUR_MIN_FADE_FRAMES, PREFETCH_FACES_PER_FRAME, PREFETCH_LOOKAHEAD_S,
-    STABLE_FACES_PER_FRAME,
+    CAPTURE_FAR, CROSSING_STABLE_FACES, DriverError, FACE_BUDGET, FrameDriver,
+    PREFETCH_FACES_PER_FRAME, PREFETCH_LOOKAHEAD_S, STABLE_FACES_PER_FRAME,
 };

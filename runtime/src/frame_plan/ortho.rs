@@ -3,18 +3,16 @@
 //! snapped to whole internal pixels so a pan resamples nothing.
 
 use glam::{UVec2, Vec3};
-use texel_probes::grid::{GridChoice, GridError, resolve_grid};
+use texel_probes::grid::{GridChoice, GridDefaults, GridError, GridOverride, resolve_grid};
 use texel_probes::ortho::OrthoFrame;
 use texel_render::input::{Camera, view_up};
-
-use super::FrameDriver;
 
 /// The view-direction steps (yaw and pitch, degrees) at which an orthographic camera's grid
 /// probe turns with it.
 pub const ORTHO_TURN_STEP_DEG: f32 = 5.0;
 
 /// Orthographic grid probes' frames remembered (a previous probe is an old grid probe).
-pub(super) const ORTHO_FRAMES_KEPT: usize = 4;
+const ORTHO_FRAMES_KEPT: usize = 4;
 
 /// The probes of an orthographic camera (see [`texel_probes::ortho`]): one orthographic face
 /// each, one texel per art pixel.
@@ -38,7 +36,7 @@ pub(super) struct OrthoProbes {
 /// texels in its plane, so every probe looking the same way samples the same world lines: a
 /// pan changes no texel. The grid probe sits `half` behind the camera's plane, as far as a
 /// texel's distance was for the cube probe this replaces (and sprites turn toward it).
-fn ortho_probes(
+pub(super) fn ortho_probes(
     camera: &Camera,
     ortho_height: f32,
     level_face_resolution: u32,
@@ -103,43 +101,47 @@ pub(super) fn pixel_snapped(camera: Camera, internal: UVec2) -> Camera {
     }
 }
 
-impl FrameDriver {
-    /// The orthographic probes of `camera`, `None` for a perspective one.
-    pub(super) fn ortho_probes(&self, camera: &Camera) -> Option<OrthoProbes> {
-        let aspect = self.size.x as f32 / self.size.y.max(1) as f32;
-        (camera.ortho_height)
-            .map(|h| ortho_probes(camera, h, self.defaults.face_resolution, aspect))
-    }
+/// A grid choice for an orthographic probe at exactly `origin` (its cell's key, moved
+/// there), with faces of `n` texels. No placement: the probe stands where its lattice
+/// puts it, outside the scene.
+pub(super) fn ortho_choice(
+    origin: Vec3,
+    n: u32,
+    defaults: &GridDefaults,
+    overrides: &[GridOverride],
+) -> Result<GridChoice, GridError> {
+    let mut c = resolve_grid(origin, defaults, overrides)?;
+    c.key.offset = origin - c.key.cell.origin();
+    c.key.face_resolution = n;
+    Ok(c)
+}
 
-    /// A grid choice for an orthographic probe at exactly `origin` (its cell's key, moved
-    /// there), with faces of `n` texels. No placement: the probe stands where its lattice
-    /// puts it, outside the scene.
-    pub(super) fn ortho_choice(&self, origin: Vec3, n: u32) -> Result<GridChoice, GridError> {
-        let mut c = resolve_grid(origin, &self.defaults, &self.overrides)?;
-        c.key.offset = origin - c.key.cell.origin();
-        c.key.face_resolution = n;
-        Ok(c)
-    }
+/// The orthographic frames of the last probes, by origin: what a capture or a view of a
+/// probe at that origin is drawn with.
+#[derive(Debug, Clone, Default)]
+pub(super) struct OrthoFrames {
+    /// The frames of the last orthographic grid probes, by origin (newest last).
+    grids: Vec<(Vec3, OrthoFrame)>,
+    /// This frame's orthographic eye probe: origin and frame.
+    eye: Option<(Vec3, OrthoFrame)>,
+}
 
+impl OrthoFrames {
     /// The orthographic frame of the probe at `origin`, if one of the last frames' was there.
-    pub(super) fn ortho_frame(&self, origin: Vec3) -> Option<OrthoFrame> {
-        (self.ortho_eye.iter().chain(&self.ortho_frames))
+    pub(super) fn at(&self, origin: Vec3) -> Option<OrthoFrame> {
+        (self.eye.iter().chain(&self.grids))
             .find(|(o, _)| *o == origin)
             .map(|(_, f)| *f)
     }
 
-    /// This frame's grid choice under the orthographic probes `o`, remembering the frames
-    /// of the stable probes that may still be drawn (grid, previous) and this frame's eye's.
-    pub(super) fn ortho_grid_choice(&mut self, o: &OrthoProbes) -> Result<GridChoice, GridError> {
-        let c = self.ortho_choice(o.grid.0, o.grid.2)?;
-        // Keep the frames of the stable probes that may still be drawn (grid,
-        // previous), and this frame's eye's.
-        if self.ortho_frame(c.origin()).is_none() {
-            self.ortho_frames.push((c.origin(), o.grid.1));
+    /// Remembers this frame's probes `o`, its grid probe at `grid_origin`: keeps the frames
+    /// of the stable probes that may still be drawn (grid, previous), and this frame's eye's.
+    pub(super) fn remember(&mut self, grid_origin: Vec3, o: &OrthoProbes) {
+        if self.at(grid_origin).is_none() {
+            self.grids.push((grid_origin, o.grid.1));
         }
-        let excess = self.ortho_frames.len().saturating_sub(ORTHO_FRAMES_KEPT);
-        self.ortho_frames.drain(..excess);
-        self.ortho_eye = Some((o.eye.0, o.eye.1));
-        Ok(c)
+        let excess = self.grids.len().saturating_sub(ORTHO_FRAMES_KEPT);
+        self.grids.drain(..excess);
+        self.eye = Some((o.eye.0, o.eye.1));
     }
 }

@@ -10,9 +10,8 @@ use texel_probes::cube::{Face, FaceMask};
 use texel_probes::grid::{
     GridChoice, GridDefaults, GridError, GridOverride, ProbeKey, first_crossing,
 };
-use texel_probes::ortho::OrthoFrame;
 use texel_probes::placement::{Placements, near_faces};
-use texel_probes::probe_set::{FadeConfig, FadeDirection, Probe, ProbeSet, Role, TransitionEvent};
+use texel_probes::probe_set::{FadeDirection, Probe, ProbeSet, Role, TransitionEvent};
 use texel_probes::schedule::{FaceWork, ProbePlan, Scheduler, UpdatePlan};
 use texel_probes::visibility::{
     CameraView, Frustum, REFERENCE_EYE_FACE_DEG, REFERENCE_STABLE_FACE_DEG, frustum,
@@ -23,8 +22,10 @@ use texel_render::input::{
     internal_size,
 };
 
-use super::PreparedLevel;
-use super::ortho::pixel_snapped;
+use super::animation::Clock;
+use super::extraction::PreparedLevel;
+use super::fade::fade_config;
+use super::ortho::{OrthoFrames, OrthoProbes, ortho_choice, ortho_probes, pixel_snapped};
 use crate::extract::Viewport;
 use crate::load::LoadedLevel;
 
@@ -71,28 +72,21 @@ pub struct FrameDriver {
     /// until the scene changes.
     near_faces: HashMap<[u32; 3], [Vec4; MAX_NEAR_FACES]>,
     fov_y: f32,
-    pub(super) defaults: GridDefaults,
-    pub(super) overrides: Vec<GridOverride>,
+    defaults: GridDefaults,
+    overrides: Vec<GridOverride>,
     probes: Option<ProbeSet>,
     scheduler: Scheduler,
-    pub(super) size: UVec2,
+    size: UVec2,
     start: Camera,
     frame_index: u64,
     fade_frame: u64,
     /// Camera position last frame and the smoothed velocity, for prefetching.
     last_position: Option<Vec3>,
     velocity: Vec3,
-    /// Animation time, seconds: the sum of the frames' `dt` (so a replayed path poses
-    /// every frame as it did).
-    pub(super) time: f64,
-    /// Each animated object's transform last frame, for the faces its shadow left.
-    pub(super) last_poses: Vec<glam::Mat4>,
-    /// Whether the animation time stands still (the editor outside Play).
-    pub(super) paused: bool,
-    /// The frames of the last orthographic grid probes, by origin (newest last).
-    pub(super) ortho_frames: Vec<(Vec3, OrthoFrame)>,
-    /// This frame's orthographic eye probe: origin and frame.
-    pub(super) ortho_eye: Option<(Vec3, OrthoFrame)>,
+    /// The animation clock: the time the next frame is posed at.
+    clock: Clock,
+    /// The frames of the last orthographic probes, by origin.
+    ortho: OrthoFrames,
 }
 
 impl FrameDriver {
@@ -134,11 +128,8 @@ impl FrameDriver {
             fade_frame: 0,
             last_position: None,
             velocity: Vec3::ZERO,
-            time: 0.0,
-            last_poses: Vec::new(),
-            paused: false,
-            ortho_frames: Vec::new(),
-            ortho_eye: None,
+            clock: Clock::default(),
+            ortho: OrthoFrames::default(),
         })
     }
 
@@ -180,10 +171,43 @@ impl FrameDriver {
     /// so).
     pub fn grid_probe(&mut self, camera: &Camera) -> Result<(Vec3, u32), DriverError> {
         let choice = match self.ortho_probes(camera) {
-            Some(o) => self.ortho_choice(o.grid.0, o.grid.2)?,
+            Some(o) => ortho_choice(o.grid.0, o.grid.2, &self.defaults, &self.overrides)?,
             None => self.resolve(camera.position)?,
         };
         Ok((choice.origin(), choice.key.face_resolution))
+    }
+
+    /// The orthographic probes of `camera`, `None` for a perspective one.
+    fn ortho_probes(&self, camera: &Camera) -> Option<OrthoProbes> {
+        let aspect = self.size.x as f32 / self.size.y.max(1) as f32;
+        (camera.ortho_height)
+            .map(|h| ortho_probes(camera, h, self.defaults.face_resolution, aspect))
+    }
+
+    /// Animation time of the next frame, seconds.
+    pub fn time(&self) -> f64 {
+        self.clock.time
+    }
+
+    /// Sets the animation time of the next frame (seconds; a time that is not a finite,
+    /// non-negative number is ignored).
+    pub fn set_time(&mut self, t: f64) {
+        if t.is_finite() && t >= 0.0 {
+            self.clock.time = t;
+        }
+    }
+
+    /// Stops (or restarts) the animation clock: paused, every frame poses the animated
+    /// objects at the same time.
+    pub fn set_paused(&mut self, paused: bool) {
+        self.clock.paused = paused;
+    }
+
+    /// Takes over `other`'s animation clock (its time and whether it is paused): a driver
+    /// planned afresh for a new viewport or level does not restart the animations.
+    pub fn keep_clock(&mut self, other: &FrameDriver) {
+        self.clock.time = other.clock.time;
+        self.clock.paused = other.clock.paused;
     }
 
     /// Plans one frame for `camera`, `dt` seconds after the last: the grid probe the camera
@@ -198,7 +222,11 @@ impl FrameDriver {
         let ortho = self.ortho_probes(&camera);
         self.scheduler.set_orthographic(ortho.is_some());
         let choice = match &ortho {
-            Some(o) => self.ortho_grid_choice(o)?,
+            Some(o) => {
+                let c = ortho_choice(o.grid.0, o.grid.2, &self.defaults, &self.overrides)?;
+                self.ortho.remember(c.origin(), o);
+                c
+            }
             None => self.resolve(camera.position)?,
         };
         let cell_size = choice.key.cell.cell_size;
@@ -235,7 +263,7 @@ impl FrameDriver {
         }
         let captures: Vec<CaptureInput> = (plan.work.iter())
             .map(|w| CaptureInput {
-                ortho: self.ortho_frame(w.origin),
+                ortho: self.ortho.at(w.origin),
                 ..capture_of(w)
             })
             .collect();
@@ -253,7 +281,8 @@ impl FrameDriver {
             self.find_near_faces(&plan, filler.as_ref(), cell_size);
         }
         let mut input = self.frame_input(camera, &plan, captures, filler, fade, schedule);
-        self.animate(&mut input, dt);
+        let level = &self.level;
+        (self.clock).animate(&level.animation, level.scene(), level.floor, &mut input, dt);
         self.frame_index += 1;
         self.fade_frame += 1;
         Ok(input)
@@ -483,46 +512,6 @@ impl FrameDriver {
     }
 }
 
-/// Our crossfade at rest lasts a quarter second; the paper's schedule keeps the reference's
-/// half second ([`FadeConfig::default`]). While a fade runs, each stable probe fills behind
-/// the other's pixels (`shaders/splat.wgsl` `FadeFsOut`), so a short fade opens no holes; what
-/// a fade costs is its screen-fixed dither sliding over the moving scene, which a shorter
-/// fade shows for fewer frames (`texel-eval run --methods splat` on walk_cells: 0.5 s 0.0049,
-/// 0.25 s 0.0046, 0.15 s 0.0040 mean shimmer, but worst frames grow below a quarter second).
-pub const OUR_FADE_SECONDS: f32 = 0.25;
-
-/// A fast camera's fade of ours is paced to end within half a cell of travel (the
-/// reference's within one; the frames a fade waits for its grid's captures and the
-/// per-frame cap below lengthen both). At the reference's pace a sprint's fades had reached
-/// only 0.77–0.97 when the next crossing came (`texel-run render` on sprint_cells, stats.json
-/// `fade_t`): each crossing waited, the camera left both stable probes' views behind, and
-/// the eye probe filled 4.7% of the pixels; at ours each fade ends as the next begins.
-/// Measured with `texel-eval run --methods splat --face-res 128 --size 320x180` on
-/// stone_circle: sprint_cells 0.0134 -> 0.0107 mean shimmer (worst frame 0.084 -> 0.046,
-/// eye pixels 4.7% -> 1.7%), walk_cells 0.0047 -> 0.0042; the other crossing paths within
-/// ±0.0003 but textured_walk (0.0190 -> 0.0171).
-pub const OUR_FADE_CELLS: f32 = 0.5;
-
-/// No frame of our fades hands more than a third of the pixels from one probe to the other
-/// (the reference's half): a fast fade then spreads a crossing's change over three frames
-/// instead of two, which lowers the worst frame, and a sprint's fade still ends before the
-/// next crossing. Measured as above: sprint_cells 0.0107 -> 0.0103 (worst frame 0.046 -> 0.029),
-/// iso_orbit 0.0035 -> 0.0032, terrain_descent 0.0090 -> 0.0082, terrain_walk 0.0137 ->
-/// 0.0131; the other crossing paths unchanged.
-pub const OUR_MIN_FADE_FRAMES: u32 = 3;
-
-fn fade_config(schedule: Schedule) -> FadeConfig {
-    match schedule {
-        Schedule::Ours => FadeConfig {
-            fade_seconds: OUR_FADE_SECONDS,
-            fade_cells: OUR_FADE_CELLS,
-            min_frames: OUR_MIN_FADE_FRAMES,
-            ..FadeConfig::default()
-        },
-        Schedule::Paper => FadeConfig::default(),
-    }
-}
-
 /// Widens the plan's visible faces to the reference's face mask (the paper schedule).
 fn widen_to_reference(plan: &mut UpdatePlan, forward: Vec3) {
     let eye = reference_faces(forward, REFERENCE_EYE_FACE_DEG);
@@ -581,7 +570,7 @@ impl FrameDriver {
                 _ => p.draw,
             },
             valid,
-            ortho: self.ortho_frame(p.probe.origin),
+            ortho: self.ortho.at(p.probe.origin),
             near_faces: match p.probe.role {
                 Role::Eye => [Vec4::ZERO; MAX_NEAR_FACES],
                 _ => (self.near_faces.get(&near_key(p.probe.origin)))
