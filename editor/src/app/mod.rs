@@ -14,8 +14,8 @@ use crate::pixel::{PixelInfo, pixel_info};
 use crate::state::EditorState;
 use crate::terrain;
 use crate::ui::dialogs::{Dialogs, Pending, Purpose};
-use crate::ui::inspector::PixelCalc;
 use crate::ui::menu::{self, Action};
+use crate::ui::pixel_section::{self, PixelCalc};
 use crate::ui::sprite_section::SpritePanel;
 use crate::ui::{hierarchy, inspector};
 use crate::viewport::Viewport;
@@ -159,7 +159,7 @@ impl EditorApp {
                             ui.heading("Inspector");
                             let entity =
                                 inspector::entity(ui, &mut self.state, &mut self.sprite_panel);
-                            let pixel = inspector::pixel_perfect(
+                            let pixel = pixel_section::pixel_perfect(
                                 ui,
                                 &mut self.state,
                                 info.as_ref(),

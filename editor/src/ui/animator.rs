@@ -11,10 +11,8 @@ use texel_scene::animator::{Animator, Easing, MAX_PATH_KEYS, Motion, PathKey};
 use texel_scene::level::check_animator_row;
 use texel_scene::{EntityRow, Transform, Validate};
 
-use crate::ui::widgets::{scalar, vec3};
+use crate::ui::widgets::{BIG, MIN_SIZE, scalar, vec3};
 
-const BIG: f32 = 1.0e6;
-const MIN_SIZE: f32 = 0.001;
 /// The least time between two path keys (and between the last key and the period) the
 /// inspector makes; files may hold less.
 const MIN_STEP: f32 = 0.01;
