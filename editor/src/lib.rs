@@ -15,6 +15,7 @@ pub mod paint;
 pub mod pixel;
 pub mod state;
 pub mod terrain;
+pub mod terrain_edits;
 pub mod ui;
 pub mod viewport;
 

@@ -2,8 +2,9 @@
 //! (`texel_scene::terrain::PaintLayer`, an RGBA8 PNG beside the level), where its pixels lie
 //! ([`PaintPlace`]), a stroke ([`PaintStroke`]: each pixel covered up to the brush's
 //! opacity, once per stroke however often the brush passes), the change an undo step keeps
-//! ([`PaintChange`]), the layer a terrain without one gets on its first stroke, and "Clear
-//! paint".
+//! ([`PaintChange`]), the blank layer a terrain without one gets on its first stroke, and the
+//! file a layer is saved to. The edits through the editor state (a stroke's starting layer,
+//! "Clear paint") are `crate::terrain_edits`'.
 //!
 //! Pixels hold sRGB colour and a linear alpha (the paint's cover); a stroke composites its
 //! colour over them in linear light, so what the renderer blends over the gradient is what
@@ -14,12 +15,9 @@ use std::sync::Arc;
 
 use glam::{Vec2, Vec3};
 use texel_render::textures::{linear_to_srgb, srgb_to_linear};
-use texel_scene::EntityRow;
-use texel_scene::terrain::{Heightfield, PaintLayer, Terrain};
+use texel_scene::terrain::Heightfield;
 use texel_scene::texture::{Image, encode_png};
 
-use crate::command::{Command, CommandError};
-use crate::state::EditorState;
 use crate::terrain::{Region, falloff_weight, level_file_name};
 
 /// Largest edge of a paint layer the editor makes (a layer takes the heightmap's grid size
@@ -372,83 +370,6 @@ pub fn paint_file_name(
     taken: impl Fn(&str) -> bool,
 ) -> String {
     level_file_name(level, entity, index, "_paint", taken)
-}
-
-/// `row` (the entity at `index`, a terrain) once it has a paint layer of its own: a terrain
-/// without one, or naming a file another terrain also names (a duplicate), gets a new file
-/// beside the level ([`paint_file_name`]); its own file is kept.
-pub fn paint_backed(state: &EditorState, index: usize, row: &EntityRow) -> EntityRow {
-    let mut row = row.clone();
-    let shared = |path: &str| {
-        let scene = state.scene();
-        scene.entities().enumerate().any(|(i, e)| {
-            i != index
-                && scene
-                    .world()
-                    .get::<&Terrain>(e)
-                    .is_ok_and(|t| t.paint.as_ref().is_some_and(|p| p.path == path))
-        })
-    };
-    let Some(t) = &mut row.terrain else {
-        return row;
-    };
-    if t.paint.as_ref().is_none_or(|p| shared(&p.path)) {
-        let path = paint_file_name(
-            &state.document.level.path,
-            row.name.as_ref().map(|n| n.0.as_str()),
-            index,
-            |n| state.document.heightmap_taken(n),
-        );
-        t.paint = Some(PaintLayer { path });
-    }
-    row
-}
-
-/// The paint layer `terrain` starts a stroke from: its own (loaded), or a blank one the size
-/// [`layer_size`] gives for `field`. `None` when it names a layer that is not loaded.
-pub fn stroke_start(
-    state: &EditorState,
-    terrain: &Terrain,
-    field: &Heightfield,
-) -> Option<Arc<Image>> {
-    match &terrain.paint {
-        Some(_) => state.document.level.assets.paint(terrain).cloned(),
-        None => {
-            let (w, h) = layer_size(field);
-            Some(Arc::new(blank_layer("paint", w, h)))
-        }
-    }
-}
-
-/// Removes the paint layer of the terrain at `index` as one undo step (undo brings the
-/// layer back as it was); `after` is the entity's row without it. Nothing happens when the
-/// terrain has no layer.
-pub fn clear_paint(
-    state: &mut EditorState,
-    index: usize,
-    after: EntityRow,
-) -> Result<(), CommandError> {
-    let before = state
-        .row_at(index)
-        .ok_or_else(|| CommandError(format!("no entity at position {index}")))?;
-    let Some(t) = &before.terrain else {
-        return Ok(());
-    };
-    let Some(image) = state.document.level.assets.paint(t).cloned() else {
-        return Ok(());
-    };
-    let cmd = Command::SetPaint {
-        index,
-        before: Box::new(before),
-        after: Box::new(after),
-        change: Arc::new(PaintChange::Layer {
-            before: Some(image),
-            after: None,
-        }),
-    };
-    state.apply(cmd, None)?;
-    state.history.seal();
-    Ok(())
 }
 
 /// Writes `image` to `file` as an RGBA8 PNG, atomically (a failed write leaves the old

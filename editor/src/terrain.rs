@@ -2,7 +2,9 @@
 //! undo step keeps ([`HeightChange`]), the file a sculpted terrain's heights are saved to,
 //! and 16-bit heightmap import and export. The brush math (where samples lie, the view ray's
 //! hit, brushes and dabs, regions) is [`texel_scene::sculpt`], re-exported here for the
-//! editor's tools.
+//! editor's tools. What needs the editor state (the selected terrain, an import as an undo
+//! step) is `crate::terrain_edits`', so this module sits below the commands that keep its
+//! changes.
 
 use std::path::Path;
 use std::sync::Arc;
@@ -11,9 +13,6 @@ use glam::{Vec2, Vec3};
 use texel_scene::terrain::{GradientStop, HeightSource, Heightfield, Terrain};
 use texel_scene::texture::{encode_heightmap, load_heightmap};
 use texel_scene::{EntityRow, Name, Transform};
-
-use crate::command::Command;
-use crate::state::EditorState;
 
 use texel_scene::sculpt::paste_region;
 pub use texel_scene::sculpt::{
@@ -271,107 +270,6 @@ pub fn write_heightmap(file: &Path, field: &Heightfield, max_height: f32) -> Res
     }
     texel_scene::save::write_atomic(file, &encode(field, max_height))
         .map_err(|e| format!("cannot write the heightmap {}: {e}", file.display()))
-}
-
-/// A terrain entity of the document and its heights.
-#[derive(Debug, Clone)]
-pub struct TerrainTarget {
-    /// Position in the level order.
-    pub index: usize,
-    /// Its components.
-    pub row: EntityRow,
-    /// Its terrain.
-    pub terrain: Terrain,
-    /// Its heights.
-    pub field: Arc<Heightfield>,
-    /// Where its heights lie in the world.
-    pub place: Placement,
-}
-
-/// The terrain of the entity at `index`, when it has one with loaded heights.
-pub fn terrain_at(state: &EditorState, index: usize) -> Option<TerrainTarget> {
-    let row = state.row_at(index)?;
-    let terrain = row.terrain.clone()?;
-    let field = state.document.level.assets.heightfield(&terrain)?.clone();
-    let origin = row.transform.unwrap_or_default().translation;
-    let place = Placement::new(&terrain, origin, &field);
-    Some(TerrainTarget {
-        index,
-        row,
-        terrain,
-        field,
-        place,
-    })
-}
-
-/// The selected entity's terrain ([`terrain_at`]).
-pub fn selected_terrain(state: &EditorState) -> Option<TerrainTarget> {
-    terrain_at(state, state.selection?)
-}
-
-/// `row` (the entity at `index`) once its terrain's heights are its own: a noise source
-/// becomes the heightmap file beside the level they will be saved to
-/// ([`heightmap_file_name`]), and so does a file another entity's terrain also names (a
-/// duplicate); a file source of its own is kept.
-pub fn file_backed(state: &EditorState, index: usize, row: &EntityRow) -> EntityRow {
-    let mut row = row.clone();
-    let shared = |path: &str| {
-        let scene = state.scene();
-        scene.entities().enumerate().any(|(i, e)| {
-            i != index
-                && scene.world().get::<&Terrain>(e).is_ok_and(
-                    |t| matches!(&t.heightmap, HeightSource::File { path: p } if p == path),
-                )
-        })
-    };
-    let fresh = row.terrain.as_ref().is_some_and(|t| match &t.heightmap {
-        HeightSource::Noise { .. } => true,
-        HeightSource::File { path } => shared(path),
-    });
-    if fresh {
-        let name = heightmap_file_name(
-            &state.document.level.path,
-            row.name.as_ref().map(|n| n.0.as_str()),
-            index,
-            |n| state.document.heightmap_taken(n),
-        );
-        if let Some(t) = &mut row.terrain {
-            t.heightmap = HeightSource::File { path: name };
-        }
-    }
-    row
-}
-
-/// Replaces the heights of the terrain at `index` with the 16-bit heightmap `file`, as one
-/// undo step (the grid takes the file's size; a noise source becomes a file beside the
-/// level). A file that is not a 16-bit greyscale PNG of 2..=4097 samples per edge is
-/// refused with the reason, and nothing changes.
-pub fn import_heightmap(state: &mut EditorState, index: usize, file: &Path) -> Result<(), String> {
-    let target = terrain_at(state, index)
-        .ok_or_else(|| format!("entity {index} has no terrain with loaded heights"))?;
-    let field = read_heightmap(file, target.terrain.max_height)?;
-    let after = file_backed(state, index, &target.row);
-    let change = HeightChange::Field {
-        before: target.field.clone(),
-        after: Arc::new(field),
-    };
-    let cmd = Command::SetHeights {
-        index,
-        before: Box::new(target.row),
-        after: Box::new(after),
-        change: Arc::new(change),
-    };
-    state.apply(cmd, None).map_err(|e| e.to_string())?;
-    state.history.seal();
-    Ok(())
-}
-
-/// Writes the heights of the terrain at `index` to `file` as a 16-bit greyscale PNG
-/// (0..=65535 for 0..=max height).
-pub fn export_heightmap(state: &EditorState, index: usize, file: &Path) -> Result<(), String> {
-    let target = terrain_at(state, index)
-        .ok_or_else(|| format!("entity {index} has no terrain with loaded heights"))?;
-    write_heightmap(file, &target.field, target.terrain.max_height)
 }
 
 #[cfg(test)]

@@ -270,7 +270,8 @@ fn survey(args: &SurveyArgs, command_line: String) -> Result<()> {
     let size = parse_size(&common.size)?;
     let level = texel_runtime::load::load_level(&args.level)?;
     let spec = survey_spec(args, level.scene.settings.cell_size)?;
-    let rays = texel_runtime::occluders::SceneRays::new(texel_runtime::driver::scene_input(&level));
+    let rays =
+        texel_runtime::occluders::SceneRays::new(texel_runtime::frame_plan::scene_input(&level));
     let walks = survey_walks(rays.scene(), &rays, &spec)
         .map_err(|e| anyhow::anyhow!("{}: {e}", args.level.display()))?;
     let dir = common.out.join("paths");

@@ -6,7 +6,7 @@ use glam::UVec2;
 use texel_render::baselines::{Baseline, BaselineRenderer, BaselineView};
 use texel_render::context::GpuContext;
 use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
-use texel_runtime::driver::Animation;
+use texel_runtime::frame_plan::Animation;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{FrameRequest, Session, set_face_resolution};
 
@@ -25,7 +25,7 @@ pub fn set_face_res(level: &mut LoadedLevel, face_res: u32) -> Result<(), EvalEr
 
 /// The level's look (sky, ambient light, bands, haze), as every method draws it.
 pub fn level_look(level: &LoadedLevel) -> Look {
-    texel_runtime::driver::level_look(&level.scene)
+    texel_runtime::frame_plan::level_look(&level.scene)
 }
 
 /// Texel splatting with our schedule or the paper's, or texel marching over our schedule's

@@ -8,7 +8,7 @@ use std::collections::BTreeMap;
 use glam::{UVec2, Vec3};
 use texel_render::input::{Camera, Pose, SceneInput};
 use texel_render::stats::FrameStats;
-use texel_runtime::driver::Animation;
+use texel_runtime::frame_plan::Animation;
 use texel_runtime::path::CameraPath;
 
 use crate::meter::{OwnedFrame, PathMeter, Scores};

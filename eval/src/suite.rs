@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::UVec2;
 use texel_render::context::GpuContext;
 use texel_render::input::{Camera, Display, Look, SceneInput, Schedule};
-use texel_runtime::driver::{Animation, scene_input};
+use texel_runtime::frame_plan::{Animation, scene_input};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::{CameraPath, Projection};
 
@@ -315,7 +315,7 @@ pub fn path_references(
     // Sprites turn toward each frame's grid probe, as texel splatting turns them; a level
     // without sprites needs no frame driver (its probe placement builds a ray-cast tree).
     let mut driver = (!scene.sprites.is_empty())
-        .then(|| texel_runtime::driver::FrameDriver::new(level, size, fov_y))
+        .then(|| texel_runtime::frame_plan::FrameDriver::new(level, size, fov_y))
         .transpose()
         .map_err(|e| EvalError::Input(e.to_string()))?;
     let mut eye = |c: &texel_render::input::Camera| match driver.as_mut() {

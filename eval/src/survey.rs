@@ -340,7 +340,7 @@ mod tests {
     use super::*;
     use glam::Vec3Swizzles;
     use std::path::Path;
-    use texel_runtime::driver::scene_input;
+    use texel_runtime::frame_plan::scene_input;
     use texel_runtime::load::load_level;
     use texel_runtime::occluders::SceneRays;
 

@@ -10,7 +10,7 @@ use texel_eval::gpu::GpuReference;
 use texel_eval::reference::CpuScene;
 use texel_eval::runner::{RefFrame, ReferenceSource};
 use texel_render::context::test_context;
-use texel_runtime::driver::{scene_input, start_camera};
+use texel_runtime::frame_plan::{scene_input, start_camera};
 use texel_runtime::load::load_level;
 
 #[test]

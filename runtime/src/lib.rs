@@ -5,9 +5,9 @@
 
 pub mod cli;
 pub mod density_check;
-pub mod driver;
 pub mod extract;
 pub mod first_person;
+pub mod frame_plan;
 pub mod generate;
 pub mod headless;
 pub mod level_sprites;

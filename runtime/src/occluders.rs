@@ -77,7 +77,7 @@ impl RayQuery for SceneRays {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::driver::scene_input;
+    use crate::frame_plan::scene_input;
     use crate::load::load_level;
     use glam::{IVec3, Vec3};
     use texel_probes::grid::GridCell;

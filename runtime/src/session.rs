@@ -12,7 +12,7 @@ use texel_render::stats::FrameStats;
 use texel_scene::PixelScale;
 use texel_scene::limits::{FACE_RESOLUTIONS, face_resolution_error};
 
-use crate::driver::{DriverError, FrameDriver, PreparedLevel};
+use crate::frame_plan::{DriverError, FrameDriver, PreparedLevel};
 use crate::load::LoadedLevel;
 
 /// Why a session could not draw.
@@ -232,7 +232,7 @@ impl Session {
     }
 }
 
-pub use crate::driver::shadow_extended;
+pub use crate::frame_plan::shadow_extended;
 
 /// Makes `level` use faces of `n` texels (a command line's `--face-res`), checked against
 /// the engine's range.

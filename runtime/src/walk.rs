@@ -79,7 +79,7 @@ impl Walker {
         // Moved while flying too, so landing finds them where they are drawn. A bad pose
         // (the level validates its animators, so none is expected) leaves its object where
         // it was, and the others still move.
-        let poses = texel_scene::animator::poses(scene, t);
+        let poses = scene.animated_poses(t);
         let _ = self.world.set_kinematic_poses(&poses, dt);
         camera.update(input, mouse_delta, dt);
         if camera.fly {

@@ -3,7 +3,7 @@
 
 use std::path::Path;
 
-use texel_runtime::driver::{Animation, scene_input};
+use texel_runtime::frame_plan::{Animation, scene_input};
 use texel_runtime::load::load_level;
 
 #[test]

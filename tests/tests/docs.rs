@@ -384,13 +384,19 @@ impl Commands {
             let Some(p) = self.packages().get(name) else {
                 return Err(format!("`-p {name}`: no such workspace package"));
             };
+            // A target is `kind/target.rs` or, split into modules, `kind/target/main.rs`
+            // (the two places Cargo looks).
             let exists = |kind: &str, flag: &str| -> Result<(), String> {
+                let found = |target: &str| {
+                    let dir = p.dir.join(kind);
+                    dir.join(format!("{target}.rs")).is_file()
+                        || dir.join(target).join("main.rs").is_file()
+                };
                 match value(&[flag]) {
-                    Some(target) if !p.dir.join(kind).join(format!("{target}.rs")).is_file() => {
-                        Err(format!(
-                            "`{flag} {target}`: {name} has no {kind}/{target}.rs"
-                        ))
-                    }
+                    Some(target) if !found(&target) => Err(format!(
+                        "`{flag} {target}`: {name} has no {kind}/{target}.rs or \
+                         {kind}/{target}/main.rs"
+                    )),
                     _ => Ok(()),
                 }
             };

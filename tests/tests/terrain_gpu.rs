@@ -543,7 +543,7 @@ fn the_raster_baseline_shows_the_same_paint_on_the_same_cells() {
         return;
     };
     let loaded = texel_runtime::load::load_level(&level).expect("level loads");
-    let look = texel_runtime::driver::level_look(&loaded.scene);
+    let look = texel_runtime::frame_plan::level_look(&loaded.scene);
     let mut r = BaselineRenderer::new(&h.ctx).expect("baseline pipelines");
     r.set_scene(&h.ctx, h.session.scene()).expect("scene");
     let camera = cam(0.3, 5.0, 0.2, 0.0, -80.0);

@@ -214,10 +214,10 @@ impl PhysicsWorld {
     }
 
     /// Moves every listed entity that has colliders, as
-    /// [`texel_scene::animator::poses`] lists them for a moment of the level's clock: call it
-    /// once per frame before stepping the players. Entities without colliders (an animated
-    /// light) are skipped; a bad pose is skipped too, and the first one is returned once the
-    /// others are applied.
+    /// [`texel_scene::Scene::animated_poses`] lists them for a moment of the level's clock:
+    /// call it once per frame before stepping the players. Entities without colliders (an
+    /// animated light) are skipped; a bad pose is skipped too, and the first one is returned
+    /// once the others are applied.
     pub fn set_kinematic_poses(
         &mut self,
         poses: &[(Entity, Transform)],

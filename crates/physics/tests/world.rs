@@ -414,7 +414,7 @@ fn a_player_rides_the_animated_platform_of_moving_parts() -> anyhow::Result<()> 
     let frames = (3.0 / FRAME).round() as u32;
     for i in 0..=frames {
         let t = f64::from(i) * f64::from(FRAME);
-        w.set_kinematic_poses(&texel_scene::animator::poses(&scene, t), FRAME)?;
+        w.set_kinematic_poses(&scene.animated_poses(t), FRAME)?;
         p.step(&mut w, &idle(), FRAME);
     }
     // At 3 s it is halfway from (-3.4, 1.2, 2.2) to (-3.4, 1.2, 0.8).

@@ -9,7 +9,7 @@
 //! `origin + half · (u · right + v · down) + d · forward`.
 //!
 //! Its texels are one art pixel each, and the driver places `origin` on a lattice of whole
-//! texels in the view plane (`texel_runtime::driver`), so two orthographic probes with the
+//! texels in the view plane (`texel_runtime::frame_plan`), so two orthographic probes with the
 //! same direction sample exactly the same world lines: moving a probe along the lattice
 //! changes no texel's content, and a pan never resamples. The face is stored as layer 0
 //! (face +X) of its slot; the other five layers are unused.

@@ -7,17 +7,14 @@
 //! another, eased) and [`Motion::Path`] (key poses at times, looping). Time is an `f64` of
 //! seconds reduced modulo the motion's period before anything becomes `f32`, so the pose
 //! after an hour is as exact as in the first second. The entity's transform in the level is
-//! the animation's base (the rest pose the editor shows); [`poses`] evaluates every
-//! animated entity of a scene without changing it.
+//! the animation's base (the rest pose the editor shows); `Scene::animated_poses` evaluates
+//! every animated entity of a scene without changing it.
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::{Deserialize, Serialize};
 
 use crate::components::{Transform, Validate};
-use crate::level::EntityRow;
 use crate::num;
-use crate::scene::Scene;
-use crate::terrain::Terrain;
 
 /// Most keys a path may hold.
 pub const MAX_PATH_KEYS: usize = 1024;
@@ -168,24 +165,6 @@ impl Motion {
     }
 }
 
-/// Every animated entity of `scene` (an [`Animator`] and a [`Transform`], no terrain) with
-/// its pose at `t` seconds, in level order. The scene is not changed.
-pub fn poses(scene: &Scene, t: f64) -> Vec<(hecs::Entity, Transform)> {
-    let world = scene.world();
-    scene
-        .entities()
-        .filter_map(|e| {
-            let r = world.entity(e).ok()?;
-            if r.has::<Terrain>() {
-                return None;
-            }
-            let animator = r.get::<&Animator>()?;
-            let base = r.get::<&Transform>()?;
-            Some((e, animator.pose_at(&base, t)))
-        })
-        .collect()
-}
-
 /// `t` modulo `period` in `[0, period)` (`period` > 0), in f64.
 fn wrap(t: f64, period: f64) -> f64 {
     let r = t.rem_euclid(period);
@@ -293,27 +272,6 @@ pub fn check_path_period(keys: &[PathKey], period: f32) -> Result<(), String> {
         )),
         _ => Ok(()),
     }
-}
-
-/// What an entity row must hold for its animator: a transform to move, and no terrain
-/// (terrains do not move). `Err((field, message))` names the missing or forbidden component.
-pub fn check_row(row: &EntityRow) -> Result<(), (&'static str, String)> {
-    if row.animator.is_none() {
-        return Ok(());
-    }
-    if row.transform.is_none() {
-        return Err((
-            "transform",
-            "an animator moves its entity's transform, and this entity has none".to_owned(),
-        ));
-    }
-    if row.terrain.is_some() {
-        return Err((
-            "terrain",
-            "terrains do not move: an entity with a terrain cannot have an animator".to_owned(),
-        ));
-    }
-    Ok(())
 }
 
 impl Validate for Animator {

@@ -10,6 +10,7 @@ pub mod components;
 pub mod density;
 pub mod gltf_import;
 pub mod level;
+pub mod level_read;
 pub mod migrate;
 pub mod num;
 pub mod primitives;

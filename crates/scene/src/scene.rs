@@ -227,6 +227,23 @@ pub struct KindCounts {
 }
 
 impl Scene {
+    /// Every animated entity of the scene (an [`Animator`] and a [`Transform`], no terrain) with
+    /// its pose at `t` seconds, in level order. The scene is not changed.
+    pub fn animated_poses(&self, t: f64) -> Vec<(Entity, Transform)> {
+        let world = self.world();
+        self.entities()
+            .filter_map(|e| {
+                let r = world.entity(e).ok()?;
+                if r.has::<Terrain>() {
+                    return None;
+                }
+                let animator = r.get::<&Animator>()?;
+                let base = r.get::<&Transform>()?;
+                Some((e, animator.pose_at(&base, t)))
+            })
+            .collect()
+    }
+
     /// Counts entities by kind.
     pub fn kind_counts(&self) -> KindCounts {
         let w = &self.world;

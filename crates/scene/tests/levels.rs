@@ -64,7 +64,7 @@ fn stone_circle_has_what_the_issue_asks_for() {
 /// together), a sliding door and a moving platform, one of each motion.
 #[test]
 fn moving_parts_is_the_stone_circle_with_three_motions() {
-    use texel_scene::animator::{Easing, Motion, poses};
+    use texel_scene::animator::{Easing, Motion};
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels");
     let circle = Level::load(&dir.join("stone_circle.ron")).unwrap();
     let level = Level::load(&dir.join("moving_parts.ron")).unwrap();
@@ -121,7 +121,7 @@ fn moving_parts_is_the_stone_circle_with_three_motions() {
     // The platform starts where its path does, so the rest pose the editor shows is the
     // first key.
     let scene = Scene::from_level(&level);
-    let first = poses(&scene, 0.0);
+    let first = scene.animated_poses(0.0);
     assert_eq!(first.len(), 5);
     assert_eq!(first[4].1, animated[4].2);
 }
@@ -646,7 +646,7 @@ fn terrain_paint_layers_round_trip_and_bad_files_are_named() {
 /// defaults (no phase, linear easing, unrotated path keys) are not written.
 #[test]
 fn animators_round_trip_and_write_no_defaults() {
-    use texel_scene::animator::{Animator, Easing, Motion, PathKey, poses};
+    use texel_scene::animator::{Animator, Easing, Motion, PathKey};
     use texel_scene::{EntityRow, Transform};
     let path = Path::new("a.ron");
     let at = |x: f32, y: f32, z: f32| Transform::from_translation(Vec3::new(x, y, z));
@@ -729,7 +729,7 @@ fn animators_round_trip_and_write_no_defaults() {
     assert!(text.contains("rotation: (0.0, 90.0, 0.0))"), "{text}");
     assert_eq!(Level::from_ron_str(&text, path).unwrap(), eased);
     // Every animated entity, in level order, at its pose.
-    let p = poses(&scene, 1.0);
+    let p = scene.animated_poses(1.0);
     let names: Vec<_> = p
         .iter()
         .map(|(e, _)| scene.row(*e).unwrap().name.unwrap().0)

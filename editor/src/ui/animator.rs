@@ -7,13 +7,12 @@
 
 use egui::Ui;
 use glam::Vec3;
-use texel_scene::animator::{Animator, Easing, MAX_PATH_KEYS, Motion, PathKey, check_row};
+use texel_scene::animator::{Animator, Easing, MAX_PATH_KEYS, Motion, PathKey};
+use texel_scene::level::check_animator_row;
 use texel_scene::{EntityRow, Transform, Validate};
 
-use crate::ui::widgets::{scalar, vec3};
+use crate::ui::widgets::{BIG, MIN_SIZE, scalar, vec3};
 
-const BIG: f32 = 1.0e6;
-const MIN_SIZE: f32 = 0.001;
 /// The least time between two path keys (and between the last key and the period) the
 /// inspector makes; files may hold less.
 const MIN_STEP: f32 = 0.01;
@@ -22,7 +21,7 @@ const MIN_STEP: f32 = 0.01;
 /// a transform or with a terrain). Removing the transform or adding a terrain removes the
 /// animator in the same step: a level cannot hold it then.
 pub fn section(ui: &mut Ui, row: &mut EntityRow) {
-    if row.animator.is_some() && check_row(row).is_err() {
+    if row.animator.is_some() && check_animator_row(row).is_err() {
         row.animator = None;
     }
     let base = row.transform.unwrap_or_default();

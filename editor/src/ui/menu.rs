@@ -152,148 +152,169 @@ pub fn show(
 ) -> Option<Action> {
     let mut out = None;
     egui::MenuBar::new().ui(ui, |ui| {
-        ui.menu_button("File", |ui| {
-            for (label, a) in [
-                ("New", Action::New),
-                ("Open…", Action::Open),
-                ("Save  (Ctrl+S)", Action::Save),
-                ("Save As…", Action::SaveAs),
-            ] {
-                if ui.button(label).clicked() {
-                    out = Some(a);
-                }
-            }
-            ui.menu_button("Recent", |ui| {
-                if recent.is_empty() {
-                    ui.label("(none)");
-                }
-                for p in recent {
-                    if ui.button(p.display().to_string()).clicked() {
-                        out = Some(Action::OpenPath(p.clone()));
-                    }
-                }
-            });
-            ui.separator();
-            if ui.button("Quit").clicked() {
-                out = Some(Action::Quit);
-            }
-        });
-        ui.menu_button("Edit", |ui| {
-            let u = undo.map_or("Undo".to_owned(), |d| format!("Undo {d}  (Ctrl+Z)"));
-            if ui
-                .add_enabled(undo.is_some(), egui::Button::new(u))
-                .clicked()
-            {
-                out = Some(Action::Undo);
-            }
-            let r = redo.map_or("Redo".to_owned(), |d| format!("Redo {d}  (Ctrl+Y)"));
-            if ui
-                .add_enabled(redo.is_some(), egui::Button::new(r))
-                .clicked()
-            {
-                out = Some(Action::Redo);
-            }
-            if ui.button("Duplicate  (Ctrl+D)").clicked() {
-                out = Some(Action::Duplicate);
-            }
-            if ui.button("Delete  (Del)").clicked() {
-                out = Some(Action::Delete);
-            }
-        });
-        ui.menu_button("Add", |ui| {
-            for (label, row) in presets() {
-                if ui.button(label).clicked() {
-                    out = Some(Action::Add(Box::new(row)));
-                }
-            }
-            if ui.button("glTF mesh…").clicked() {
-                out = Some(Action::AddMesh);
-            }
-            if ui.button("Terrain").clicked() {
-                out = Some(Action::AddTerrain);
-            }
-            if ui.button("Sprite…").clicked() {
-                out = Some(Action::AddSprite);
-            }
-        });
-        ui.menu_button("Tools", |ui| {
-            let mut on = view.terrain_tool;
-            if ui
-                .add_enabled(!playing, egui::Checkbox::new(&mut on, "Terrain tool  (T)"))
-                .clicked()
-            {
-                out = Some(Action::ToggleTerrainTool);
-            }
-            let hint = "Select a terrain";
-            let enabled = view.terrain_selection && !playing;
-            if ui
-                .add_enabled(enabled, egui::Button::new("Import heightmap…"))
-                .on_disabled_hover_text(hint)
-                .clicked()
-            {
-                out = Some(Action::ImportHeightmap);
-            }
-            if ui
-                .add_enabled(
-                    view.terrain_selection,
-                    egui::Button::new("Export heightmap…"),
-                )
-                .on_disabled_hover_text(hint)
-                .clicked()
-            {
-                out = Some(Action::ExportHeightmap);
-            }
-        });
-        ui.menu_button("View", |ui| {
-            ui.label("Render method");
-            for (label, s) in [
-                ("Ours: cached shading, per-texel culling", Schedule::Ours),
-                ("Paper: every texel of every drawn face", Schedule::Paper),
-            ] {
-                if ui.radio(view.schedule == s, label).clicked() {
-                    out = Some(Action::Schedule(s));
-                }
-            }
-            ui.separator();
-            let mut ortho = view.ortho;
-            let check = egui::Checkbox::new(&mut ortho, "Orthographic view  (5)");
-            if ui
-                .add_enabled(!playing, check)
-                .on_disabled_hover_text("Play always walks with the perspective camera")
-                .clicked()
-            {
-                out = Some(Action::ToggleOrtho);
-            }
-            let frame = egui::Button::new("Frame 1:1 (selected texture)");
-            if ui
-                .add_enabled(view.textured_selection && !playing, frame)
-                .on_disabled_hover_text("Select an entity with a loaded texture")
-                .clicked()
-            {
-                out = Some(Action::FrameOneToOne);
-            }
-            ui.separator();
-            ui.label("Debug views");
-            for v in DebugView::ALL {
-                let mut on = view.debug.get(v);
-                if ui.checkbox(&mut on, v.label()).clicked() {
-                    out = Some(Action::ToggleDebug(v));
-                }
-            }
-        });
-        ui.separator();
-        let sculpt = egui::Button::selectable(view.terrain_tool, "Sculpt (T)");
-        if ui
-            .add_enabled(!playing, sculpt)
-            .on_hover_text("The terrain tool: brushes for the selected terrain")
-            .clicked()
-        {
-            out = Some(Action::ToggleTerrainTool);
-        }
-        let play = if playing { "Stop (Esc)" } else { "Play (F5)" };
-        if ui.button(play).clicked() {
-            out = Some(Action::TogglePlay);
-        }
+        ui.menu_button("File", |ui| file_menu(ui, recent, &mut out));
+        ui.menu_button("Edit", |ui| edit_menu(ui, undo, redo, &mut out));
+        ui.menu_button("Add", |ui| add_menu(ui, &mut out));
+        ui.menu_button("Tools", |ui| tools_menu(ui, playing, view, &mut out));
+        ui.menu_button("View", |ui| view_menu(ui, playing, view, &mut out));
+        sculpt_and_play_buttons(ui, playing, view, &mut out);
     });
     out
+}
+
+/// The File menu: new, open, save, the recent levels, quit.
+fn file_menu(ui: &mut Ui, recent: &[PathBuf], out: &mut Option<Action>) {
+    for (label, a) in [
+        ("New", Action::New),
+        ("Open…", Action::Open),
+        ("Save  (Ctrl+S)", Action::Save),
+        ("Save As…", Action::SaveAs),
+    ] {
+        if ui.button(label).clicked() {
+            *out = Some(a);
+        }
+    }
+    ui.menu_button("Recent", |ui| {
+        if recent.is_empty() {
+            ui.label("(none)");
+        }
+        for p in recent {
+            if ui.button(p.display().to_string()).clicked() {
+                *out = Some(Action::OpenPath(p.clone()));
+            }
+        }
+    });
+    ui.separator();
+    if ui.button("Quit").clicked() {
+        *out = Some(Action::Quit);
+    }
+}
+
+/// The Edit menu: undo and redo (named after what they undo or redo), duplicate, delete.
+fn edit_menu(ui: &mut Ui, undo: Option<&str>, redo: Option<&str>, out: &mut Option<Action>) {
+    let u = undo.map_or("Undo".to_owned(), |d| format!("Undo {d}  (Ctrl+Z)"));
+    if ui
+        .add_enabled(undo.is_some(), egui::Button::new(u))
+        .clicked()
+    {
+        *out = Some(Action::Undo);
+    }
+    let r = redo.map_or("Redo".to_owned(), |d| format!("Redo {d}  (Ctrl+Y)"));
+    if ui
+        .add_enabled(redo.is_some(), egui::Button::new(r))
+        .clicked()
+    {
+        *out = Some(Action::Redo);
+    }
+    if ui.button("Duplicate  (Ctrl+D)").clicked() {
+        *out = Some(Action::Duplicate);
+    }
+    if ui.button("Delete  (Del)").clicked() {
+        *out = Some(Action::Delete);
+    }
+}
+
+/// The Add menu: the preset entities, a glTF mesh, a terrain, a sprite.
+fn add_menu(ui: &mut Ui, out: &mut Option<Action>) {
+    for (label, row) in presets() {
+        if ui.button(label).clicked() {
+            *out = Some(Action::Add(Box::new(row)));
+        }
+    }
+    if ui.button("glTF mesh…").clicked() {
+        *out = Some(Action::AddMesh);
+    }
+    if ui.button("Terrain").clicked() {
+        *out = Some(Action::AddTerrain);
+    }
+    if ui.button("Sprite…").clicked() {
+        *out = Some(Action::AddSprite);
+    }
+}
+
+/// The Tools menu: the terrain tool and the selected terrain's heightmap import and export
+/// (not in Play, but for export).
+fn tools_menu(ui: &mut Ui, playing: bool, view: ViewChoice, out: &mut Option<Action>) {
+    let mut on = view.terrain_tool;
+    if ui
+        .add_enabled(!playing, egui::Checkbox::new(&mut on, "Terrain tool  (T)"))
+        .clicked()
+    {
+        *out = Some(Action::ToggleTerrainTool);
+    }
+    let hint = "Select a terrain";
+    let enabled = view.terrain_selection && !playing;
+    if ui
+        .add_enabled(enabled, egui::Button::new("Import heightmap…"))
+        .on_disabled_hover_text(hint)
+        .clicked()
+    {
+        *out = Some(Action::ImportHeightmap);
+    }
+    if ui
+        .add_enabled(
+            view.terrain_selection,
+            egui::Button::new("Export heightmap…"),
+        )
+        .on_disabled_hover_text(hint)
+        .clicked()
+    {
+        *out = Some(Action::ExportHeightmap);
+    }
+}
+
+/// The View menu: the render method, orthographic view, Frame 1:1 and the debug views.
+fn view_menu(ui: &mut Ui, playing: bool, view: ViewChoice, out: &mut Option<Action>) {
+    ui.label("Render method");
+    for (label, s) in [
+        ("Ours: cached shading, per-texel culling", Schedule::Ours),
+        ("Paper: every texel of every drawn face", Schedule::Paper),
+    ] {
+        if ui.radio(view.schedule == s, label).clicked() {
+            *out = Some(Action::Schedule(s));
+        }
+    }
+    ui.separator();
+    let mut ortho = view.ortho;
+    let check = egui::Checkbox::new(&mut ortho, "Orthographic view  (5)");
+    if ui
+        .add_enabled(!playing, check)
+        .on_disabled_hover_text("Play always walks with the perspective camera")
+        .clicked()
+    {
+        *out = Some(Action::ToggleOrtho);
+    }
+    let frame = egui::Button::new("Frame 1:1 (selected texture)");
+    if ui
+        .add_enabled(view.textured_selection && !playing, frame)
+        .on_disabled_hover_text("Select an entity with a loaded texture")
+        .clicked()
+    {
+        *out = Some(Action::FrameOneToOne);
+    }
+    ui.separator();
+    ui.label("Debug views");
+    for v in DebugView::ALL {
+        let mut on = view.debug.get(v);
+        if ui.checkbox(&mut on, v.label()).clicked() {
+            *out = Some(Action::ToggleDebug(v));
+        }
+    }
+}
+
+/// The buttons on the bar itself: the terrain tool's (not in Play) and Play / Stop.
+fn sculpt_and_play_buttons(ui: &mut Ui, playing: bool, view: ViewChoice, out: &mut Option<Action>) {
+    ui.separator();
+    let sculpt = egui::Button::selectable(view.terrain_tool, "Sculpt (T)");
+    if ui
+        .add_enabled(!playing, sculpt)
+        .on_hover_text("The terrain tool: brushes for the selected terrain")
+        .clicked()
+    {
+        *out = Some(Action::ToggleTerrainTool);
+    }
+    let play = if playing { "Stop (Esc)" } else { "Play (F5)" };
+    if ui.button(play).clicked() {
+        *out = Some(Action::TogglePlay);
+    }
 }

@@ -5,5 +5,6 @@ pub mod dialogs;
 pub mod hierarchy;
 pub mod inspector;
 pub mod menu;
+pub mod pixel_section;
 pub mod sprite_section;
 pub mod widgets;

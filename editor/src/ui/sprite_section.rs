@@ -21,9 +21,10 @@ use egui::emath::GuiRounding;
 use egui::{Color32, DragValue, Rect, Ui, pos2};
 use glam::{UVec2, Vec2};
 use texel_scene::assets::AssetLibrary;
+use texel_scene::level::check_sprite_row;
 use texel_scene::sprite::{
     Billboard, DIRECTIONS, INDEX_RATIOS, MAX_ANIMATIONS, MAX_FPS, MAX_RELIEF_DEPTH, Refraction,
-    Relief, Sprite, SpriteAnimation, SpriteSize, check_row,
+    Relief, Sprite, SpriteAnimation, SpriteSize,
 };
 use texel_scene::texture::Image;
 use texel_scene::{EntityRow, Validate};
@@ -209,7 +210,7 @@ pub fn keep_row_valid(
     if row.sprite.is_none() {
         return;
     }
-    if let Err((_, why)) = check_row(row) {
+    if let Err((_, why)) = check_sprite_row(row) {
         row.transform = before.transform;
         row.geometry = before.geometry.clone();
         row.terrain = before.terrain.clone();
@@ -634,27 +635,4 @@ fn draw_frame(
 }
 
 #[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn frame_lists_read_and_write() {
-        assert_eq!(parse_frames("1, 2,3 ,"), Ok(vec![1, 2, 3]));
-        assert_eq!(parse_frames(""), Ok(vec![]));
-        assert!(parse_frames("1, x").unwrap_err().contains("`x`"));
-        assert!(parse_frames("-1").is_err());
-        assert_eq!(frames_text(&[4, 0, 7]), "4, 0, 7");
-    }
-
-    #[test]
-    fn the_step_is_the_position_frame_at_shows() {
-        let a = SpriteAnimation {
-            name: "a".into(),
-            frames: vec![7, 7, 3],
-            fps: 4.0,
-        };
-        for (t, k) in [(0.0, 0), (0.25, 1), (0.5, 2), (0.75, 0), (-0.1, 2)] {
-            assert_eq!(step_at(&a, t), k, "t {t}");
-        }
-    }
-}
+mod tests;

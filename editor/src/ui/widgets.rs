@@ -6,6 +6,11 @@ use egui::{DragValue, Ui};
 use glam::{Vec2, Vec3};
 use texel_scene::EntityRow;
 
+/// The largest magnitude a panel's number fields take (they clamp to `-BIG..=BIG`).
+pub const BIG: f32 = 1.0e6;
+/// The smallest size or scale a panel's fields take.
+pub const MIN_SIZE: f32 = 0.001;
+
 /// A row of three drag values named `"{name} X"` etc. Returns true when one changed.
 pub fn vec3(ui: &mut Ui, name: &str, v: &mut Vec3, speed: f32, min: f32) -> bool {
     let mut changed = false;

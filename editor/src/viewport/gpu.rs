@@ -205,7 +205,7 @@ impl GpuView {
         Ok(id)
     }
 
-    /// The entity id under `pixel` of the last frame (`texel_runtime::driver::entity_id`).
+    /// The entity id under `pixel` of the last frame (`texel_runtime::frame_plan::entity_id`).
     pub fn pick(&self, pixel: UVec2) -> Result<Option<u32>, String> {
         let Some((session, _)) = &self.session else {
             return Ok(None);

@@ -8,6 +8,7 @@
 
 pub mod debug;
 pub mod drag;
+mod frame;
 pub mod gizmo;
 pub mod gpu;
 pub mod handles;
@@ -247,130 +248,14 @@ impl Viewport {
         self.handle_camera(ui, &response, dt, typing, state);
         self.update_grab(ui.ctx(), &response);
         if !typing && !self.playing() {
-            ui.input(|i| {
-                if i.key_pressed(Key::W) && !i.pointer.button_down(PointerButton::Secondary) {
-                    self.gizmo = Mode::Translate;
-                }
-                if i.key_pressed(Key::E) && !i.pointer.button_down(PointerButton::Secondary) {
-                    self.gizmo = Mode::Rotate;
-                }
-                if i.key_pressed(Key::R) {
-                    self.gizmo = Mode::Scale;
-                }
-                if i.key_pressed(Key::F) {
-                    self.focus_selection(state);
-                }
-                // 5 on the number row or the keypad (egui names both Num5), as numpad 5 in
-                // Blender.
-                if i.key_pressed(Key::Num5) && i.modifiers.is_none() {
-                    self.toggle_ortho();
-                }
-            });
-            if ui.input(|i| i.key_pressed(Key::T)) {
-                self.terrain.toggle(state)?;
-            }
+            self.shortcuts(ui, state)?;
         }
         let camera = self.render_camera();
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
-        // An edit (a gizmo or inspector drag, or a single change) renders its first frame
-        // cheaply too: the scene upload and new probes then cost less, and the still
-        // resolution refines it on the next frame.
-        let edited = self.last.is_some_and(|l| l.0 != state.document.revision);
-        if edited {
-            self.moving = true;
-        }
-        let ppp = ui.ctx().pixels_per_point();
-        let scale = if self.moving {
-            SCALE_MOVING
-        } else {
-            SCALE_STILL
-        };
-        let size = UVec2::new(
-            (rect.width() * ppp * scale).max(16.0) as u32,
-            (rect.height() * ppp * scale).max(16.0) as u32,
-        );
-        self.still_height = (rect.height() * ppp * SCALE_STILL).max(16.0) as u32;
-        let key = (state.document.revision, self.camera, size);
-        let changed = self.last != Some(key) || self.playing();
-        if changed {
-            self.settle = SETTLE_FRAMES;
-            self.last = Some(key);
-        }
-        // The ground grid is drawn by the renderer, hidden by the scene; not in Play.
-        let grid = !self.playing();
-        if let Some(gpu) = &mut self.gpu {
-            if self.grid_lines != Some(grid) {
-                let lines = if grid {
-                    overlay::grid_lines()
-                } else {
-                    Vec::new()
-                };
-                gpu.set_lines(&lines);
-                self.grid_lines = Some(grid);
-                self.settle = SETTLE_FRAMES;
-            }
-            let density = self.debug.flags.texel_density;
-            if gpu.texture_density_view() != density {
-                if let Err(e) = gpu.set_texture_density_view(density) {
-                    self.error = Some(e);
-                }
-                self.settle = SETTLE_FRAMES;
-            }
-            let rendered = self.settle > 0;
-            if rendered {
-                let t = Instant::now();
-                let region = gpu
-                    .session_revision()
-                    .and_then(|r| state.document.region_since(r));
-                gpu.use_region(region);
-                let r = gpu.render(
-                    &state.document.level,
-                    state.document.revision,
-                    camera,
-                    size,
-                    self.schedule,
-                    dt,
-                );
-                self.error = r.err();
-                if edited {
-                    self.edit_stall_ms = t.elapsed().as_secs_f64() * 1e3;
-                }
-                self.settle -= 1;
-                ui.ctx().request_repaint();
-            }
-            if self.error.is_none()
-                && let Some(id) = gpu.texture()
-            {
-                painter.image(
-                    id,
-                    rect,
-                    egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-                    Color32::WHITE,
-                );
-            }
-            if self.error.is_none() {
-                self.debug
-                    .update(ui.ctx(), gpu, rendered, rendered && self.settle == 0);
-            }
-        } else {
-            painter.text(
-                rect.center(),
-                egui::Align2::CENTER_CENTER,
-                "no GPU renderer (eframe is not running on wgpu)",
-                egui::FontId::proportional(14.0),
-                Color32::GRAY,
-            );
-        }
-        if let Some(e) = &self.error {
-            painter.text(
-                rect.left_top() + egui::vec2(8.0, 8.0),
-                egui::Align2::LEFT_TOP,
-                format!("render error: {e}"),
-                egui::FontId::proportional(13.0),
-                Color32::from_rgb(255, 120, 120),
-            );
-        }
+        let (size, edited) = self.render_size(ui.ctx(), rect, state);
+        let rendered = self.render(ui.ctx(), state, camera, size, dt, edited);
+        self.paint_render(ui.ctx(), &painter, rect, rendered);
         let proj = Projector::new(&camera, rect);
         let extract_view = ExtractViewport {
             height: size.y,
@@ -388,27 +273,7 @@ impl Viewport {
         self.debug.faces_window(ui.ctx(), rect);
         self.debug.density_legend(ui.ctx(), rect);
         if self.playing() {
-            let how = if self.grabbed {
-                "mouse to look"
-            } else {
-                "drag to look (click to capture the mouse)"
-            };
-            let mode = match self.mode {
-                ViewMode::Play(w) if w.fly => "flying (F to walk)",
-                _ => "walking (F to fly)",
-            };
-            let mut banner =
-                format!("PLAYING, {mode} — WASD + {how}, Shift to run, Space to jump, Esc to stop");
-            if let Some(note) = self.play_note() {
-                banner = format!("{banner}\n{note}");
-            }
-            painter.text(
-                rect.center_top() + egui::vec2(0.0, 8.0),
-                egui::Align2::CENTER_TOP,
-                banner,
-                egui::FontId::proportional(14.0),
-                Color32::WHITE,
-            );
+            self.paint_play_banner(&painter, rect);
             return Ok(());
         }
         if self.camera.ortho {
@@ -422,7 +287,8 @@ impl Viewport {
         }
         overlay::markers(&painter, &proj, state.scene(), state.selection);
         // The terrain tool on a selected terrain takes the primary button (no gizmo).
-        let sculpting = self.terrain.active && crate::terrain::selected_terrain(state).is_some();
+        let sculpting =
+            self.terrain.active && crate::terrain_edits::selected_terrain(state).is_some();
         let used = if sculpting {
             self.drag = None;
             self.face_drag = None;
@@ -626,7 +492,7 @@ impl Viewport {
             ((uv.y * size.y as f32) as u32).min(size.y - 1),
         );
         match gpu.pick(pixel) {
-            Ok(id) => state.selection = id.and_then(texel_runtime::driver::entity_index),
+            Ok(id) => state.selection = id.and_then(texel_runtime::frame_plan::entity_index),
             Err(e) => self.error = Some(e),
         }
     }

@@ -7,8 +7,8 @@
 use egui::ViewportCommand;
 use egui::viewport::CursorGrab;
 use glam::Vec2;
-use texel_runtime::driver::Animation;
 use texel_runtime::first_person::{InputState, WalkCamera};
+use texel_runtime::frame_plan::Animation;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::walk::Walker;
 

@@ -22,9 +22,12 @@ use texel_scene::terrain::{Heightfield, Terrain};
 
 use crate::camera::Projector;
 use crate::command::{Command, CommandError, entity_at};
-use crate::paint::{PaintPlace, PaintStroke, paint_backed, stroke_start};
+use crate::paint::{PaintPlace, PaintStroke};
 use crate::state::EditorState;
-use crate::terrain::{HeightChange, TerrainTarget, file_backed, selected_terrain};
+use crate::terrain::HeightChange;
+use crate::terrain_edits::{
+    TerrainTarget, file_backed, paint_backed, selected_terrain, stroke_start,
+};
 
 /// Shortest time between two refreshes of the view during a stroke (each rebuilds the
 /// session's level); longer when the last rebuild was slow ([`refresh_interval`]).

@@ -123,7 +123,7 @@ mod walking {
     use texel_scene::{Name, PlayerStart, Transform};
 
     use super::*;
-    use crate::driver::{FrameDriver, PreparedLevel};
+    use crate::frame_plan::{FrameDriver, PreparedLevel};
 
     const DT: f32 = 1.0 / 60.0;
 
