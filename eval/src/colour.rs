@@ -174,7 +174,13 @@ mod tests {
         // 0.4^(1/3) = 0.737 and 0.6^(1/3) = 0.843, so ΔE lies in [0.0254, 0.0291] (widened
         // by sRGB8's rounding).
         let (t, ids) = checker(0);
-        let (dark, _) = grey(|x, y| 0.9 * if (x / 16 + y / 16).is_multiple_of(2) { 0.6 } else { 0.4 });
+        let (dark, _) = grey(|x, y| {
+            0.9 * if (x / 16 + y / 16).is_multiple_of(2) {
+                0.6
+            } else {
+                0.4
+            }
+        });
         let e = colour_error(&dark, &t, &ids, SIZE, GRID).expect("objects");
         assert!((0.024..=0.031).contains(&e.mean), "{e:?}");
         assert!((0.024..=0.031).contains(&e.p95), "{e:?}");
@@ -191,7 +197,11 @@ mod tests {
         let half = colour_error(&half, &t, &ids, SIZE, GRID).expect("objects");
         // A wrong shadow: a quarter of the frame (a 32 × 32 square) at half the light.
         let (shadow, _) = grey(|x, y| {
-            let base = if (x / 16 + y / 16).is_multiple_of(2) { 0.6 } else { 0.4 };
+            let base = if (x / 16 + y / 16).is_multiple_of(2) {
+                0.6
+            } else {
+                0.4
+            };
             if x < 32 && y < 32 { base * 0.5 } else { base }
         });
         let shadow = colour_error(&shadow, &t, &ids, SIZE, GRID).expect("objects");

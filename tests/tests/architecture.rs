@@ -113,3 +113,113 @@ fn no_library_depends_on_an_app() {
         }
     }
 }
+
+/// Source files of the workspace (`.rs` under `crates/`, the apps, `xtask/`, and the WGSL
+/// in `shaders/`), repository-relative, without test files (`tests/` folders, `tests.rs`).
+fn source_files() -> Vec<std::path::PathBuf> {
+    fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
+        let Ok(entries) = std::fs::read_dir(dir) else { return };
+        for entry in entries {
+            let path = entry.expect("a directory entry").path();
+            let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
+            if path.is_dir() {
+                if !matches!(name, "tests" | "target" | "fuzz" | "data") {
+                    walk(&path, out);
+                }
+            } else if (name.ends_with(".rs") && name != "tests.rs") || name.ends_with(".wgsl") {
+                out.push(path);
+            }
+        }
+    }
+    let root = repo_root();
+    let mut out = Vec::new();
+    for dir in ["crates", "runtime", "eval", "editor", "xtask", "shaders"] {
+        walk(&root.join(dir), &mut out);
+    }
+    out.sort();
+    out
+}
+
+/// A file's lines up to its inline test module (`#[cfg(test)]`), which is test code.
+fn lines_before_tests(text: &str) -> Vec<&str> {
+    text.lines().take_while(|l| l.trim() != "#[cfg(test)]").collect()
+}
+
+/// Each `fn` in `lines` with its length in lines, from its signature to its closing brace
+/// (braces in comments, strings and character literals are not counted).
+fn functions<'a>(lines: &[&'a str]) -> Vec<(&'a str, usize, usize)> {
+    let mut out = Vec::new();
+    for (start, line) in lines.iter().enumerate() {
+        let code = line.trim_start();
+        let code = ["pub ", "pub(crate) ", "pub(super) ", "const ", "async "]
+            .iter()
+            .fold(code, |c, p| c.strip_prefix(p).unwrap_or(c));
+        let Some(rest) = code.strip_prefix("fn ") else { continue };
+        let name = rest.split(['(', '<', ' ']).next().unwrap_or("");
+        let (mut depth, mut opened) = (0i64, false);
+        for (i, l) in lines[start..].iter().enumerate() {
+            let mut in_string = false;
+            let mut chars = l.split("//").next().unwrap_or("").chars().peekable();
+            while let Some(c) = chars.next() {
+                match c {
+                    '\\' if in_string => {
+                        chars.next();
+                    }
+                    '"' => in_string = !in_string,
+                    '\'' if !in_string => {
+                        // A character literal ('{', '\'') but not a lifetime ('a).
+                        let rest: String = chars.clone().take(3).collect();
+                        if rest.chars().nth(1) == Some('\'') || rest.starts_with('\\') {
+                            chars.nth(if rest.starts_with('\\') { 2 } else { 1 });
+                        }
+                    }
+                    '{' if !in_string => {
+                        depth += 1;
+                        opened = true;
+                    }
+                    '}' if !in_string => depth -= 1,
+                    _ => {}
+                }
+            }
+            if opened && depth <= 0 {
+                out.push((name, start + 1, i + 1));
+                break;
+            }
+            if !opened && l.trim_end().ends_with(';') {
+                break;
+            }
+        }
+    }
+    out
+}
+
+/// Rooms that fit: no source file over 800 lines (its inline tests aside) and no function
+/// over 150, so a file is read in one sitting and a function in one screen or two.
+#[test]
+fn no_source_file_over_800_lines_and_no_function_over_150() {
+    let root = repo_root();
+    let mut too_big = Vec::new();
+    let files = source_files();
+    assert!(files.len() > 50, "{} source files found", files.len());
+    for file in files {
+        let text = std::fs::read_to_string(&file).expect("a source file");
+        let lines = lines_before_tests(&text);
+        let rel = file.strip_prefix(&root).unwrap_or(&file).display().to_string();
+        if lines.len() > 800 {
+            too_big.push(format!("{rel}: {} lines", lines.len()));
+        }
+        for (name, start, length) in functions(&lines) {
+            if length > 150 {
+                too_big.push(format!("{rel}:{start}: fn {name}, {length} lines"));
+            }
+        }
+    }
+    assert!(too_big.is_empty(), "too big:\n{}", too_big.join("\n"));
+}
+
+#[test]
+fn function_lengths_are_counted_from_signature_to_closing_brace() {
+    let src = "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\npub fn b<'x>(v: &'x str) -> &'x str {\n    v\n}\nfn c();\n";
+    let lines: Vec<&str> = src.lines().collect();
+    assert_eq!(functions(&lines), vec![("a", 1, 5), ("b", 6, 3)]);
+}
