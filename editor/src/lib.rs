@@ -14,6 +14,7 @@ pub mod history;
 pub mod paint;
 pub mod pixel;
 pub mod state;
+pub mod stats_log;
 pub mod terrain;
 pub mod terrain_edits;
 pub mod ui;
@@ -24,8 +25,14 @@ use std::path::PathBuf;
 /// The level opened when none is given on the command line.
 pub const DEFAULT_LEVEL: &str = "assets/levels/stone_circle.ron";
 
-/// Opens the editor window on `path` (or [`DEFAULT_LEVEL`]) and runs until it is closed.
-pub fn run(path: Option<PathBuf>) -> anyhow::Result<()> {
+/// Opens the editor window on `path` (or [`DEFAULT_LEVEL`]) and runs until it is closed;
+/// with `stats`, appends the status bar's figures to that file once a second
+/// ([`stats_log`]).
+pub fn run(path: Option<PathBuf>, stats: Option<PathBuf>) -> anyhow::Result<()> {
+    let stats = (stats.as_deref())
+        .map(stats_log::StatsLog::open)
+        .transpose()
+        .map_err(|e| anyhow::anyhow!(e))?;
     let path = path.unwrap_or_else(|| PathBuf::from(DEFAULT_LEVEL));
     let options = eframe::NativeOptions {
         renderer: eframe::Renderer::Wgpu,
@@ -42,6 +49,9 @@ pub fn run(path: Option<PathBuf>) -> anyhow::Result<()> {
             let gpu = cc.wgpu_render_state.clone();
             let mut app = app::EditorApp::open(Some(&path));
             app.attach_gpu(gpu);
+            if let Some(log) = stats {
+                app.set_stats_log(log);
+            }
             Ok(Box::new(app))
         }),
     )

@@ -412,3 +412,43 @@ fn a_failed_command_is_shown_in_the_error_dialog() {
     assert!(app.state.scene().is_empty());
     assert_eq!(app.state.history.undo_len(), 0);
 }
+
+/// `--stats FILE`: the status bar's figures, a JSON line a second, readable by tools.
+#[test]
+fn stats_lines_carry_the_status_bars_figures_once_a_second() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = level_copy(dir.path());
+    let stats = dir.path().join("stats.jsonl");
+    let mut app = EditorApp::with_recent(Some(&path), Recent::default());
+    app.set_stats_log(texel_editor::stats_log::StatsLog::open(&stats).expect("opens"));
+    let mut h = harness(app);
+    let started = std::time::Instant::now();
+    while started.elapsed() < texel_editor::stats_log::EVERY + std::time::Duration::from_millis(300)
+    {
+        h.run();
+        std::thread::sleep(std::time::Duration::from_millis(50));
+    }
+    let text = std::fs::read_to_string(&stats).expect("the stats file");
+    let lines: Vec<serde_json::Value> = text
+        .lines()
+        .map(|l| serde_json::from_str(l).expect("a JSON line"))
+        .collect();
+    assert!((2..=3).contains(&lines.len()), "{text}");
+    let entities = h.state().state.scene().len() as u64;
+    for line in &lines {
+        for key in [
+            "ui_frame_ms",
+            "render_ms",
+            "edit_to_frame_ms",
+            "uploads",
+            "t_s",
+        ] {
+            assert!(line[key].is_number(), "{key} in {line}");
+        }
+        assert_eq!(line["entities"].as_u64(), Some(entities), "{line}");
+        assert_eq!(line["playing"].as_bool(), Some(false), "{line}");
+    }
+    assert!(lines[1]["t_s"].as_f64() >= Some(0.9), "{text}");
+    // A folder is not a file to append to: said at start.
+    assert!(texel_editor::stats_log::StatsLog::open(dir.path()).is_err());
+}

@@ -42,6 +42,8 @@ pub struct EditorApp {
     edits_seen: (u64, u32),
     /// The autosave being written beside the editor, if any.
     autosaving: Option<std::thread::JoinHandle<Result<(), String>>>,
+    /// Where `--stats` writes the status bar's figures.
+    stats: Option<crate::stats_log::StatsLog>,
     title: String,
     focus_seen: Option<egui::Id>,
     allow_close: bool,
@@ -75,6 +77,7 @@ impl EditorApp {
             autosaved_id: 0,
             edits_seen: (0, 0),
             autosaving: None,
+            stats: None,
             title: String::new(),
             focus_seen: None,
             allow_close: false,
@@ -213,6 +216,7 @@ impl EditorApp {
         self.end_gesture(&ctx);
         self.close_request(&ctx);
         self.autosave();
+        self.log_stats();
         let title = self.title();
         if title != self.title {
             ctx.send_viewport_cmd(egui::ViewportCommand::Title(title.clone()));
@@ -433,6 +437,32 @@ impl EditorApp {
     fn report(&mut self, what: &str, result: Result<(), CommandError>) {
         if let Err(e) = result {
             self.dialogs.error = Some(format!("could not {what}: {e}"));
+        }
+    }
+
+    /// Writes the status bar's figures to `log` once a second from now on.
+    pub fn set_stats_log(&mut self, log: crate::stats_log::StatsLog) {
+        self.stats = Some(log);
+    }
+
+    fn log_stats(&mut self) {
+        let Some(log) = &mut self.stats else {
+            return;
+        };
+        let report = self.viewport.gpu.as_ref().map(|g| &g.report);
+        let figures = crate::stats_log::Figures {
+            ui_frame_ms: f64::from(self.viewport.ui_frame_ms),
+            render_ms: report.map_or(0.0, |r| r.frame_ms),
+            edit_to_frame_ms: self.viewport.edit_stall_ms,
+            upload_ms: report.and_then(|r| r.upload_ms),
+            uploads: report.map_or(0, |r| r.uploads),
+            entities: self.state.scene().len(),
+            playing: self.viewport.playing(),
+        };
+        if let Err(e) = log.tick(&figures) {
+            // Said once: the log stops rather than raising the dialog every second.
+            self.stats = None;
+            self.dialogs.error = Some(format!("--stats: {e}"));
         }
     }
 

@@ -42,6 +42,8 @@ pub struct RenderReport {
     pub start_ms: f64,
     /// Internal resolution of the last frame.
     pub size: UVec2,
+    /// Scene uploads after edits since the renderer started.
+    pub uploads: u64,
 }
 
 struct Target {
@@ -161,6 +163,7 @@ impl GpuView {
                 }
                 *r = revision;
                 self.report.upload_ms = Some(t.elapsed().as_secs_f64() * 1e3);
+                self.report.uploads += 1;
             }
             None => {
                 let fov_y = camera.fov_y;
