@@ -13,6 +13,9 @@ pub struct Stamp {
     pub commit: String,
     /// CPU model and logical core count, e.g. `2 × AMD EPYC 7B13`.
     pub machine: String,
+    /// `debug` or `release`: how `texel-eval` was built (frame times depend on it).
+    #[serde(default)]
+    pub build: String,
 }
 
 impl Stamp {
@@ -25,16 +28,30 @@ impl Stamp {
             date: utc_date(secs),
             commit: commit(),
             machine: machine(),
+            build: if cfg!(debug_assertions) {
+                "debug"
+            } else {
+                "release"
+            }
+            .to_owned(),
         }
     }
 
-    /// One line for under a table: `2026-12-07, commit 869bffd, 2 × AMD EPYC 7B13`; empty
-    /// when the report has no stamp.
+    /// One line for under a table: `2026-12-07, commit 869bffd (debug build), 2 × AMD EPYC
+    /// 7B13`; empty when the report has no stamp.
     pub fn line(&self) -> String {
         if self.date.is_empty() {
             return String::new();
         }
-        format!("{}, commit {}, {}", self.date, self.commit, self.machine)
+        let build = if self.build.is_empty() {
+            String::new()
+        } else {
+            format!(" ({} build)", self.build)
+        };
+        format!(
+            "{}, commit {}{build}, {}",
+            self.date, self.commit, self.machine
+        )
     }
 }
 
@@ -113,8 +130,12 @@ mod tests {
             date: "2026-12-07".into(),
             commit: "abc1234".into(),
             machine: "2 × CPU".into(),
+            build: "debug".into(),
         };
-        assert_eq!(s.line(), "2026-12-07, commit abc1234, 2 × CPU");
+        assert_eq!(
+            s.line(),
+            "2026-12-07, commit abc1234 (debug build), 2 × CPU"
+        );
         assert_eq!(Stamp::default().line(), "");
     }
 }

@@ -670,3 +670,30 @@ fn markdown_blocks_and_links_are_found() {
         assert!(heads.contains(a), "{a}: {heads:?}");
     }
 }
+
+/// The results tables are written by `texel-eval tables` from the reports they name, so a
+/// number in them always comes from a command: a block that differs from what its report
+/// gives (typed by hand, or left behind by a newer report) fails here. The README's
+/// stability and speed tables are such blocks.
+#[test]
+fn results_tables_are_what_their_reports_give() {
+    let mut blocks = 0;
+    for doc in documents() {
+        let text = read(&doc);
+        let path = repo_root().join(&doc);
+        let fresh = texel_eval::tables::refresh(&text, &path).unwrap_or_else(|e| panic!("{e}"));
+        assert!(
+            fresh == text,
+            "{doc}: a results table differs from its report; run `texel-eval tables {doc}`"
+        );
+        blocks += text.matches(texel_eval::tables::CLOSE).count();
+    }
+    let readme = read("README.md");
+    for table in ["table=shimmer", "table=speed"] {
+        assert!(
+            readme.contains(&format!("{}{table} ", texel_eval::tables::OPEN)),
+            "README.md has no {table} block"
+        );
+    }
+    assert!(blocks >= 4, "{blocks} results blocks in the docs");
+}
