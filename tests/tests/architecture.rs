@@ -118,7 +118,9 @@ fn no_library_depends_on_an_app() {
 /// in `shaders/`), repository-relative, without test files (`tests/` folders, `tests.rs`).
 fn source_files() -> Vec<std::path::PathBuf> {
     fn walk(dir: &std::path::Path, out: &mut Vec<std::path::PathBuf>) {
-        let Ok(entries) = std::fs::read_dir(dir) else { return };
+        let Ok(entries) = std::fs::read_dir(dir) else {
+            return;
+        };
         for entry in entries {
             let path = entry.expect("a directory entry").path();
             let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("");
@@ -142,7 +144,9 @@ fn source_files() -> Vec<std::path::PathBuf> {
 
 /// A file's lines up to its inline test module (`#[cfg(test)]`), which is test code.
 fn lines_before_tests(text: &str) -> Vec<&str> {
-    text.lines().take_while(|l| l.trim() != "#[cfg(test)]").collect()
+    text.lines()
+        .take_while(|l| l.trim() != "#[cfg(test)]")
+        .collect()
 }
 
 /// Each `fn` in `lines` with its length in lines, from its signature to its closing brace
@@ -154,7 +158,9 @@ fn functions<'a>(lines: &[&'a str]) -> Vec<(&'a str, usize, usize)> {
         let code = ["pub ", "pub(crate) ", "pub(super) ", "const ", "async "]
             .iter()
             .fold(code, |c, p| c.strip_prefix(p).unwrap_or(c));
-        let Some(rest) = code.strip_prefix("fn ") else { continue };
+        let Some(rest) = code.strip_prefix("fn ") else {
+            continue;
+        };
         let name = rest.split(['(', '<', ' ']).next().unwrap_or("");
         let (mut depth, mut opened) = (0i64, false);
         for (i, l) in lines[start..].iter().enumerate() {
@@ -204,7 +210,11 @@ fn no_source_file_over_800_lines_and_no_function_over_150() {
     for file in files {
         let text = std::fs::read_to_string(&file).expect("a source file");
         let lines = lines_before_tests(&text);
-        let rel = file.strip_prefix(&root).unwrap_or(&file).display().to_string();
+        let rel = file
+            .strip_prefix(&root)
+            .unwrap_or(&file)
+            .display()
+            .to_string();
         if lines.len() > 800 {
             too_big.push(format!("{rel}: {} lines", lines.len()));
         }
