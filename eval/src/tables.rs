@@ -18,6 +18,8 @@
 //! - `shimmer`: a row per `level:path`, a column per method holding the mean shimmer at the
 //!   report's largest face resolution, `naive ÷ splat` when both ran, and the mean coverage
 //!   error over every path of the report.
+//! - `colour`: the same rows and columns holding the mean colour error
+//!   ([`crate::colour`]), for reports where the raster ran.
 //! - `speed`: a row per run, the median frame and pass times (`passes`, default capture,
 //!   shade, cull, splat) and the quads drawn and texels lit a frame.
 
@@ -48,6 +50,8 @@ pub struct TableError {
 pub enum TableKind {
     /// Mean shimmer per path and method.
     Shimmer,
+    /// Mean colour error per path and method.
+    Colour,
     /// Frame and pass times per run.
     Speed,
 }
@@ -86,8 +90,13 @@ impl Block {
                 "table" => {
                     kind = Some(match value {
                         "shimmer" => TableKind::Shimmer,
+                        "colour" => TableKind::Colour,
                         "speed" => TableKind::Speed,
-                        other => return Err(format!("unknown table `{other}` (shimmer, speed)")),
+                        other => {
+                            return Err(format!(
+                                "unknown table `{other}` (shimmer, colour, speed)"
+                            ));
+                        }
                     })
                 }
                 "report" => report = Some(value.to_owned()),
@@ -158,7 +167,8 @@ pub fn refresh(text: &str, file: &Path) -> Result<String, TableError> {
 /// The table `block` asks for, from `report`, with its source line last.
 pub fn render(block: &Block, report: &Report) -> Result<String, String> {
     let mut out = match block.kind {
-        TableKind::Shimmer => shimmer(block, report)?,
+        TableKind::Shimmer => per_path(block, report, &SHIMMER)?,
+        TableKind::Colour => per_path(block, report, &COLOUR)?,
         TableKind::Speed => speed(block, report)?,
     };
     // The command line without the binary's own path (`target/debug/texel-eval`).
@@ -236,7 +246,25 @@ fn ratio(x: f64) -> String {
     }
 }
 
-fn shimmer(block: &Block, report: &Report) -> Result<String, String> {
+/// What a per-path table shows in its cells.
+struct Measure {
+    /// A run's value (NaN: none).
+    value: fn(&RunRecord) -> f64,
+    /// The line under the table, before the faces and size.
+    caption: &'static str,
+}
+
+const SHIMMER: Measure = Measure {
+    value: |r| r.shimmer.mean,
+    caption: "Mean shimmer",
+};
+
+const COLOUR: Measure = Measure {
+    value: |r| r.colour_error.map_or(f64::NAN, |c| c.mean),
+    caption: "Mean colour error (OKLab ΔE against the raster's frames, at the art-pixel scale)",
+};
+
+fn per_path(block: &Block, report: &Report, measure: &Measure) -> Result<String, String> {
     let methods = methods_of(block, report)?;
     let rows = rows_of(block, report)?;
     let top = report.runs.iter().map(|r| r.face_res).max().unwrap_or(0);
@@ -271,11 +299,11 @@ fn shimmer(block: &Block, report: &Report) -> Result<String, String> {
             let _ = write!(
                 out,
                 " {} |",
-                cell(mean_of(m, Some((level, path)), |r| r.shimmer.mean))
+                cell(mean_of(m, Some((level, path)), measure.value))
             );
         }
         if with_ratio {
-            let of = |m| mean_of(m, Some((level, path)), |r| r.shimmer.mean);
+            let of = |m| mean_of(m, Some((level, path)), measure.value);
             let r = match (of("naive"), of("splat")) {
                 (Some(n), Some(s)) if s > 0.0 => ratio(n / s),
                 _ => "–".to_owned(),
@@ -305,7 +333,8 @@ fn shimmer(block: &Block, report: &Report) -> Result<String, String> {
     }
     let _ = writeln!(
         out,
-        "\nShimmer at faces of {top}, {}×{} pixels.",
+        "\n{} at faces of {top}, {}×{} pixels.",
+        measure.caption,
         size(report).0,
         size(report).1
     );
@@ -448,6 +477,27 @@ mod tests {
     }
 
     #[test]
+    fn a_colour_table_shows_each_paths_colour_error() {
+        let mut r = report();
+        r.runs[2].colour_error = Some(crate::colour::ColourError {
+            mean: 0.02,
+            p95: 0.1,
+        });
+        r.runs[3].colour_error = Some(crate::colour::ColourError {
+            mean: 0.01,
+            p95: 0.05,
+        });
+        let block = Block::parse("table=colour report=r.json").unwrap();
+        let t = render(&block, &r).unwrap();
+        assert!(
+            t.contains("| `yaw` (sprites) | 0.0200 | 0.0100 | 2.0× |"),
+            "{t}"
+        );
+        assert!(t.contains("| `yaw` (stone circle) | – | – | – |"), "{t}");
+        assert!(t.contains("Mean colour error"), "{t}");
+    }
+
+    #[test]
     fn a_speed_table_lists_each_run_with_its_passes() {
         let block =
             Block::parse("table=speed report=r.json rows=stone_circle:yaw passes=capture,shade")
@@ -462,7 +512,7 @@ mod tests {
     #[test]
     fn blocks_name_what_is_wrong() {
         assert!(
-            Block::parse("table=colour report=r")
+            Block::parse("table=hue report=r")
                 .unwrap_err()
                 .contains("unknown table")
         );
