@@ -339,8 +339,13 @@ struct CompareArgs {
     name: String,
     /// Show where each method flickers: the frame in grey, changed pixels red (magenta:
     /// from the eye probe), as the shimmer metric counts them.
-    #[arg(long, conflicts_with = "coverage")]
+    #[arg(long, conflicts_with_all = ["coverage", "colour"])]
     flicker: bool,
+    /// Show where each method's colours differ from the raster's frame, as the colour
+    /// error counts them: the frame in grey, each art pixel red by its error (full red at
+    /// ΔE 0.1). Needs raster among --methods.
+    #[arg(long, conflicts_with = "coverage")]
+    colour: bool,
     /// Show where each method's silhouettes differ from the reference, as the coverage
     /// error counts them: the frame in grey, blue where it shows an object over the
     /// reference's sky, yellow sky over an object, red another object.
@@ -384,6 +389,8 @@ fn compare_plan(args: &CompareArgs) -> Result<texel_eval::compare::ComparePlan> 
             texel_eval::compare::Overlay::Flicker
         } else if args.coverage {
             texel_eval::compare::Overlay::Coverage
+        } else if args.colour {
+            texel_eval::compare::Overlay::Colour
         } else {
             texel_eval::compare::Overlay::Frames
         },

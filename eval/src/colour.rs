@@ -8,6 +8,7 @@
 //! and the 95th percentile over those art pixels. Dark streaks, light leaks, wrong shadows
 //! or a sprite drawn too dark raise it even when they hold still; a picture shifted by less
 //! than an art pixel raises it little, as the box filter blends what moved.
+//! [`colour_error_overlay`] paints where it comes from (`texel-eval compare --colour`).
 
 use glam::UVec2;
 
@@ -82,15 +83,15 @@ fn reduce(rgba: &[u8], ids: &[u32], size: UVec2, grid: UVec2) -> Vec<([f32; 3], 
         .collect()
 }
 
-/// The colour error of `frame` (RGBA8 sRGB) against `truth` and its ids, both `size`,
-/// reduced to art pixels on a `grid`; `None` when the truth shows no object.
-pub fn colour_error(
+/// Per art pixel of a `grid` (row-major), the OKLab ΔE of `frame` against `truth`, or `None`
+/// where fewer than half the truth's pixels show an object.
+pub fn colour_error_map(
     frame: &[u8],
     truth: &[u8],
     truth_ids: &[u32],
     size: UVec2,
     grid: UVec2,
-) -> Option<ColourError> {
+) -> Vec<Option<f64>> {
     let pixels = (size.x * size.y) as usize;
     assert!(
         frame.len() == 4 * pixels && truth.len() == 4 * pixels && truth_ids.len() == pixels,
@@ -100,14 +101,30 @@ pub fn colour_error(
     let ones = vec![1u32; pixels];
     let a = reduce(frame, &ones, size, grid);
     let b = reduce(truth, truth_ids, size, grid);
-    let mut errors: Vec<f64> = (a.iter().zip(&b))
-        .filter(|(_, (_, objects))| *objects >= 0.5)
-        .map(|((ca, _), (cb, _))| {
-            let (p, q) = (oklab(*ca), oklab(*cb));
-            f64::from(
-                ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt(),
-            )
+    (a.iter().zip(&b))
+        .map(|((ca, _), (cb, objects))| {
+            (*objects >= 0.5).then(|| {
+                let (p, q) = (oklab(*ca), oklab(*cb));
+                f64::from(
+                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt(),
+                )
+            })
         })
+        .collect()
+}
+
+/// The colour error of `frame` (RGBA8 sRGB) against `truth` and its ids, both `size`,
+/// reduced to art pixels on a `grid`; `None` when the truth shows no object.
+pub fn colour_error(
+    frame: &[u8],
+    truth: &[u8],
+    truth_ids: &[u32],
+    size: UVec2,
+    grid: UVec2,
+) -> Option<ColourError> {
+    let mut errors: Vec<f64> = colour_error_map(frame, truth, truth_ids, size, grid)
+        .into_iter()
+        .flatten()
         .collect();
     if errors.is_empty() {
         return None;
@@ -118,6 +135,45 @@ pub fn colour_error(
         p95: percentile(&errors, 0.95),
     })
 }
+
+/// `frame` dimmed to grey, each art pixel of a `grid` tinted by its colour error against
+/// `truth`: red to full strength at ΔE [`MAP_FULL`] (a lightness band is 0.031). RGBA8
+/// like the frames.
+pub fn colour_error_overlay(
+    frame: &[u8],
+    truth: &[u8],
+    truth_ids: &[u32],
+    size: UVec2,
+    grid: UVec2,
+) -> Vec<u8> {
+    let map = colour_error_map(frame, truth, truth_ids, size, grid);
+    let grid = grid.clamp(UVec2::ONE, size);
+    let mut out = frame.to_vec();
+    for y in 0..size.y {
+        let gy = (u64::from(y) * u64::from(grid.y) / u64::from(size.y)) as u32;
+        for x in 0..size.x {
+            let gx = (u64::from(x) * u64::from(grid.x) / u64::from(size.x)) as u32;
+            let i = 4 * (y * size.x + x) as usize;
+            let px = &mut out[i..i + 3];
+            let grey = (u32::from(px[0]) * 3 + u32::from(px[1]) * 6 + u32::from(px[2])) / 20;
+            let grey = grey as f64;
+            let e = map[(gy * grid.x + gx) as usize].unwrap_or(0.0);
+            let t = (e / MAP_FULL).min(1.0);
+            let rgb = [
+                grey + (255.0 - grey) * t,
+                grey * (1.0 - t),
+                grey * (1.0 - t),
+            ];
+            for (c, v) in px.iter_mut().zip(rgb) {
+                *c = v.round() as u8;
+            }
+        }
+    }
+    out
+}
+
+/// ΔE at which [`colour_error_overlay`] paints an art pixel full red: three lightness bands.
+pub const MAP_FULL: f64 = 0.1;
 
 #[cfg(test)]
 mod tests {
@@ -208,6 +264,28 @@ mod tests {
         assert!(half.mean < shift.mean, "{half:?} {shift:?}");
         assert!(shift.mean < shadow.mean, "{shift:?} {shadow:?}");
         assert!(shift.p95 < shadow.p95, "{shift:?} {shadow:?}");
+    }
+
+    #[test]
+    fn the_map_paints_only_the_art_pixels_in_error() {
+        let (t, ids) = checker(0);
+        let (shadow, _) = grey(|x, y| {
+            let base = if (x / 16 + y / 16).is_multiple_of(2) {
+                0.6
+            } else {
+                0.4
+            };
+            if x < 32 && y < 32 { base * 0.5 } else { base }
+        });
+        let map = colour_error_overlay(&shadow, &t, &ids, SIZE, GRID);
+        let px = |x: usize, y: usize| &map[4 * (y * 64 + x)..4 * (y * 64 + x) + 3];
+        let shaded = px(5, 5);
+        assert!(
+            shaded[0] > shaded[1],
+            "the shadow is tinted red: {shaded:?}"
+        );
+        let clear = px(50, 50);
+        assert_eq!(clear[0], clear[1], "the rest stays grey: {clear:?}");
     }
 
     #[test]

@@ -10,7 +10,8 @@
 //! With [`Overlay::Flicker`], each panel shows where the metric found flicker instead of
 //! the plain frame ([`flicker_overlay`]): the frame dimmed to grey, pixels that changed in
 //! red (magenta where the method took them from the eye probe). With [`Overlay::Coverage`],
-//! where its object ids differ from the reference's ([`coverage_overlay`]), by kind.
+//! where its object ids differ from the reference's ([`coverage_overlay`]), by kind. With
+//! [`Overlay::Colour`], the colour error against the raster's frame per art pixel.
 
 use std::path::PathBuf;
 
@@ -64,7 +65,7 @@ pub struct ComparePlan {
     pub level: PathBuf,
     /// Camera-path file.
     pub path: PathBuf,
-    /// Methods, left to right.
+    /// Methods, left to right (the raster first when it is among them).
     pub methods: Vec<Method>,
     /// Face resolution of every method.
     pub face_res: u32,
@@ -86,6 +87,9 @@ pub enum Overlay {
     Flicker,
     /// The pixels the coverage metric counts ([`coverage_overlay`]).
     Coverage,
+    /// Where the colour error comes from, per art pixel
+    /// ([`crate::colour::colour_error_overlay`]); needs the raster among the methods.
+    Colour,
 }
 
 /// Frame `cur` dimmed to grey, with the pixels whose object id differs from the reference's
@@ -248,8 +252,22 @@ pub fn run_compare(
         look: level_look(&level),
         warm_up: path.camera(0, fov_y),
     };
+    // The raster runs first: its frames are the colour error's truth.
+    let mut order = plan.methods.clone();
+    order.sort_by_key(|m| *m != Method::Raster);
+    if plan.overlay == Overlay::Colour && order.first() != Some(&Method::Raster) {
+        return Err(EvalError::Input(
+            "--colour compares with the raster's frames: add raster to --methods".into(),
+        ));
+    }
+    let grid = texel_render::baselines::low_res_size(
+        plan.size,
+        texel_render::baselines::art_pixel_height(plan.face_res, fov_y)
+            .map_err(|e| EvalError::Input(e.to_string()))?,
+    );
+    let mut truth: Vec<(Vec<u8>, Vec<u32>)> = Vec::new();
     let mut methods = Vec::with_capacity(plan.methods.len());
-    for &method in &plan.methods {
+    for &method in &order {
         let mut source = method_source(ctx, &level, (&scene, &animation), method, &view)?;
         let mut frames = Vec::with_capacity(path.frames as usize);
         let mut prev: Option<crate::meter::OwnedFrame> = None;
@@ -286,6 +304,20 @@ pub fn run_compare(
                         prev = Some(cur);
                     }
                     Overlay::Coverage => frames.push(shown(coverage_overlay(&cur()))),
+                    Overlay::Colour if method == Method::Raster => {
+                        truth.push((frame.pixels.clone(), frame.ids.clone()));
+                        frames.push(frame.pixels.clone());
+                    }
+                    Overlay::Colour => match truth.get(i as usize) {
+                        Some((t, ids)) => frames.push(crate::colour::colour_error_overlay(
+                            &frame.pixels,
+                            t,
+                            ids,
+                            plan.size,
+                            grid,
+                        )),
+                        None => frames.push(frame.pixels.clone()),
+                    },
                 }
                 tick(method.name());
             },
