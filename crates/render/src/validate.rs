@@ -103,7 +103,8 @@ pub fn frame(input: &FrameInput) -> Result<(), RenderError> {
 /// A scene this device can hold: its world-space vertices in one vertex buffer within
 /// `max_buffer_size`, its shadow casters' BVH within `max_storage_buffer_binding_size`, and its
 /// vertex count within a `u32`. The error says how much is needed against how much is
-/// allowed, and names the entity with the most triangles (the one to split or simplify).
+/// allowed, and names the entity with the most triangles when it holds a tenth of them or
+/// more (the one to split or simplify), or else how many entities make the total.
 pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderError> {
     let tris = |o: &crate::input::ObjectInput| (o.mesh.indices.len() / 3) as u64;
     let total: u64 = scene.objects.iter().map(tris).sum();
@@ -151,14 +152,22 @@ pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderErro
     } else {
         return Ok(());
     };
-    let culprit = largest.map_or(String::new(), |o| {
-        format!(
+    // One entity holding a tenth or more of the triangles is the one to change; otherwise
+    // the total is made of many small ones, and naming the largest would mislead.
+    let culprit = match largest {
+        Some(o) if tris(o) * 10 >= total => format!(
             " (entity {} has the most, {} triangles: simplify it, split it, or turn off its \
              shadows)",
             o.id,
             tris(o)
-        )
-    });
+        ),
+        Some(o) => format!(
+            " ({} entities of at most {} triangles each: place fewer, or split the level)",
+            scene.objects.len(),
+            tris(o)
+        ),
+        None => String::new(),
+    };
     Err(RenderError::SceneTooLarge(format!(
         "the scene is too large for this GPU: {what}{culprit}"
     )))
@@ -297,6 +306,16 @@ mod tests {
             .to_string();
         assert!(
             e.contains("5000 shadow-casting") && e.contains("entity 7"),
+            "{e}"
+        );
+        // Many copies, none large: the advice is about their number, not one of them.
+        let many = SceneInput {
+            objects: (1..=20).map(|id| object(id, 300, true)).collect(),
+            ..Default::default()
+        };
+        let e = scene_check(&small_buffers, &many).unwrap_err().to_string();
+        assert!(
+            e.contains("20 entities of at most 300 triangles") && !e.contains("entity 20 has"),
             "{e}"
         );
     }
