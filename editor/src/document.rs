@@ -211,17 +211,12 @@ impl Document {
         Ok(())
     }
 
-    /// Writes an autosave of the document to `file` (atomically, creating its folder). A
-    /// file terrain whose heights are not saved (sculpted, imported) has them written first
-    /// beside `file` as `name.autosave.png` ([`files::autosave_heightmap`]), which the
-    /// autosave names instead; so has a paint layer that is not saved. Returns those files.
-    pub fn write_autosave(&self, file: &Path) -> Result<Vec<PathBuf>, String> {
-        self.autosave_job(file).write()
-    }
-
-    /// What [`Document::write_autosave`] writes, taken from the document now (the rows, and
-    /// the unsaved heightmaps and paint layers, shared, not copied), to write later or on
-    /// another thread while the editor goes on.
+    /// An autosave of the document into `file`, taken now (the rows, and the unsaved
+    /// heightmaps and paint layers, shared, not copied), to write on another thread while the
+    /// editor goes on ([`AutosaveJob::write`]). A file terrain whose heights are not saved
+    /// (sculpted, imported) is written beside `file` as `name.autosave.png`
+    /// ([`files::autosave_heightmap`]), which the autosave names instead; so is a paint layer
+    /// that is not saved.
     pub fn autosave_job(&self, file: &Path) -> AutosaveJob {
         let mut level = self.level.scene.to_level();
         let mut images = Vec::new();

@@ -12,7 +12,8 @@
 
 use glam::UVec2;
 
-use crate::metrics::percentile;
+use crate::metrics::{linear_from_srgb8, oklab_distance, oklab_from_linear, percentile};
+use crate::runner::{EvalError, Method};
 
 /// A frame's colour error.
 #[derive(Debug, Clone, Copy, Default, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -34,28 +35,24 @@ impl ColourError {
     }
 }
 
-/// sRGB8 → linear.
-fn linear(c: u8) -> f32 {
-    let c = f32::from(c) / 255.0;
-    if c <= 0.04045 {
-        c / 12.92
-    } else {
-        ((c + 0.055) / 1.055).powf(2.4)
-    }
+/// The art-pixel grid of a `size` frame at faces of `face_res` and a vertical field of view
+/// `fov_y`: the low-resolution size `naive` renders at.
+pub fn art_pixel_grid(size: UVec2, face_res: u32, fov_y: f32) -> Result<UVec2, EvalError> {
+    let height = texel_render::baselines::art_pixel_height(face_res, fov_y)
+        .map_err(|e| EvalError::Input(e.to_string()))?;
+    Ok(texel_render::baselines::low_res_size(size, height))
 }
 
-/// Linear RGB → OKLab.
-fn oklab(rgb: [f32; 3]) -> [f32; 3] {
-    let [r, g, b] = rgb;
-    let l = (0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b).cbrt();
-    let m = (0.211_903_5 * r + 0.680_699_5 * g + 0.107_396_96 * b).cbrt();
-    let s = (0.088_302_46 * r + 0.281_718_85 * g + 0.629_978_7 * b).cbrt();
-    [
-        0.210_454_26 * l + 0.793_617_8 * m - 0.004_072_047 * s,
-        1.977_998_5 * l - 2.428_592_2 * m + 0.450_593_7 * s,
-        0.025_904_037 * l + 0.782_771_77 * m - 0.808_675_77 * s,
-    ]
+/// `methods` with the raster first (when it is among them), so its frames are the truth of
+/// the colour error of the methods after it.
+pub fn raster_first(methods: &[Method]) -> Vec<Method> {
+    let mut order = methods.to_vec();
+    order.sort_by_key(|m| *m != Method::Raster);
+    order
 }
+
+/// The raster's frames of a path, in order: colour (RGBA8) and object ids.
+pub type Truth = Vec<(Vec<u8>, Vec<u32>)>;
 
 /// Per art pixel of a `grid` over a `size` frame: the mean linear colour of `rgba` and the
 /// share of its pixels whose `ids` are not 0.
@@ -69,7 +66,7 @@ fn reduce(rgba: &[u8], ids: &[u32], size: UVec2, grid: UVec2) -> Vec<([f32; 3], 
             let i = (y * size.x + x) as usize;
             let cell = &mut sum[(gy * grid.x + gx) as usize];
             for c in 0..3 {
-                cell.0[c] += linear(rgba[4 * i + c]);
+                cell.0[c] += linear_from_srgb8(rgba[4 * i + c]);
             }
             cell.1 += 1;
             cell.2 += u32::from(ids[i] != 0);
@@ -104,10 +101,10 @@ pub fn colour_error_map(
     (a.iter().zip(&b))
         .map(|((ca, _), (cb, objects))| {
             (*objects >= 0.5).then(|| {
-                let (p, q) = (oklab(*ca), oklab(*cb));
-                f64::from(
-                    ((p[0] - q[0]).powi(2) + (p[1] - q[1]).powi(2) + (p[2] - q[2]).powi(2)).sqrt(),
-                )
+                f64::from(oklab_distance(
+                    oklab_from_linear(*ca),
+                    oklab_from_linear(*cb),
+                ))
             })
         })
         .collect()

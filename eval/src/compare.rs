@@ -252,20 +252,14 @@ pub fn run_compare(
         look: level_look(&level),
         warm_up: path.camera(0, fov_y),
     };
-    // The raster runs first: its frames are the colour error's truth.
-    let mut order = plan.methods.clone();
-    order.sort_by_key(|m| *m != Method::Raster);
+    let order = crate::colour::raster_first(&plan.methods);
     if plan.overlay == Overlay::Colour && order.first() != Some(&Method::Raster) {
         return Err(EvalError::Input(
             "--colour compares with the raster's frames: add raster to --methods".into(),
         ));
     }
-    let grid = texel_render::baselines::low_res_size(
-        plan.size,
-        texel_render::baselines::art_pixel_height(plan.face_res, fov_y)
-            .map_err(|e| EvalError::Input(e.to_string()))?,
-    );
-    let mut truth: Vec<(Vec<u8>, Vec<u32>)> = Vec::new();
+    let grid = crate::colour::art_pixel_grid(plan.size, plan.face_res, fov_y)?;
+    let mut truth = crate::colour::Truth::new();
     let mut methods = Vec::with_capacity(plan.methods.len());
     for &method in &order {
         let mut source = method_source(ctx, &level, (&scene, &animation), method, &view)?;

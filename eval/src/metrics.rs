@@ -130,15 +130,21 @@ fn ratio(a: u64, b: u64) -> Option<f64> {
 
 /// sRGB8 → OKLab (L, a, b).
 pub fn oklab_from_srgb8(rgb: [u8; 3]) -> [f32; 3] {
-    let lin = rgb.map(|c| {
-        let c = f32::from(c) / 255.0;
-        if c <= 0.04045 {
-            c / 12.92
-        } else {
-            ((c + 0.055) / 1.055).powf(2.4)
-        }
-    });
-    let [r, g, b] = lin;
+    oklab_from_linear(rgb.map(linear_from_srgb8))
+}
+
+/// An sRGB8 channel → linear light.
+pub fn linear_from_srgb8(c: u8) -> f32 {
+    let c = f32::from(c) / 255.0;
+    if c <= 0.04045 {
+        c / 12.92
+    } else {
+        ((c + 0.055) / 1.055).powf(2.4)
+    }
+}
+
+/// Linear RGB → OKLab (L, a, b).
+pub fn oklab_from_linear([r, g, b]: [f32; 3]) -> [f32; 3] {
     let l = (0.412_221_46 * r + 0.536_332_55 * g + 0.051_445_995 * b).cbrt();
     let m = (0.211_903_5 * r + 0.680_699_5 * g + 0.107_396_96 * b).cbrt();
     let s = (0.088_302_46 * r + 0.281_718_85 * g + 0.629_978_7 * b).cbrt();
@@ -149,7 +155,8 @@ pub fn oklab_from_srgb8(rgb: [u8; 3]) -> [f32; 3] {
     ]
 }
 
-fn oklab_distance(a: [f32; 3], b: [f32; 3]) -> f32 {
+/// Euclidean distance in OKLab (ΔE).
+pub fn oklab_distance(a: [f32; 3], b: [f32; 3]) -> f32 {
     ((a[0] - b[0]).powi(2) + (a[1] - b[1]).powi(2) + (a[2] - b[2]).powi(2)).sqrt()
 }
 

@@ -11,7 +11,7 @@ use texel_runtime::frame_plan::{Animation, scene_input};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::path::{CameraPath, Projection};
 
-use crate::colour::{ColourError, colour_error};
+use crate::colour::{ColourError, Truth, art_pixel_grid, colour_error, raster_first};
 use crate::gpu::{
     BaselineSource, GpuReference, SplatSource, baseline_of, level_look, set_face_res,
 };
@@ -179,10 +179,8 @@ pub fn run_plan(
     let warm_up = path.camera(0, fov_y);
     let look = level_look(&level);
     let mut records = Vec::new();
-    // The raster runs first: its frames are the truth of the colour error.
-    let mut methods = plan.methods.clone();
-    methods.sort_by_key(|m| *m != Method::Raster);
-    let mut truth: Option<Vec<(Vec<u8>, Vec<u32>)>> = None;
+    let methods = raster_first(&plan.methods);
+    let mut truth: Option<Truth> = None;
     for &n in &plan.face_res {
         set_face_res(&mut level, n)?;
         if refs.is_none() || per_res {
@@ -200,11 +198,7 @@ pub fn run_plan(
         let refs = refs
             .as_ref()
             .ok_or(EvalError::Input("no references".into()))?;
-        let grid = texel_render::baselines::low_res_size(
-            plan.size,
-            texel_render::baselines::art_pixel_height(n, fov_y)
-                .map_err(|e| EvalError::Input(e.to_string()))?,
-        );
+        let grid = art_pixel_grid(plan.size, n, fov_y)?;
         for &method in &methods {
             if !runs_on(method, &path) || (method == Method::Raster && n != plan.face_res[0]) {
                 // Raster does not depend on the face resolution: run it once.

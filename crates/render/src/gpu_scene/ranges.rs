@@ -174,7 +174,7 @@ pub enum LodFrom {
 /// Measured on `terrain_hills` `terrain_walk` at 1280×720, faces of 128 (lavapipe):
 /// captures 50 → 33 ms a frame, the frame's median 94–97 → 73–76 ms.
 pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<(u32, u32)> {
-    merge_runs(visible_ranges(ranges, view_proj, lod).into_iter())
+    merge_runs(ranges_drawn(ranges, view_proj, lod, CaptureCull::Footprint).into_iter())
 }
 
 /// [`visible_runs`] split by [`DrawRange::terrain`]: the plain terrain's runs, then the rest
@@ -191,15 +191,6 @@ pub fn visible_runs_by_kind(
     let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =
         visible.into_iter().partition(|r| r.terrain);
     ([terrain, rest].map(|r| merge_runs(r.into_iter())), count)
-}
-
-/// The ranges [`visible_runs`] draws, in its order.
-fn visible_ranges<'a>(
-    ranges: &'a [DrawRange],
-    view_proj: &glam::Mat4,
-    lod: LodFrom,
-) -> Vec<&'a DrawRange> {
-    ranges_drawn(ranges, view_proj, lod, CaptureCull::Footprint)
 }
 
 /// What a capture leaves out of a face.
