@@ -20,7 +20,7 @@ pub mod metrics;
 pub mod reference;
 pub mod report;
 pub mod runner;
-pub mod stamp;
+pub use texel_runtime::stamp;
 pub mod suite;
 pub mod survey;
 pub mod tables;

@@ -14,6 +14,9 @@
 //! a number in such a table always comes from a command (the report holds its command line,
 //! adapter, date, commit and machine; the table's last line repeats them).
 //!
+//! A bench's table (`cargo bench -p texel_runtime`, which writes `docs/results/benches/`)
+//! comes in whole: `<!-- texel-eval include=../results/benches/moving.md -->`.
+//!
 //! Tables ([`TableKind`]):
 //! - `shimmer`: a row per `level:path`, a column per method holding the mean shimmer at the
 //!   report's largest face resolution, `naive ÷ splat` when both ran, and the mean coverage
@@ -146,9 +149,15 @@ pub fn refresh(text: &str, file: &Path) -> Result<String, TableError> {
             line: i + 1,
             message,
         };
-        let block = Block::parse(attributes).map_err(fail)?;
-        let report = Report::load(&dir.join(&block.report)).map_err(|e| fail(format!("{e:#}")))?;
-        let table = render(&block, &report).map_err(fail)?;
+        let table = match attributes.trim().strip_prefix("include=") {
+            Some(name) => included(&dir.join(name.trim())).map_err(fail)?,
+            None => {
+                let block = Block::parse(attributes).map_err(fail)?;
+                let report =
+                    Report::load(&dir.join(&block.report)).map_err(|e| fail(format!("{e:#}")))?;
+                render(&block, &report).map_err(fail)?
+            }
+        };
         loop {
             match lines.next() {
                 Some((_, l)) if l.trim() == CLOSE => {
@@ -162,6 +171,19 @@ pub fn refresh(text: &str, file: &Path) -> Result<String, TableError> {
         }
     }
     Ok(out)
+}
+
+/// The Markdown a bench wrote (`include=`), as it is, ending in a newline.
+fn included(path: &Path) -> Result<String, String> {
+    let mut text = std::fs::read_to_string(path)
+        .map_err(|e| format!("cannot read {}: {e}", path.display()))?;
+    if text.contains(OPEN) || text.contains(CLOSE) {
+        return Err(format!("{} holds a texel-eval marker", path.display()));
+    }
+    if !text.ends_with('\n') {
+        text.push('\n');
+    }
+    Ok(text)
 }
 
 /// The table `block` asks for, from `report`, with its source line last.
@@ -562,5 +584,28 @@ mod tests {
             "x\n<!-- texel-eval table=shimmer report=gone.json -->\n<!-- /texel-eval -->\n";
         let e = refresh(missing, &file).unwrap_err().to_string();
         assert!(e.contains("doc.md:2:") && e.contains("gone.json"), "{e}");
+    }
+
+    #[test]
+    fn an_include_block_holds_the_benchs_file_as_it_is() {
+        let dir = tempfile::tempdir().unwrap();
+        std::fs::write(dir.path().join("bench.md"), "| a |\n|---|\n| 1 |").unwrap();
+        let file = dir.path().join("doc.md");
+        let text = "<!-- texel-eval include=bench.md -->\nold\n<!-- /texel-eval -->\n";
+        assert_eq!(
+            refresh(text, &file).unwrap(),
+            "<!-- texel-eval include=bench.md -->\n| a |\n|---|\n| 1 |\n<!-- /texel-eval -->\n"
+        );
+        let gone = "<!-- texel-eval include=gone.md -->\n<!-- /texel-eval -->\n";
+        let e = refresh(gone, &file).unwrap_err().to_string();
+        assert!(e.contains("doc.md:1:") && e.contains("gone.md"), "{e}");
+        std::fs::write(dir.path().join("nested.md"), "<!-- /texel-eval -->\n").unwrap();
+        let nested = "<!-- texel-eval include=nested.md -->\n<!-- /texel-eval -->\n";
+        assert!(
+            refresh(nested, &file)
+                .unwrap_err()
+                .to_string()
+                .contains("marker")
+        );
     }
 }

@@ -5,8 +5,13 @@
 //! stable faces lit again where the boxes' shadows came or went show up here) and the quads.
 //!
 //! `cargo bench -p texel_runtime --bench moving` measures (on whatever Vulkan driver the
-//! machine has); `cargo test --benches` runs one small case once as a smoke test.
+//! machine has) and writes the table to `docs/results/benches/moving.md`; `cargo test
+//! --benches` runs one small case once as a smoke test.
 
+#[path = "common/results.rs"]
+mod results;
+
+use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::time::{Duration, Instant};
 
@@ -73,10 +78,16 @@ fn walk(c: &mut Criterion) {
     let path = CameraPath::load(&repo().join("assets/paths/walk_cells.ron")).expect("bundled path");
     let fov = path.fov_y(60f32.to_radians());
     let mut group = c.benchmark_group("moving_walk_1280x720");
+    const SAMPLES: usize = 10;
     group
-        .sample_size(10)
+        .sample_size(SAMPLES)
         .measurement_time(Duration::from_secs(15));
+    let mut table = String::from(
+        "| boxes | moving | frozen | texels lit, moving | texels lit, frozen |\n\
+         |---:|---:|---:|---:|---:|\n",
+    );
     for &n in counts {
+        let mut row = [(0.0, 0u64); 2];
         for frozen in [false, true] {
             let level = level_with_boxes(n, frozen);
             let mut session = Session::headless(&ctx, &level, size, fov).expect("session");
@@ -102,6 +113,7 @@ fn walk(c: &mut Criterion) {
                 quads / frames
             );
             let mut i = 0;
+            let mut samples = results::Samples::default();
             group.bench_function(&label, |b| {
                 b.iter_custom(|iters| {
                     let t = Instant::now();
@@ -109,12 +121,24 @@ fn walk(c: &mut Criterion) {
                         session.draw_offscreen(&ctx, &request(i)).expect("frame");
                         i += 1;
                     }
-                    t.elapsed()
+                    let elapsed = t.elapsed();
+                    samples.push(elapsed, iters);
+                    elapsed
                 })
             });
+            row[usize::from(frozen)] = (samples.median_ms(SAMPLES), texels / frames);
         }
+        let [(moving, lit_moving), (frozen, lit_frozen)] = row;
+        let _ = writeln!(
+            table,
+            "| {n} | {moving:.0} ms | {frozen:.0} ms | {lit_moving} | {lit_frozen} |"
+        );
     }
     group.finish();
+    eprintln!("\n{table}");
+    if measuring {
+        results::write("moving", &ctx.describe(), &table);
+    }
 }
 
 criterion_group!(benches, walk);

@@ -16,11 +16,18 @@
 //!   captured again are printed once.
 //!
 //! `cargo bench -p texel_runtime --bench terrain` measures (on whatever Vulkan driver the
-//! machine has; the walks take about 15 minutes); `cargo test --benches` runs each once as a
-//! smoke test, a walk as two frames of its path after the probes settle.
+//! machine has; the walks take about 15 minutes) and writes both tables to
+//! `docs/results/benches/terrain.md` (a filtered run, `-- dab` say, writes only what it
+//! measured); `cargo test --benches` runs each once as a smoke test, a walk as two frames of
+//! its path after the probes settle.
 
+#[path = "common/results.rs"]
+mod results;
+
+use std::fmt::Write as _;
 use std::path::PathBuf;
 use std::sync::Arc;
+use std::sync::Mutex;
 use std::time::{Duration, Instant};
 
 use criterion::{Criterion, SamplingMode, criterion_group, criterion_main};
@@ -37,6 +44,25 @@ use texel_scene::sculpt::{self, Dab, Placement};
 use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 
 const DT: f32 = 1.0 / 30.0;
+/// Samples a case: each is one call of the routine (`SamplingMode::Flat`).
+const SAMPLES: usize = 10;
+/// The tables measured so far (walks, dabs), written out after each group.
+static TABLES: Mutex<[String; 2]> = Mutex::new([String::new(), String::new()]);
+
+/// Keeps `table` as the `index`th table and writes all that were measured.
+fn publish(index: usize, table: String, adapter: &str) {
+    eprintln!("\n{table}");
+    if !measuring() {
+        return;
+    }
+    let mut tables = TABLES.lock().unwrap_or_else(|e| e.into_inner());
+    tables[index] = table;
+    let all: Vec<&str> = (tables.iter())
+        .filter(|t| !t.is_empty())
+        .map(String::as_str)
+        .collect();
+    results::write("terrain", adapter, &all.join("\n"));
+}
 /// Frames drawn at one camera for the probes there to settle (captured, no crossfade left).
 const SETTLE_FRAMES: u32 = 8;
 
@@ -158,11 +184,12 @@ fn walk(c: &mut Criterion) {
     // terrain, 1.23× on `jog_cells` (2026-12-06). Before that (the path in a loop, linear
     // sampling) one sample held the jump from its end to its start.
     group
-        .sample_size(10)
+        .sample_size(SAMPLES)
         .sampling_mode(SamplingMode::Flat)
         .warm_up_time(Duration::from_secs(1))
         .measurement_time(Duration::from_secs(60));
     let measuring = measuring();
+    let mut rows = Vec::new();
     for (name, level, path) in [
         (
             "stone_circle",
@@ -187,6 +214,8 @@ fn walk(c: &mut Criterion) {
         // A walk: frames 1, 2, … after the probes settled at frame 0 (as `settled` does).
         let frames = if measuring { path.frames } else { 3 };
         let start = path.camera(0, fov);
+        let mut samples = results::Samples::default();
+        let (mut quads, mut texels) = (0, 0);
         group.bench_function(name, |b| {
             b.iter_custom(|iters| {
                 let mut mean_frames = Duration::ZERO;
@@ -195,20 +224,57 @@ fn walk(c: &mut Criterion) {
                         let frame = session.draw_offscreen(&ctx, &request(start, size));
                         frame.expect("frame");
                     }
+                    (quads, texels) = (0, 0);
                     let t = Instant::now();
                     for i in 1..frames {
                         let camera = path.camera(i, fov);
-                        session
+                        let (frame, _) = session
                             .draw_offscreen(&ctx, &request(camera, size))
                             .expect("frame");
+                        quads += frame.stats.counters.quads_splatted;
+                        texels += frame.stats.counters.texels_shaded;
                     }
                     mean_frames += t.elapsed() / (frames - 1).max(1);
                 }
+                samples.push(mean_frames, iters);
                 mean_frames
             })
         });
+        let per_frame = |n: u64| n / u64::from(frames - 1).max(1);
+        let walk = format!("{name}, `{}`", path_name(name));
+        rows.push((
+            walk,
+            samples.median_ms(SAMPLES),
+            per_frame(quads),
+            per_frame(texels),
+        ));
     }
     group.finish();
+    let mut table = String::from(
+        "| walk (level, path) | mean frame of a walk | quads drawn a frame | texels lit a frame |\n\
+         |---|---:|---:|---:|\n",
+    );
+    for (walk, ms, quads, texels) in &rows {
+        let _ = writeln!(table, "| {walk} | {ms:.1} ms | {quads} | {texels} |");
+    }
+    if let [_, (_, jog_ms, jog_quads, _), (_, hills_ms, hills_quads, _)] = rows.as_slice() {
+        let _ = writeln!(
+            table,
+            "| terrain_walk ÷ jog_cells | {:.2}× | {:.2}× | |",
+            hills_ms / jog_ms,
+            *hills_quads as f64 / (*jog_quads).max(1) as f64
+        );
+    }
+    publish(0, table, &ctx.describe());
+}
+
+/// The path each walk of [`walk`] plays.
+fn path_name(walk: &str) -> &'static str {
+    match walk {
+        "stone_circle" => "walk_cells",
+        "stone_circle_jog" => "jog_cells",
+        _ => "terrain_walk",
+    }
 }
 
 fn dabs(c: &mut Criterion) {
@@ -221,8 +287,12 @@ fn dabs(c: &mut Criterion) {
     let fov = path.fov_y(60f32.to_radians());
     let mut group = c.benchmark_group("dab");
     group
-        .sample_size(10)
+        .sample_size(SAMPLES)
         .measurement_time(Duration::from_secs(20));
+    let mut table = String::from(
+        "| camera | frame | dab and frame | faces a dab marks | stable faces captured over the \
+         next 8 frames |\n|---|---:|---:|---:|---:|\n",
+    );
     for moving in [false, true] {
         let mut level = terrain_hills(257);
         let mut session = settled(&ctx, &level, path.camera(0, fov), size);
@@ -234,6 +304,7 @@ fn dabs(c: &mut Criterion) {
             camera
         };
         let label = if moving { "moving" } else { "at_rest" };
+        let (mut frames, mut dabs) = (results::Samples::default(), results::Samples::default());
         group.bench_function(format!("frame_{label}"), |b| {
             b.iter_custom(|iters| {
                 let t = Instant::now();
@@ -242,11 +313,12 @@ fn dabs(c: &mut Criterion) {
                         .draw_offscreen(&ctx, &request(next_camera(), size))
                         .expect("frame");
                 }
+                frames.push(t.elapsed(), iters);
                 t.elapsed()
             })
         });
         let mut raise = true;
-        let mut reported = false;
+        let mut reported = None;
         group.bench_function(format!("dab_and_frame_{label}"), |b| {
             b.iter_custom(|iters| {
                 let mut total = Duration::ZERO;
@@ -262,8 +334,7 @@ fn dabs(c: &mut Criterion) {
                         .draw_offscreen(&ctx, &request(camera, size))
                         .expect("frame");
                     total += t.elapsed();
-                    if !reported {
-                        reported = true;
+                    if reported.is_none() {
                         let mut stable = count_stable(&drawn.input);
                         for _ in 0..7 {
                             let (drawn, _) = session
@@ -271,17 +342,24 @@ fn dabs(c: &mut Criterion) {
                                 .expect("frame");
                             stable += count_stable(&drawn.input);
                         }
-                        eprintln!(
-                            "dab {label}: {marked} faces marked, {stable} stable faces \
-                             captured over the next 8 frames"
-                        );
+                        reported = Some((marked, stable));
                     }
                 }
+                dabs.push(total, iters);
                 total
             })
         });
+        let (marked, stable) = reported.unwrap_or_default();
+        let _ = writeln!(
+            table,
+            "| {} | {:.1} ms | {:.1} ms | {marked} | {stable} |",
+            label.replace('_', " "),
+            frames.median_ms(SAMPLES),
+            dabs.median_ms(SAMPLES)
+        );
     }
     group.finish();
+    publish(1, table, &ctx.describe());
 }
 
 fn count_stable(input: &texel_render::input::FrameInput) -> usize {

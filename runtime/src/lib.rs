@@ -18,4 +18,5 @@ pub mod play;
 pub mod play_sculpt;
 pub mod session;
 pub mod soak;
+pub mod stamp;
 pub mod walk;

@@ -36,7 +36,7 @@
 //! frame changes every frame through `FrameInput::sprites`.
 //!
 //! `cargo bench -p texel_runtime --bench sprites` measures (on whatever Vulkan driver the
-//! machine has), prints the table and writes it to `target/criterion/sprites_table1.md`;
+//! machine has), prints the table and writes it to `docs/results/benches/sprites.md`;
 //! `cargo test --benches` runs each case once at tiny sizes as a smoke test.
 
 use std::time::{Duration, Instant};
@@ -50,10 +50,13 @@ use texel_render::target::{FRAME_FORMAT, OffscreenTarget};
 use texel_runtime::session::{DrawnFrame, FrameRequest, Session};
 
 mod levels;
+#[allow(dead_code)] // the sprites bench keeps its own samples
+#[path = "../common/results.rs"]
+mod results;
 mod table;
 
 use levels::{CENTRE, EYE, backdrop, case_level, crowd_level};
-use table::{report, rows, write_table};
+use table::{report, rows};
 
 /// 60 frames a second.
 const DT: f32 = 1.0 / 60.0;
@@ -236,7 +239,7 @@ fn table1(c: &mut Criterion) {
     let table = report(&results, &crowd_m, crowd, changed, ctx.timestamps);
     eprintln!("\n{table}");
     if measuring {
-        write_table(&table);
+        results::write("sprites", &ctx.describe(), &table);
     }
 }
 

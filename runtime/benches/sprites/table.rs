@@ -2,25 +2,9 @@
 //! ratios it asks for, the crowd, and where each frame's time goes.
 
 use std::fmt::Write as _;
-use std::path::PathBuf;
 
-use super::levels::{SCENES, repo};
+use super::levels::SCENES;
 use super::{Measured, SIZES, median};
-
-/// Writes `table` to `target/criterion/sprites_table1.md` (or under `CARGO_TARGET_DIR`).
-pub(crate) fn write_table(table: &str) {
-    let dir = std::env::var_os("CARGO_TARGET_DIR")
-        .map_or_else(|| repo().join("target"), PathBuf::from)
-        .join("criterion");
-    let dir = std::fs::create_dir_all(&dir)
-        .and_then(|()| dir.canonicalize())
-        .unwrap_or(dir);
-    let path = dir.join("sprites_table1.md");
-    match std::fs::write(&path, table) {
-        Ok(()) => eprintln!("written to {}", path.display()),
-        Err(e) => eprintln!("could not write {}: {e}", path.display()),
-    }
-}
 
 /// `a / b` to two decimals, a dash where either is missing.
 pub(crate) fn ratio(a: f64, b: f64) -> String {

@@ -13,9 +13,14 @@ pub struct Stamp {
     pub commit: String,
     /// CPU model and logical core count, e.g. `2 × AMD EPYC 7B13`.
     pub machine: String,
-    /// `debug` or `release`: how `texel-eval` was built (frame times depend on it).
+    /// `debug` or `release`: how the measuring binary was built (frame times depend on it).
     #[serde(default)]
     pub build: String,
+    /// The machine's one-minute load average when the measurement ended (`/proc/loadavg`;
+    /// empty where unknown): above the core count, other work shared the machine and the
+    /// times are slower than on a quiet one.
+    #[serde(default)]
+    pub load: String,
 }
 
 impl Stamp {
@@ -34,6 +39,7 @@ impl Stamp {
                 "release"
             }
             .to_owned(),
+            load: load(),
         }
     }
 
@@ -48,8 +54,13 @@ impl Stamp {
         } else {
             format!(" ({} build)", self.build)
         };
+        let load = if self.load.is_empty() {
+            String::new()
+        } else {
+            format!(", load {}", self.load)
+        };
         format!(
-            "{}, commit {}{build}, {}",
+            "{}, commit {}{build}, {}{load}",
             self.date, self.commit, self.machine
         )
     }
@@ -97,6 +108,13 @@ fn commit() -> String {
     }
 }
 
+fn load() -> String {
+    std::fs::read_to_string("/proc/loadavg")
+        .ok()
+        .and_then(|text| text.split_whitespace().next().map(str::to_owned))
+        .unwrap_or_default()
+}
+
 fn machine() -> String {
     let cores = std::thread::available_parallelism().map_or(1, |n| n.get());
     let model = std::fs::read_to_string("/proc/cpuinfo")
@@ -131,11 +149,21 @@ mod tests {
             commit: "abc1234".into(),
             machine: "2 × CPU".into(),
             build: "debug".into(),
+            load: String::new(),
         };
         assert_eq!(
             s.line(),
             "2026-12-07, commit abc1234 (debug build), 2 × CPU"
         );
         assert_eq!(Stamp::default().line(), "");
+        let busy = Stamp {
+            load: "3.10".into(),
+            ..s
+        };
+        assert!(
+            busy.line().ends_with("2 × CPU, load 3.10"),
+            "{}",
+            busy.line()
+        );
     }
 }
