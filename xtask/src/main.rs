@@ -166,15 +166,17 @@ enum Scope {
         /// The package whose GPU tests run too.
         package: Option<String>,
     },
+    /// Only the second driver's pass, over the GPU tests the last full run recorded.
+    SecondDriver,
 }
 
 /// The steps of `cargo xtask test`, in order.
 ///
-/// Tests run under cargo-nextest, one process per test, one test at a time (GPU tests must
-/// not share lavapipe's cores; `.config/nextest.toml`). GPU and window tests fail when no
-/// adapter or display exists (`TEXEL_ALLOW_NO_GPU` / `TEXEL_ALLOW_NO_DISPLAY` would skip
-/// them; the steps never see them). The SwiftShader pass runs the tests that opened a device
-/// on lavapipe (the filter is added when it runs; [`plan`]). Criterion benches run once in
+/// On lavapipe tests run under cargo-nextest, one process per test, one per core
+/// (`.config/nextest.toml`). GPU and window tests fail when no adapter or display exists
+/// (`TEXEL_ALLOW_NO_GPU` / `TEXEL_ALLOW_NO_DISPLAY` would skip them; the steps never see
+/// them). The SwiftShader pass runs the tests that opened a device on lavapipe, each
+/// binary's in one process ([`plan`], [`second_pass`]). Criterion benches run once in
 /// test mode through `cargo test` (nextest does not run them), on lavapipe;
 /// `RUST_TEST_THREADS=1` because criterion rejects `--test-threads`.
 fn test_steps(scope: &Scope) -> Vec<Step> {
@@ -195,8 +197,23 @@ fn test_steps(scope: &Scope) -> Vec<Step> {
             "warnings",
         ]),
     ];
+    let swiftshader = Step {
+        // Builds and lists the tests; then each binary's GPU tests run in one process
+        // (`second_pass`).
+        args: strings(&["nextest", "list", "--workspace", "--message-format", "json"]),
+        env: vec![
+            ("VK_ICD_FILENAMES".to_owned(), SWIFTSHADER_ICD.to_owned()),
+            (
+                "TEXEL_EXPECT_ADAPTER".to_owned(),
+                SWIFTSHADER_ADAPTER.to_owned(),
+            ),
+        ],
+        needs_display: true,
+        role: Role::Tests(Driver::SwiftShader),
+    };
     match scope {
         Scope::Quick { .. } => steps.push(lavapipe),
+        Scope::SecondDriver => return vec![swiftshader],
         Scope::Full => {
             steps.push(Step {
                 env: vec![(
@@ -213,22 +230,7 @@ fn test_steps(scope: &Scope) -> Vec<Step> {
                 needs_display: false,
                 role: Role::Check,
             });
-            steps.push(Step {
-                args: strings(&["nextest", "run", "--workspace", "--profile", "swiftshader"]),
-                env: vec![
-                    ("VK_ICD_FILENAMES".to_owned(), SWIFTSHADER_ICD.to_owned()),
-                    (
-                        "TEXEL_EXPECT_ADAPTER".to_owned(),
-                        SWIFTSHADER_ADAPTER.to_owned(),
-                    ),
-                    (
-                        plan::DEVICE_LOG_VAR.to_owned(),
-                        Driver::SwiftShader.device_log().display().to_string(),
-                    ),
-                ],
-                needs_display: true,
-                role: Role::Tests(Driver::SwiftShader),
-            });
+            steps.push(swiftshader);
         }
     }
     steps
@@ -426,6 +428,7 @@ fn parse_test_options(options: &[String]) -> Result<Scope, UsageError> {
     let mut rest = options.iter();
     while let Some(arg) = rest.next() {
         match arg.as_str() {
+            "--second-driver" if options.len() == 1 => return Ok(Scope::SecondDriver),
             "--quick" => quick = true,
             "-p" | "--package" => match rest.next() {
                 Some(name) if !name.starts_with('-') => package = Some(name.clone()),
@@ -506,16 +509,18 @@ fn usage(topic: Option<Sub>) -> String {
             format!(
                 "cargo xtask test: set up, then run every check CI runs\n\
                  \n\
-                 Usage: cargo xtask test [--quick [-p PACKAGE]]\n\
+                 Usage: cargo xtask test [--quick [-p PACKAGE] | --second-driver]\n\
                  \n\
                  Steps, in order (stops after the first failing step; a test step runs every\n\
                  test, failing or not):\n\
                  {}\n\
                  \n\
-                 Tests run under cargo-nextest, one process per test, one per core at a time\n\
-                 (.config/nextest.toml: the per-test time budget, and the tests allowed longer\n\
-                 with their reasons). Each test that opens a GPU device on lavapipe is\n\
-                 recorded ({}) and runs again on SwiftShader, except:\n\
+                 On lavapipe, tests run under cargo-nextest, one process per test, one per\n\
+                 core at a time (.config/nextest.toml: the per-test time budget, and the tests\n\
+                 allowed longer with their reasons). Each test that opens a GPU device there\n\
+                 is recorded ({}) and runs again on SwiftShader, each test binary's GPU tests\n\
+                 in one process sharing one device (its pipelines compiled once), one binary\n\
+                 per core at a time, {} s a test at most; except:\n\
                  {}\n\
                  A GPU test that did not run on both fails the run by name. Each pass ends\n\
                  with its {} slowest tests. GPU and window tests fail without an adapter or\n\
@@ -525,6 +530,7 @@ fn usage(topic: Option<Sub>) -> String {
                  \x20              and no GPU test (which tests open a device comes from the\n\
                  \x20              last full run's record; without one, every test runs)\n\
                  -p PACKAGE     with --quick: also PACKAGE's GPU tests\n\
+                 --second-driver  only the SwiftShader pass, over the last full run's record\n\
                  \n\
                  Environment: WGPU_BACKEND=vulkan unless set; XDG_RUNTIME_DIR set to a fresh\n\
                  private directory unless set; when DISPLAY is unset and Xvfb exists,\n\
@@ -532,6 +538,7 @@ fn usage(topic: Option<Sub>) -> String {
                  is started for the test steps and stopped at the end (also on failure).",
                 steps.join("\n"),
                 plan::DEVICE_LOG_VAR,
+                second_pass::BUDGET.as_secs(),
                 exceptions.join("\n"),
                 plan::SLOWEST_SHOWN,
                 XVFB_ARGS.join(" ")
@@ -541,6 +548,7 @@ fn usage(topic: Option<Sub>) -> String {
 }
 
 mod plan;
+mod second_pass;
 mod session;
 mod setup;
 use session::*;
@@ -574,8 +582,11 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
         let title = step.describe();
         println!("\n==> [{}/{}] {title}", index + 1, steps.len());
         let started = Instant::now();
-        let mut result = session.run(&step);
-        if let Role::Tests(driver) = step.role {
+        let mut result = match step.role {
+            Role::Tests(Driver::SwiftShader) => run_second_driver(&mut session, &step),
+            _ => session.run(&step),
+        };
+        if let Role::Tests(driver @ Driver::Lavapipe) = step.role {
             // nextest prints its summary on stderr: the counts come from its report.
             if let Some((tests, failed)) =
                 (fs::read_to_string(driver.junit()).ok()).and_then(|xml| plan::junit_counts(&xml))
@@ -586,7 +597,14 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
             let report = driver_report(driver);
             println!("{report}");
             reports.push(report);
-            if result.is_ok() && *scope == Scope::Full && driver == Driver::SwiftShader {
+        }
+        if step.role == Role::Tests(Driver::SwiftShader) {
+            let report = (fs::read_to_string(second_pass_timings()).ok())
+                .map(|text| plan::slowest_report("swiftshader", &plan::parse_timings(&text)))
+                .unwrap_or_default();
+            println!("{report}");
+            reports.push(report);
+            if result.is_ok() {
                 result = check_second_driver();
             }
         }
@@ -622,21 +640,9 @@ fn prepare_step(step: &Step, scope: &Scope) -> Result<Step, Failure> {
     }
     let filter = match (scope, driver) {
         (Scope::Full, Driver::Lavapipe) => None,
-        (Scope::Full, Driver::SwiftShader) => {
-            let gpu = read_device_log(Driver::Lavapipe)?;
-            let second = plan::second_driver_tests(&gpu.tests);
-            println!(
-                "==> {} tests opened a GPU device on lavapipe; {} run on SwiftShader",
-                gpu.tests.len(),
-                second.len()
-            );
-            Some(plan::filterset(&second).ok_or_else(|| {
-                Failure::new(
-                    "no test opened a GPU device on lavapipe, so the plan has no GPU \
-                         tests for SwiftShader: the device log is not being written",
-                )
-            })?)
-        }
+        // The second driver's tests are chosen from the listing (`run_second_driver`).
+        (Scope::Full | Scope::SecondDriver, Driver::SwiftShader) => None,
+        (Scope::SecondDriver, Driver::Lavapipe) => None,
         (Scope::Quick { package }, _) => quick_filter(package.as_deref()),
     };
     if let Some(filter) = filter {
@@ -665,6 +671,83 @@ fn quick_filter(package: Option<&str>) -> Option<String> {
         Some(package) => format!("{not_gpu} | package({package})"),
         None => not_gpu,
     })
+}
+
+/// Where the second pass keeps its tests' times (`binary<TAB>test<TAB>seconds` lines).
+fn second_pass_timings() -> PathBuf {
+    test_plan_dir().join("swiftshader-times.txt")
+}
+
+/// The SwiftShader pass: `step` builds and lists the tests, then every GPU test of the
+/// lavapipe pass (less the exceptions) runs, each binary's in one process
+/// ([`second_pass`]). Writes the pass's device log and timings; fails naming each test
+/// that failed, timed out or did not run.
+fn run_second_driver(session: &mut Session, step: &Step) -> Result<(), Failure> {
+    let gpu = read_device_log(Driver::Lavapipe)?;
+    let second = plan::second_driver_tests(&gpu.tests);
+    println!(
+        "==> {} tests opened a GPU device on lavapipe; {} run on SwiftShader",
+        gpu.tests.len(),
+        second.len()
+    );
+    if second.is_empty() {
+        return Err(Failure::new(
+            "no test opened a GPU device on lavapipe, so the plan has no GPU tests for \
+             SwiftShader: the device log is not being written",
+        ));
+    }
+    let list = session.output(step)?;
+    let suites = second_pass::suites(&list, &second).map_err(Failure::new)?;
+    let mut weight = std::collections::BTreeMap::new();
+    if let Ok(xml) = fs::read_to_string(Driver::Lavapipe.junit()) {
+        for t in plan::parse_junit(&xml) {
+            *weight.entry(t.test.binary).or_insert(0.0) += t.seconds;
+        }
+    }
+    let suites = second_pass::by_weight(suites, &weight);
+    let lanes = thread::available_parallelism().map_or(1, |n| n.get());
+    println!(
+        "==> {} binaries, each in one process, {lanes} at a time (a test's budget: {} s)",
+        suites.len(),
+        second_pass::BUDGET.as_secs()
+    );
+    let env = session.step_env(step);
+    let result = second_pass::run(suites, lanes, &env, &test_plan_dir());
+    let mut log = String::new();
+    let mut times = String::new();
+    let mut failed = Vec::new();
+    for o in &result.outcomes {
+        let t = &o.timing.test;
+        if o.used_gpu {
+            log.push_str(&format!("{}\t{}\n", t.binary, t.name));
+        }
+        times.push_str(&format!(
+            "{}\t{}\t{:.3}\n",
+            t.binary, t.name, o.timing.seconds
+        ));
+        if o.timed_out {
+            failed.push(format!(
+                "  {t} (TIMEOUT: past {} s)",
+                second_pass::BUDGET.as_secs()
+            ));
+        } else if !o.passed {
+            failed.push(format!("  {t}"));
+        }
+    }
+    let passed = result.outcomes.iter().filter(|o| o.passed).count() as u64;
+    session.tally.passed += passed;
+    session.tally.failed += result.outcomes.len() as u64 - passed;
+    fs::write(Driver::SwiftShader.device_log(), log)
+        .and_then(|()| fs::write(second_pass_timings(), times))
+        .map_err(|e| Failure::new(format!("cannot write the second pass's records: {e}")))?;
+    failed.extend(result.broken.iter().map(|b| format!("  {b}")));
+    if failed.is_empty() {
+        return Ok(());
+    }
+    Err(Failure::new(format!(
+        "on SwiftShader:\n{}",
+        failed.join("\n")
+    )))
 }
 
 /// The tests that opened a device in `driver`'s last pass.

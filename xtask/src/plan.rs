@@ -4,14 +4,15 @@
 //! that opens a wgpu device (`texel_render::context::GpuContext`, also inside a `texel-run`
 //! or `texel-eval` the test starts) appends its test's name to the file named by
 //! [`DEVICE_LOG_VAR`]. Those tests, and only those, run again on SwiftShader, less the
-//! [`SECOND_DRIVER_EXCEPTIONS`]. So a new GPU test joins the two-driver set by opening a
-//! device, and a CPU-only test never runs twice. After the second pass the two records are
-//! compared ([`missing_from_second`]): a GPU test that did not open a device on SwiftShader
-//! fails the run by name.
+//! [`SECOND_DRIVER_EXCEPTIONS`] (each binary's in one process: `second_pass`). So a new GPU
+//! test joins the two-driver set by opening a device, and a CPU-only test never runs twice.
+//! After the second pass the two records are compared ([`missing_from_second`]): a GPU test
+//! that did not use a device on SwiftShader fails the run by name.
 //!
-//! The time each test took comes from nextest's JUnit report ([`parse_junit`]); the run
-//! prints the slowest per driver. The per-test budget is nextest's `slow-timeout` in
-//! `.config/nextest.toml`, where the tests allowed longer are listed with their reasons.
+//! The time each test took comes from nextest's JUnit report on lavapipe ([`parse_junit`])
+//! and from the second pass's own record ([`parse_timings`]); the run prints the slowest per
+//! driver. The per-test budget is nextest's `slow-timeout` in `.config/nextest.toml` (where
+//! the tests allowed longer are listed with their reasons) and `second_pass::BUDGET`.
 
 use std::collections::{BTreeMap, BTreeSet};
 
@@ -196,6 +197,24 @@ fn unescape(text: &str) -> String {
         .replace("&quot;", "\"")
         .replace("&apos;", "'")
         .replace("&amp;", "&")
+}
+
+/// Timings written as `binary<TAB>test<TAB>seconds` lines (the second pass's); other lines
+/// are left out.
+pub(crate) fn parse_timings(text: &str) -> Vec<Timing> {
+    (text.lines())
+        .filter_map(|line| {
+            let mut parts = line.split('\t');
+            let (binary, name, seconds) = (parts.next()?, parts.next()?, parts.next()?);
+            Some(Timing {
+                test: TestId {
+                    binary: binary.to_owned(),
+                    name: name.to_owned(),
+                },
+                seconds: seconds.parse().ok()?,
+            })
+        })
+        .collect()
 }
 
 /// The `n` slowest timings, slowest first.

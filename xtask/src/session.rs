@@ -164,21 +164,51 @@ impl Session {
         self.xvfb.as_ref().map(|xvfb| xvfb.display.clone())
     }
 
-    /// Runs `step` with inherited stdio; returns its exit code on failure.
-    pub(crate) fn run(&mut self, step: &Step) -> Result<(), Failure> {
+    /// The variables `step` runs with: the session's, the step's, and `DISPLAY` when it
+    /// needs one.
+    pub(crate) fn step_env(&mut self, step: &Step) -> Vec<(String, OsString)> {
+        let mut env = self.env.clone();
+        env.extend((step.env.iter()).map(|(k, v)| (k.clone(), OsString::from(v))));
+        if step.needs_display
+            && let Some(display) = self.display()
+        {
+            env.push(("DISPLAY".to_owned(), display.into()));
+        }
+        env
+    }
+
+    /// `cargo` with `step`'s arguments and variables, in the workspace.
+    fn command(&mut self, step: &Step) -> Command {
         let mut command = Command::new(cargo_program());
         command.args(&step.args).current_dir(workspace_root());
-        command.envs(self.env.iter().map(|(key, value)| (key, value)));
-        command.envs(step.env.iter().map(|(key, value)| (key, value)));
+        command.envs(self.step_env(step));
         // CI's tests never skip: the opt-outs a developer may have exported do not reach them.
         command
             .env_remove("TEXEL_ALLOW_NO_GPU")
             .env_remove("TEXEL_ALLOW_NO_DISPLAY");
-        if step.needs_display
-            && let Some(display) = self.display()
-        {
-            command.env("DISPLAY", display);
+        command
+    }
+
+    /// Runs `step` and returns its standard output (standard error is shown as it comes).
+    pub(crate) fn output(&mut self, step: &Step) -> Result<String, Failure> {
+        let out = (self.command(step))
+            .stderr(std::process::Stdio::inherit())
+            .output()
+            .map_err(|error| Failure::new(format!("could not start cargo: {error}")))?;
+        if !out.status.success() {
+            return Err(Failure::new(format!(
+                "`{}` failed ({})",
+                step.describe(),
+                out.status
+            )));
         }
+        String::from_utf8(out.stdout)
+            .map_err(|e| Failure::new(format!("`{}` wrote no text: {e}", step.describe())))
+    }
+
+    /// Runs `step` with inherited stdio; returns its exit code on failure.
+    pub(crate) fn run(&mut self, step: &Step) -> Result<(), Failure> {
+        let mut command = self.command(step);
         let status = if step
             .args
             .first()

@@ -234,7 +234,7 @@ fn test_steps_are_in_order_with_their_environment() {
             "cargo clippy --workspace --all-targets -- -D warnings",
             "cargo nextest run --workspace --profile lavapipe",
             "cargo test --workspace --bench '*' --no-fail-fast",
-            "cargo nextest run --workspace --profile swiftshader",
+            "cargo nextest list --workspace --message-format json",
         ]
     );
     let display: Vec<bool> = steps.iter().map(|step| step.needs_display).collect();
@@ -405,4 +405,74 @@ fn formats_durations() {
 fn workspace_root_holds_the_workspace_manifest() {
     assert!(workspace_root().join("Cargo.toml").is_file());
     assert!(workspace_root().join("xtask").is_dir());
+}
+
+#[test]
+fn libtest_output_read_in_pieces_gives_each_tests_start_and_end() {
+    let text = "\nrunning 3 tests\ntest a::one ... ok\ntest a::two ... FAILED\ntest b ... ignored\n\
+                \ntest result: FAILED. 1 passed; 1 failed; 1 ignored\n";
+    let whole = second_pass::Events::default().feed(text);
+    // Fed a byte at a time, a test starts as soon as `test NAME ... ` is out.
+    let mut events = second_pass::Events::default();
+    let mut pieces = Vec::new();
+    for (i, c) in text.char_indices() {
+        let got = events.feed(&c.to_string());
+        if text[..=i].ends_with("test a::one ... ") {
+            assert_eq!(got, [second_pass::Event::Started("a::one".into())]);
+        }
+        pieces.extend(got);
+    }
+    assert_eq!(pieces, whole);
+    use second_pass::Event::*;
+    let tests: Vec<_> = (whole.iter())
+        .filter(|e| !matches!(e, Line(_)))
+        .cloned()
+        .collect();
+    assert_eq!(
+        tests,
+        [
+            Started("a::one".into()),
+            Finished("a::one".into(), true),
+            Started("a::two".into()),
+            Finished("a::two".into(), false),
+            Started("b".into()),
+            Finished("b".into(), true),
+        ]
+    );
+    assert!(whole.contains(&Line(
+        "test result: FAILED. 1 passed; 1 failed; 1 ignored".into()
+    )));
+}
+
+#[test]
+fn the_second_pass_finds_each_binary_and_runs_the_dearest_first() {
+    let list = r#"{"rust-suites": {
+        "texel_eval::stability": {"binary-path": "/t/stability-1", "cwd": "/w/eval",
+            "testcases": {"walk": {}, "yaw": {}, "cpu_only": {}}},
+        "texel_render": {"binary-path": "/t/texel_render-2", "cwd": "/w/crates/render",
+            "testcases": {"passes::cull::tests::keeps": {}}}
+    }}"#;
+    let tests = [
+        id("texel_render", "passes::cull::tests::keeps"),
+        id("texel_eval::stability", "yaw"),
+        id("texel_eval::stability", "walk"),
+    ];
+    let suites = second_pass::suites(list, &tests).unwrap();
+    assert_eq!(suites.len(), 2);
+    assert_eq!(suites[0].binary, "texel_eval::stability");
+    assert_eq!(suites[0].tests, ["yaw", "walk"]);
+    assert_eq!(suites[0].cwd, std::path::Path::new("/w/eval"));
+    let weight = [("texel_render".to_owned(), 90.0)].into();
+    let ordered = second_pass::by_weight(suites, &weight);
+    assert_eq!(ordered[0].binary, "texel_render");
+    // A test or binary the listing lacks is an error naming it.
+    let gone = second_pass::suites(list, &[id("texel_eval::stability", "gone")]);
+    assert!(gone.unwrap_err().contains("`gone`"));
+    let no_binary = second_pass::suites(list, &[id("texel_tests::x", "y")]);
+    assert!(no_binary.unwrap_err().contains("texel_tests::x"));
+    assert!(second_pass::suites("not json", &tests).is_err());
+    // Its times are kept as lines and read back.
+    let times = plan::parse_timings("texel_render\ta::b\t1.500\nbroken\n");
+    assert_eq!(times.len(), 1);
+    assert_eq!(times[0].seconds, 1.5);
 }

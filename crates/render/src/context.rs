@@ -3,6 +3,8 @@
 use std::fmt;
 use std::sync::{Arc, Mutex, PoisonError};
 
+use crate::pipeline_cache;
+
 /// Why the GPU could not be opened.
 #[derive(Debug, thiserror::Error)]
 pub enum GpuError {
@@ -106,7 +108,9 @@ impl GpuErrors {
     }
 }
 
-/// An open GPU: everything the passes need to create resources and submit work.
+/// An open GPU: everything the passes need to create resources and submit work. A clone
+/// is the same device.
+#[derive(Clone)]
 pub struct GpuContext {
     /// The wgpu instance (kept to create surfaces).
     pub instance: wgpu::Instance,
@@ -120,6 +124,9 @@ pub struct GpuContext {
     pub timestamps: bool,
     /// What the device reported outside error scopes.
     pub errors: GpuErrors,
+    /// Keeps the device's modules and pipelines shared by every renderer on it while a
+    /// context (or a clone of it) holds it.
+    _pipelines: Arc<pipeline_cache::Registration>,
 }
 
 impl fmt::Debug for GpuContext {
@@ -187,6 +194,7 @@ impl GpuContext {
         let timestamps = device.features().contains(wanted);
         let errors = GpuErrors::install(&device);
         GpuContext {
+            _pipelines: Arc::new(pipeline_cache::register(&device)),
             instance,
             adapter,
             device,
@@ -208,6 +216,12 @@ impl GpuContext {
         format!("{} ({:?}, {:?})", i.name, i.backend, i.device_type)
     }
 
+    /// How many pipelines were compiled on this device (each once, for every renderer on
+    /// it: [`pipeline_cache`]).
+    pub fn pipelines_compiled(&self) -> u64 {
+        pipeline_cache::compiled(&self.device)
+    }
+
     /// Blocks until the GPU has finished all submitted work.
     pub fn wait_idle(&self) -> Result<(), GpuError> {
         self.device
@@ -221,7 +235,9 @@ impl GpuContext {
 /// names a file, appends the running test's name (cargo-nextest's `NEXTEST_BINARY_ID` and
 /// `NEXTEST_TEST_NAME`, `?` outside nextest) to it, one line per device opened. A `texel-run`
 /// or `texel-eval` started by a test inherits both, so its device counts for that test. The
-/// tests recorded on one driver are the ones the second driver runs. Unset, it does nothing.
+/// tests recorded on one driver are the ones the second driver runs; there, where a binary's
+/// tests share one device, [`test_context`] records each test that takes it. Unset, it does
+/// nothing.
 fn record_device_for_test_plan() {
     use std::io::Write as _;
     let Some(path) = std::env::var_os("TEXEL_GPU_TEST_LOG") else {
@@ -260,10 +276,19 @@ pub fn new_instance() -> wgpu::Instance {
     wgpu::Instance::new(desc)
 }
 
-/// For GPU tests: a headless context. Without an adapter this panics, so a GPU test can
-/// never pass without running; `TEXEL_ALLOW_NO_GPU=1` is the explicit opt-out, under which it
-/// returns `None` and prints SKIPPED on stderr.
+/// For GPU tests: a headless context, one per process, shared by the tests of a test binary
+/// that runs them in one process (libtest does; cargo-nextest runs each test in a process of
+/// its own), so they open one device and compile each pipeline once. Without an adapter this
+/// panics, so a GPU test can never pass without running; `TEXEL_ALLOW_NO_GPU=1` is the
+/// explicit opt-out, under which it returns `None` and prints SKIPPED on stderr.
 pub fn test_context() -> Option<GpuContext> {
+    static SHARED: Mutex<Option<GpuContext>> = Mutex::new(None);
+    let mut shared = SHARED.lock().unwrap_or_else(PoisonError::into_inner);
+    if let Some(ctx) = shared.as_ref() {
+        // The test uses a device as much as the one that opened it.
+        record_device_for_test_plan();
+        return Some(ctx.clone());
+    }
     match GpuContext::headless() {
         Ok(ctx) => {
             // A run meant for one driver (SwiftShader, say) must not pass on another.
@@ -274,6 +299,7 @@ pub fn test_context() -> Option<GpuContext> {
                     "TEXEL_EXPECT_ADAPTER={want} but the adapter is `{name}`"
                 );
             }
+            *shared = Some(ctx.clone());
             Some(ctx)
         }
         Err(e) if std::env::var_os("TEXEL_ALLOW_NO_GPU").is_none() => panic!(

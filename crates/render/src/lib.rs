@@ -7,7 +7,8 @@
 //! Modules: [`context`] opens the GPU; [`input`] is the data it consumes; [`error`] is why
 //! a frame fails; [`gpu_scene`] and
 //! [`bvh`] upload the scene; [`probe_store`] holds the probe textures; [`passes`] are the
-//! passes, one per WGSL file in `shaders/`; [`frame`] orders them; [`stats`] is what a frame
+//! passes, one per WGSL file in `shaders/`, whose modules and pipelines [`pipeline_cache`]
+//! makes once per device; [`frame`] orders them; [`stats`] is what a frame
 //! reports; [`layouts`] lists the records Rust and WGSL share.
 
 pub mod baselines;
@@ -21,6 +22,7 @@ pub mod input;
 pub mod layouts;
 pub mod memory;
 pub mod passes;
+pub mod pipeline_cache;
 pub mod probe_store;
 pub mod readback;
 pub mod shader;

@@ -231,13 +231,16 @@ fn expand_lines(
     Ok(())
 }
 
-/// Creates a shader module from an assembled file, labelled with its name.
+/// The shader module of an assembled file, labelled with its name: made once per device
+/// while a context holds it ([`crate::pipeline_cache`]).
 pub fn module(device: &wgpu::Device, name: &str) -> Result<wgpu::ShaderModule, ShaderError> {
-    let src = assemble(name)?;
-    Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
-        label: Some(name),
-        source: wgpu::ShaderSource::Wgsl(src.into()),
-    }))
+    crate::pipeline_cache::module(device, name, || {
+        let src = assemble(name)?;
+        Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
+            label: Some(name),
+            source: wgpu::ShaderSource::Wgsl(src.into()),
+        }))
+    })
 }
 
 #[cfg(test)]

@@ -79,3 +79,41 @@ fn haze_pulls_far_surfaces_toward_the_sky() {
         "near ground changes less than far ground"
     );
 }
+
+/// Pipelines are made once per device (`pipeline_cache`): a second renderer on the same
+/// device compiles none of the pipelines the first compiled, and draws the same frame. A
+/// device of its own, so no other test's pipelines are counted.
+#[test]
+fn a_second_renderer_on_a_device_compiles_nothing_and_draws_the_same_frame() {
+    if test_context().is_none() {
+        return;
+    }
+    let ctx = texel_render::context::GpuContext::headless().expect("a device");
+    let size = UVec2::new(160, 90);
+    let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0));
+    let input = common::frame(cam, Vec3::new(0.0, 2.0, 3.0), 32, size, Schedule::Ours);
+    let frame = || {
+        let mut r = Renderer::headless(&ctx).unwrap();
+        r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
+        r.render_offscreen(&ctx, &input).unwrap().1
+    };
+    let first = frame();
+    let compiled = ctx.pipelines_compiled();
+    assert!(
+        compiled >= 5,
+        "the first frame compiled {compiled} pipelines"
+    );
+    let second = frame();
+    assert_eq!(
+        ctx.pipelines_compiled(),
+        compiled,
+        "the second renderer compiled again"
+    );
+    assert!(first == second, "the second renderer's frame differs");
+    // A clone is the same device, with the same pipelines.
+    let clone = ctx.clone();
+    let mut r = Renderer::headless(&clone).unwrap();
+    r.set_scene(&clone, &common::boxes_scene()).expect("scene");
+    assert!(r.render_offscreen(&clone, &input).unwrap().1 == first);
+    assert_eq!(clone.pipelines_compiled(), compiled);
+}

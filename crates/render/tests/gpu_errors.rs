@@ -5,13 +5,20 @@
 mod common;
 
 use glam::{UVec2, Vec3};
-use texel_render::context::{GpuError, test_context};
+use texel_render::context::{GpuContext, GpuError, test_context};
 use texel_render::frame::{RenderError, Renderer};
 use texel_render::input::{Camera, Schedule};
 
+/// A device of the test's own: these tests break theirs (an error, a lost device), and
+/// `test_context`'s is shared by the binary's other tests when they run in one process.
+fn own_context() -> Option<GpuContext> {
+    test_context()?;
+    Some(GpuContext::headless().expect("a second device on the adapter"))
+}
+
 #[test]
 fn an_uncaptured_validation_error_fails_the_next_frame_with_its_message() {
-    let Some(ctx) = test_context() else { return };
+    let Some(ctx) = own_context() else { return };
     let mut r = Renderer::headless(&ctx).expect("renderer");
     r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     let size = UVec2::new(64, 36);
@@ -42,7 +49,7 @@ fn an_uncaptured_validation_error_fails_the_next_frame_with_its_message() {
 
 #[test]
 fn a_lost_device_is_an_error_not_a_panic() {
-    let Some(ctx) = test_context() else { return };
+    let Some(ctx) = own_context() else { return };
     let mut r = Renderer::headless(&ctx).expect("renderer");
     r.set_scene(&ctx, &common::boxes_scene()).expect("scene");
     ctx.device.destroy();

@@ -4,6 +4,8 @@
 
 use std::sync::OnceLock;
 
+use crate::pipeline_cache;
+
 pub mod background;
 pub mod capture;
 pub mod cull;
@@ -231,9 +233,25 @@ pub(crate) struct LazyRender {
 
 impl LazyRender {
     /// The pipeline, compiled now if this is its first use.
+    /// Another renderer's on the same device when it compiled the same one
+    /// ([`crate::pipeline_cache`]).
     pub(crate) fn get(&self) -> &wgpu::RenderPipeline {
-        self.pipeline
-            .get_or_init(|| timed_compile(&self.label, &self.vertex, || self.compile()))
+        self.pipeline.get_or_init(|| {
+            pipeline_cache::render(&self.device, &self.module, self.key(), || {
+                timed_compile(&self.label, &self.vertex, || self.compile())
+            })
+        })
+    }
+
+    /// What tells this pipeline from another on the same module: everything but the layout.
+    fn key(&self) -> String {
+        let buffers: Vec<_> = (self.vertex_buffers.iter())
+            .map(|b| b.as_ref().map(|b| (b.stride, b.step_mode, &b.attributes)))
+            .collect();
+        format!(
+            "{}|{}|{}|{:?}|{:?}|{:?}|{buffers:?}",
+            self.label, self.vertex, self.fragment, self.targets, self.depth, self.topology
+        )
     }
 
     fn compile(&self) -> wgpu::RenderPipeline {
@@ -321,16 +339,21 @@ pub(crate) struct LazyCompute {
 
 impl LazyCompute {
     /// The pipeline, compiled now if this is its first use.
+    /// Another renderer's on the same device when it compiled the same one
+    /// ([`crate::pipeline_cache`]).
     pub(crate) fn get(&self) -> &wgpu::ComputePipeline {
         self.pipeline.get_or_init(|| {
-            timed_compile(&self.label, &self.entry, || {
-                (self.device).create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
-                    label: Some(&self.label),
-                    layout: Some(&self.layout),
-                    module: &self.module,
-                    entry_point: Some(&self.entry),
-                    compilation_options: Default::default(),
-                    cache: None,
+            let key = format!("{}|{}", self.label, self.entry);
+            pipeline_cache::compute(&self.device, &self.module, key, || {
+                timed_compile(&self.label, &self.entry, || {
+                    (self.device).create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
+                        label: Some(&self.label),
+                        layout: Some(&self.layout),
+                        module: &self.module,
+                        entry_point: Some(&self.entry),
+                        compilation_options: Default::default(),
+                        cache: None,
+                    })
                 })
             })
         })

@@ -1,0 +1,352 @@
+//! The second driver's pass: each test binary's GPU tests in one process.
+//!
+//! On SwiftShader most of a GPU test's time was compiling its pipelines (about 4–7 s a test,
+//! the same pipelines in every test of a binary), paid again in every process because
+//! nextest runs each test in a process of its own and SwiftShader keeps nothing between
+//! processes. Here each binary runs once, under libtest, with exactly its GPU tests
+//! (`--exact NAME...`) one after another (`--test-threads=1`): `test_context()` hands every
+//! test the process's one device, whose pipelines are compiled once
+//! (`texel_render::pipeline_cache`). As many binaries run at once as the machine has cores,
+//! the slowest first.
+//!
+//! What nextest gave the first pass, this pass keeps: libtest names each test as it starts
+//! and ends (one at a time, it prints `test NAME ... ` before running it), so each test's
+//! wall time is measured here; a test past [`BUDGET`] is killed with its process and fails
+//! by name; and the device log is written per test: every test that asks for a context, or
+//! starts a program that opens a device, appends a line to its process's log while it runs,
+//! and the lines that appeared while a test ran are that test's.
+
+use std::collections::BTreeMap;
+use std::io::Read as _;
+use std::path::PathBuf;
+use std::process::{Command, Stdio};
+use std::sync::{Arc, Mutex};
+use std::time::{Duration, Instant};
+
+use crate::plan::{TestId, Timing};
+
+/// A test still running after this long is killed and fails (the first pass's budget is
+/// nextest's `slow-timeout` in `.config/nextest.toml`; SwiftShader takes about 4× lavapipe's
+/// time). No test is allowed longer today.
+pub(crate) const BUDGET: Duration = Duration::from_secs(300);
+
+/// One test binary and the tests of it to run.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) struct Suite {
+    /// nextest's binary id.
+    pub(crate) binary: String,
+    /// The executable.
+    pub(crate) path: PathBuf,
+    /// Where it runs (its package's directory, as under cargo and nextest).
+    pub(crate) cwd: PathBuf,
+    /// Test names, in the binary's order.
+    pub(crate) tests: Vec<String>,
+}
+
+/// The suites holding `tests`, from `cargo nextest list --message-format json`'s output.
+pub(crate) fn suites(list_json: &str, tests: &[TestId]) -> Result<Vec<Suite>, String> {
+    let list: serde_json::Value = serde_json::from_str(list_json)
+        .map_err(|e| format!("cannot read nextest's test list: {e}"))?;
+    let mut wanted: BTreeMap<&str, Vec<&str>> = BTreeMap::new();
+    for t in tests {
+        wanted.entry(&t.binary).or_default().push(&t.name);
+    }
+    let mut out = Vec::new();
+    for (binary, names) in wanted {
+        let suite = &list["rust-suites"][binary];
+        let field = |key: &str| {
+            suite[key]
+                .as_str()
+                .map(PathBuf::from)
+                .ok_or_else(|| format!("nextest lists no {key} for the test binary `{binary}`"))
+        };
+        let (path, cwd) = (field("binary-path")?, field("cwd")?);
+        let listed = suite["testcases"].as_object();
+        let mut tests = Vec::new();
+        for name in names {
+            if !listed.is_some_and(|cases| cases.contains_key(name)) {
+                return Err(format!("nextest lists no test `{name}` in `{binary}`"));
+            }
+            tests.push(name.to_owned());
+        }
+        out.push(Suite {
+            binary: binary.to_owned(),
+            path,
+            cwd,
+            tests,
+        });
+    }
+    Ok(out)
+}
+
+/// `suites` ordered for running: the most expensive first (`weight`: seconds the binary's
+/// tests took on the first driver), so the last to start are short.
+pub(crate) fn by_weight(mut suites: Vec<Suite>, weight: &BTreeMap<String, f64>) -> Vec<Suite> {
+    let w = |s: &Suite| weight.get(&s.binary).copied().unwrap_or(0.0);
+    suites.sort_by(|a, b| w(b).total_cmp(&w(a)).then_with(|| a.binary.cmp(&b.binary)));
+    suites
+}
+
+/// What libtest says about one test.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub(crate) enum Event {
+    /// `test NAME ... ` (printed before the test runs when tests run one at a time).
+    Started(String),
+    /// `test NAME ... ok` (or `FAILED`, `ignored`): whether it passed.
+    Finished(String, bool),
+    /// Any other whole line.
+    Line(String),
+}
+
+/// Reads libtest's output as it comes, in pieces of any size.
+#[derive(Default)]
+pub(crate) struct Events {
+    pending: String,
+    started: bool,
+}
+
+impl Events {
+    /// The events `chunk` completes.
+    pub(crate) fn feed(&mut self, chunk: &str) -> Vec<Event> {
+        self.pending.push_str(chunk);
+        let mut events = Vec::new();
+        loop {
+            if !self.started
+                && let Some(name) = started_name(&self.pending)
+            {
+                self.started = true;
+                events.push(Event::Started(name));
+            }
+            let Some(end) = self.pending.find('\n') else {
+                break;
+            };
+            let line: String = self.pending.drain(..=end).collect();
+            let line = line.trim_end_matches(['\n', '\r']);
+            let was_started = std::mem::take(&mut self.started);
+            match finished(line) {
+                Some((name, ok)) => {
+                    if !was_started {
+                        events.push(Event::Started(name.clone()));
+                    }
+                    events.push(Event::Finished(name, ok));
+                }
+                None => events.push(Event::Line(line.to_owned())),
+            }
+        }
+        events
+    }
+}
+
+/// The name in a line begun as `test NAME ... `.
+fn started_name(pending: &str) -> Option<String> {
+    let line = pending.split('\n').next()?;
+    let rest = line.strip_prefix("test ")?;
+    let (name, _) = rest.split_once(" ... ")?;
+    Some(name.to_owned())
+}
+
+/// `(NAME, passed)` of a line `test NAME ... ok|FAILED|ignored`.
+fn finished(line: &str) -> Option<(String, bool)> {
+    let rest = line.strip_prefix("test ")?;
+    let (name, verdict) = rest.split_once(" ... ")?;
+    let ok = match verdict.trim() {
+        "ok" | "ignored" => true,
+        "FAILED" => false,
+        _ => return None,
+    };
+    Some((name.to_owned(), ok))
+}
+
+/// One test's outcome on the second driver.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct Outcome {
+    /// The test and its wall time.
+    pub(crate) timing: Timing,
+    /// Passed (`false`: failed, or killed past the budget).
+    pub(crate) passed: bool,
+    /// Whether it asked for a device (its process's log grew while it ran).
+    pub(crate) used_gpu: bool,
+    /// Killed past [`BUDGET`].
+    pub(crate) timed_out: bool,
+}
+
+/// What the pass did: every test's outcome, and the binaries that failed outside a test
+/// (crashed, or exited non-zero with every test passed).
+#[derive(Default)]
+pub(crate) struct PassResult {
+    pub(crate) outcomes: Vec<Outcome>,
+    pub(crate) broken: Vec<String>,
+}
+
+/// Runs `suites` on `lanes` processes at once with `env` (the driver's), each process
+/// logging its devices to a file of its own in `log_dir`.
+pub(crate) fn run(
+    suites: Vec<Suite>,
+    lanes: usize,
+    env: &[(String, std::ffi::OsString)],
+    log_dir: &std::path::Path,
+) -> PassResult {
+    let queue = Arc::new(Mutex::new(
+        suites.into_iter().enumerate().collect::<Vec<_>>(),
+    ));
+    queue.lock().unwrap_or_else(|e| e.into_inner()).reverse();
+    let result = Arc::new(Mutex::new(PassResult::default()));
+    std::thread::scope(|scope| {
+        for _ in 0..lanes.max(1) {
+            let (queue, result) = (queue.clone(), result.clone());
+            scope.spawn(move || {
+                loop {
+                    let next = queue.lock().unwrap_or_else(|e| e.into_inner()).pop();
+                    let Some((i, suite)) = next else { break };
+                    let log = log_dir.join(format!("second-pass-{i}.txt"));
+                    let (outcomes, broken) = run_suite(&suite, env, &log);
+                    let mut r = result.lock().unwrap_or_else(|e| e.into_inner());
+                    r.outcomes.extend(outcomes);
+                    r.broken.extend(broken);
+                }
+            });
+        }
+    });
+    let mut result = std::mem::take(&mut *result.lock().unwrap_or_else(|e| e.into_inner()));
+    result
+        .outcomes
+        .sort_by(|a, b| a.timing.test.cmp(&b.timing.test));
+    result
+}
+
+/// The test running in a process, and since when.
+type Running = Arc<Mutex<Option<(String, Instant)>>>;
+
+/// Runs one suite's tests in one process; its outcomes, and why the process failed
+/// outside its tests, if it did.
+fn run_suite(
+    suite: &Suite,
+    env: &[(String, std::ffi::OsString)],
+    log: &std::path::Path,
+) -> (Vec<Outcome>, Option<String>) {
+    let _ = std::fs::write(log, "");
+    let mut command = Command::new(&suite.path);
+    command
+        .arg("--exact")
+        .args(&suite.tests)
+        .arg("--test-threads=1")
+        .current_dir(&suite.cwd)
+        .envs(env.iter().map(|(k, v)| (k, v)))
+        .env(crate::plan::DEVICE_LOG_VAR, log)
+        .env("CARGO_MANIFEST_DIR", &suite.cwd)
+        .env_remove("TEXEL_ALLOW_NO_GPU")
+        .stdout(Stdio::piped());
+    let mut child = match command.spawn() {
+        Ok(child) => child,
+        Err(e) => {
+            return (
+                Vec::new(),
+                Some(format!("{}: cannot start: {e}", suite.binary)),
+            );
+        }
+    };
+    let Some(mut stdout) = child.stdout.take() else {
+        return (Vec::new(), Some(format!("{}: no output", suite.binary)));
+    };
+    let child = Arc::new(Mutex::new(child));
+    let running: Running = Arc::default();
+    let killed: Arc<Mutex<Option<String>>> = Arc::default();
+    let done = Arc::new(std::sync::atomic::AtomicBool::new(false));
+    let watchdog = {
+        let (child, running, killed, done) =
+            (child.clone(), running.clone(), killed.clone(), done.clone());
+        std::thread::spawn(move || {
+            while !done.load(std::sync::atomic::Ordering::Relaxed) {
+                std::thread::sleep(Duration::from_millis(250));
+                let over = (running.lock().unwrap_or_else(|e| e.into_inner()).as_ref())
+                    .filter(|(_, since)| since.elapsed() > BUDGET)
+                    .map(|(name, _)| name.clone());
+                if let Some(name) = over {
+                    let _ = child.lock().unwrap_or_else(|e| e.into_inner()).kill();
+                    *killed.lock().unwrap_or_else(|e| e.into_inner()) = Some(name);
+                    break;
+                }
+            }
+        })
+    };
+    let mut outcomes = Vec::new();
+    let mut events = Events::default();
+    let mut log_len = 0;
+    let mut buf = [0u8; 4096];
+    let echo = |line: &str| println!("    {line}");
+    loop {
+        let n = match stdout.read(&mut buf) {
+            Ok(0) | Err(_) => break,
+            Ok(n) => n,
+        };
+        for event in events.feed(&String::from_utf8_lossy(&buf[..n])) {
+            match event {
+                Event::Started(name) => {
+                    log_len = file_len(log);
+                    *running.lock().unwrap_or_else(|e| e.into_inner()) =
+                        Some((name, Instant::now()));
+                }
+                Event::Finished(name, passed) => {
+                    let since = running.lock().unwrap_or_else(|e| e.into_inner()).take();
+                    let seconds = since.map_or(0.0, |(_, t)| t.elapsed().as_secs_f64());
+                    let used_gpu = file_len(log) > log_len;
+                    let verdict = if passed { "PASS" } else { "FAIL" };
+                    echo(&format!(
+                        "{verdict} [{seconds:>7.1}s] {} {name}",
+                        suite.binary
+                    ));
+                    outcomes.push(outcome(suite, name, seconds, passed, used_gpu, false));
+                }
+                Event::Line(line) if !line.is_empty() => echo(&line),
+                Event::Line(_) => {}
+            }
+        }
+    }
+    let status = child.lock().unwrap_or_else(|e| e.into_inner()).wait();
+    done.store(true, std::sync::atomic::Ordering::Relaxed);
+    let _ = watchdog.join();
+    if let Some(name) = killed.lock().unwrap_or_else(|e| e.into_inner()).take() {
+        let seconds = BUDGET.as_secs_f64();
+        echo(&format!(
+            "TIMEOUT [{seconds:>7.1}s] {} {name} (past the budget)",
+            suite.binary
+        ));
+        let used_gpu = file_len(log) > log_len;
+        outcomes.push(outcome(suite, name, seconds, false, used_gpu, true));
+        return (outcomes, None);
+    }
+    let broken = match status {
+        Ok(s) if s.success() => None,
+        // A failed test makes libtest exit non-zero: that failure is the test's.
+        Ok(_) if outcomes.iter().any(|o| !o.passed) => None,
+        Ok(s) => Some(format!("{}: exited with {s}, no test failed", suite.binary)),
+        Err(e) => Some(format!("{}: {e}", suite.binary)),
+    };
+    (outcomes, broken)
+}
+
+fn outcome(
+    suite: &Suite,
+    name: String,
+    seconds: f64,
+    passed: bool,
+    used_gpu: bool,
+    timed_out: bool,
+) -> Outcome {
+    Outcome {
+        timing: Timing {
+            test: TestId {
+                binary: suite.binary.clone(),
+                name,
+            },
+            seconds,
+        },
+        passed,
+        used_gpu,
+        timed_out,
+    }
+}
+
+fn file_len(path: &std::path::Path) -> u64 {
+    std::fs::metadata(path).map_or(0, |m| m.len())
+}
