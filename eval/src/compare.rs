@@ -23,7 +23,7 @@ use texel_runtime::load::load_level;
 
 use crate::gpu::{level_look, set_face_res};
 use crate::metrics::{MetricParams, Summary};
-use crate::runner::{EvalError, Method, run_path_observed};
+use crate::runner::{EvalError, Method, TruthOf, run_path_observed};
 use crate::suite::{
     DEFAULT_FOV_DEG, ReferenceKind, SourceView, load_path, method_source, path_references, runs_on,
 };
@@ -122,7 +122,8 @@ pub fn coverage_overlay(cur: &crate::meter::OwnedFrame) -> Result<Vec<u8>, EvalE
 }
 
 /// Frame `cur` dimmed to grey, with the pixels [`crate::metrics::flicker_map`] found changed
-/// since `prev` in red (magenta: taken from the eye probe). RGBA8 like the frames.
+/// since `prev` in red (magenta: taken from the eye probe; cyan: changed where the truth
+/// changed too, which is not shimmer). RGBA8 like the frames.
 pub fn flicker_overlay(
     prev: &crate::meter::OwnedFrame,
     cur: &crate::meter::OwnedFrame,
@@ -136,6 +137,7 @@ pub fn flicker_overlay(
         let rgb = match m {
             map::FLICKER => [255, 40, 40],
             map::FLICKER_EYE => [255, 40, 255],
+            map::INTENDED => [40, 200, 255],
             _ => [grey, grey, grey],
         };
         px[..3].copy_from_slice(&rgb);
@@ -266,12 +268,18 @@ pub fn run_compare(
         let mut frames = Vec::with_capacity(path.frames as usize);
         let mut prev: Option<crate::meter::OwnedFrame> = None;
         let mut overlay_error = None;
+        let mut kept = crate::colour::Truth::new();
+        let against = match method {
+            Method::Raster => TruthOf::Itself,
+            _ if truth.is_empty() => TruthOf::None,
+            _ => TruthOf::Frames(&truth),
+        };
         let outcome = run_path_observed(
             &path,
             fov_y,
             source.as_mut(),
             &refs,
-            MetricParams::default(),
+            (MetricParams::default(), against),
             &mut |i, frame| {
                 let cur = || crate::meter::OwnedFrame {
                     camera: path.camera(i, fov_y),
@@ -279,7 +287,14 @@ pub fn run_compare(
                     colour: frame.pixels.clone(),
                     ids: frame.ids.clone(),
                     from_eye: frame.from_eye.clone(),
+                    truth: match method {
+                        Method::Raster => Some(frame.pixels.clone()),
+                        _ => truth.get(i as usize).map(|(t, _)| t.clone()),
+                    },
                 };
+                if method == Method::Raster {
+                    kept.push((frame.pixels.clone(), frame.ids.clone()));
+                }
                 let mut shown = |r: Result<Vec<u8>, EvalError>| {
                     r.unwrap_or_else(|e| {
                         overlay_error = Some(e);
@@ -299,7 +314,6 @@ pub fn run_compare(
                     }
                     Overlay::Coverage => frames.push(shown(coverage_overlay(&cur()))),
                     Overlay::Colour if method == Method::Raster => {
-                        truth.push((frame.pixels.clone(), frame.ids.clone()));
                         frames.push(frame.pixels.clone());
                     }
                     Overlay::Colour => match truth.get(i as usize) {
@@ -318,6 +332,9 @@ pub fn run_compare(
         )?;
         if let Some(e) = overlay_error {
             return Err(e);
+        }
+        if method == Method::Raster {
+            truth = kept;
         }
         methods.push(MethodFrames {
             method,

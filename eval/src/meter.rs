@@ -22,6 +22,8 @@ pub struct OwnedFrame {
     pub ids: Vec<u32>,
     /// Per pixel, whether it came from the eye probe (splat methods).
     pub from_eye: Option<Vec<bool>>,
+    /// The truth's colour at this camera, when a truth was rendered ([`FrameView::truth`]).
+    pub truth: Option<Vec<u8>>,
 }
 
 impl OwnedFrame {
@@ -33,6 +35,7 @@ impl OwnedFrame {
             colour: &self.colour,
             ids: &self.ids,
             from_eye: self.from_eye.as_deref(),
+            truth: self.truth.as_deref(),
         }
     }
 }
@@ -40,10 +43,14 @@ impl OwnedFrame {
 /// Per-path scores.
 #[derive(Debug, Clone, Default, PartialEq, Serialize, Deserialize)]
 pub struct Scores {
-    /// Per-frame flicker fraction, summarised over frames 1.. (frame 0 has no predecessor).
+    /// Per-frame shimmer (the flicker fraction where the truth held), summarised over
+    /// frames 1.. (frame 0 has no predecessor).
     pub shimmer: Summary,
-    /// Flicker fraction of each frame after the first.
+    /// Shimmer of each frame after the first.
     pub shimmer_per_frame: Vec<f64>,
+    /// Per-frame flicker fraction of every tested pixel, the truth's own changes included
+    /// (the shimmer before intended change was left out).
+    pub shimmer_all: Summary,
     /// Mean over frames of the fraction of pixels whose object id differs from the reference.
     pub coverage_error: f64,
     /// Mean over frames of the fraction of pixels where the reference shows geometry and the
@@ -116,6 +123,11 @@ impl PathMeter {
         Scores {
             shimmer: Summary::of(&per_frame),
             shimmer_per_frame: per_frame,
+            shimmer_all: Summary::of(
+                &(self.flicker.iter())
+                    .map(FlickerCount::all_fraction)
+                    .collect::<Vec<_>>(),
+            ),
             coverage_error: mean(|c| c.error),
             hole_rate: mean(|c| c.holes),
             eye_fraction: self.has_eye.then(|| mean(|c| c.eye)),

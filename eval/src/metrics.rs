@@ -12,6 +12,13 @@
 //!   metric blind to resampling alone: a colour edge fixed in the world always has one of the
 //!   four on the same side, so a world-stable image scores 0 while screen-locked noise
 //!   scores about 1.
+//!
+//!   **Intended change is not shimmer.** When the frames carry the truth's colours (the
+//!   full-resolution `raster` at the same cameras: [`FrameView::truth`]), a tested pixel
+//!   whose truth changed by the same test (a sprite's next frame, a turning part's shading,
+//!   anything the scene moves on purpose) is left out of the shimmer ([`FlickerCount::fraction`]);
+//!   every tested pixel still counts in [`FlickerCount::all_fraction`], the number before
+//!   this rule. Without a truth both are the same.
 //! - **Coverage error** ([`coverage`]): the fraction of pixels whose method id differs from
 //!   the reference id; **hole rate**: pixels where the reference shows geometry and the
 //!   method shows sky or nothing.
@@ -48,6 +55,9 @@ pub struct FrameView<'a> {
     pub ids: &'a [u32],
     /// Per pixel, whether the method took it from the eye probe (splat methods only).
     pub from_eye: Option<&'a [bool]>,
+    /// The truth's colour at this camera (RGBA8 sRGB, the reference's size): where it
+    /// changed at a world point, so may the method's.
+    pub truth: Option<&'a [u8]>,
 }
 
 /// Thresholds of the metrics.
@@ -97,11 +107,21 @@ pub struct FlickerCount {
     pub tested_sprite: u64,
     /// Of those, pixels whose colour changed.
     pub flicker_sprite: u64,
+    /// Of the tested pixels, those whose truth did not change (all of them without a truth).
+    pub tested_held: u64,
+    /// Of those, pixels whose colour changed: the shimmer.
+    pub flicker_held: u64,
 }
 
 impl FlickerCount {
-    /// The flicker fraction, 0 when nothing could be tested.
+    /// The shimmer: the flicker fraction of the pixels whose truth held (of every tested
+    /// pixel without a truth), 0 when nothing could be tested.
     pub fn fraction(&self) -> f64 {
+        ratio(self.flicker_held, self.tested_held).unwrap_or(0.0)
+    }
+
+    /// The flicker fraction of every tested pixel, the truth's changes included.
+    pub fn all_fraction(&self) -> f64 {
         ratio(self.flicker, self.tested).unwrap_or(0.0)
     }
 
@@ -186,7 +206,9 @@ fn check(f: &FrameView<'_>) -> Result<usize, MetricError> {
     let size = f.reference.size;
     let n = (size.x * size.y) as usize;
     let eye_ok = f.from_eye.is_none_or(|e| e.len() == n);
-    if f.reference.world.len() != n
+    let truth_ok = f.truth.is_none_or(|t| t.len() == n * 4);
+    if !truth_ok
+        || f.reference.world.len() != n
         || f.reference.id.len() != n
         || f.colour.len() != n * 4
         || f.ids.len() != n
@@ -238,6 +260,8 @@ pub mod map {
     pub const FLICKER: u8 = 2;
     /// Changed, and the method took it from the eye probe.
     pub const FLICKER_EYE: u8 = 3;
+    /// Changed where the truth changed too: intended, not shimmer.
+    pub const INTENDED: u8 = 4;
 }
 
 /// [`flicker`], and per pixel of `cur` what it found ([`map`]): where a method shimmers.
@@ -318,17 +342,27 @@ fn flicker_into(
             out.tested_moving += u64::from(moving.is_some());
             let sprite = cur.reference.sprites.contains(&id);
             out.tested_sprite += u64::from(sprite);
-            let c = oklab_from_srgb8(rgb(cur.colour, i));
-            let changed = [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|(dx, dy)| {
-                let k = ((y0 + dy) * w + x0 + dx) as usize;
-                oklab_distance(c, oklab_from_srgb8(rgb(prev.colour, k))) > params.oklab_threshold
-            });
+            let changed_in = |now: &[u8], before: &[u8]| {
+                let c = oklab_from_srgb8(rgb(now, i));
+                [(0, 0), (1, 0), (0, 1), (1, 1)].iter().all(|(dx, dy)| {
+                    let k = ((y0 + dy) * w + x0 + dx) as usize;
+                    oklab_distance(c, oklab_from_srgb8(rgb(before, k))) > params.oklab_threshold
+                })
+            };
+            let changed = changed_in(cur.colour, prev.colour);
+            let held = match (cur.truth, prev.truth) {
+                (Some(now), Some(before)) => !changed_in(now, before),
+                _ => true,
+            };
+            out.tested_held += u64::from(held);
+            out.flicker_held += u64::from(held && changed);
             let eye = cur.from_eye.is_some_and(|e| e[i]);
             if let Some(mask) = mask.as_deref_mut() {
-                mask[i] = match (changed, eye) {
-                    (false, _) => map::STABLE,
-                    (true, false) => map::FLICKER,
-                    (true, true) => map::FLICKER_EYE,
+                mask[i] = match (changed, held, eye) {
+                    (false, _, _) => map::STABLE,
+                    (true, false, _) => map::INTENDED,
+                    (true, true, false) => map::FLICKER,
+                    (true, true, true) => map::FLICKER_EYE,
                 };
             }
             if changed {

@@ -23,6 +23,7 @@
 //!                    "screen_visible_texels": number},   // mean per frame
 //!     "shimmer":    {"mean", "p95", "max": number},      // per-frame flicker fraction, 0..1
 //!     "shimmer_per_frame": [number],                     // frames 1.. (0 has no predecessor)
+//!     "shimmer_all": {"mean", "p95", "max"}|null,       // the same with the truth's own changes
 //!     "coverage_error": number,    // mean fraction of pixels whose id differs from reference
 //!     "colour_error": {"mean", "p95": number}|absent, // OKLab ΔE against the raster's frames,
 //!                                  // both reduced to art pixels (absent without raster)
@@ -95,6 +96,10 @@ pub struct RunRecord {
     pub shimmer: Summary,
     /// Flicker fraction of frames 1...
     pub shimmer_per_frame: Vec<f64>,
+    /// The per-frame flicker of every tested pixel, the truth's own changes included (the
+    /// shimmer before intended change was left out); `None` in reports older than it.
+    #[serde(default)]
+    pub shimmer_all: Option<Summary>,
     /// Mean coverage error.
     pub coverage_error: f64,
     /// Mean colour error against the raster's frames, at the art-pixel scale

@@ -203,7 +203,7 @@ pub struct RunOutcome {
 }
 
 /// Renders every frame of `path` with `method` and measures it against `references`
-/// (one per frame). `tick` is called after each frame (for a progress bar).
+/// (one per frame), without a truth. `tick` is called after each frame (for a progress bar).
 pub fn run_path(
     path: &CameraPath,
     fov_y: f32,
@@ -212,17 +212,31 @@ pub fn run_path(
     params: MetricParams,
     tick: &mut dyn FnMut(),
 ) -> Result<RunOutcome, EvalError> {
-    run_path_observed(path, fov_y, method, references, params, &mut |_, _| tick())
+    let measure = (params, TruthOf::None);
+    run_path_observed(path, fov_y, method, references, measure, &mut |_, _| tick())
+}
+
+/// Where a run's truth comes from, for its shimmer to leave out what the truth changed
+/// ([`crate::metrics`]).
+#[derive(Debug, Clone, Copy)]
+pub enum TruthOf<'a> {
+    /// No truth: every tested pixel counts.
+    None,
+    /// The truth's frames of the same path (the raster's, run first).
+    Frames(&'a crate::colour::Truth),
+    /// The run is the truth (the raster itself): every change it makes is intended.
+    Itself,
 }
 
 /// [`run_path`] that shows every rendered frame to `observe(index, frame)` before measuring
-/// it (`texel-eval compare` keeps the pixels this way, so its numbers are `run`'s).
+/// it (`texel-eval compare` keeps the pixels this way, so its numbers are `run`'s), with the
+/// shimmer measured against `truth`.
 pub fn run_path_observed(
     path: &CameraPath,
     fov_y: f32,
     method: &mut dyn FrameSource,
     references: &CachedReferences,
-    params: MetricParams,
+    (params, truth): (MetricParams, TruthOf<'_>),
     observe: &mut dyn FnMut(u32, &RenderedFrame),
 ) -> Result<RunOutcome, EvalError> {
     let mut meter = PathMeter::new(params);
@@ -232,12 +246,18 @@ pub fn run_path_observed(
         let frame = method.render(i, &camera, path.dt)?;
         observe(i, &frame);
         stats.push(frame.stats);
+        let truth = match truth {
+            TruthOf::None => None,
+            TruthOf::Frames(t) => t.get(i as usize).map(|(colour, _)| colour.clone()),
+            TruthOf::Itself => Some(frame.pixels.clone()),
+        };
         meter.push(OwnedFrame {
             camera,
             reference: reference.clone(),
             colour: frame.pixels,
             ids: frame.ids,
             from_eye: frame.from_eye,
+            truth,
         })?;
     }
     Ok(RunOutcome {

@@ -20,7 +20,7 @@ use crate::reference::CpuScene;
 use crate::report::RunRecord;
 use crate::runner::{
     CachedReferences, EvalError, FrameSource, Method, ReferenceSource, counter_means, frame_timing,
-    march_means, pass_medians, run_path_observed,
+    march_means, pass_medians, run_path_observed, TruthOf,
 };
 
 /// Vertical field of view of paths that do not set one: 60°.
@@ -216,12 +216,17 @@ pub fn run_plan(
             let params = MetricParams::default();
             let mut kept = Vec::new();
             let mut colours: Vec<ColourError> = Vec::new();
+            let against = match (method, truth.as_ref()) {
+                (Method::Raster, _) => TruthOf::Itself,
+                (_, Some(t)) => TruthOf::Frames(t),
+                (_, None) => TruthOf::None,
+            };
             let outcome = run_path_observed(
                 &path,
                 fov_y,
                 source.as_mut(),
                 refs,
-                params,
+                (params, against),
                 &mut |i, frame| {
                     tick(&label);
                     if method == Method::Raster {
@@ -255,6 +260,7 @@ pub fn run_plan(
                 counters: counter_means(&outcome.stats),
                 shimmer: outcome.scores.shimmer,
                 shimmer_per_frame: outcome.scores.shimmer_per_frame,
+                shimmer_all: Some(outcome.scores.shimmer_all),
                 coverage_error: outcome.scores.coverage_error,
                 colour_error,
                 hole_rate: outcome.scores.hole_rate,

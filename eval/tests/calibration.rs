@@ -80,6 +80,7 @@ fn score(colour: impl Fn(&Reference, usize, u32) -> [u8; 3]) -> texel_eval::mete
                 colour: pixels,
                 ids,
                 from_eye: None,
+                truth: None,
             })
             .expect("consistent sizes");
     }

@@ -44,6 +44,7 @@ fn the_coverage_overlay_colours_each_kind_of_wrong_pixel() {
         colour: [200u8, 100, 0, 255].repeat(4),
         ids: vec![1, 5, 0, 4],
         from_eye: None,
+        truth: None,
     };
     let out = coverage_overlay(&frame).unwrap();
     let grey = ((200 * 3 + 100 * 6) / 20) as u8;

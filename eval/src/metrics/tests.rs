@@ -46,6 +46,7 @@ fn view<'a>(cam: Camera, r: &'a Reference, c: &'a [u8]) -> FrameView<'a> {
         colour: c,
         ids: &r.id,
         from_eye: None,
+        truth: None,
     }
 }
 
@@ -74,6 +75,47 @@ fn a_still_image_does_not_flicker_and_a_changed_one_does() {
     let all = flicker(&view(cam, &r, &grey), &view(cam, &r, &red), &p).expect("sizes");
     assert_eq!(all.flicker, all.tested);
     assert!((all.fraction() - 1.0).abs() < 1e-12);
+}
+
+/// A change the truth made too (a sprite's next frame, a part turning) is not shimmer; it
+/// still counts in the flicker of every pixel.
+#[test]
+fn a_change_the_truth_made_too_is_not_shimmer() {
+    let s = CpuScene::new(&scene());
+    let cam = Camera::looking(Vec3::ZERO, -Vec3::Z);
+    let r = s.gbuffer(&cam, SIZE);
+    let (grey, red) = (flat(&r, [100, 100, 100]), flat(&r, [200, 30, 30]));
+    let p = MetricParams::default();
+    // The truth turns red with the method: every tested pixel is intended change.
+    let before = FrameView {
+        truth: Some(&grey),
+        ..view(cam, &r, &grey)
+    };
+    let after = FrameView {
+        truth: Some(&red),
+        ..view(cam, &r, &red)
+    };
+    let c = flicker(&before, &after, &p).expect("sizes");
+    assert!(c.tested > 500, "{c:?}");
+    assert_eq!((c.tested_held, c.flicker_held), (0, 0));
+    assert_eq!(c.fraction(), 0.0);
+    assert!((c.all_fraction() - 1.0).abs() < 1e-12);
+    let (_, mask) = flicker_map(&before, &after, &p).expect("sizes");
+    assert!(mask.contains(&map::INTENDED) && !mask.contains(&map::FLICKER));
+    // The truth holds while the method changes: shimmer, as without a truth.
+    let held = FrameView {
+        truth: Some(&grey),
+        ..view(cam, &r, &red)
+    };
+    let c = flicker(&before, &held, &p).expect("sizes");
+    assert_eq!(c.tested_held, c.tested);
+    assert!((c.fraction() - 1.0).abs() < 1e-12);
+    // A truth of the wrong size is refused.
+    let short = FrameView {
+        truth: Some(&grey[4..]),
+        ..view(cam, &r, &red)
+    };
+    assert!(flicker(&before, &short, &p).is_err());
 }
 
 #[test]
@@ -158,6 +200,7 @@ fn coverage_counts_wrong_ids_and_holes() {
         colour: &colour,
         ids: &ids,
         from_eye: Some(&[false, true, true, true]),
+        truth: None,
     };
     let c = coverage(&f).expect("sizes");
     assert_eq!(c.error, 0.5);
