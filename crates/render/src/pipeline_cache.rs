@@ -99,6 +99,29 @@ pub(crate) fn module<E>(
     Ok(m)
 }
 
+/// A pipeline of `key` in `module` from the map `pick` chooses, made by `make` the first
+/// time on `device`.
+fn pipeline<P: Clone>(
+    device: &wgpu::Device,
+    module: &wgpu::ShaderModule,
+    key: String,
+    pick: fn(&mut Made) -> &mut HashMap<(wgpu::ShaderModule, String), P>,
+    make: impl FnOnce() -> P,
+) -> P {
+    let Some(made) = made(device) else {
+        return make();
+    };
+    let mut made = lock(&made);
+    let key = (module.clone(), key);
+    if let Some(p) = pick(&mut made).get(&key) {
+        return p.clone();
+    }
+    let p = make();
+    made.compiled += 1;
+    pick(&mut made).insert(key, p.clone());
+    p
+}
+
 /// The compute pipeline `key` names in `module`, compiled by `make` the first time on
 /// `device`.
 pub(crate) fn compute(
@@ -107,18 +130,7 @@ pub(crate) fn compute(
     key: String,
     make: impl FnOnce() -> wgpu::ComputePipeline,
 ) -> wgpu::ComputePipeline {
-    let Some(made) = made(device) else {
-        return make();
-    };
-    let mut made = lock(&made);
-    let key = (module.clone(), key);
-    if let Some(p) = made.compute.get(&key) {
-        return p.clone();
-    }
-    let p = make();
-    made.compiled += 1;
-    made.compute.insert(key, p.clone());
-    p
+    pipeline(device, module, key, |m| &mut m.compute, make)
 }
 
 /// The render pipeline `key` names in `module`, compiled by `make` the first time on
@@ -129,18 +141,7 @@ pub(crate) fn render(
     key: String,
     make: impl FnOnce() -> wgpu::RenderPipeline,
 ) -> wgpu::RenderPipeline {
-    let Some(made) = made(device) else {
-        return make();
-    };
-    let mut made = lock(&made);
-    let key = (module.clone(), key);
-    if let Some(p) = made.render.get(&key) {
-        return p.clone();
-    }
-    let p = make();
-    made.compiled += 1;
-    made.render.insert(key, p.clone());
-    p
+    pipeline(device, module, key, |m| &mut m.render, make)
 }
 
 /// How many pipelines were compiled on `device` since it was registered (none counted on a
