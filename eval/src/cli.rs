@@ -46,6 +46,10 @@ enum Command {
         /// The assets folder holding levels/ and paths/.
         #[arg(long, default_value = "assets")]
         assets: PathBuf,
+        /// Random walks per level flown besides the bundled paths (naive and splat, seed 1,
+        /// written to DIR/paths/LEVEL_survey_NN.ron); table.md lists the worst. 0: none.
+        #[arg(long, default_value_t = 3)]
+        survey: u32,
         #[command(flatten)]
         common: Common,
     },
@@ -130,14 +134,17 @@ pub fn main() -> Result<()> {
             };
             execute(&[plan], &common, command_line).map(drop)
         }
-        Command::Suite { assets, common } => {
-            let plans = suite_plans(
-                &assets,
-                &parse_methods(&common.methods)?,
-                &parse_list(&common.face_res, "--face-res")?,
-                parse_size(&common.size)?,
-            );
-            execute(&plans, &common, command_line).map(drop)
+        Command::Suite {
+            assets,
+            survey,
+            common,
+        } => {
+            let methods = parse_methods(&common.methods)?;
+            let face_res = parse_list(&common.face_res, "--face-res")?;
+            let size = parse_size(&common.size)?;
+            let plans = suite_plans(&assets, &methods, &face_res, size);
+            let walks = suite_walks(&assets, survey, &common.out, (&methods, &face_res, size))?;
+            execute_with_survey(&plans, &walks, &common, command_line).map(drop)
         }
         Command::Compare(args) => compare(&args),
         Command::Survey(args) => survey(&args, command_line),
@@ -149,7 +156,60 @@ pub fn main() -> Result<()> {
     }
 }
 
+/// The suite's surveyed walks: `count` per level of the bundled paths, flown by the naive
+/// and splat of `methods`.
+fn suite_walks(
+    assets: &Path,
+    count: u32,
+    out: &Path,
+    (methods, face_res, size): (&[Method], &[u32], UVec2),
+) -> Result<Vec<RunPlan>> {
+    if count > 50 {
+        bail!("--survey must be 0..=50 walks a level, got {count}");
+    }
+    let flown: Vec<Method> = (methods.iter().copied())
+        .filter(|m| matches!(m, Method::Naive | Method::Splat))
+        .collect();
+    if count == 0 || flown.is_empty() {
+        return Ok(Vec::new());
+    }
+    let mut levels: Vec<&str> = Vec::new();
+    for (level, _) in texel_eval::suite::SUITE_PATHS {
+        if !levels.contains(&level) {
+            levels.push(level);
+        }
+    }
+    let mut plans = Vec::new();
+    for name in levels {
+        let file = assets.join("levels").join(format!("{name}.ron"));
+        let level = texel_runtime::load::load_level(&file)?;
+        let spec = texel_eval::survey::SurveySpec {
+            count,
+            ..texel_eval::survey::SurveySpec::new(level.scene.settings.cell_size)
+        };
+        let (walks, _) = texel_eval::survey::walk_plans(
+            (&file, &level),
+            &spec,
+            (&out.join("paths"), &format!("{name}_survey_")),
+            (&flown, face_res, size),
+        )?;
+        plans.extend(walks);
+    }
+    Ok(plans)
+}
+
 fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<Report> {
+    execute_with_survey(plans, &[], common, command)
+}
+
+/// Runs `plans` and `walks` (surveyed walks, kept apart in the report's `survey`) and writes
+/// the outputs.
+fn execute_with_survey(
+    plans: &[RunPlan],
+    walks: &[RunPlan],
+    common: &Common,
+    command: String,
+) -> Result<Report> {
     let reference = match common.reference.as_str() {
         "gpu" => ReferenceKind::Gpu,
         "cpu" => ReferenceKind::Cpu,
@@ -158,7 +218,7 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<Report
     std::fs::create_dir_all(&common.out)
         .with_context(|| format!("creating {}", common.out.display()))?;
     let started = Instant::now();
-    let total = total_frames(plans)?;
+    let total = total_frames(plans)? + total_frames(walks)?;
     let ctx = GpuContext::headless()?;
     let bar = if common.quiet {
         ProgressBar::hidden()
@@ -185,6 +245,14 @@ fn execute(plans: &[RunPlan], common: &Common, command: String) -> Result<Report
         })
         .with_context(|| format!("{} along {}", plan.level.display(), plan.path.display()))?;
         report.runs.extend(records);
+    }
+    for plan in walks {
+        let records = run_plan(&ctx, plan, reference, &mut |label: &str| {
+            bar.set_message(label.to_owned());
+            bar.inc(1);
+        })
+        .with_context(|| format!("{} along {}", plan.level.display(), plan.path.display()))?;
+        report.survey.extend(records);
     }
     bar.finish_and_clear();
     report.duration_s = started.elapsed().as_secs_f64();
@@ -263,39 +331,18 @@ fn survey_spec(args: &SurveyArgs, cell_size: f32) -> Result<texel_eval::survey::
 }
 
 fn survey(args: &SurveyArgs, command_line: String) -> Result<()> {
-    use texel_eval::survey::survey_walks;
     let common = &args.common;
     let methods = parse_methods(&common.methods)?;
     let face_res = parse_list(&common.face_res, "--face-res")?;
     let size = parse_size(&common.size)?;
     let level = texel_runtime::load::load_level(&args.level)?;
     let spec = survey_spec(args, level.scene.settings.cell_size)?;
-    let rays =
-        texel_runtime::occluders::SceneRays::new(texel_runtime::frame_plan::scene_input(&level));
-    let walks = survey_walks(rays.scene(), &rays, &spec)
-        .map_err(|e| anyhow::anyhow!("{}: {e}", args.level.display()))?;
-    let dir = common.out.join("paths");
-    std::fs::create_dir_all(&dir).with_context(|| format!("creating {}", dir.display()))?;
-    let mut plans = Vec::new();
-    for (i, walk) in walks.iter().enumerate() {
-        let file = dir.join(format!("survey_{i:02}.ron"));
-        let comment = format!(
-            "texel-eval survey of {}, seed {}, walk {i}: {:.1} cells per second",
-            args.level.display(),
-            spec.seed,
-            walk.speed
-        );
-        std::fs::write(&file, walk.to_ron(&spec, &comment))
-            .with_context(|| format!("writing {}", file.display()))?;
-        plans.push(RunPlan {
-            level: args.level.clone(),
-            path: file,
-            methods: methods.clone(),
-            face_res: face_res.clone(),
-            size,
-            freeze: false,
-        });
-    }
+    let (plans, walks) = texel_eval::survey::walk_plans(
+        (&args.level, &level),
+        &spec,
+        (&common.out.join("paths"), "survey_"),
+        (&methods, &face_res, size),
+    )?;
     let report = execute(&plans, common, command_line)?;
     let text = texel_eval::survey::survey_table(&report, &walks);
     let file = common.out.join("survey.md");
@@ -448,7 +495,12 @@ fn write_outputs(report: &Report, out: &Path, with_json: bool) -> Result<()> {
             .with_context(|| format!("writing {}", file.display()))?;
     }
     let table = out.join("table.md");
-    let text = format!("{}\n{}", report.summary_table(), report.markdown_table());
+    let text = format!(
+        "{}\n{}{}",
+        report.summary_table(),
+        report.markdown_table(),
+        texel_eval::survey::worst_walks_table(&report.survey, 5)
+    );
     std::fs::write(&table, text).with_context(|| format!("writing {}", table.display()))?;
     write_charts(report, out, "chart")?;
     Ok(())
@@ -546,6 +598,37 @@ mod tests {
         assert!(parse_methods("splat,bogus").is_err());
         Cli::try_parse_from(["texel-eval", "suite", "--out", "x"]).expect("suite parses");
         assert!(Cli::try_parse_from(["texel-eval", "run", "--out", "x"]).is_err());
+    }
+
+    #[test]
+    fn the_suite_surveys_three_walks_a_level_unless_told() {
+        let parse = |extra: &[&str]| {
+            let mut v = vec!["texel-eval", "suite", "--out", "d"];
+            v.extend_from_slice(extra);
+            match Cli::try_parse_from(v).expect("suite parses").command {
+                Command::Suite { survey, .. } => survey,
+                other => panic!("not suite: {other:?}"),
+            }
+        };
+        assert_eq!(parse(&[]), 3);
+        assert_eq!(parse(&["--survey", "0"]), 0);
+        let dir = tempfile::tempdir().expect("a temporary folder");
+        let methods = [Method::Naive, Method::Splat];
+        let too_many = suite_walks(
+            Path::new("assets"),
+            51,
+            dir.path(),
+            (&methods, &[64], UVec2::ONE),
+        );
+        assert!(too_many.unwrap_err().to_string().contains("--survey"));
+        // No walk without naive or splat among the methods, or with none asked for.
+        let none = suite_walks(
+            Path::new("x"),
+            3,
+            dir.path(),
+            (&[Method::Raster], &[64], UVec2::ONE),
+        );
+        assert!(none.expect("nothing to do").is_empty());
     }
 
     #[test]

@@ -165,6 +165,10 @@ pub struct Report {
     pub stamp: crate::stamp::Stamp,
     /// One record per run.
     pub runs: Vec<RunRecord>,
+    /// The suite's surveyed walks (`texel-eval suite --survey`), apart from the bundled
+    /// paths' runs: the chart leaves them out and table.md lists the worst.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub survey: Vec<RunRecord>,
 }
 
 /// Most runs a report may hold.
@@ -202,15 +206,15 @@ impl Report {
             }
         }
         within(self.duration_s, 1.0e9, "duration_s")?;
-        if self.runs.len() > MAX_RUNS {
+        if self.runs.len() + self.survey.len() > MAX_RUNS {
             return Err(format!(
                 "{} runs, at most {MAX_RUNS} are charted",
-                self.runs.len()
+                self.runs.len() + self.survey.len()
             ));
         }
         let max_side = texel_render::validate::MAX_OUTPUT_SIDE;
         let max_frames = texel_runtime::path::MAX_FRAMES;
-        for (i, r) in self.runs.iter().enumerate() {
+        for (i, r) in self.runs.iter().chain(&self.survey).enumerate() {
             let at = |field: &str| format!("run {i} ({} {}): {field}", r.method, r.path);
             if r.size.iter().any(|&s| s == 0 || s > max_side) {
                 return Err(format!("{}: each side must be 1..={max_side}", at("size")));

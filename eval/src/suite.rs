@@ -19,8 +19,8 @@ use crate::metrics::MetricParams;
 use crate::reference::CpuScene;
 use crate::report::RunRecord;
 use crate::runner::{
-    CachedReferences, EvalError, FrameSource, Method, ReferenceSource, counter_means, frame_timing,
-    march_means, pass_medians, run_path_observed, TruthOf,
+    CachedReferences, EvalError, FrameSource, Method, ReferenceSource, TruthOf, counter_means,
+    frame_timing, march_means, pass_medians, run_path_observed,
 };
 
 /// Vertical field of view of paths that do not set one: 60°.

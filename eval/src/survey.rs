@@ -335,6 +335,94 @@ pub fn survey_table(report: &crate::report::Report, walks: &[Walk]) -> String {
     out
 }
 
+/// The walks of the level `level` (loaded: `loaded`) made with `spec`, written to `dir` as
+/// `{prefix}NN.ron`, and the plans that fly each with `methods` at `face_res` and `size`.
+pub fn walk_plans(
+    (level, loaded): (&std::path::Path, &texel_runtime::load::LoadedLevel),
+    spec: &SurveySpec,
+    (dir, prefix): (&std::path::Path, &str),
+    (methods, face_res, size): (&[crate::runner::Method], &[u32], glam::UVec2),
+) -> Result<(Vec<crate::suite::RunPlan>, Vec<Walk>), crate::runner::EvalError> {
+    use crate::runner::EvalError;
+    let rays =
+        texel_runtime::occluders::SceneRays::new(texel_runtime::frame_plan::scene_input(loaded));
+    let walks = survey_walks(rays.scene(), &rays, spec)
+        .map_err(|e| EvalError::Input(format!("{}: {e}", level.display())))?;
+    std::fs::create_dir_all(dir)
+        .map_err(|e| EvalError::Input(format!("creating {}: {e}", dir.display())))?;
+    let mut plans = Vec::new();
+    for (i, walk) in walks.iter().enumerate() {
+        let file = dir.join(format!("{prefix}{i:02}.ron"));
+        let comment = format!(
+            "texel-eval survey of {}, seed {}, walk {i}: {:.1} cells per second",
+            level.display(),
+            spec.seed,
+            walk.speed
+        );
+        std::fs::write(&file, walk.to_ron(spec, &comment))
+            .map_err(|e| EvalError::Input(format!("writing {}: {e}", file.display())))?;
+        plans.push(crate::suite::RunPlan {
+            level: level.to_owned(),
+            path: file,
+            methods: methods.to_vec(),
+            face_res: face_res.to_vec(),
+            size,
+            freeze: false,
+        });
+    }
+    Ok((plans, walks))
+}
+
+/// The worst of the suite's surveyed walks (`runs`, flown by naive and splat): per level,
+/// walk and face resolution, splat's mean and worst-frame shimmer, naive's, and naive's over
+/// splat's; the `shown` walks where that ratio is least, then the least and the median over
+/// every walk. Empty without a walk both methods flew.
+pub fn worst_walks_table(runs: &[crate::report::RunRecord], shown: usize) -> String {
+    let mut rows: Vec<(&crate::report::RunRecord, &crate::report::RunRecord, f64)> = (runs.iter())
+        .filter(|s| s.method == "splat")
+        .filter_map(|s| {
+            let n = runs.iter().find(|n| {
+                n.method == "naive"
+                    && (&n.level, &n.path, n.face_res) == (&s.level, &s.path, s.face_res)
+            })?;
+            Some((s, n, n.shimmer.mean / s.shimmer.mean.max(1e-5)))
+        })
+        .collect();
+    if rows.is_empty() {
+        return String::new();
+    }
+    rows.sort_by(|a, b| a.2.total_cmp(&b.2));
+    let stem = |p: &str| {
+        std::path::Path::new(p)
+            .file_stem()
+            .map_or(p.to_owned(), |s| s.to_string_lossy().into_owned())
+    };
+    let mut out = format!(
+        "\n### The worst of {} surveyed walks (naive ÷ splat least first)\n\n\
+         | walk | faces | splat | splat's worst frame | naive | naive ÷ splat |\n\
+         |---|---:|---:|---:|---:|---:|\n",
+        rows.len()
+    );
+    for (s, n, ratio) in rows.iter().take(shown) {
+        out.push_str(&format!(
+            "| {} | {} | {:.4} | {:.4} | {:.4} | {ratio:.1}× |\n",
+            stem(&s.path),
+            s.face_res,
+            s.shimmer.mean,
+            s.shimmer.max,
+            n.shimmer.mean
+        ));
+    }
+    let ratios: Vec<f64> = rows.iter().map(|r| r.2).collect();
+    out.push_str(&format!(
+        "\nnaive ÷ splat over {} walks: least {:.1}×, median {:.1}×\n",
+        ratios.len(),
+        ratios[0],
+        ratios[ratios.len() / 2]
+    ));
+    out
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -474,5 +562,50 @@ mod tests {
         assert!(err.contains("clear walks"), "{err}");
         let empty = SceneInput::default();
         assert!(survey_walks(&empty, &rays, &SurveySpec::new(s)).is_err());
+    }
+
+    #[test]
+    fn the_worst_walks_are_those_where_splat_gains_least() {
+        use crate::metrics::Summary;
+        use crate::report::RunRecord;
+        let run = |method: &str, path: &str, mean: f64| RunRecord {
+            level: "l.ron".into(),
+            path: path.into(),
+            method: method.into(),
+            face_res: 128,
+            shimmer: Summary {
+                mean,
+                p95: mean,
+                max: 2.0 * mean,
+            },
+            ..RunRecord::default()
+        };
+        let runs = [
+            run("splat", "d/paths/a_survey_00.ron", 0.001),
+            run("naive", "d/paths/a_survey_00.ron", 0.05),
+            run("splat", "d/paths/b_survey_00.ron", 0.01),
+            run("naive", "d/paths/b_survey_00.ron", 0.03),
+            run("splat", "d/paths/b_survey_01.ron", 0.002),
+            run("naive", "d/paths/b_survey_01.ron", 0.04),
+            // A walk naive did not fly is not ranked.
+            run("splat", "d/paths/c_survey_00.ron", 0.5),
+        ];
+        let table = worst_walks_table(&runs, 2);
+        assert!(table.contains("worst of 3 surveyed walks"), "{table}");
+        let rows: Vec<&str> = table
+            .lines()
+            .filter(|l| l.starts_with("| b_") || l.starts_with("| a_"))
+            .collect();
+        assert_eq!(rows.len(), 2, "{table}");
+        assert!(
+            rows[0].starts_with("| b_survey_00 | 128 | 0.0100 | 0.0200 | 0.0300 | 3.0× |"),
+            "{table}"
+        );
+        assert!(rows[1].starts_with("| b_survey_01 |"), "{table}");
+        assert!(
+            table.contains("over 3 walks: least 3.0×, median 20.0×"),
+            "{table}"
+        );
+        assert_eq!(worst_walks_table(&runs[6..], 5), "");
     }
 }
