@@ -10,7 +10,9 @@
 //! ```
 //!
 //! Options: `--size WxH` (default 320x180), `--steps N` (edits measured, default 5),
-//! `--full` (the edit goes through `Session::set_level`, a whole upload, for comparison).
+//! `--region` (the edit goes through `Session::update_level_region`: the level prepared
+//! and uploaded again, the faces that may see it marked; the editor's path before
+//! `Session::update_entities`), `--full` (through `Session::set_level`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -27,7 +29,19 @@ struct Options {
     level: PathBuf,
     size: UVec2,
     steps: u32,
-    full: bool,
+    mode: Mode,
+}
+
+/// How the edit reaches the session.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+enum Mode {
+    /// `Session::update_entities`: the entity alone, in place.
+    Entity,
+    /// `Session::update_level_region`: the level prepared and uploaded again, the faces
+    /// that may see the entity's box (and its sun shadows) marked.
+    Region,
+    /// `Session::set_level`: prepared, uploaded and planned afresh.
+    Full,
 }
 
 fn options() -> Result<Options> {
@@ -36,7 +50,7 @@ fn options() -> Result<Options> {
         level: PathBuf::new(),
         size: UVec2::new(320, 180),
         steps: 5,
-        full: false,
+        mode: Mode::Entity,
     };
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -46,13 +60,14 @@ fn options() -> Result<Options> {
                 o.size = UVec2::new(w.parse()?, h.parse()?);
             }
             "--steps" => o.steps = args.next().context("--steps needs N")?.parse()?,
-            "--full" => o.full = true,
+            "--full" => o.mode = Mode::Full,
+            "--region" => o.mode = Mode::Region,
             _ if a.starts_with("--") => bail!("unknown option {a}"),
             _ => o.level = PathBuf::from(a),
         }
     }
     if o.level.as_os_str().is_empty() {
-        bail!("usage: edit_cost LEVEL [--size WxH] [--steps N] [--full]");
+        bail!("usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region]");
     }
     Ok(o)
 }
@@ -144,19 +159,26 @@ fn main() -> Result<()> {
             .set_row(entity, row)
             .map_err(|e| anyhow!("{e}"))?;
         let t = Instant::now();
-        if o.full {
-            session.set_level(&ctx, &level)?;
-        } else {
-            let (lo, hi) = before;
-            session.update_level_region(&ctx, &level, lo - 1.0, hi + 1.0)?;
-        }
+        let how = match o.mode {
+            Mode::Full => {
+                session.set_level(&ctx, &level)?;
+                "set_level".to_owned()
+            }
+            Mode::Region => {
+                let (lo, hi) = before;
+                let (lo, hi) = texel_runtime::session::shadow_extended(session.scene(), lo, hi);
+                let marked = session.update_level_region(&ctx, &level, lo, hi)?;
+                format!("update_level_region, {marked} faces marked")
+            }
+            Mode::Entity => format!("{:?}", session.update_entities(&ctx, &level, &[index])?),
+        };
         let update = ms(t);
         let t2 = Instant::now();
         let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
         let frame = ms(t2);
         print_passes(&drawn.stats);
         println!(
-            "edit {step} ({}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {:.1} ms, faces captured {}",
+            "edit {step} ({}, {how}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {:.1} ms, faces captured {}",
             if step % 2 == 0 { "move" } else { "colour" },
             ms(t),
             drawn.stats.counters.faces_captured,

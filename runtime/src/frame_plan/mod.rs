@@ -22,6 +22,7 @@
 //! crossfade runs at our pace or the reference's (`fade`).
 
 mod animation;
+mod edit;
 mod extraction;
 mod fade;
 mod ortho;
@@ -30,6 +31,7 @@ mod planning;
 mod tests;
 
 pub use animation::Animation;
+pub use edit::{EntityEdit, NotAlone};
 pub use extraction::{
     PreparedLevel, entity_id, entity_index, level_look, scene_input, shadow_extended, start_camera,
     terrain_input,

@@ -146,6 +146,32 @@ impl FrameDriver {
         self.scheduler.invalidate_region(min, max)
     }
 
+    /// The prepared level, to edit in place (copied first if another driver shares it);
+    /// then say where it changed ([`FrameDriver::level_edited`]).
+    pub fn level_mut(&mut self) -> &mut PreparedLevel {
+        Arc::make_mut(&mut self.level)
+    }
+
+    /// The prepared level it plans for.
+    pub fn level(&self) -> &Arc<PreparedLevel> {
+        &self.level
+    }
+
+    /// After an edit of the level in place ([`FrameDriver::level_mut`]) confined to the box
+    /// `min..max`: what [`FrameDriver::replace_level`] does after taking a new level (the
+    /// faces that may see the box marked stale, placements near it found again, the
+    /// grid overrides and player start read again). Returns the faces marked.
+    pub fn level_edited(&mut self, min: Vec3, max: Vec3) -> u32 {
+        self.overrides = self.level.overrides.clone();
+        self.start = Camera {
+            fov_y: self.fov_y,
+            ..self.level.start
+        };
+        self.placements.forget_near(min, max);
+        self.near_faces.clear();
+        self.scheduler.invalidate_region(min, max)
+    }
+
     /// The scene to upload to the renderer.
     pub fn scene_input(&self) -> &SceneInput {
         self.level.scene()
