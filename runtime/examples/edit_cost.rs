@@ -10,6 +10,8 @@
 //! ```
 //!
 //! Options: `--size WxH` (default 320x180), `--steps N` (edits measured, default 5),
+//! `--lit` (the entity edited may stand in a point light's reach, where its shadow may
+//! fall anywhere; by default it stands outside every light's reach),
 //! `--region` (the edit goes through `Session::update_level_region`: the level prepared
 //! and uploaded again, the faces that may see it marked; the editor's path before
 //! `Session::update_entities`), `--full` (through `Session::set_level`).
@@ -23,13 +25,14 @@ use texel_render::context::GpuContext;
 use texel_render::input::Schedule;
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::session::{FrameRequest, Session};
-use texel_scene::{Geometry, Material, Transform};
+use texel_scene::{Geometry, Material, PointLight, Transform};
 
 struct Options {
     level: PathBuf,
     size: UVec2,
     steps: u32,
     mode: Mode,
+    lit: bool,
 }
 
 /// How the edit reaches the session.
@@ -51,6 +54,7 @@ fn options() -> Result<Options> {
         size: UVec2::new(320, 180),
         steps: 5,
         mode: Mode::Entity,
+        lit: false,
     };
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -62,18 +66,28 @@ fn options() -> Result<Options> {
             "--steps" => o.steps = args.next().context("--steps needs N")?.parse()?,
             "--full" => o.mode = Mode::Full,
             "--region" => o.mode = Mode::Region,
+            "--lit" => o.lit = true,
             _ if a.starts_with("--") => bail!("unknown option {a}"),
             _ => o.level = PathBuf::from(a),
         }
     }
     if o.level.as_os_str().is_empty() {
-        bail!("usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region]");
+        bail!("usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit]");
     }
     Ok(o)
 }
 
-/// The level index of the entity with geometry nearest to `eye` in front of it.
-fn entity_in_view(level: &LoadedLevel, eye: Vec3, forward: Vec3) -> Option<usize> {
+/// The level index of the entity with geometry nearest to `eye` in front of it (and, unless
+/// `lit`, outside every point light's reach, by its position).
+fn entity_in_view(level: &LoadedLevel, eye: Vec3, forward: Vec3, lit: bool) -> Option<usize> {
+    let lights: Vec<(Vec3, f32)> = (level.scene.entities())
+        .filter_map(|e| {
+            let w = level.scene.world();
+            let p = w.get::<&PointLight>(e).ok()?;
+            let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
+            Some((t.translation, p.radius))
+        })
+        .collect();
     let w = level.scene.world();
     let mut best: Option<(f32, usize)> = None;
     for (i, e) in level.scene.entities().enumerate() {
@@ -84,6 +98,10 @@ fn entity_in_view(level: &LoadedLevel, eye: Vec3, forward: Vec3) -> Option<usize
             continue;
         }
         let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
+        let reach = |&(p, r): &(Vec3, f32)| p.distance(t.translation) < r + 3.0;
+        if !lit && lights.iter().any(reach) {
+            continue;
+        }
         let d = t.translation - eye;
         if d.dot(forward) < 2.0 {
             continue;
@@ -130,10 +148,14 @@ fn main() -> Result<()> {
         drawn.stats.counters.faces_captured
     );
     print_passes(&drawn.stats);
-    let index = entity_in_view(&level, camera.position, camera.forward)
+    let index = entity_in_view(&level, camera.position, camera.forward, o.lit)
         .context("no entity in front of the start camera")?;
     let entity = level.scene.entities().nth(index).context("entity")?;
-    println!("editing entity {index}");
+    let (lo, hi) = bounds(&session, index);
+    println!(
+        "editing entity {index}: bounds {lo:.2}..{hi:.2}, grid probe at {:.2}",
+        drawn.input.grid.origin
+    );
     let t = Instant::now();
     let prepared = texel_runtime::frame_plan::PreparedLevel::new(&level);
     println!("  PreparedLevel::new: {:.0} ms", ms(t));
@@ -177,6 +199,24 @@ fn main() -> Result<()> {
         let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
         let frame = ms(t2);
         print_passes(&drawn.stats);
+        let stable: Vec<String> = (drawn.input.captures.iter())
+            .filter(|c| c.slot != texel_probes::probe_set::Slot::Eye)
+            .map(|c| {
+                let part =
+                    (drawn.input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
+                match part {
+                    Some(r) => format!(
+                        "{:?} {}x{} of {}",
+                        c.face,
+                        r.rect.x1 - r.rect.x0,
+                        r.rect.y1 - r.rect.y0,
+                        c.face_resolution
+                    ),
+                    None => format!("{:?} whole {}", c.face, c.face_resolution),
+                }
+            })
+            .collect();
+        println!("  stable faces captured: {}", stable.join(", "));
         println!(
             "edit {step} ({}, {how}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {:.1} ms, faces captured {}",
             if step % 2 == 0 { "move" } else { "colour" },

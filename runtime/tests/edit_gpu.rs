@@ -22,6 +22,7 @@ const SIZE: UVec2 = UVec2::new(96, 64);
 /// Entities of [`yard`] by position.
 const CRATE: usize = 2;
 const PILLAR: usize = 3;
+const BALL: usize = 4;
 const LAMP: usize = 5;
 const FAR: usize = 6;
 
@@ -145,7 +146,8 @@ fn edit(level: &mut LoadedLevel, index: usize, f: impl FnOnce(&mut EntityRow)) {
 }
 
 /// A crate moved and turned, a pillar recoloured and a lamp moved, each taken in alone and
-/// in place: once the marked faces are captured again, the picture is the one a session
+/// in place, then a ball moved (whose change covers part of the stable faces, lit again
+/// only there): once the marked faces are captured again, the picture is the one a session
 /// made afresh on the edited level draws, byte for byte (the shadow tree refit, not
 /// rebuilt, answers every shadow ray alike).
 #[test]
@@ -172,11 +174,29 @@ fn frames_after_edits_in_place_equal_a_full_rebuild() -> anyhow::Result<()> {
         anyhow::bail!("the edits were not taken in place: {update:?}");
     };
     assert!(faces_marked > 0, "the edits are in view");
-    let (after, _) = frames(&ctx, &mut session, 10)?;
+    frames(&ctx, &mut session, 10)?;
+    // The ball, alone: its region (with its shadows) covers part of the stable faces.
+    edit(&mut level, BALL, |r| {
+        r.transform.as_mut().expect("transform").translation += Vec3::new(-0.3, 0.0, -0.4);
+    });
+    let update = session.update_entities(&ctx, &level, &[BALL])?;
+    assert!(matches!(update, EditUpdate::InPlace { .. }), "{update:?}");
+    let request = FrameRequest {
+        camera: camera(),
+        dt: 1.0 / 30.0,
+        schedule: Schedule::Ours,
+        size: SIZE,
+    };
+    let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
+    assert!(
+        !drawn.input.partial.is_empty(),
+        "some stable face is lit again only where the ball shows"
+    );
+    let (after, _) = frames(&ctx, &mut session, 9)?;
     assert!(after != before, "the edits show");
 
     let mut fresh = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
-    let (rebuilt, _) = frames(&ctx, &mut fresh, 20)?;
+    let (rebuilt, _) = frames(&ctx, &mut fresh, 30)?;
     let differ = (after.chunks_exact(4).zip(rebuilt.chunks_exact(4)))
         .filter(|(a, b)| a != b)
         .count();

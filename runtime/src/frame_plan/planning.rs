@@ -26,6 +26,7 @@ use super::animation::Clock;
 use super::extraction::PreparedLevel;
 use super::fade::fade_config;
 use super::ortho::{OrthoFrames, OrthoProbes, ortho_choice, ortho_probes, pixel_snapped};
+use super::partial::EditedFaces;
 use crate::extract::Viewport;
 use crate::load::LoadedLevel;
 
@@ -87,6 +88,8 @@ pub struct FrameDriver {
     clock: Clock,
     /// The frames of the last orthographic probes, by origin.
     ortho: OrthoFrames,
+    /// The part of each stable face edits changed, lit alone when it is captured again.
+    edited: EditedFaces,
 }
 
 impl FrameDriver {
@@ -130,6 +133,7 @@ impl FrameDriver {
             velocity: Vec3::ZERO,
             clock: Clock::default(),
             ortho: OrthoFrames::default(),
+            edited: EditedFaces::default(),
         })
     }
 
@@ -160,7 +164,9 @@ impl FrameDriver {
     /// After an edit of the level in place ([`FrameDriver::level_mut`]) confined to the box
     /// `min..max`: what [`FrameDriver::replace_level`] does after taking a new level (the
     /// faces that may see the box marked stale, placements near it found again, the
-    /// grid overrides and player start read again). Returns the faces marked.
+    /// grid overrides and player start read again), and each marked face, once captured
+    /// again, is lit only where the box projects onto it ([`FrameInput::partial`]).
+    /// Returns the faces marked.
     pub fn level_edited(&mut self, min: Vec3, max: Vec3) -> u32 {
         self.overrides = self.level.overrides.clone();
         self.start = Camera {
@@ -169,7 +175,9 @@ impl FrameDriver {
         };
         self.placements.forget_near(min, max);
         self.near_faces.clear();
-        self.scheduler.invalidate_region(min, max)
+        let marked = self.scheduler.invalidate_region_faces(min, max);
+        self.edited.mark(&marked, (min, max));
+        marked.len() as u32
     }
 
     /// The scene to upload to the renderer.
@@ -307,6 +315,9 @@ impl FrameDriver {
             self.find_near_faces(&plan, filler.as_ref(), cell_size);
         }
         let mut input = self.frame_input(camera, &plan, captures, filler, fade, schedule);
+        if schedule == Schedule::Ours {
+            input.partial = self.edited.take(&input.captures, &input);
+        }
         let level = &self.level;
         (self.clock).animate(&level.animation, level.scene(), level.floor, &mut input, dt);
         self.frame_index += 1;
@@ -472,6 +483,7 @@ impl FrameDriver {
             grid_complete,
             poses: Vec::new(),
             relight: Vec::new(),
+            partial: Vec::new(),
             sprites: Vec::new(),
         }
     }

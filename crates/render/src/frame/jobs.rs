@@ -33,7 +33,8 @@ pub(super) fn runs_to_compute(
     out
 }
 
-/// What to light this frame: every captured face, whole; and the edges of each valid face
+/// What to light this frame: every captured face, whole (or the part an edit changed:
+/// [`FrameInput::partial`]); and the edges of each valid face
 /// next to a face captured this frame but not captured itself (its seam texels looked
 /// across into data that has just changed).
 pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> {
@@ -63,7 +64,11 @@ pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec
             valid: valid_of(c.slot),
             border: false,
             view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
-            rect: *rect,
+            // A stable face an edit changed in part is lit only there.
+            rect: rect.or_else(|| {
+                let partial = (input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
+                partial.filter(|_| c.slot != Slot::Eye).map(|r| r.rect)
+            }),
         })
         .collect();
     // Faces lit again for a moving object's shadow: whole, unless captured anyway (stable
