@@ -205,7 +205,8 @@ fn frames_after_edits_in_place_equal_a_full_rebuild() -> anyhow::Result<()> {
 }
 
 /// A box 90 units behind the camera, moved: no face the camera sees is marked, the next
-/// frame captures only what a settled frame does, and the picture holds still.
+/// frame captures only what a settled frame does, and the picture holds still; the level
+/// read again as it was (`Session::reload`) takes in that row alone.
 #[test]
 fn an_edit_far_from_the_camera_marks_no_visible_face() -> anyhow::Result<()> {
     let Some(ctx) = test_context() else {
@@ -232,6 +233,20 @@ fn an_edit_far_from_the_camera_marks_no_visible_face() -> anyhow::Result<()> {
     assert!(
         (x - 3.0).abs() < 1e-6,
         "the session holds the moved box: x = {x}"
+    );
+    // The level read again as it was (a file reverted on disk): the far box's row alone.
+    let reverted = yard()?;
+    let update = session.reload(&ctx, &level, &reverted)?;
+    assert_eq!(update, EditUpdate::InPlace { faces_marked: 0 });
+    let far = session
+        .scene()
+        .objects
+        .iter()
+        .find(|o| o.id == FAR as u32 + 1);
+    let x = far.context("the far box")?.transform.w_axis.x;
+    assert!(
+        x.abs() < 1e-6,
+        "the session holds the reverted box: x = {x}"
     );
     Ok(())
 }
