@@ -132,7 +132,8 @@ impl Session {
     /// the probe faces that may see its old or new bounds, their shadows or a changed
     /// light's reach are captured again ([`EditUpdate`] says how it went). What cannot be
     /// taken so (an entity added or removed, gaining geometry, a terrain, a sprite, an
-    /// animated one, a sun changed) falls back to [`Session::set_level`].
+    /// animated one) falls back to [`Session::set_level`]; a sun or a probe-grid override
+    /// changed plans afresh.
     ///
     /// Should the scene fail to upload, the session keeps drawing the scene it had while
     /// planning for the new one; call [`Session::set_level`] to recover.
@@ -144,10 +145,12 @@ impl Session {
     ) -> Result<EditUpdate, SessionError> {
         let mut changed = Vec::new();
         let mut region: Option<(glam::Vec3, glam::Vec3)> = None;
+        let mut grid_changed = false;
         for &index in indices {
             match self.driver.level_mut().update_entity(level, index) {
                 Ok(edit) => {
                     changed.extend(edit.objects);
+                    grid_changed |= edit.grid_changed;
                     if let Some((lo, hi)) = edit.region {
                         region = Some(region.map_or((lo, hi), |r| (r.0.min(lo), r.1.max(hi))));
                     }
@@ -161,12 +164,17 @@ impl Session {
         let scene = self.driver.level().scene();
         let in_place = self.renderer.update_scene(ctx, scene, &changed)?.is_some();
         let faces_marked = match region {
-            None => 0,
-            Some((lo, hi)) if lo.is_finite() && hi.is_finite() => self.driver.level_edited(lo, hi),
-            Some(_) => {
-                self.replan()?;
-                return Ok(EditUpdate::Rebuilt);
+            _ if grid_changed => None,
+            None => Some(self.driver.level_edited(None)),
+            Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
+                Some(self.driver.level_edited(Some((lo, hi))))
             }
+            Some(_) => None,
+        };
+        // A sun changed (it lights everything) or the probe grid did: planned afresh.
+        let Some(faces_marked) = faces_marked else {
+            self.replan()?;
+            return Ok(EditUpdate::Rebuilt);
         };
         Ok(match in_place {
             true => EditUpdate::InPlace { faces_marked },

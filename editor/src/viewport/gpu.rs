@@ -32,8 +32,8 @@ pub struct RenderReport {
     pub stats: Option<FrameStats>,
     /// Wall time of the last `render` call, ms.
     pub frame_ms: f64,
-    /// Wall time of the last scene upload after an edit (meshes, BVH), ms; `None` before the
-    /// first edit. A stroke paces its refreshes by it (`sculpt::refresh_interval`).
+    /// Wall time of taking in the last edit (entities rewritten in place, or the scene
+    /// uploaded again), ms; `None` before the first edit. A stroke paces its refreshes by it (`sculpt::refresh_interval`).
     pub upload_ms: Option<f64>,
     /// Wall time of the renderer's start: the session with its pipelines and the first
     /// scene upload, ms. Kept apart from `upload_ms`: it is mostly compiling shaders (about
@@ -44,6 +44,9 @@ pub struct RenderReport {
     pub size: UVec2,
     /// Scene uploads after edits since the renderer started.
     pub uploads: u64,
+    /// How the last edit of entities was taken in ([`Session::update_entities`]; `None`
+    /// before one, and after a rebuild or a terrain stroke's region update).
+    pub last_edit: Option<EditUpdate>,
 }
 
 struct Target {
@@ -161,22 +164,23 @@ impl GpuView {
         match &mut self.session {
             Some((_, r)) if *r == revision => {}
             Some((session, r)) => {
-                let rebuilt = match (self.entities.take(), self.region.take()) {
-                    (Some(entities), _) => {
-                        let update = session.update_entities(&self.ctx, level, &entities);
-                        update.map_err(err)? == EditUpdate::Rebuilt
-                    }
+                let edit = match (self.entities.take(), self.region.take()) {
+                    (Some(entities), _) => (session.update_entities(&self.ctx, level, &entities))
+                        .map(Some)
+                        .map_err(err)?,
                     (None, Some((min, max))) => {
                         session
                             .update_level_region(&self.ctx, level, min, max)
                             .map_err(err)?;
-                        false
+                        None
                     }
                     (None, None) => {
                         session.set_level(&self.ctx, level).map_err(err)?;
-                        true
+                        Some(EditUpdate::Rebuilt)
                     }
                 };
+                let rebuilt = edit == Some(EditUpdate::Rebuilt);
+                self.report.last_edit = edit.filter(|_| !rebuilt);
                 // A session planned afresh captures as it did when the view was made.
                 if self.density_view && rebuilt {
                     session.set_texture_density_view(true).map_err(err)?;

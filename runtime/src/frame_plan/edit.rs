@@ -33,6 +33,8 @@ pub struct EntityEdit {
     /// shadows may fall, and the reach of every light that changed; `None` when nothing
     /// that is drawn changed. A sun that changed is everywhere: `Some` of an infinite box.
     pub region: Option<(Vec3, Vec3)>,
+    /// The probe grid's override volumes changed: every probe may stand elsewhere.
+    pub grid_changed: bool,
 }
 
 impl PreparedLevel {
@@ -107,11 +109,14 @@ impl PreparedLevel {
         self.look = level_look(s);
         self.pixel_scale = s.settings.pixel_scale;
         self.cell_size = s.settings.cell_size;
-        self.overrides = grid_overrides(s);
+        let overrides = grid_overrides(s);
+        let grid_changed = overrides != self.overrides;
+        self.overrides = overrides;
         self.start = start_camera(s);
         Ok(EntityEdit {
             objects: at..end,
             region,
+            grid_changed,
         })
     }
 }
@@ -196,4 +201,79 @@ fn light_reach(p: &PointLightInput) -> (Vec3, Vec3) {
 /// `a` and `b` in one box.
 fn union(a: Option<(Vec3, Vec3)>, b: (Vec3, Vec3)) -> Option<(Vec3, Vec3)> {
     Some(a.map_or(b, |a| (a.0.min(b.0), a.1.max(b.1))))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use std::path::PathBuf;
+    use texel_scene::assets::AssetLibrary;
+    use texel_scene::{EntityRow, Geometry, ProbeGridOverride, Scene};
+
+    fn level() -> LoadedLevel {
+        let mut scene = Scene::new();
+        let at = |x: f32| {
+            Some(Transform {
+                translation: Vec3::new(x, 0.5, 0.0),
+                ..Transform::default()
+            })
+        };
+        for x in [0.0, 3.0] {
+            scene.spawn(EntityRow {
+                transform: at(x),
+                geometry: Some(Geometry::Box { size: Vec3::ONE }),
+                ..EntityRow::default()
+            });
+        }
+        scene.spawn(EntityRow {
+            transform: at(10.0),
+            probe_grid_override: Some(ProbeGridOverride::default()),
+            ..EntityRow::default()
+        });
+        LoadedLevel {
+            path: PathBuf::from("edit.ron"),
+            scene,
+            assets: AssetLibrary::default(),
+        }
+    }
+
+    fn set(level: &mut LoadedLevel, index: usize, f: impl FnOnce(&mut EntityRow)) {
+        let e = level.scene.entities().nth(index).expect("entity");
+        let mut row = level.scene.row(e).expect("row");
+        f(&mut row);
+        level.scene.set_row(e, row).expect("set");
+    }
+
+    /// A box moved: its object alone is replaced (keeping its mesh), the region holds its old
+    /// and new bounds; a grid override moved says the grid changed; a box that loses its
+    /// geometry cannot be taken alone.
+    #[test]
+    fn an_entity_is_taken_in_alone() {
+        let mut level = level();
+        let mut prepared = PreparedLevel::new(&level);
+        let mesh = prepared.scene().objects[1].mesh.clone();
+        set(&mut level, 1, |r| {
+            r.transform.as_mut().unwrap().translation.x = 5.0
+        });
+        let edit = prepared.update_entity(&level, 1).expect("alone");
+        assert_eq!(edit.objects, 1..2);
+        assert!(!edit.grid_changed);
+        let (lo, hi) = edit.region.expect("a drawn change");
+        assert!(lo.x <= 2.5 && hi.x >= 5.5, "{lo} {hi}");
+        let o = &prepared.scene().objects[1];
+        assert!(Arc::ptr_eq(&o.mesh, &mesh), "the same shape keeps its mesh");
+        assert_eq!(o.transform.w_axis.x, 5.0);
+        assert_eq!(prepared.scene().objects[0].transform.w_axis.x, 0.0);
+
+        set(&mut level, 2, |r| {
+            r.transform.as_mut().unwrap().translation.x = 12.0
+        });
+        let edit = prepared.update_entity(&level, 2).expect("alone");
+        assert!(edit.grid_changed && edit.region.is_none() && edit.objects.is_empty());
+
+        set(&mut level, 0, |r| r.geometry = None);
+        let not = prepared.update_entity(&level, 0).expect_err("not alone");
+        assert_eq!(not.index, 0);
+        assert_eq!(prepared.scene().objects.len(), 2, "left as it was");
+    }
 }

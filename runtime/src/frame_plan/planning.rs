@@ -162,16 +162,19 @@ impl FrameDriver {
     }
 
     /// After an edit of the level in place ([`FrameDriver::level_mut`]) confined to the box
-    /// `min..max`: what [`FrameDriver::replace_level`] does after taking a new level (the
-    /// faces that may see the box marked stale, placements near it found again, the
-    /// grid overrides and player start read again), and each marked face, once captured
-    /// again, is lit only where the box projects onto it ([`FrameInput::partial`]).
-    /// Returns the faces marked.
-    pub fn level_edited(&mut self, min: Vec3, max: Vec3) -> u32 {
+    /// `region` (`None`: nothing drawn changed, a name, a player start): the grid overrides
+    /// and the player start read again and, as [`FrameDriver::replace_level`] does after
+    /// taking a new level, the faces that may see the box marked stale and the placements
+    /// near it found again; each marked face, once captured again, is lit only where the
+    /// box projects onto it ([`FrameInput::partial`]). Returns the faces marked.
+    pub fn level_edited(&mut self, region: Option<(Vec3, Vec3)>) -> u32 {
         self.overrides = self.level.overrides.clone();
         self.start = Camera {
             fov_y: self.fov_y,
             ..self.level.start
+        };
+        let Some((min, max)) = region else {
+            return 0;
         };
         self.placements.forget_near(min, max);
         self.near_faces.clear();
