@@ -150,7 +150,6 @@ fn main() -> Result<()> {
     print_passes(&drawn.stats);
     let index = entity_in_view(&level, camera.position, camera.forward, o.lit)
         .context("no entity in front of the start camera")?;
-    let entity = level.scene.entities().nth(index).context("entity")?;
     let (lo, hi) = bounds(&session, index);
     println!(
         "editing entity {index}: bounds {lo:.2}..{hi:.2}, grid probe at {:.2}",
@@ -166,65 +165,109 @@ fn main() -> Result<()> {
     let gpu = texel_render::gpu_scene::GpuScene::upload(&ctx, prepared.scene())?;
     println!("  GpuScene::upload: {:.0} ms", ms(t));
     drop(gpu);
+    let (mut edits, mut settled) = (Vec::new(), Vec::new());
     for step in 0..o.steps {
-        let mut row = level.scene.row(entity).context("row")?;
-        let before = bounds(&session, index);
-        if step % 2 == 0 {
-            let tr = row.transform.get_or_insert_with(Transform::default);
-            tr.translation.x += 0.25;
-        } else {
-            let m = row.material.get_or_insert_with(Material::default);
-            m.albedo = Vec3::new(0.2 + 0.1 * step as f32, 0.5, 0.3);
+        edits.push(edit_step(
+            &ctx,
+            &mut session,
+            &mut level,
+            &o,
+            index,
+            step,
+            &request,
+        )?);
+        // Settle again, then time a frame with nothing to catch up on.
+        for _ in 0..4 {
+            session.draw_offscreen(&ctx, &request)?;
         }
-        level
-            .scene
-            .set_row(entity, row)
-            .map_err(|e| anyhow!("{e}"))?;
         let t = Instant::now();
-        let how = match o.mode {
-            Mode::Full => {
-                session.set_level(&ctx, &level)?;
-                "set_level".to_owned()
-            }
-            Mode::Region => {
-                let (lo, hi) = before;
-                let (lo, hi) = texel_runtime::session::shadow_extended(session.scene(), lo, hi);
-                let marked = session.update_level_region(&ctx, &level, lo, hi)?;
-                format!("update_level_region, {marked} faces marked")
-            }
-            Mode::Entity => format!("{:?}", session.update_entities(&ctx, &level, &[index])?),
-        };
-        let update = ms(t);
-        let t2 = Instant::now();
-        let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
-        let frame = ms(t2);
-        print_passes(&drawn.stats);
-        let stable: Vec<String> = (drawn.input.captures.iter())
-            .filter(|c| c.slot != texel_probes::probe_set::Slot::Eye)
-            .map(|c| {
-                let part =
-                    (drawn.input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
-                match part {
-                    Some(r) => format!(
-                        "{:?} {}x{} of {}",
-                        c.face,
-                        r.rect.x1 - r.rect.x0,
-                        r.rect.y1 - r.rect.y0,
-                        c.face_resolution
-                    ),
-                    None => format!("{:?} whole {}", c.face, c.face_resolution),
-                }
-            })
-            .collect();
-        println!("  stable faces captured: {}", stable.join(", "));
-        println!(
-            "edit {step} ({}, {how}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {:.1} ms, faces captured {}",
-            if step % 2 == 0 { "move" } else { "colour" },
-            ms(t),
-            drawn.stats.counters.faces_captured,
-        );
+        session.draw_offscreen(&ctx, &request)?;
+        settled.push(ms(t));
     }
+    println!(
+        "median over {} edits: edit to next finished frame {:.0} ms; settled frame between them {:.0} ms",
+        o.steps,
+        median(&mut edits),
+        median(&mut settled)
+    );
     Ok(())
+}
+
+/// Edit `step` of the entity at `index` (a move on even steps, a colour on odd ones), taken
+/// in as `o.mode` says, and the frame after it; returns the wall time from the edit to the
+/// finished frame, ms.
+fn edit_step(
+    ctx: &GpuContext,
+    session: &mut Session,
+    level: &mut LoadedLevel,
+    o: &Options,
+    index: usize,
+    step: u32,
+    request: &FrameRequest,
+) -> Result<f64> {
+    let entity = level.scene.entities().nth(index).context("entity")?;
+    let mut row = level.scene.row(entity).context("row")?;
+    let before = bounds(session, index);
+    if step.is_multiple_of(2) {
+        let tr = row.transform.get_or_insert_with(Transform::default);
+        tr.translation.x += 0.25;
+    } else {
+        let m = row.material.get_or_insert_with(Material::default);
+        m.albedo = Vec3::new(0.2 + 0.1 * step as f32, 0.5, 0.3);
+    }
+    level
+        .scene
+        .set_row(entity, row)
+        .map_err(|e| anyhow!("{e}"))?;
+    let t = Instant::now();
+    let how = match o.mode {
+        Mode::Full => {
+            session.set_level(ctx, level)?;
+            "set_level".to_owned()
+        }
+        Mode::Region => {
+            let (lo, hi) = before;
+            let (lo, hi) = texel_runtime::session::shadow_extended(session.scene(), lo, hi);
+            let marked = session.update_level_region(ctx, level, lo, hi)?;
+            format!("update_level_region, {marked} faces marked")
+        }
+        Mode::Entity => format!("{:?}", session.update_entities(ctx, level, &[index])?),
+    };
+    let update = ms(t);
+    let t2 = Instant::now();
+    let (drawn, _) = session.draw_offscreen(ctx, request)?;
+    let frame = ms(t2);
+    let edit_to_frame = ms(t);
+    print_passes(&drawn.stats);
+    let stable: Vec<String> = (drawn.input.captures.iter())
+        .filter(|c| c.slot != texel_probes::probe_set::Slot::Eye)
+        .map(|c| {
+            let part = (drawn.input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
+            match part {
+                Some(r) => format!(
+                    "{:?} {}x{} of {}",
+                    c.face,
+                    r.rect.x1 - r.rect.x0,
+                    r.rect.y1 - r.rect.y0,
+                    c.face_resolution
+                ),
+                None => format!("{:?} whole {}", c.face, c.face_resolution),
+            }
+        })
+        .collect();
+    println!("  stable faces captured: {}", stable.join(", "));
+    println!(
+        "edit {step} ({}, {how}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {edit_to_frame:.1} ms, faces captured {}",
+        if step.is_multiple_of(2) { "move" } else { "colour" },
+        drawn.stats.counters.faces_captured,
+    );
+    Ok(edit_to_frame)
+}
+
+/// The median of `v` (0 for none).
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    v.get(v.len() / 2).copied().unwrap_or(0.0)
 }
 
 /// The world bounds of object `index`'s entity as the session's scene holds it.
