@@ -166,23 +166,19 @@ fn main() -> Result<()> {
     println!("  GpuScene::upload: {:.0} ms", ms(t));
     drop(gpu);
     let (mut edits, mut settled) = (Vec::new(), Vec::new());
+    let (mut edit_passes, mut settled_passes) = (Vec::new(), Vec::new());
     for step in 0..o.steps {
-        edits.push(edit_step(
-            &ctx,
-            &mut session,
-            &mut level,
-            &o,
-            index,
-            step,
-            &request,
-        )?);
+        let (edit, stats) = edit_step(&ctx, &mut session, &mut level, &o, index, step, &request)?;
+        edits.push(edit);
+        edit_passes.push(stats);
         // Settle again, then time a frame with nothing to catch up on.
         for _ in 0..4 {
             session.draw_offscreen(&ctx, &request)?;
         }
         let t = Instant::now();
-        session.draw_offscreen(&ctx, &request)?;
+        let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
         settled.push(ms(t));
+        settled_passes.push(drawn.stats);
     }
     println!(
         "median over {} edits: edit to next finished frame {:.0} ms; settled frame between them {:.0} ms",
@@ -190,12 +186,21 @@ fn main() -> Result<()> {
         median(&mut edits),
         median(&mut settled)
     );
+    for pass in ["capture", "shade"] {
+        let mut e: Vec<f64> = edit_passes.iter().map(|s| s.pass_ms(pass)).collect();
+        let mut q: Vec<f64> = settled_passes.iter().map(|s| s.pass_ms(pass)).collect();
+        println!(
+            "  {pass}: {:.0} ms after an edit, {:.0} ms settled (medians)",
+            median(&mut e),
+            median(&mut q)
+        );
+    }
     Ok(())
 }
 
 /// Edit `step` of the entity at `index` (a move on even steps, a colour on odd ones), taken
 /// in as `o.mode` says, and the frame after it; returns the wall time from the edit to the
-/// finished frame, ms.
+/// finished frame, ms, and the frame's stats.
 fn edit_step(
     ctx: &GpuContext,
     session: &mut Session,
@@ -204,7 +209,7 @@ fn edit_step(
     index: usize,
     step: u32,
     request: &FrameRequest,
-) -> Result<f64> {
+) -> Result<(f64, texel_render::stats::FrameStats)> {
     let entity = level.scene.entities().nth(index).context("entity")?;
     let mut row = level.scene.row(entity).context("row")?;
     let before = bounds(session, index);
@@ -258,10 +263,14 @@ fn edit_step(
     println!("  stable faces captured: {}", stable.join(", "));
     println!(
         "edit {step} ({}, {how}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {edit_to_frame:.1} ms, faces captured {}",
-        if step.is_multiple_of(2) { "move" } else { "colour" },
+        if step.is_multiple_of(2) {
+            "move"
+        } else {
+            "colour"
+        },
         drawn.stats.counters.faces_captured,
     );
-    Ok(edit_to_frame)
+    Ok((edit_to_frame, drawn.stats))
 }
 
 /// The median of `v` (0 for none).
