@@ -71,9 +71,9 @@ pub enum EditUpdate {
         /// Faces marked.
         faces_marked: u32,
     },
-    /// The level was prepared, uploaded and planned afresh ([`Session::set_level`]): an
-    /// entity gained or lost geometry, is a terrain, a sprite or animated, was added or
-    /// removed, or a sun changed.
+    /// The level was planned afresh: prepared and uploaded too ([`Session::set_level`]) when
+    /// an entity gained or lost geometry, is a terrain, a sprite or animated, or was added or
+    /// removed; rewritten as above when a sun or a probe-grid override changed.
     Rebuilt,
 }
 

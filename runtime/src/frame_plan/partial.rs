@@ -32,6 +32,15 @@ pub struct EditedFaces {
 }
 
 impl EditedFaces {
+    /// Forgets every face: each is captured and lit whole when it is captured again (after
+    /// any other change to the scene, or frames of another schedule, which may have moved
+    /// a slot's probe away and back).
+    pub fn forget(&mut self) {
+        self.faces.clear();
+    }
+}
+
+impl EditedFaces {
     /// Notes the faces `marked` stale by an edit confined to `region` (each with the stamp
     /// of its last capture): each may change only where the region projects onto it. A face
     /// the region does not project onto in part (it reaches the probe) is dropped: it will
@@ -82,12 +91,13 @@ impl EditedFaces {
                 .any(|v| v.slot == e.slot && v.origin == e.origin && v.face_resolution == e.n)
         });
         let mut out = Vec::new();
-        for c in captures.iter().filter(|c| c.ortho.is_none()) {
+        for c in captures {
             let found = (self.faces.iter()).position(|e| e.slot == c.slot && e.face == c.face);
             let Some(e) = found.map(|i| self.faces.swap_remove(i)) else {
                 continue;
             };
-            if e.origin == c.origin && e.n == c.face_resolution {
+            // An orthographic face is not a cube face: captured whole.
+            if e.origin == c.origin && e.n == c.face_resolution && c.ortho.is_none() {
                 (out).push(Relight {
                     slot: e.slot,
                     face: e.face,
@@ -106,5 +116,43 @@ fn union(a: TexelRect, b: TexelRect) -> TexelRect {
         y0: a.y0.min(b.y0),
         x1: a.x1.max(b.x1),
         y1: a.y1.max(b.y1),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn stamp(origin: Vec3) -> CaptureStamp {
+        CaptureStamp {
+            origin,
+            face_resolution: 64,
+            scene_generation: 0,
+        }
+    }
+
+    /// A box ahead of a face is remembered as the part of it; two edits join; a box around
+    /// the probe, or one that covers the whole face, leaves the face to be lit whole.
+    #[test]
+    fn a_face_remembers_where_an_edit_falls_on_it() {
+        let mut edited = EditedFaces::default();
+        let marked = [(Slot::StableA, Face::NegZ, stamp(Vec3::ZERO))];
+        let small = (Vec3::new(-0.5, -0.5, -10.5), Vec3::new(0.5, 0.5, -9.5));
+        edited.mark(&marked, small);
+        let first = edited.faces[0].rect;
+        assert!(first.area() > 0 && first.area() < 64 * 64 / 4, "{first:?}");
+        edited.mark(&marked, (small.0 + Vec3::X * 3.0, small.1 + Vec3::X * 3.0));
+        assert_eq!(edited.faces.len(), 1);
+        assert!(edited.faces[0].rect.area() > first.area(), "the parts join");
+        edited.mark(&marked, (Vec3::splat(-1.0), Vec3::splat(1.0)));
+        assert!(edited.faces.is_empty(), "a box around the probe: lit whole");
+        edited.mark(&[(Slot::Eye, Face::NegZ, stamp(Vec3::ZERO))], small);
+        assert!(
+            edited.faces.is_empty(),
+            "eye faces are captured every frame"
+        );
+        edited.mark(&marked, small);
+        edited.forget();
+        assert!(edited.faces.is_empty());
     }
 }

@@ -147,6 +147,8 @@ impl FrameDriver {
         self.overrides = self.level.overrides.clone();
         self.placements.forget_near(min, max);
         self.near_faces.clear();
+        // A face an entity's edit changed in part may have changed anywhere now.
+        self.edited.forget();
         self.scheduler.invalidate_region(min, max)
     }
 
@@ -318,8 +320,9 @@ impl FrameDriver {
             self.find_near_faces(&plan, filler.as_ref(), cell_size);
         }
         let mut input = self.frame_input(camera, &plan, captures, filler, fade, schedule);
-        if schedule == Schedule::Ours {
-            input.partial = self.edited.take(&input.captures, &input);
+        match schedule {
+            Schedule::Ours => input.partial = self.edited.take(&input.captures, &input),
+            _ => self.edited.forget(),
         }
         let level = &self.level;
         (self.clock).animate(&level.animation, level.scene(), level.floor, &mut input, dt);
