@@ -15,6 +15,10 @@ use texel_scene::{EntityRow, Geometry, Scene};
 
 use crate::files;
 
+/// Most entity changes a document remembers for views to take in alone
+/// ([`Document::entities_since`]).
+const MAX_ENTITY_CHANGES: usize = 4096;
+
 /// A level open in the editor.
 pub struct Document {
     /// The scene and its assets; `level.path` is where they are resolved from.
@@ -113,6 +117,11 @@ impl Document {
     /// entity alone ([`Document::entities_since`]).
     pub fn entity_parts_mut(&mut self, index: usize) -> (&mut Scene, &mut AssetLibrary) {
         self.revision += 1;
+        // Bounded: a view older than the changes let go of rebuilds instead.
+        if self.entities.len() >= MAX_ENTITY_CHANGES {
+            let old: Vec<(u64, usize)> = self.entities.drain(..MAX_ENTITY_CHANGES / 2).collect();
+            self.full_revision = (old.last()).map_or(self.full_revision, |e| e.0);
+        }
         self.entities.push((self.revision, index));
         (&mut self.level.scene, &mut self.level.assets)
     }
@@ -545,6 +554,15 @@ mod region_tests {
         d.entity_parts_mut(0);
         d.touch();
         assert_eq!(d.entities_since(r2), None, "a full change since r2");
+        let r3 = d.revision;
+        for i in 0..MAX_ENTITY_CHANGES + 1 {
+            d.entity_parts_mut(i % 7);
+        }
+        assert_eq!(d.entities_since(r3), None, "too many changes: rebuild");
+        let recent = d
+            .entities_since(d.revision - 3)
+            .expect("recent changes kept");
+        assert_eq!(recent.len(), 3);
     }
 }
 
