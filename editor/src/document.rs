@@ -15,6 +15,10 @@ use texel_scene::{EntityRow, Geometry, Scene};
 
 use crate::files;
 
+/// Most entity changes a document remembers for views to take in alone
+/// ([`Document::entities_since`]).
+const MAX_ENTITY_CHANGES: usize = 4096;
+
 /// A level open in the editor.
 pub struct Document {
     /// The scene and its assets; `level.path` is where they are resolved from.
@@ -32,6 +36,8 @@ pub struct Document {
     full_revision: u64,
     /// Revisions that only changed terrain heights, with the world box they changed.
     regions: Vec<(u64, glam::Vec3, glam::Vec3)>,
+    /// Revisions that only changed one entity's components, with its position.
+    entities: Vec<(u64, usize)>,
 }
 
 impl Document {
@@ -49,6 +55,7 @@ impl Document {
             paint_on_disk: BTreeMap::new(),
             full_revision: 0,
             regions: Vec::new(),
+            entities: Vec::new(),
         }
     }
 
@@ -63,6 +70,7 @@ impl Document {
             paint_on_disk: BTreeMap::new(),
             full_revision: 0,
             regions: Vec::new(),
+            entities: Vec::new(),
         };
         doc.note_files_read(&AssetLibrary::default());
         Ok(doc)
@@ -104,11 +112,26 @@ impl Document {
         (&mut self.level.scene, &mut self.level.assets)
     }
 
+    /// The scene and the asset library, for a command that changes only the components of
+    /// the entity at `index` (a gizmo drag step, an inspector change): views take in that
+    /// entity alone ([`Document::entities_since`]).
+    pub fn entity_parts_mut(&mut self, index: usize) -> (&mut Scene, &mut AssetLibrary) {
+        self.revision += 1;
+        // Bounded: a view older than the changes let go of rebuilds instead.
+        if self.entities.len() >= MAX_ENTITY_CHANGES {
+            let old: Vec<(u64, usize)> = self.entities.drain(..MAX_ENTITY_CHANGES / 2).collect();
+            self.full_revision = (old.last()).map_or(self.full_revision, |e| e.0);
+        }
+        self.entities.push((self.revision, index));
+        (&mut self.level.scene, &mut self.level.assets)
+    }
+
     /// Marks a change made in place, so views rebuild.
     pub fn touch(&mut self) {
         self.revision += 1;
         self.full_revision = self.revision;
         self.regions.clear();
+        self.entities.clear();
     }
 
     /// Marks a change of terrain heights confined to the world box `min..max` (a stroke in
@@ -121,7 +144,7 @@ impl Document {
     /// The box every change since `revision` fell in, when they were all region changes
     /// ([`Document::touch_region`]); `None` when something else changed (rebuild the view).
     pub fn region_since(&self, revision: u64) -> Option<(glam::Vec3, glam::Vec3)> {
-        if self.full_revision > revision {
+        if self.full_revision > revision || self.entities.iter().any(|e| e.0 > revision) {
             return None;
         }
         self.regions
@@ -129,6 +152,22 @@ impl Document {
             .filter(|r| r.0 > revision)
             .map(|r| (r.1, r.2))
             .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
+    }
+
+    /// The positions of the entities changed since `revision`, in the order of their first
+    /// change, when every change since was an entity's alone
+    /// ([`Document::entity_parts_mut`]); `None` when something else changed (or nothing).
+    pub fn entities_since(&self, revision: u64) -> Option<Vec<usize>> {
+        if self.full_revision > revision || self.regions.iter().any(|r| r.0 > revision) {
+            return None;
+        }
+        let mut out: Vec<usize> = Vec::new();
+        for &(_, i) in self.entities.iter().filter(|e| e.0 > revision) {
+            if !out.contains(&i) {
+                out.push(i);
+            }
+        }
+        (!out.is_empty()).then_some(out)
     }
 
     /// Saves atomically to `path` and makes it the document's path. The heightmaps of
@@ -493,6 +532,37 @@ mod region_tests {
             d.region_since(d.revision - 1),
             Some((Vec3::ZERO, Vec3::ONE))
         );
+    }
+
+    /// Entity changes since a revision are listed once each, in order; a region or a full
+    /// change since makes the list `None`, and an entity change makes the region `None`.
+    #[test]
+    fn entities_since_lists_entity_changes_alone() {
+        use glam::Vec3;
+        let mut d = Document::new_empty();
+        let r0 = d.revision;
+        assert_eq!(d.entities_since(r0), None, "nothing changed");
+        d.entity_parts_mut(3);
+        d.entity_parts_mut(1);
+        d.entity_parts_mut(3);
+        assert_eq!(d.entities_since(r0), Some(vec![3, 1]));
+        assert_eq!(d.region_since(r0), None, "an entity changed, not a region");
+        let r1 = d.revision;
+        d.touch_region(Vec3::ZERO, Vec3::ONE);
+        assert_eq!(d.entities_since(r1), None, "a region changed");
+        let r2 = d.revision;
+        d.entity_parts_mut(0);
+        d.touch();
+        assert_eq!(d.entities_since(r2), None, "a full change since r2");
+        let r3 = d.revision;
+        for i in 0..MAX_ENTITY_CHANGES + 1 {
+            d.entity_parts_mut(i % 7);
+        }
+        assert_eq!(d.entities_since(r3), None, "too many changes: rebuild");
+        let recent = d
+            .entities_since(d.revision - 3)
+            .expect("recent changes kept");
+        assert_eq!(recent.len(), 3);
     }
 }
 

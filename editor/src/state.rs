@@ -41,7 +41,7 @@ impl EditorState {
 
     /// Executes `command` and records it (folded into the open step with the same `merge`).
     pub fn apply(&mut self, command: Command, merge: Option<MergeKey>) -> Result<(), CommandError> {
-        let (scene, assets) = self.document.parts_mut();
+        let (scene, assets) = self.parts_for(&command);
         let focus = command.execute(scene, assets)?;
         self.focus(focus);
         self.history.push(command, merge);
@@ -54,7 +54,7 @@ impl EditorState {
         let Some(cmd) = self.history.pop_undo().cloned() else {
             return Ok(false);
         };
-        let (scene, assets) = self.document.parts_mut();
+        let (scene, assets) = self.parts_for(&cmd);
         match cmd.revert(scene, assets) {
             Ok(f) => {
                 self.focus(f);
@@ -73,7 +73,7 @@ impl EditorState {
         let Some(cmd) = self.history.pop_redo().cloned() else {
             return Ok(false);
         };
-        let (scene, assets) = self.document.parts_mut();
+        let (scene, assets) = self.parts_for(&cmd);
         match cmd.execute(scene, assets) {
             Ok(f) => {
                 self.focus(f);
@@ -83,6 +83,18 @@ impl EditorState {
                 self.history.cancel_redo();
                 Err(e)
             }
+        }
+    }
+
+    /// The scene and assets for `command` to change: marked as one entity's change when it
+    /// replaces one entity's components, so the viewport takes in that entity alone.
+    fn parts_for(
+        &mut self,
+        command: &Command,
+    ) -> (&mut Scene, &mut texel_scene::assets::AssetLibrary) {
+        match command {
+            Command::SetRow { index, .. } => self.document.entity_parts_mut(*index),
+            _ => self.document.parts_mut(),
         }
     }
 

@@ -45,7 +45,8 @@ fn viewport_renders_and_picks_on_eframes_kind_of_device() {
 
     // Move that stone away: after an edit (new revision) the centre shows something else.
     let e = level.scene.entities().nth(1).expect("entity");
-    let mut row = level.scene.row(e).expect("row");
+    let before = level.scene.row(e).expect("row");
+    let mut row = before.clone();
     row.transform = Some(Transform::from_translation(Vec3::new(50.0, 1.6, 50.0)));
     level.scene.set_row(e, row).expect("set");
     for _ in 0..3 {
@@ -54,6 +55,29 @@ fn viewport_renders_and_picks_on_eframes_kind_of_device() {
     }
     assert_ne!(gpu.pick(size / 2).expect("pick"), Some(2));
     assert!(gpu.report.upload_ms.is_some(), "the edit's upload is timed");
+
+    // Back where it stood, as a gizmo drag step is taken in: that entity alone, in place.
+    let mut row = level.scene.row(e).expect("row");
+    row.transform = before.transform;
+    level.scene.set_row(e, row).expect("set");
+    gpu.use_entities(Some(vec![1]));
+    for _ in 0..6 {
+        gpu.render(&level, 2, camera.camera(), size, Schedule::Ours, 0.016)
+            .expect("render");
+    }
+    assert!(
+        matches!(
+            gpu.report.last_edit,
+            Some(texel_runtime::session::EditUpdate::InPlace { faces_marked }) if faces_marked > 0
+        ),
+        "{:?}",
+        gpu.report.last_edit
+    );
+    assert_eq!(
+        gpu.pick(size / 2).expect("pick"),
+        Some(2),
+        "the stone is back"
+    );
 }
 
 #[test]

@@ -16,6 +16,7 @@ pub mod occluders;
 pub mod path;
 pub mod play;
 pub mod play_sculpt;
+pub mod reload;
 pub mod session;
 pub mod soak;
 pub mod stamp;

@@ -4,16 +4,29 @@
 use std::sync::OnceLock;
 
 use texel_probes::placement::{RayHit, RayQuery};
+use texel_render::bvh::refit::RefitIndex;
 use texel_render::bvh::{GpuBvh, build_bvh, first_hit_cpu, triangles_in_box_cpu};
-use texel_render::input::SceneInput;
+use texel_render::input::{ObjectInput, PointLightInput, SceneInput, SunInput};
 
 /// Closest-hit ray queries against a scene. The BVH is built on the first query, so a level
 /// whose grid probes never need placing (or an editor edit before the next frame) pays
-/// nothing for it.
-#[derive(Debug)]
+/// nothing for it; an edit that moves objects refits it ([`SceneRays::replace_objects`]).
+#[derive(Debug, Clone)]
 pub struct SceneRays {
     scene: SceneInput,
-    bvh: OnceLock<GpuBvh>,
+    bvh: OnceLock<RayTree>,
+}
+
+/// The tree over the still objects' triangles, and where each object's start among them.
+#[derive(Debug, Clone)]
+struct RayTree {
+    bvh: GpuBvh,
+    /// Each object's triangles among the tree's inputs (`None`: animated, not in the tree).
+    spans: Vec<Option<std::ops::Range<u32>>>,
+    /// The tree's inputs.
+    inputs: usize,
+    /// Made on the first refit.
+    refit: Option<RefitIndex>,
 }
 
 impl SceneRays {
@@ -30,35 +43,87 @@ impl SceneRays {
         &self.scene
     }
 
+    /// The scene, to change what the tree does not hold (lights); objects change through
+    /// [`SceneRays::replace_objects`].
+    pub fn lights_mut(&mut self) -> (&mut Vec<SunInput>, &mut Vec<PointLightInput>) {
+        (&mut self.scene.suns, &mut self.scene.points)
+    }
+
+    /// Replaces the objects from `at` on with `objects` (as many as there were: the same
+    /// entity extracted again), refitting the tree when it was built and each object keeps
+    /// its number of triangles, or dropping it to be built again on the next query.
+    pub fn replace_objects(&mut self, at: usize, objects: Vec<ObjectInput>) {
+        let range = at..at + objects.len();
+        self.scene.objects.splice(range.clone(), objects);
+        let Some(tree) = self.bvh.get_mut() else {
+            return;
+        };
+        let mut moved = Vec::new();
+        for i in range {
+            let Some(span) = tree.spans.get(i).cloned().flatten() else {
+                continue;
+            };
+            let tris = world_triangles(&self.scene.objects[i]);
+            if tris.len() != span.len() {
+                self.bvh = OnceLock::new();
+                return;
+            }
+            moved.extend(span.zip(tris));
+        }
+        let inputs = tree.inputs;
+        let refitted = (tree.refit)
+            .get_or_insert_with(|| RefitIndex::new(&tree.bvh, inputs))
+            .refit(&mut tree.bvh, &moved);
+        if refitted.is_none() {
+            self.bvh = OnceLock::new();
+        }
+    }
+
     fn bvh(&self) -> &GpuBvh {
-        self.bvh.get_or_init(|| build(&self.scene))
+        &self.bvh.get_or_init(|| build(&self.scene)).bvh
     }
 }
 
-/// The BVH over every triangle of `scene`, world-space, wound as its meshes are.
-fn build(scene: &SceneInput) -> GpuBvh {
-    {
-        let mut triangles = Vec::new();
+/// The BVH over every triangle of `scene`, world-space, wound as its meshes are, with where
+/// each object's triangles start.
+fn build(scene: &SceneInput) -> RayTree {
+    let mut triangles = Vec::new();
+    let mut spans = Vec::with_capacity(scene.objects.len());
+    let animated: std::collections::HashSet<usize> = scene.animated.iter().copied().collect();
+    for (i, object) in scene.objects.iter().enumerate() {
         // Moving objects are left out: a probe's place is a function of the static scene.
-        let still = (scene.objects.iter().enumerate())
-            .filter(|(i, _)| !scene.animated.contains(i))
-            .map(|(_, o)| o);
-        for object in still {
-            let m = object.transform;
-            // A mirroring transform turns counter-clockwise into clockwise: swap back.
-            let flip = m.determinant() < 0.0;
-            let mesh = &object.mesh;
-            for tri in mesh.indices.chunks_exact(3) {
-                let vertex = |i: u32| {
-                    let p = mesh.positions.get(i as usize).copied().unwrap_or_default();
-                    m.transform_point3(p)
-                };
-                let (a, b, c) = (vertex(tri[0]), vertex(tri[1]), vertex(tri[2]));
-                triangles.push(if flip { [a, c, b] } else { [a, b, c] });
-            }
+        if animated.contains(&i) {
+            spans.push(None);
+            continue;
         }
-        build_bvh(&triangles)
+        let first = triangles.len() as u32;
+        triangles.extend(world_triangles(object));
+        spans.push(Some(first..triangles.len() as u32));
     }
+    RayTree {
+        bvh: build_bvh(&triangles),
+        inputs: triangles.len(),
+        spans,
+        refit: None,
+    }
+}
+
+/// `object`'s triangles in world space, wound as its mesh is.
+fn world_triangles(object: &ObjectInput) -> Vec<[glam::Vec3; 3]> {
+    let m = object.transform;
+    // A mirroring transform turns counter-clockwise into clockwise: swap back.
+    let flip = m.determinant() < 0.0;
+    let mesh = &object.mesh;
+    (mesh.indices.chunks_exact(3))
+        .map(|tri| {
+            let vertex = |i: u32| {
+                let p = mesh.positions.get(i as usize).copied().unwrap_or_default();
+                m.transform_point3(p)
+            };
+            let (a, b, c) = (vertex(tri[0]), vertex(tri[1]), vertex(tri[2]));
+            if flip { [a, c, b] } else { [a, b, c] }
+        })
+        .collect()
 }
 
 impl RayQuery for SceneRays {

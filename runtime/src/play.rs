@@ -7,7 +7,8 @@
 //! toggle flying (through everything; Space/E and Ctrl/Q rise and sink), Tab to switch the
 //! schedule, F3 to hide the overlay, R and G to raise and lower the terrain under the
 //! crosshair (`crate::play_sculpt`), Esc to release the mouse and Esc again (or closing the window)
-//! to quit.
+//! to quit. The level file is watched: saved again (by hand or by the editor), the rows that
+//! changed are taken in as edits, at the cost of what changed (`crate::reload`).
 
 use std::path::Path;
 use std::sync::Arc;
@@ -28,6 +29,7 @@ use winit::window::{CursorGrabMode, Window, WindowId};
 use crate::first_person::{InputState, WalkCamera};
 use crate::load::{LoadedLevel, load_level};
 use crate::play_sculpt::{SculptKeys, dab_at_centre};
+use crate::reload::LevelWatch;
 use crate::session::{FrameRequest, Session};
 use crate::walk::Walker;
 
@@ -220,10 +222,13 @@ struct App {
     sculpt: SculptKeys,
     /// Probe faces the last dab marked for capture.
     dab_marked: Option<u32>,
+    /// The level file, taken in again when it changes on disk (`crate::reload`).
+    watch: LevelWatch,
 }
 
 impl App {
     fn new(level: LoadedLevel, options: PlayOptions) -> Self {
+        let level_path = level.path.clone();
         let mut camera = WalkCamera::from_scene(&level.scene);
         let walker = match Walker::new(&level.scene, &level.assets) {
             Ok(w) => {
@@ -259,7 +264,41 @@ impl App {
             fps: FpsMeter::default(),
             sculpt: SculptKeys::default(),
             dab_marked: None,
+            watch: LevelWatch::new(&level_path),
         }
+    }
+
+    /// Takes in the level file when it changed on disk: the rows that changed as edits
+    /// ([`Session::reload`]), the colliders built again around the player where it stands.
+    /// A file that does not load is reported and the level played goes on.
+    fn reload_if_changed(&mut self) {
+        if !self.watch.changed() {
+            return;
+        }
+        let Some(r) = &mut self.running else {
+            return;
+        };
+        let path = self.level.path.clone();
+        let new = match load_level(&path) {
+            Ok(new) => new,
+            Err(e) => {
+                eprintln!("play: {} changed but does not load: {e}", path.display());
+                return;
+            }
+        };
+        match r.session.reload(&r.ctx, &self.level, &new) {
+            Ok(how) => eprintln!("play: {} changed on disk: {how:?}", path.display()),
+            Err(e) => {
+                eprintln!("play: {} changed but cannot be drawn: {e}", path.display());
+                return;
+            }
+        }
+        if let Some(w) = &mut self.walker
+            && let Err(e) = w.rebuild(&new.scene, &new.assets)
+        {
+            eprintln!("play: the collision keeps the old level: {e}");
+        }
+        self.level = new;
     }
 
     fn fail(&mut self, event_loop: &ActiveEventLoop, error: anyhow::Error) {
@@ -409,6 +448,7 @@ impl App {
             .last_frame
             .map_or(0.0, |t| now.duration_since(t).as_secs_f32());
         self.last_frame = Some(now);
+        self.reload_if_changed();
         // The time the session will pose the moving objects at in this frame's draw.
         let t = (self.running.as_ref()).map_or(0.0, |r| r.session.animation_time());
         self.advance(dt, t);

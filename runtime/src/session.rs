@@ -48,11 +48,33 @@ pub struct DrawnFrame {
     pub input: FrameInput,
 }
 
-/// A level on the GPU with its frame driver.
+/// A level on the GPU with its frame driver (which holds the prepared level).
 pub struct Session {
-    level: Arc<PreparedLevel>,
     renderer: Renderer,
     driver: FrameDriver,
+}
+
+/// How [`Session::update_entities`] took an edit in.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum EditUpdate {
+    /// The edited entities were extracted alone and rewritten in place on the GPU; the
+    /// probe faces that may see the change were marked for capture (how many).
+    InPlace {
+        /// Faces marked.
+        faces_marked: u32,
+    },
+    /// The entities were extracted alone, but the GPU scene was uploaded again (another
+    /// mesh, other textures, shadows turned on or off: see
+    /// [`texel_render::gpu_scene::NotInPlace`]); only the faces that may see the change
+    /// were marked.
+    Uploaded {
+        /// Faces marked.
+        faces_marked: u32,
+    },
+    /// The level was planned afresh: prepared and uploaded too ([`Session::set_level`]) when
+    /// an entity gained or lost geometry, is a terrain, a sprite or animated, or was added or
+    /// removed; rewritten as above when a sun or a probe-grid override changed.
+    Rebuilt,
 }
 
 impl Session {
@@ -87,12 +109,8 @@ impl Session {
     ) -> Result<Self, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
         renderer.set_scene(ctx, level.scene())?;
-        let driver = FrameDriver::prepared(level.clone(), size, fov_y)?;
-        Ok(Session {
-            level,
-            renderer,
-            driver,
-        })
+        let driver = FrameDriver::prepared(level, size, fov_y)?;
+        Ok(Session { renderer, driver })
     }
 
     /// Replaces the level (after an edit): uploads its scene and plans afresh.
@@ -101,9 +119,74 @@ impl Session {
         // Checked and uploaded first: a level the device cannot hold leaves the session as
         // it was.
         self.renderer.set_scene(ctx, level.scene())?;
-        self.level = level;
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-        let driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
+        let driver = FrameDriver::prepared(level, size, fov_y)?;
+        self.replace_driver(driver);
+        Ok(())
+    }
+
+    /// Takes in an edit of the entities at `indices` of `level` (which is the session's
+    /// level but for them: a gizmo drag step, an inspector change, a row reloaded from
+    /// disk) at the cost of what changed: each entity is extracted alone, its vertices,
+    /// record and shadow triangles rewritten in place on the GPU with the lights, and only
+    /// the probe faces that may see its old or new bounds, their shadows or a changed
+    /// light's reach are captured again ([`EditUpdate`] says how it went). What cannot be
+    /// taken so (an entity added or removed, gaining geometry, a terrain, a sprite, an
+    /// animated one) falls back to [`Session::set_level`]; a sun or a probe-grid override
+    /// changed plans afresh.
+    ///
+    /// Should the scene fail to upload, the session keeps drawing the scene it had while
+    /// planning for the new one; call [`Session::set_level`] to recover.
+    pub fn update_entities(
+        &mut self,
+        ctx: &GpuContext,
+        level: &LoadedLevel,
+        indices: &[usize],
+    ) -> Result<EditUpdate, SessionError> {
+        let mut changed = Vec::new();
+        let mut region: Option<(glam::Vec3, glam::Vec3)> = None;
+        let mut grid_changed = false;
+        for &index in indices {
+            match self.driver.level_mut().update_entity(level, index) {
+                Ok(edit) => {
+                    changed.extend(edit.objects);
+                    grid_changed |= edit.grid_changed;
+                    if let Some((lo, hi)) = edit.region {
+                        region = Some(region.map_or((lo, hi), |r| (r.0.min(lo), r.1.max(hi))));
+                    }
+                }
+                Err(_) => {
+                    self.set_level(ctx, level)?;
+                    return Ok(EditUpdate::Rebuilt);
+                }
+            }
+        }
+        let scene = self.driver.level().scene();
+        let in_place = self.renderer.update_scene(ctx, scene, &changed)?.is_some();
+        let faces_marked = match region {
+            _ if grid_changed => None,
+            None => Some(self.driver.level_edited(None)),
+            Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
+                Some(self.driver.level_edited(Some((lo, hi))))
+            }
+            Some(_) => None,
+        };
+        // A sun changed (it lights everything) or the probe grid did: planned afresh.
+        let Some(faces_marked) = faces_marked else {
+            self.replan()?;
+            return Ok(EditUpdate::Rebuilt);
+        };
+        Ok(match in_place {
+            true => EditUpdate::InPlace { faces_marked },
+            false => EditUpdate::Uploaded { faces_marked },
+        })
+    }
+
+    /// Plans afresh for the same level and viewport (every probe captured again), keeping
+    /// the animation clock.
+    fn replan(&mut self) -> Result<(), SessionError> {
+        let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
+        let driver = FrameDriver::prepared(self.driver.level().clone(), size, fov_y)?;
         self.replace_driver(driver);
         Ok(())
     }
@@ -123,9 +206,7 @@ impl Session {
         let level = Arc::new(PreparedLevel::new(level));
         self.renderer.set_scene(ctx, level.scene())?;
         let (lo, hi) = level.shadow_region(min, max);
-        let marked = self.driver.replace_level(level.clone(), lo, hi);
-        self.level = level;
-        Ok(marked)
+        Ok(self.driver.replace_level(level, lo, hi))
     }
 
     /// Turns the texel-density debug view on or off (see
@@ -133,10 +214,7 @@ impl Session {
     /// again in the new mode.
     pub fn set_texture_density_view(&mut self, on: bool) -> Result<(), SessionError> {
         self.renderer.set_texture_density_view(on);
-        let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-        let driver = FrameDriver::prepared(self.level.clone(), size, fov_y)?;
-        self.replace_driver(driver);
-        Ok(())
+        self.replan()
     }
 
     /// Renders `request` once offscreen with a throwaway driver, so shaders are compiled and
@@ -148,7 +226,8 @@ impl Session {
         request: &FrameRequest,
     ) -> Result<(), SessionError> {
         let fov_y = request.camera.fov_y;
-        let mut warm = FrameDriver::prepared(self.level.clone(), request.size, fov_y)?;
+        let level = self.driver.level().clone();
+        let mut warm = FrameDriver::prepared(level, request.size, fov_y)?;
         let input = warm.frame(request.camera, request.dt, request.schedule)?;
         self.renderer.render_offscreen(ctx, &input)?;
         Ok(())
@@ -159,7 +238,8 @@ impl Session {
     fn plan(&mut self, request: &FrameRequest) -> Result<FrameInput, SessionError> {
         let fov_y = request.camera.fov_y;
         if (request.size, fov_y) != (self.driver.size(), self.driver.fov_y()) {
-            let driver = FrameDriver::prepared(self.level.clone(), request.size, fov_y)?;
+            let level = self.driver.level().clone();
+            let driver = FrameDriver::prepared(level, request.size, fov_y)?;
             self.replace_driver(driver);
         }
         Ok((self.driver).frame(request.camera, request.dt, request.schedule)?)
@@ -218,7 +298,7 @@ impl Session {
 
     /// The scene the renderer holds.
     pub fn scene(&self) -> &texel_render::input::SceneInput {
-        self.level.scene()
+        self.driver.scene_input()
     }
 
     /// The renderer (picking, read-backs, debug data of the last frame).

@@ -272,15 +272,25 @@ impl Scheduler {
     /// captures. Returns how many faces were marked. A scene edit (a terrain brush dab, an
     /// object moved) then costs the faces it touches, not every face of every probe.
     pub fn invalidate_region(&mut self, min: Vec3, max: Vec3) -> u32 {
-        let mut marked = 0;
-        for slot in &mut self.stamps {
-            for (f, stamp) in slot.iter_mut().enumerate() {
+        self.invalidate_region_faces(min, max).len() as u32
+    }
+
+    /// [`Scheduler::invalidate_region`], returning each face marked with its slot and its
+    /// capture's stamp (where and at what resolution it was captured).
+    pub fn invalidate_region_faces(
+        &mut self,
+        min: Vec3,
+        max: Vec3,
+    ) -> Vec<(Slot, Face, CaptureStamp)> {
+        let mut marked = Vec::new();
+        for (slot, stamps) in Slot::ALL.into_iter().zip(&mut self.stamps) {
+            for (f, stamp) in stamps.iter_mut().enumerate() {
                 let Some(s) = stamp else {
                     continue;
                 };
                 if face_may_see_box(Face::ALL[f], s.origin, min, max, self.capture_far) {
                     s.scene_generation = s.scene_generation.wrapping_add(1);
-                    marked += 1;
+                    marked.push((slot, Face::ALL[f], *s));
                 }
             }
         }

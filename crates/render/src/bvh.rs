@@ -62,6 +62,7 @@ use obvhs::ploc::PlocBuilder;
 use obvhs::triangle::Triangle;
 
 pub mod field;
+pub mod refit;
 
 /// Entries of the traversal stack (`BVH_STACK_SIZE` in WGSL); also the depth at which the
 /// builder merges deeper subtrees into a leaf.

@@ -210,6 +210,29 @@ impl Renderer {
         Ok(())
     }
 
+    /// Brings the scene up to `scene` after an edit of the objects `changed` (their
+    /// transforms or materials) and of the lights: in place when it can be
+    /// ([`GpuScene::update_objects`], returning what it wrote), else by uploading `scene`
+    /// again ([`Renderer::set_scene`], returning `None`). The terrain splats' cache is
+    /// forgotten, as a new scene's is: an object moved may shadow terrain pixels.
+    pub fn update_scene(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &SceneInput,
+        changed: &[usize],
+    ) -> Result<Option<crate::gpu_scene::InPlaceEdit>, RenderError> {
+        let Some(uploaded) = self.scene.as_mut() else {
+            return self.set_scene(ctx, scene).map(|()| None);
+        };
+        match uploaded.update_objects(&ctx.queue, scene, changed) {
+            Ok(edit) => {
+                self.terrain_splat.forget();
+                Ok(Some(edit))
+            }
+            Err(_) => self.set_scene(ctx, scene).map(|()| None),
+        }
+    }
+
     /// Caps the terrain splats' record cache at `slots` slots (at most
     /// [`crate::passes::terrain_splat::CACHE_SLOTS_MAX`]), so that a test's small faces share
     /// slots by hash as large faces' keys do; the next frame lays the cache out again, empty.

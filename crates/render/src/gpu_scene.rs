@@ -14,7 +14,10 @@ use crate::textures::{AtlasError, GpuTextures};
 mod ranges;
 #[cfg(test)]
 mod tests;
+mod update;
 mod upload;
+
+pub use update::{InPlaceEdit, NotInPlace};
 
 pub use ranges::{
     CaptureCull, DRAW_MIN_TEXELS, DrawRange, EYE_LOD_SAMPLE_TEXELS, LOD_SAMPLE_TEXELS, LodFrom,
@@ -309,6 +312,9 @@ pub struct GpuScene {
     casters: std::sync::Mutex<Vec<CasterNow>>,
     /// The scene's lights and lowest point, for where a moved caster's shadow may fall.
     pub shadow_lights: crate::shadow_region::ShadowLights,
+    /// Where each object's vertices, ranges and casters lie, and the shadow tree's CPU copy:
+    /// what an edit made in place needs ([`GpuScene::update_objects`]).
+    edits: update::InPlace,
 }
 
 /// Where an animated shadow caster stands ([`GpuScene::casters`]).

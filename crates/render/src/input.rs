@@ -411,6 +411,12 @@ pub struct FrameInput {
     /// may have come or gone there); faces captured this frame are lit anyway, and eye faces
     /// are lit as the view needs them.
     pub relight: Vec<Relight>,
+    /// Stable-probe faces captured this frame after a scene edit that can have changed
+    /// only these texels of them (what the edit's old and new bounds, their shadows and a
+    /// changed light's reach project to, with a margin for the neighbours a texel reads):
+    /// the face is captured whole, but lit only there, the rest keeping the light of its
+    /// last capture at the same origin, which it equals. Faces not captured are ignored.
+    pub partial: Vec<Relight>,
     /// Sprites that moved or changed frame since the last frame (the others keep theirs).
     pub sprites: Vec<SpriteState>,
 }

@@ -117,7 +117,8 @@ impl SlotTextures {
     /// Allocates a slot of `n × n` faces.
     pub fn new(ctx: &GpuContext, slot: Slot, n: u32) -> Self {
         use wgpu::TextureUsages as U;
-        let gbuf = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC;
+        // Copied aside and back around a face captured in part (`passes::capture`).
+        let gbuf = U::RENDER_ATTACHMENT | U::TEXTURE_BINDING | U::COPY_SRC | U::COPY_DST;
         let name = |what: &str| format!("probes::{slot:?}::{what}");
         SlotTextures {
             n,

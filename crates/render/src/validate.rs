@@ -241,6 +241,7 @@ mod tests {
             grid_complete: true,
             poses: Vec::new(),
             relight: Vec::new(),
+            partial: Vec::new(),
             sprites: Vec::new(),
         };
         assert!(frame(&input).is_ok());

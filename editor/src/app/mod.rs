@@ -231,7 +231,7 @@ impl EditorApp {
                 Some(r) => {
                     // Before the first edit, what the renderer's start took.
                     let (what, ms) = match r.upload_ms {
-                        Some(ms) => ("scene upload", ms),
+                        Some(ms) => ("scene update", ms),
                         None => ("renderer start", r.start_ms),
                     };
                     ui.label(format!(

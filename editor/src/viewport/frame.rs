@@ -117,10 +117,9 @@ impl Viewport {
         let rendered = self.settle > 0;
         if rendered {
             let t = Instant::now();
-            let region = gpu
-                .session_revision()
-                .and_then(|r| state.document.region_since(r));
-            gpu.use_region(region);
+            let since = gpu.session_revision();
+            gpu.use_region(since.and_then(|r| state.document.region_since(r)));
+            gpu.use_entities(since.and_then(|r| state.document.entities_since(r)));
             let r = gpu.render(
                 &state.document.level,
                 state.document.revision,

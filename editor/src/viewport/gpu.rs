@@ -16,7 +16,7 @@ use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
 use texel_runtime::load::LoadedLevel;
-use texel_runtime::session::{FrameRequest, Session, SessionError};
+use texel_runtime::session::{EditUpdate, FrameRequest, Session, SessionError};
 
 /// The viewport texture's format: the renderer's own frame format, plain 8-bit holding its
 /// sRGB-encoded colours as they are. egui samples it so: its shader takes a texture's values
@@ -32,8 +32,8 @@ pub struct RenderReport {
     pub stats: Option<FrameStats>,
     /// Wall time of the last `render` call, ms.
     pub frame_ms: f64,
-    /// Wall time of the last scene upload after an edit (meshes, BVH), ms; `None` before the
-    /// first edit. A stroke paces its refreshes by it (`sculpt::refresh_interval`).
+    /// Wall time of taking in the last edit (entities rewritten in place, or the scene
+    /// uploaded again), ms; `None` before the first edit. A stroke paces its refreshes by it (`sculpt::refresh_interval`).
     pub upload_ms: Option<f64>,
     /// Wall time of the renderer's start: the session with its pipelines and the first
     /// scene upload, ms. Kept apart from `upload_ms`: it is mostly compiling shaders (about
@@ -44,6 +44,9 @@ pub struct RenderReport {
     pub size: UVec2,
     /// Scene uploads after edits since the renderer started.
     pub uploads: u64,
+    /// How the last edit of entities was taken in ([`Session::update_entities`]; `None`
+    /// before one, and after a rebuild or a terrain stroke's region update).
+    pub last_edit: Option<EditUpdate>,
 }
 
 struct Target {
@@ -70,6 +73,9 @@ pub struct GpuView {
     /// A box that every change since the session's revision fell in (terrain heights during
     /// a stroke): the next render updates only the probe faces that see it.
     region: Option<(glam::Vec3, glam::Vec3)>,
+    /// The entities every change since the session's revision was confined to (a gizmo
+    /// drag, an inspector change): the next render takes in those alone.
+    entities: Option<Vec<usize>>,
     /// Cost of the last frame.
     pub report: RenderReport,
     /// The probes the last frame drew: eye, the camera cell's grid probe and the other stable one.
@@ -116,6 +122,7 @@ impl GpuView {
             egui: rs.renderer.clone(),
             target: None,
             region: None,
+            entities: None,
             report: RenderReport::default(),
             probes: None,
         })
@@ -131,6 +138,13 @@ impl GpuView {
     /// rebuilding the session.
     pub fn use_region(&mut self, region: Option<(glam::Vec3, glam::Vec3)>) {
         self.region = region;
+    }
+
+    /// Tells the next render that every change since [`GpuView::session_revision`] changed
+    /// only the entities at these positions (or not: `None`), so it can take in those alone
+    /// ([`Session::update_entities`]) instead of rebuilding the session.
+    pub fn use_entities(&mut self, entities: Option<Vec<usize>>) {
+        self.entities = entities;
     }
 
     /// Renders `level` (at document `revision`) from `camera` at `size` and returns the
@@ -150,15 +164,25 @@ impl GpuView {
         match &mut self.session {
             Some((_, r)) if *r == revision => {}
             Some((session, r)) => {
-                match self.region.take() {
-                    Some((min, max)) => {
+                let edit = match (self.entities.take(), self.region.take()) {
+                    (Some(entities), _) => (session.update_entities(&self.ctx, level, &entities))
+                        .map(Some)
+                        .map_err(err)?,
+                    (None, Some((min, max))) => {
                         session
                             .update_level_region(&self.ctx, level, min, max)
                             .map_err(err)?;
+                        None
                     }
-                    None => session.set_level(&self.ctx, level).map_err(err)?,
-                }
-                if self.density_view {
+                    (None, None) => {
+                        session.set_level(&self.ctx, level).map_err(err)?;
+                        Some(EditUpdate::Rebuilt)
+                    }
+                };
+                let rebuilt = edit == Some(EditUpdate::Rebuilt);
+                self.report.last_edit = edit.filter(|_| !rebuilt);
+                // A session planned afresh captures as it did when the view was made.
+                if self.density_view && rebuilt {
                     session.set_texture_density_view(true).map_err(err)?;
                 }
                 *r = revision;

@@ -24,12 +24,12 @@ use crate::occluders::SceneRays;
 /// What the frame driver and the renderer need of a level, extracted from it once: the scene
 /// to upload, the look, the probe-grid settings that do not depend on the viewport, and the
 /// player start.
-#[derive(Debug)]
+#[derive(Debug, Clone)]
 pub struct PreparedLevel {
     /// Sky, ambient light, bands and haze.
     pub look: Look,
-    pixel_scale: PixelScale,
-    cell_size: f32,
+    pub(super) pixel_scale: PixelScale,
+    pub(super) cell_size: f32,
     pub(super) overrides: Vec<GridOverride>,
     pub(super) start: Camera,
     /// The renderer's view of the scene, and ray queries against it for probe placement.
@@ -115,10 +115,18 @@ pub fn entity_index(id: u32) -> Option<usize> {
 
 /// The renderer's view of the scene: one object per entity with geometry, lights.
 pub fn scene_input(level: &LoadedLevel) -> SceneInput {
-    let scene = &level.scene;
-    let w = scene.world();
     let mut out = SceneInput::default();
-    for (index, e) in scene.entities().enumerate() {
+    for (index, e) in level.scene.entities().enumerate() {
+        add_entity(level, index, e, &mut out);
+    }
+    out
+}
+
+/// Adds what entity `e`, at `index` in the level's order, brings to `out`: its object (and
+/// its terrain's), its sprite, its lights.
+pub(super) fn add_entity(level: &LoadedLevel, index: usize, e: hecs::Entity, out: &mut SceneInput) {
+    let w = level.scene.world();
+    {
         let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
         if let Ok(g) = w.get::<&Geometry>(e) {
             let primitive = !matches!(&*g, Geometry::Mesh { .. });
@@ -187,7 +195,6 @@ pub fn scene_input(level: &LoadedLevel) -> SceneInput {
             });
         }
     }
-    out
 }
 
 /// A terrain's colouring and mesh, `None` when its heights are not loaded. Only the

@@ -22,20 +22,24 @@
 //! crossfade runs at our pace or the reference's (`fade`).
 
 mod animation;
+mod edit;
 mod extraction;
 mod fade;
 mod ortho;
+mod partial;
 mod planning;
 #[cfg(test)]
 mod tests;
 
 pub use animation::Animation;
+pub use edit::{EntityEdit, NotAlone};
 pub use extraction::{
     PreparedLevel, entity_id, entity_index, level_look, scene_input, shadow_extended, start_camera,
     terrain_input,
 };
 pub use fade::{OUR_FADE_CELLS, OUR_FADE_SECONDS, OUR_MIN_FADE_FRAMES};
 pub use ortho::ORTHO_TURN_STEP_DEG;
+pub use partial::EDIT_MARGIN_TEXELS;
 pub use planning::{
     CAPTURE_FAR, CROSSING_STABLE_FACES, DriverError, FACE_BUDGET, FrameDriver,
     PREFETCH_FACES_PER_FRAME, PREFETCH_LOOKAHEAD_S, STABLE_FACES_PER_FRAME,

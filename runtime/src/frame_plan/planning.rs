@@ -26,6 +26,7 @@ use super::animation::Clock;
 use super::extraction::PreparedLevel;
 use super::fade::fade_config;
 use super::ortho::{OrthoFrames, OrthoProbes, ortho_choice, ortho_probes, pixel_snapped};
+use super::partial::EditedFaces;
 use crate::extract::Viewport;
 use crate::load::LoadedLevel;
 
@@ -87,6 +88,8 @@ pub struct FrameDriver {
     clock: Clock,
     /// The frames of the last orthographic probes, by origin.
     ortho: OrthoFrames,
+    /// The part of each stable face edits changed, lit alone when it is captured again.
+    edited: EditedFaces,
 }
 
 impl FrameDriver {
@@ -130,6 +133,7 @@ impl FrameDriver {
             velocity: Vec3::ZERO,
             clock: Clock::default(),
             ortho: OrthoFrames::default(),
+            edited: EditedFaces::default(),
         })
     }
 
@@ -143,7 +147,42 @@ impl FrameDriver {
         self.overrides = self.level.overrides.clone();
         self.placements.forget_near(min, max);
         self.near_faces.clear();
+        // A face an entity's edit changed in part may have changed anywhere now.
+        self.edited.forget();
         self.scheduler.invalidate_region(min, max)
+    }
+
+    /// The prepared level, to edit in place (copied first if another driver shares it);
+    /// then say where it changed ([`FrameDriver::level_edited`]).
+    pub fn level_mut(&mut self) -> &mut PreparedLevel {
+        Arc::make_mut(&mut self.level)
+    }
+
+    /// The prepared level it plans for.
+    pub fn level(&self) -> &Arc<PreparedLevel> {
+        &self.level
+    }
+
+    /// After an edit of the level in place ([`FrameDriver::level_mut`]) confined to the box
+    /// `region` (`None`: nothing drawn changed, a name, a player start): the grid overrides
+    /// and the player start read again and, as [`FrameDriver::replace_level`] does after
+    /// taking a new level, the faces that may see the box marked stale and the placements
+    /// near it found again; each marked face, once captured again, is lit only where the
+    /// box projects onto it ([`FrameInput::partial`]). Returns the faces marked.
+    pub fn level_edited(&mut self, region: Option<(Vec3, Vec3)>) -> u32 {
+        self.overrides = self.level.overrides.clone();
+        self.start = Camera {
+            fov_y: self.fov_y,
+            ..self.level.start
+        };
+        let Some((min, max)) = region else {
+            return 0;
+        };
+        self.placements.forget_near(min, max);
+        self.near_faces.clear();
+        let marked = self.scheduler.invalidate_region_faces(min, max);
+        self.edited.mark(&marked, (min, max));
+        marked.len() as u32
     }
 
     /// The scene to upload to the renderer.
@@ -281,6 +320,10 @@ impl FrameDriver {
             self.find_near_faces(&plan, filler.as_ref(), cell_size);
         }
         let mut input = self.frame_input(camera, &plan, captures, filler, fade, schedule);
+        match schedule {
+            Schedule::Ours => input.partial = self.edited.take(&input.captures, &input),
+            _ => self.edited.forget(),
+        }
         let level = &self.level;
         (self.clock).animate(&level.animation, level.scene(), level.floor, &mut input, dt);
         self.frame_index += 1;
@@ -446,6 +489,7 @@ impl FrameDriver {
             grid_complete,
             poses: Vec::new(),
             relight: Vec::new(),
+            partial: Vec::new(),
             sprites: Vec::new(),
         }
     }

@@ -33,7 +33,8 @@ pub(super) fn runs_to_compute(
     out
 }
 
-/// What to light this frame: every captured face, whole; and the edges of each valid face
+/// What to light this frame: every captured face, whole (or the part an edit changed:
+/// [`FrameInput::partial`]); and the edges of each valid face
 /// next to a face captured this frame but not captured itself (its seam texels looked
 /// across into data that has just changed).
 pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec<ShadeJob> {
@@ -63,7 +64,11 @@ pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec
             valid: valid_of(c.slot),
             border: false,
             view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
-            rect: *rect,
+            // A stable face an edit changed in part is lit only there.
+            rect: rect.or_else(|| {
+                let partial = (input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
+                partial.filter(|_| c.slot != Slot::Eye).map(|r| r.rect)
+            }),
         })
         .collect();
     // Faces lit again for a moving object's shadow: whole, unless captured anyway (stable
@@ -169,8 +174,8 @@ const EYE_CONE_MARGIN_TEXELS: f32 = 4.0;
 
 /// Per capture, the texels to capture and light: in our schedule with a perspective camera,
 /// an eye face only where the view cone meets it (the eye sits at the camera, so that is
-/// exact up to the margin; an empty rectangle when it misses the face); otherwise the whole
-/// face.
+/// exact up to the margin; an empty rectangle when it misses the face); a stable face an
+/// edit changed in part ([`FrameInput::partial`]) only there; otherwise the whole face.
 pub(super) fn capture_rects(
     input: &FrameInput,
     globals: &ViewGlobals,
@@ -182,11 +187,16 @@ pub(super) fn capture_rects(
         .map(|p| glam::Vec3::new(p[0], p[1], p[2]))
         .collect();
     let cone = input.camera.ortho_height.is_none() && input.schedule == Schedule::Ours;
+    let partial = |c: &crate::input::CaptureInput| {
+        let ours = input.schedule == Schedule::Ours && c.ortho.is_none();
+        let r = (input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
+        r.filter(|_| ours && c.slot != Slot::Eye).map(|r| r.rect)
+    };
     input
         .captures
         .iter()
         .map(|c| {
-            (c.slot == Slot::Eye && cone).then(|| {
+            let eye = (c.slot == Slot::Eye && cone).then(|| {
                 let n = store.slot(c.slot).n;
                 let margin = EYE_CONE_MARGIN_TEXELS * 2.0 / n as f32;
                 face_cone_rect(&normals, c.face, n, margin).unwrap_or(TexelRect {
@@ -195,7 +205,8 @@ pub(super) fn capture_rects(
                     x1: 0,
                     y1: 0,
                 })
-            })
+            });
+            eye.or_else(|| partial(c))
         })
         .collect()
 }

@@ -9,6 +9,7 @@ use texel_geom::mesh::LodPiece;
 use wgpu::util::DeviceExt;
 
 use super::ranges::{DrawRange, RANGE_TRIANGLES, merge_runs};
+use super::update::{InPlace, ObjectSlot};
 use super::{
     AnimatedObject, FLAG_ANIMATED, FLAG_EMISSIVE, FLAG_IN_BVH, FLAG_OUTLINED, FLAG_TERRAIN,
     GpuBvhInstance, GpuMotion, GpuObject, GpuPointLight, GpuScene, GpuTerrain, MAX_SUNS,
@@ -25,8 +26,19 @@ impl GpuScene {
     pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, UploadError> {
         let mut textures = TextureSet::default();
         let mut meshes = Meshes::new(scene);
+        let mut slots = Vec::with_capacity(scene.objects.len());
         for index in 0..scene.objects.len() {
-            meshes.add_object(scene, index, &mut textures);
+            let before = meshes.mark();
+            let (own, parts) = meshes.add_object(scene, index, &mut textures);
+            let fixed = meshes.animated_index[index].is_some()
+                || scene.objects[index].material.terrain.is_some();
+            let o = &scene.objects[index];
+            slots.push(ObjectSlot::new(
+                o,
+                (before, meshes.mark()),
+                (own, parts),
+                fixed,
+            ));
         }
         let motions = motion_records(&meshes.animated);
         let vertex_count = meshes.vertices.len() as u32;
@@ -46,6 +58,7 @@ impl GpuScene {
             meshes.animated[i].bvh_root = root;
         }
         let (bvh_nodes, bvh_triangles) = trees.bvh.upload(&ctx.device);
+        let static_casters = meshes.casters.len();
         let (bvh_fields, field_data) = upload_fields(ctx, scene, &meshes.cast_fields);
         let storage = |label, contents: &[u8], usage| {
             ctx.device
@@ -61,15 +74,15 @@ impl GpuScene {
             vertices: storage(
                 "scene::vertices",
                 bytemuck::cast_slice(&meshes.vertices),
-                wgpu::BufferUsages::VERTEX,
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             ),
             vertex_count,
             objects: storage(
                 "scene::objects",
                 bytemuck::cast_slice(&meshes.objects),
-                read_only,
+                writable,
             ),
-            points: storage("scene::points", bytemuck::cast_slice(&points), read_only),
+            points: storage("scene::points", bytemuck::cast_slice(&points), writable),
             point_count,
             suns,
             bvh_nodes,
@@ -106,6 +119,7 @@ impl GpuScene {
             bvh_fields,
             field_data,
             shadow_fields: meshes.cast_fields.len(),
+            edits: InPlace::new(slots, trees.bvh, static_casters),
         };
         // The casters at their base poses until a frame says otherwise.
         gpu.set_poses(&ctx.queue, &[]);
@@ -115,15 +129,18 @@ impl GpuScene {
 
 /// Every object's vertices, draw ranges, record and shadow casters, as the upload walks the
 /// scene's objects in order.
-struct Meshes {
+pub(super) struct Meshes {
+    /// Index of the first of `vertices` in the scene's vertex buffer (0 but when one
+    /// object's vertices are made again: [`Meshes::one`]).
+    base: u32,
     /// Capture vertices, world space.
-    vertices: Vec<Vertex>,
+    pub(super) vertices: Vec<Vertex>,
     /// Draw ranges of the captured (not animated) objects.
-    ranges: Vec<DrawRange>,
+    pub(super) ranges: Vec<DrawRange>,
     /// One record per object.
     objects: Vec<GpuObject>,
     /// The static shadow casters' triangles (world space).
-    casters: Vec<[Vec3; 3]>,
+    pub(super) casters: Vec<[Vec3; 3]>,
     /// Motion record index of each animated object (terrains never move).
     animated_index: Vec<Option<u32>>,
     /// The animated objects, in motion record order.
@@ -137,21 +154,21 @@ struct Meshes {
 }
 
 /// What the triangle walk needs of one object besides its mesh.
-struct ObjectTriangles<'a> {
+pub(super) struct ObjectTriangles<'a> {
     /// The object.
-    object: &'a ObjectInput,
+    pub(super) object: &'a ObjectInput,
     /// Its index in the scene.
-    index: u32,
+    pub(super) index: u32,
     /// The surface of triangles before its mesh's first part.
-    own: u32,
+    pub(super) own: u32,
     /// The surface of each of its mesh's parts.
-    part_surfaces: &'a [u32],
+    pub(super) part_surfaces: &'a [u32],
     /// Its surface comes from the heightmap alone (no texture, no normal map).
-    plain_terrain: bool,
+    pub(super) plain_terrain: bool,
     /// Its full-detail triangles cast shadows through the BVH.
-    casts: bool,
+    pub(super) casts: bool,
     /// It is animated: its casters go into a tree of its own.
-    moving: bool,
+    pub(super) moving: bool,
 }
 
 impl Meshes {
@@ -159,6 +176,7 @@ impl Meshes {
     fn new(scene: &SceneInput) -> Self {
         let (animated_index, animated) = animated_objects(scene);
         Meshes {
+            base: 0,
             vertices: Vec::new(),
             ranges: Vec::new(),
             objects: Vec::with_capacity(scene.objects.len().max(1)),
@@ -171,9 +189,37 @@ impl Meshes {
         }
     }
 
+    /// Empty lists for one still object's vertices, the first of them at `base` in the
+    /// scene's vertex buffer (an edit made in place: `gpu_scene::update`).
+    pub(super) fn one(base: u32) -> Self {
+        Meshes {
+            base,
+            vertices: Vec::new(),
+            ranges: Vec::new(),
+            objects: Vec::new(),
+            casters: Vec::new(),
+            animated_index: Vec::new(),
+            animated: Vec::new(),
+            animated_casters: Vec::new(),
+            walked: Vec::new(),
+            cast_fields: Vec::new(),
+        }
+    }
+
+    /// How many vertices, draw ranges and static casters there are so far.
+    fn mark(&self) -> [u32; 3] {
+        [self.vertices.len(), self.ranges.len(), self.casters.len()].map(|n| n as u32)
+    }
+
     /// Adds object `index` of `scene`: its record, its surfaces (into `textures`), its
-    /// triangles and, for an animated object, its runs and bounds.
-    fn add_object(&mut self, scene: &SceneInput, index: usize, textures: &mut TextureSet) {
+    /// triangles and, for an animated object, its runs and bounds. Returns its surfaces
+    /// (its own, and each part's).
+    fn add_object(
+        &mut self,
+        scene: &SceneInput,
+        index: usize,
+        textures: &mut TextureSet,
+    ) -> (u32, Vec<u32>) {
         let o = &scene.objects[index];
         let m = &o.material;
         let terrain = m
@@ -200,12 +246,13 @@ impl Meshes {
         if let Some(i) = moving {
             self.settle_animated(i as usize, ranges_before, own_casters);
         }
+        (own, part_surfaces)
     }
 
     /// Adds the object's triangles (world space) to the vertices, opening a new draw range
     /// at every piece (level of a chunk) and every [`RANGE_TRIANGLES`]; the static casters
     /// go to `casters`, an animated object's are returned.
-    fn add_triangles(&mut self, ob: &ObjectTriangles) -> Vec<[Vec3; 3]> {
+    pub(super) fn add_triangles(&mut self, ob: &ObjectTriangles) -> Vec<[Vec3; 3]> {
         let o = ob.object;
         let normal_m = Mat3::from_mat4(o.transform).inverse().transpose();
         let order = if o.transform.determinant() < 0.0 {
@@ -229,7 +276,7 @@ impl Meshes {
                 piece_start = t;
             }
             if starts_piece || (t - piece_start).is_multiple_of(RANGE_TRIANGLES) {
-                let first = self.vertices.len() as u32;
+                let first = self.base + self.vertices.len() as u32;
                 (self.ranges).push(new_range(o.transform, lod_piece, first, ob.plain_terrain));
             }
             let level0 = lod_piece.is_none_or(|p| p.lod == 0);
@@ -351,7 +398,7 @@ fn animated_objects(scene: &SceneInput) -> (Vec<Option<u32>>, Vec<AnimatedObject
 
 /// Object `o`'s record: its material, flags (`terrain`: its terrain flag and index, or 0;
 /// `moving`: its motion record) and id.
-fn object_record(o: &ObjectInput, terrain: u32, moving: Option<u32>) -> GpuObject {
+pub(super) fn object_record(o: &ObjectInput, terrain: u32, moving: Option<u32>) -> GpuObject {
     let m = &o.material;
     let emissive = m.emissive.max_element() > 0.0;
     let animated_flag = moving.map_or(0, |i| FLAG_ANIMATED | (i << 8));
@@ -427,7 +474,7 @@ fn motion_records(animated: &[AnimatedObject]) -> Vec<GpuMotion> {
 }
 
 /// The point lights' records (at least one) and how many are real.
-fn point_lights(scene: &SceneInput) -> (Vec<GpuPointLight>, u32) {
+pub(super) fn point_lights(scene: &SceneInput) -> (Vec<GpuPointLight>, u32) {
     let mut points: Vec<GpuPointLight> = scene
         .points
         .iter()
@@ -445,7 +492,7 @@ fn point_lights(scene: &SceneInput) -> (Vec<GpuPointLight>, u32) {
 }
 
 /// The first [`MAX_SUNS`] directional lights as `(direction toward the light, colour)`.
-fn suns(scene: &SceneInput) -> Vec<(Vec3, Vec3)> {
+pub(super) fn suns(scene: &SceneInput) -> Vec<(Vec3, Vec3)> {
     scene
         .suns
         .iter()

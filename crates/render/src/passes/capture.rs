@@ -15,8 +15,11 @@ use texel_probes::visibility::TexelRect;
 
 use crate::gpu_scene::GpuScene;
 use crate::input::CaptureInput;
-use crate::probe_store::{ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, ProbeStore, SHADING_FORMAT};
+use crate::probe_store::{
+    ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, LayeredTexture, ProbeStore, SHADING_FORMAT, SlotTextures,
+};
 use crate::shader;
+use texel_probes::probe_set::Slot;
 
 /// The capture planes live with the input that defaults a camera's far plane to them
 /// ([`crate::input::Camera::looking`]); a capture is their user.
@@ -150,7 +153,9 @@ impl CapturePass {
     }
 
     /// Records one render pass per capture (at most [`MAX_CAPTURES`]). `rects[i]`, when
-    /// given, limits capture `i` to those texels (the rest of the face is cleared to sky).
+    /// given, limits capture `i` to those texels: the rest of an eye face is cleared to sky,
+    /// the rest of a stable face (an edit changed only the rectangle: `FrameInput::partial`)
+    /// keeps what it held, and only the ranges that may cover the rectangle are drawn.
     /// Returns what the faces draw.
     pub fn record(
         &self,
@@ -205,10 +210,22 @@ impl CapturePass {
             .chain(scene.raster_resources())
             .collect();
         let bind = bind_group(device, "capture::bind", &self.layout, &resources);
+        // A stable face captured in part keeps the rest: saved now, put back once drawn.
+        let kept: Vec<Kept> = (captures.iter().enumerate())
+            .filter_map(|(i, c)| {
+                let rect = rects.get(i).copied().flatten()?;
+                let slot = store.slot(c.slot);
+                (c.slot != Slot::Eye).then(|| Kept::save(device, encoder, slot, c, rect))
+            })
+            .collect();
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
-            // Only the ranges this face may see (terrain chunks, objects).
-            let view_proj = capture_view_projection(c);
+            // Only the ranges this face may see (terrain chunks, objects); of a stable face
+            // captured in part, those that may cover its rectangle.
+            let view_proj = match rects.get(i).copied().flatten() {
+                Some(r) if c.slot != Slot::Eye => narrowed(capture_view_projection(c), r, slot.n),
+                _ => capture_view_projection(c),
+            };
             let lod = match c.ortho {
                 Some(o) => crate::gpu_scene::LodFrom::Texel(o.texel(slot.n)),
                 None if c.slot == texel_probes::probe_set::Slot::Eye => {
@@ -245,6 +262,9 @@ impl CapturePass {
             raster::record(encoder, "capture::face", &targets, scene, &draw);
         }
         if mode == CaptureMode::TextureDensity || scene.terrain_count == 0 {
+            for k in &kept {
+                k.restore(encoder, store.slot(k.slot));
+            }
             return work;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
@@ -274,7 +294,127 @@ impl CapturePass {
             pass.set_bind_group(1, &drawn, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
+        drop(pass);
+        for k in &kept {
+            k.restore(encoder, store.slot(k.slot));
+        }
         work
+    }
+}
+
+/// `view_proj` narrowed to the texels `r` of an `n`-texel face: the clip-space box of those
+/// texels (rows run down the framebuffer, NDC's y up) stretched over the whole, so a range
+/// outside the product's frustum covers none of them.
+fn narrowed(view_proj: glam::Mat4, r: TexelRect, n: u32) -> glam::Mat4 {
+    let n = n as f32;
+    let (x0, x1) = (2.0 * r.x0 as f32 / n - 1.0, 2.0 * r.x1 as f32 / n - 1.0);
+    let (y0, y1) = (1.0 - 2.0 * r.y1 as f32 / n, 1.0 - 2.0 * r.y0 as f32 / n);
+    if x1 <= x0 || y1 <= y0 {
+        return view_proj;
+    }
+    let (sx, sy) = (2.0 / (x1 - x0), 2.0 / (y1 - y0));
+    let (cx, cy) = (0.5 * (x0 + x1), 0.5 * (y0 + y1));
+    let m = glam::Mat4::from_cols(
+        glam::Vec4::new(sx, 0.0, 0.0, 0.0),
+        glam::Vec4::new(0.0, sy, 0.0, 0.0),
+        glam::Vec4::Z,
+        glam::Vec4::new(-sx * cx, -sy * cy, 0.0, 1.0),
+    );
+    m * view_proj
+}
+
+/// A stable face captured in part: what its four capture targets held, to put back around
+/// the rectangle drawn (the capture clears the whole face).
+struct Kept {
+    slot: Slot,
+    face: u32,
+    n: u32,
+    rect: TexelRect,
+    /// Copies of the face of geo, ids, albedo and shading, in that order.
+    saved: [wgpu::Texture; 4],
+}
+
+impl Kept {
+    /// Copies the face `c` of `slot` aside before it is captured within `rect`.
+    fn save(
+        device: &wgpu::Device,
+        encoder: &mut wgpu::CommandEncoder,
+        slot: &SlotTextures,
+        c: &CaptureInput,
+        rect: TexelRect,
+    ) -> Self {
+        let (n, face) = (slot.n, c.face.index() as u32);
+        let saved = targets(slot).map(|t| {
+            let copy = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("capture::kept"),
+                size: extent(n, n),
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: t.texture.format(),
+                usage: wgpu::TextureUsages::COPY_DST | wgpu::TextureUsages::COPY_SRC,
+                view_formats: &[],
+            });
+            encoder.copy_texture_to_texture(
+                at(&t.texture, 0, 0, face),
+                at(&copy, 0, 0, 0),
+                extent(n, n),
+            );
+            copy
+        });
+        Kept {
+            slot: c.slot,
+            face,
+            n,
+            rect,
+            saved,
+        }
+    }
+
+    /// Puts the saved texels outside the rectangle back into `slot`'s face.
+    fn restore(&self, encoder: &mut wgpu::CommandEncoder, slot: &SlotTextures) {
+        let (n, r) = (self.n, self.rect);
+        let (x0, y0, x1, y1) = (r.x0.min(n), r.y0.min(n), r.x1.min(n), r.y1.min(n));
+        // Above, below, left of and right of the rectangle: (x, y, width, height).
+        let bands = [
+            (0, 0, n, y0),
+            (0, y1, n, n.saturating_sub(y1)),
+            (0, y0, x0, y1.saturating_sub(y0)),
+            (x1, y0, n.saturating_sub(x1), y1.saturating_sub(y0)),
+        ];
+        for (t, saved) in targets(slot).iter().zip(&self.saved) {
+            for &(x, y, w, h) in bands.iter().filter(|b| b.2 > 0 && b.3 > 0) {
+                encoder.copy_texture_to_texture(
+                    at(saved, x, y, 0),
+                    at(&t.texture, x, y, self.face),
+                    extent(w, h),
+                );
+            }
+        }
+    }
+}
+
+/// The textures a capture writes (its depth aside, which nothing reads after it).
+fn targets(slot: &SlotTextures) -> [&LayeredTexture; 4] {
+    [&slot.geo, &slot.ids, &slot.albedo, &slot.shading]
+}
+
+/// Texel `(x, y)` of layer `layer` of `texture`.
+fn at(texture: &wgpu::Texture, x: u32, y: u32, layer: u32) -> wgpu::TexelCopyTextureInfo<'_> {
+    wgpu::TexelCopyTextureInfo {
+        texture,
+        mip_level: 0,
+        origin: wgpu::Origin3d { x, y, z: layer },
+        aspect: wgpu::TextureAspect::All,
+    }
+}
+
+/// `w × h` texels of one layer.
+fn extent(w: u32, h: u32) -> wgpu::Extent3d {
+    wgpu::Extent3d {
+        width: w,
+        height: h,
+        depth_or_array_layers: 1,
     }
 }
 

@@ -112,6 +112,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         grid_complete: true,
         poses: Vec::new(),
         relight: Vec::new(),
+        partial: Vec::new(),
         sprites: Vec::new(),
     }
 }

@@ -1,0 +1,230 @@
+//! An edit made in place ([`GpuScene::update_objects`]): a still object moved, turned,
+//! scaled or given another colour, and the lights changed, cost what they change. The
+//! object's vertices are made again (as the upload makes them) and written over its old
+//! ones, its record and draw ranges replaced, its shadow-casting triangles rewritten in the
+//! shadow tree and the boxes above them refit ([`crate::bvh::refit`]), the point lights
+//! rewritten. What changes the size or the layout of a buffer (another mesh, other
+//! textures, shadows turned on or off, an animated object, a terrain, sprites, a light more
+//! or less) is [`NotInPlace`]: the caller uploads the scene again.
+
+use std::ops::Range;
+use std::sync::Arc;
+
+use glam::Vec3;
+use texel_geom::mesh::TriMesh;
+use texel_geom::texture::SurfaceMaps;
+
+use super::upload::{Meshes, ObjectTriangles, object_record, point_lights, suns};
+use super::{GpuObject, GpuScene, Vertex};
+use crate::bvh::GpuBvh;
+use crate::bvh::refit::RefitIndex;
+use crate::input::{ObjectInput, SceneInput};
+
+/// Why an edit cannot be made in place: upload the scene again.
+#[derive(Debug, Clone, PartialEq, Eq, thiserror::Error)]
+#[error("the edit cannot be made in place: {0}")]
+pub struct NotInPlace(pub String);
+
+/// What an edit made in place wrote.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq)]
+pub struct InPlaceEdit {
+    /// Objects rewritten.
+    pub objects: usize,
+    /// Vertices rewritten.
+    pub vertices: usize,
+    /// Shadow-casting triangles rewritten in the tree.
+    pub shadow_triangles: usize,
+    /// Tree nodes refit.
+    pub nodes: usize,
+}
+
+/// One object as uploaded: where its data lies and what it was made from.
+pub(super) struct ObjectSlot {
+    /// Its vertices in the vertex buffer.
+    vertices: Range<u32>,
+    /// Its draw ranges in `GpuScene::ranges` (none for an animated object).
+    ranges: Range<u32>,
+    /// Its triangles among the static tree's inputs.
+    casters: Range<u32>,
+    /// Its own surface and each mesh part's.
+    own: u32,
+    parts: Vec<u32>,
+    /// The mesh and maps its vertices and surfaces came from.
+    mesh: Arc<TriMesh>,
+    maps: SurfaceMaps,
+    /// Whether its triangles cast shadows through the static tree.
+    casts: bool,
+    /// An animated object or a terrain: never edited in place.
+    fixed: bool,
+}
+
+impl ObjectSlot {
+    /// Object `o`, whose data lies between the marks `(before, after)` (vertices, ranges,
+    /// casters) with surfaces `(own, parts)`.
+    pub(super) fn new(
+        o: &ObjectInput,
+        (before, after): ([u32; 3], [u32; 3]),
+        (own, parts): (u32, Vec<u32>),
+        fixed: bool,
+    ) -> Self {
+        ObjectSlot {
+            vertices: before[0]..after[0],
+            ranges: before[1]..after[1],
+            casters: before[2]..after[2],
+            own,
+            parts,
+            mesh: o.mesh.clone(),
+            maps: o.material.maps.clone(),
+            casts: o.material.casts_shadows,
+            fixed,
+        }
+    }
+}
+
+/// What in-place edits need: every object's slot and the CPU copy of the shadow trees (the
+/// static one at node 0, with its refit index made on the first edit).
+pub(super) struct InPlace {
+    objects: Vec<ObjectSlot>,
+    bvh: GpuBvh,
+    /// Inputs of the static tree (its triangles' ids are below this).
+    static_casters: usize,
+    refit: Option<RefitIndex>,
+}
+
+impl InPlace {
+    /// The slots of an upload, its trees and how many inputs the static tree had.
+    pub(super) fn new(objects: Vec<ObjectSlot>, bvh: GpuBvh, static_casters: usize) -> Self {
+        InPlace {
+            objects,
+            bvh,
+            static_casters,
+            refit: None,
+        }
+    }
+}
+
+/// One object made again: its vertices, ranges, record and casters.
+struct Remade {
+    index: usize,
+    meshes: Meshes,
+    record: GpuObject,
+}
+
+impl GpuScene {
+    /// Brings the uploaded scene up to `scene`, which differs from what was uploaded only in
+    /// the objects `changed` (their transforms and materials) and in its lights, by
+    /// rewriting what changed in place. [`NotInPlace`], with nothing written, when the edit
+    /// changes a buffer's size or layout (see the module doc): upload `scene` instead.
+    pub fn update_objects(
+        &mut self,
+        queue: &wgpu::Queue,
+        scene: &SceneInput,
+        changed: &[usize],
+    ) -> Result<InPlaceEdit, NotInPlace> {
+        let not = |why: &str| Err(NotInPlace(why.to_owned()));
+        if scene.objects.len() != self.edits.objects.len() {
+            return not("objects were added or removed");
+        }
+        if self.sprites.is_some() || !scene.sprites.is_empty() {
+            return not("the scene has sprites, whose lit texels are cached");
+        }
+        if scene.terrains.len() != self.terrain_count {
+            return not("terrains were added or removed");
+        }
+        let (points, point_count) = point_lights(scene);
+        if point_count != self.point_count {
+            return not("point lights were added or removed");
+        }
+        let remade = (changed.iter())
+            .map(|&i| self.remake(scene, i))
+            .collect::<Result<Vec<Remade>, NotInPlace>>()?;
+        let moved: Vec<(u32, [Vec3; 3])> = (remade.iter())
+            .flat_map(|r| {
+                let first = self.edits.objects[r.index].casters.start;
+                (r.meshes.casters.iter().enumerate()).map(move |(k, t)| (first + k as u32, *t))
+            })
+            .collect();
+        let edits = &mut self.edits;
+        let refit = match moved.is_empty() {
+            true => None,
+            false => {
+                let index = (edits.refit)
+                    .get_or_insert_with(|| RefitIndex::new(&edits.bvh, edits.static_casters));
+                let refitted = (index.refit(&mut edits.bvh, &moved))
+                    .ok_or_else(|| NotInPlace("a shadow triangle is not in the tree".into()))?;
+                let (nodes, triangles) = (&self.bvh_nodes, &self.bvh_triangles);
+                edits.bvh.write_refitted(queue, &refitted, nodes, triangles);
+                Some(refitted)
+            }
+        };
+        let mut cost = InPlaceEdit {
+            objects: remade.len(),
+            shadow_triangles: moved.len(),
+            nodes: refit.map_or(0, |r| r.nodes.len()),
+            ..InPlaceEdit::default()
+        };
+        for r in remade {
+            let slot = &self.edits.objects[r.index];
+            let offset = u64::from(slot.vertices.start) * size_of::<Vertex>() as u64;
+            queue.write_buffer(
+                &self.vertices,
+                offset,
+                bytemuck::cast_slice(&r.meshes.vertices),
+            );
+            let at = slot.ranges.start as usize..slot.ranges.end as usize;
+            self.ranges[at].copy_from_slice(&r.meshes.ranges);
+            let offset = (r.index * size_of::<GpuObject>()) as u64;
+            queue.write_buffer(&self.objects, offset, bytemuck::bytes_of(&r.record));
+            cost.vertices += r.meshes.vertices.len();
+        }
+        queue.write_buffer(&self.points, 0, bytemuck::cast_slice(&points));
+        self.suns = suns(scene);
+        // Only moving casters and terrain pixels ask where a shadow may fall.
+        if !self.animated.is_empty() || self.terrain_count > 0 {
+            self.shadow_lights = crate::shadow_region::ShadowLights::new(scene);
+        }
+        Ok(cost)
+    }
+
+    /// Object `index` of `scene` made again where its old data lies, or why it cannot be.
+    fn remake(&self, scene: &SceneInput, index: usize) -> Result<Remade, NotInPlace> {
+        let not = |why: String| Err(NotInPlace(why));
+        let (Some(o), Some(slot)) = (scene.objects.get(index), self.edits.objects.get(index))
+        else {
+            return not(format!("no object {index}"));
+        };
+        if slot.fixed || o.material.terrain.is_some() || scene.animated.contains(&index) {
+            return not(format!("object {index} is animated or a terrain"));
+        }
+        if !Arc::ptr_eq(&slot.mesh, &o.mesh) {
+            return not(format!("object {index} has another mesh"));
+        }
+        if slot.maps != o.material.maps {
+            return not(format!("object {index} has other textures"));
+        }
+        if slot.casts != o.material.casts_shadows {
+            return not(format!("object {index} casts shadows or stops casting"));
+        }
+        let mut meshes = Meshes::one(slot.vertices.start);
+        meshes.add_triangles(&ObjectTriangles {
+            object: o,
+            index: index as u32,
+            own: slot.own,
+            part_surfaces: &slot.parts,
+            plain_terrain: false,
+            casts: slot.casts,
+            moving: false,
+        });
+        let same = meshes.vertices.len() == slot.vertices.len()
+            && meshes.ranges.len() == slot.ranges.len()
+            && meshes.casters.len() == slot.casters.len();
+        if !same {
+            return not(format!("object {index}'s triangles are laid out anew"));
+        }
+        Ok(Remade {
+            index,
+            meshes,
+            record: object_record(o, 0, None),
+        })
+    }
+}

@@ -1,0 +1,252 @@
+//! Edits taken in alone (`Session::update_entities`): the frames after them are the frames a
+//! full rebuild draws after the same edits, byte for byte, and an edit far from the camera
+//! marks no face the camera sees. Faces of 32, a 96×64 picture: lavapipe is slow.
+
+use std::path::PathBuf;
+
+use anyhow::Context as _;
+use glam::{UVec2, Vec3};
+use texel_render::context::{GpuContext, test_context};
+use texel_render::input::{Camera, Schedule};
+use texel_runtime::load::LoadedLevel;
+use texel_runtime::session::{
+    EditUpdate, FrameRequest, Session, SessionError, set_face_resolution,
+};
+use texel_scene::assets::AssetLibrary;
+use texel_scene::{
+    DirectionalLight, EntityRow, Geometry, Material, Name, PointLight, Scene, Transform,
+};
+
+const SIZE: UVec2 = UVec2::new(96, 64);
+
+/// Entities of [`yard`] by position.
+const CRATE: usize = 2;
+const PILLAR: usize = 3;
+const BALL: usize = 4;
+const LAMP: usize = 5;
+const FAR: usize = 6;
+
+/// A ground, a sun, boxes and a sphere before the camera, a point light among them, and a
+/// box far behind the camera.
+fn yard() -> anyhow::Result<LoadedLevel> {
+    let mut scene = Scene::new();
+    let thing = |name: &str, at: Vec3, geometry: Geometry, albedo: Vec3| EntityRow {
+        name: Some(Name(name.into())),
+        transform: Some(Transform {
+            translation: at,
+            ..Transform::default()
+        }),
+        geometry: Some(geometry),
+        material: Some(Material {
+            albedo,
+            ..Material::default()
+        }),
+        ..EntityRow::default()
+    };
+    let cube = |s: f32| Geometry::Box {
+        size: Vec3::splat(s),
+    };
+    scene.spawn(thing(
+        "Ground",
+        Vec3::ZERO,
+        Geometry::Plane {
+            size: glam::Vec2::splat(60.0),
+        },
+        Vec3::new(0.3, 0.45, 0.2),
+    ));
+    scene.spawn(EntityRow {
+        name: Some(Name("Sun".into())),
+        directional_light: Some(DirectionalLight {
+            direction: Vec3::new(-0.4, -1.0, -0.3),
+            ..DirectionalLight::default()
+        }),
+        ..EntityRow::default()
+    });
+    scene.spawn(thing(
+        "Crate",
+        Vec3::new(-1.0, 0.5, 0.0),
+        cube(1.0),
+        Vec3::new(0.7, 0.5, 0.3),
+    ));
+    scene.spawn(thing(
+        "Pillar",
+        Vec3::new(1.5, 1.0, -1.0),
+        cube(0.8),
+        Vec3::new(0.6, 0.6, 0.65),
+    ));
+    let ball = Geometry::Sphere {
+        radius: 0.6,
+        segments: 12,
+    };
+    scene.spawn(thing(
+        "Ball",
+        Vec3::new(0.2, 0.6, -2.5),
+        ball,
+        Vec3::new(0.8, 0.2, 0.2),
+    ));
+    scene.spawn(EntityRow {
+        name: Some(Name("Lamp".into())),
+        transform: Some(Transform {
+            translation: Vec3::new(0.5, 1.5, 0.8),
+            ..Transform::default()
+        }),
+        point_light: Some(PointLight {
+            colour: Vec3::new(1.0, 0.8, 0.5),
+            intensity: 2.0,
+            radius: 4.0,
+        }),
+        ..EntityRow::default()
+    });
+    scene.spawn(thing(
+        "Far",
+        Vec3::new(0.0, 0.5, 90.0),
+        cube(1.0),
+        Vec3::splat(0.5),
+    ));
+    let mut level = LoadedLevel {
+        path: PathBuf::from("yard.ron"),
+        scene,
+        assets: AssetLibrary::default(),
+    };
+    set_face_resolution(&mut level, 32).map_err(anyhow::Error::msg)?;
+    Ok(level)
+}
+
+fn camera() -> Camera {
+    Camera::from_yaw_pitch(Vec3::new(0.0, 2.5, 6.0), 0.0, -15.0)
+}
+
+/// Draws `n` frames; returns the last picture and how many faces were captured in each.
+fn frames(
+    ctx: &GpuContext,
+    session: &mut Session,
+    n: usize,
+) -> Result<(Vec<u8>, Vec<u32>), SessionError> {
+    let request = FrameRequest {
+        camera: camera(),
+        dt: 1.0 / 30.0,
+        schedule: Schedule::Ours,
+        size: SIZE,
+    };
+    let (mut px, mut captured) = (Vec::new(), Vec::new());
+    for _ in 0..n {
+        let (drawn, p) = session.draw_offscreen(ctx, &request)?;
+        captured.push(drawn.stats.counters.faces_captured);
+        px = p;
+    }
+    Ok((px, captured))
+}
+
+/// Changes the row of the entity at `index` with `f`.
+fn edit(level: &mut LoadedLevel, index: usize, f: impl FnOnce(&mut EntityRow)) {
+    let e = level.scene.entities().nth(index).expect("entity");
+    let mut row = level.scene.row(e).expect("row");
+    f(&mut row);
+    level.scene.set_row(e, row).expect("set row");
+}
+
+/// A crate moved and turned, a pillar recoloured and a lamp moved, each taken in alone and
+/// in place, then a ball moved (whose change covers part of the stable faces, lit again
+/// only there): once the marked faces are captured again, the picture is the one a session
+/// made afresh on the edited level draws, byte for byte (the shadow tree refit, not
+/// rebuilt, answers every shadow ray alike).
+#[test]
+fn frames_after_edits_in_place_equal_a_full_rebuild() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard()?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (before, _) = frames(&ctx, &mut session, 10)?;
+    edit(&mut level, CRATE, |r| {
+        let t = r.transform.as_mut().expect("transform");
+        t.translation += Vec3::new(0.6, 0.0, -0.4);
+        t.rotation.y = 30.0;
+    });
+    edit(&mut level, PILLAR, |r| {
+        r.material.as_mut().expect("material").albedo = Vec3::new(0.2, 0.3, 0.8);
+    });
+    edit(&mut level, LAMP, |r| {
+        r.transform.as_mut().expect("transform").translation.x -= 1.0;
+    });
+    let update = session.update_entities(&ctx, &level, &[CRATE, PILLAR, LAMP])?;
+    let EditUpdate::InPlace { faces_marked } = update else {
+        anyhow::bail!("the edits were not taken in place: {update:?}");
+    };
+    assert!(faces_marked > 0, "the edits are in view");
+    frames(&ctx, &mut session, 10)?;
+    // The ball, alone: its region (with its shadows) covers part of the stable faces.
+    edit(&mut level, BALL, |r| {
+        r.transform.as_mut().expect("transform").translation += Vec3::new(-0.3, 0.0, -0.4);
+    });
+    let update = session.update_entities(&ctx, &level, &[BALL])?;
+    assert!(matches!(update, EditUpdate::InPlace { .. }), "{update:?}");
+    let request = FrameRequest {
+        camera: camera(),
+        dt: 1.0 / 30.0,
+        schedule: Schedule::Ours,
+        size: SIZE,
+    };
+    let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
+    assert!(
+        !drawn.input.partial.is_empty(),
+        "some stable face is lit again only where the ball shows"
+    );
+    let (after, _) = frames(&ctx, &mut session, 9)?;
+    assert!(after != before, "the edits show");
+
+    let mut fresh = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (rebuilt, _) = frames(&ctx, &mut fresh, 30)?;
+    let differ = (after.chunks_exact(4).zip(rebuilt.chunks_exact(4)))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "pixels differing from a full rebuild's frame");
+    Ok(())
+}
+
+/// A box 90 units behind the camera, moved: no face the camera sees is marked, the next
+/// frame captures only what a settled frame does, and the picture holds still; the level
+/// read again as it was (`Session::reload`) takes in that row alone.
+#[test]
+fn an_edit_far_from_the_camera_marks_no_visible_face() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard()?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    frames(&ctx, &mut session, 10)?;
+    let (before, settled) = frames(&ctx, &mut session, 1)?;
+    edit(&mut level, FAR, |r| {
+        r.transform.as_mut().expect("transform").translation.x += 3.0;
+    });
+    let update = session.update_entities(&ctx, &level, &[FAR])?;
+    assert_eq!(update, EditUpdate::InPlace { faces_marked: 0 });
+    let (after, captured) = frames(&ctx, &mut session, 1)?;
+    assert_eq!(captured, settled, "only the faces a settled frame captures");
+    assert!(after == before, "the picture holds still");
+    let far = session
+        .scene()
+        .objects
+        .iter()
+        .find(|o| o.id == FAR as u32 + 1);
+    let x = far.context("the far box")?.transform.w_axis.x;
+    assert!(
+        (x - 3.0).abs() < 1e-6,
+        "the session holds the moved box: x = {x}"
+    );
+    // The level read again as it was (a file reverted on disk): the far box's row alone.
+    let reverted = yard()?;
+    let update = session.reload(&ctx, &level, &reverted)?;
+    assert_eq!(update, EditUpdate::InPlace { faces_marked: 0 });
+    let far = session
+        .scene()
+        .objects
+        .iter()
+        .find(|o| o.id == FAR as u32 + 1);
+    let x = far.context("the far box")?.transform.w_axis.x;
+    assert!(
+        x.abs() < 1e-6,
+        "the session holds the reverted box: x = {x}"
+    );
+    Ok(())
+}
