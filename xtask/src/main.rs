@@ -583,7 +583,7 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
         println!("\n==> [{}/{}] {title}", index + 1, steps.len());
         let started = Instant::now();
         let mut result = match step.role {
-            Role::Tests(Driver::SwiftShader) => run_second_driver(&mut session, &step),
+            Role::Tests(Driver::SwiftShader) => second_pass::run_pass(&mut session, &step),
             _ => session.run(&step),
         };
         if let Role::Tests(driver @ Driver::Lavapipe) = step.role {
@@ -599,13 +599,13 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
             reports.push(report);
         }
         if step.role == Role::Tests(Driver::SwiftShader) {
-            let report = (fs::read_to_string(second_pass_timings()).ok())
+            let report = (fs::read_to_string(second_pass::timings_file()).ok())
                 .map(|text| plan::slowest_report("swiftshader", &plan::parse_timings(&text)))
                 .unwrap_or_default();
             println!("{report}");
             reports.push(report);
             if result.is_ok() {
-                result = check_second_driver();
+                result = second_pass::check_second_driver();
             }
         }
         let elapsed = format_duration(started.elapsed());
@@ -673,83 +673,6 @@ fn quick_filter(package: Option<&str>) -> Option<String> {
     })
 }
 
-/// Where the second pass keeps its tests' times (`binary<TAB>test<TAB>seconds` lines).
-fn second_pass_timings() -> PathBuf {
-    test_plan_dir().join("swiftshader-times.txt")
-}
-
-/// The SwiftShader pass: `step` builds and lists the tests, then every GPU test of the
-/// lavapipe pass (less the exceptions) runs, each binary's in one process
-/// ([`second_pass`]). Writes the pass's device log and timings; fails naming each test
-/// that failed, timed out or did not run.
-fn run_second_driver(session: &mut Session, step: &Step) -> Result<(), Failure> {
-    let gpu = read_device_log(Driver::Lavapipe)?;
-    let second = plan::second_driver_tests(&gpu.tests);
-    println!(
-        "==> {} tests opened a GPU device on lavapipe; {} run on SwiftShader",
-        gpu.tests.len(),
-        second.len()
-    );
-    if second.is_empty() {
-        return Err(Failure::new(
-            "no test opened a GPU device on lavapipe, so the plan has no GPU tests for \
-             SwiftShader: the device log is not being written",
-        ));
-    }
-    let list = session.output(step)?;
-    let suites = second_pass::suites(&list, &second).map_err(Failure::new)?;
-    let mut weight = std::collections::BTreeMap::new();
-    if let Ok(xml) = fs::read_to_string(Driver::Lavapipe.junit()) {
-        for t in plan::parse_junit(&xml) {
-            *weight.entry(t.test.binary).or_insert(0.0) += t.seconds;
-        }
-    }
-    let suites = second_pass::by_weight(suites, &weight);
-    let lanes = thread::available_parallelism().map_or(1, |n| n.get());
-    println!(
-        "==> {} binaries, each in one process, {lanes} at a time (a test's budget: {} s)",
-        suites.len(),
-        second_pass::BUDGET.as_secs()
-    );
-    let env = session.step_env(step);
-    let result = second_pass::run(suites, lanes, &env, &test_plan_dir());
-    let mut log = String::new();
-    let mut times = String::new();
-    let mut failed = Vec::new();
-    for o in &result.outcomes {
-        let t = &o.timing.test;
-        if o.used_gpu {
-            log.push_str(&format!("{}\t{}\n", t.binary, t.name));
-        }
-        times.push_str(&format!(
-            "{}\t{}\t{:.3}\n",
-            t.binary, t.name, o.timing.seconds
-        ));
-        if o.timed_out {
-            failed.push(format!(
-                "  {t} (TIMEOUT: past {} s)",
-                second_pass::BUDGET.as_secs()
-            ));
-        } else if !o.passed {
-            failed.push(format!("  {t}"));
-        }
-    }
-    let passed = result.outcomes.iter().filter(|o| o.passed).count() as u64;
-    session.tally.passed += passed;
-    session.tally.failed += result.outcomes.len() as u64 - passed;
-    fs::write(Driver::SwiftShader.device_log(), log)
-        .and_then(|()| fs::write(second_pass_timings(), times))
-        .map_err(|e| Failure::new(format!("cannot write the second pass's records: {e}")))?;
-    failed.extend(result.broken.iter().map(|b| format!("  {b}")));
-    if failed.is_empty() {
-        return Ok(());
-    }
-    Err(Failure::new(format!(
-        "on SwiftShader:\n{}",
-        failed.join("\n")
-    )))
-}
-
 /// The tests that opened a device in `driver`'s last pass.
 fn read_device_log(driver: Driver) -> Result<plan::DeviceLog, Failure> {
     let path = driver.device_log();
@@ -764,28 +687,6 @@ fn read_device_log(driver: Driver) -> Result<plan::DeviceLog, Failure> {
         );
     }
     Ok(log)
-}
-
-/// After the SwiftShader pass: every GPU test of the lavapipe pass (but the exceptions)
-/// opened a device on SwiftShader too.
-fn check_second_driver() -> Result<(), Failure> {
-    let first = read_device_log(Driver::Lavapipe)?.tests;
-    let second = read_device_log(Driver::SwiftShader)?.tests;
-    let missing = plan::missing_from_second(&first, &second);
-    println!(
-        "==> GPU tests: {} on lavapipe, {} on SwiftShader ({} excepted by name)",
-        first.len(),
-        second.len(),
-        first.len() - plan::second_driver_tests(&first).len()
-    );
-    if missing.is_empty() {
-        return Ok(());
-    }
-    let names: Vec<String> = missing.iter().map(|t| format!("  {t}")).collect();
-    Err(Failure::new(format!(
-        "these GPU tests opened a device on lavapipe but not on SwiftShader:\n{}",
-        names.join("\n")
-    )))
 }
 
 /// The slowest tests of `driver`'s last pass, from nextest's JUnit report.
