@@ -25,6 +25,10 @@ use texel_runtime::session::{FrameRequest, Session, SessionError};
 /// the level darker than the game (sky 195 → 139).
 pub const FORMAT: wgpu::TextureFormat = texel_render::target::FRAME_FORMAT;
 
+/// Textures a [`GpuView`] can draw into: the newest finished frame, the one the UI may still
+/// be painting, and the one being drawn (see `worker`).
+pub const SLOTS: usize = 3;
+
 /// What the last render cost.
 #[derive(Debug, Clone, Default)]
 pub struct RenderReport {
@@ -66,7 +70,12 @@ pub struct GpuView {
     /// Whether the animation clock runs (Play; kept for a session made later).
     animating: bool,
     egui: Arc<RwLock<egui_wgpu::Renderer>>,
-    target: Option<Target>,
+    /// The textures frames are drawn into, by slot ([`GpuView::render_slot`]): the render
+    /// worker takes turns between [`SLOTS`] of them, so the one egui shows is never drawn
+    /// into.
+    targets: [Option<Target>; SLOTS],
+    /// The slot of the last frame drawn.
+    last_slot: usize,
     /// A box that every change since the session's revision fell in (terrain heights during
     /// a stroke): the next render updates only the probe faces that see it.
     region: Option<(glam::Vec3, glam::Vec3)>,
@@ -114,7 +123,8 @@ impl GpuView {
             density_view: false,
             animating: false,
             egui: rs.renderer.clone(),
-            target: None,
+            targets: Default::default(),
+            last_slot: 0,
             region: None,
             report: RenderReport::default(),
             probes: None,
@@ -144,6 +154,22 @@ impl GpuView {
         schedule: Schedule,
         dt: f32,
     ) -> Result<egui::TextureId, String> {
+        self.render_slot(0, level, revision, camera, size, schedule, dt)
+    }
+
+    /// [`GpuView::render`] into the texture of `slot` (below [`SLOTS`]).
+    #[allow(clippy::too_many_arguments)]
+    pub fn render_slot(
+        &mut self,
+        slot: usize,
+        level: &LoadedLevel,
+        revision: u64,
+        camera: Camera,
+        size: UVec2,
+        schedule: Schedule,
+        dt: f32,
+    ) -> Result<egui::TextureId, String> {
+        let slot = slot.min(SLOTS - 1);
         let size = size.max(UVec2::splat(16));
         let err = |e: SessionError| e.to_string();
         let t = Instant::now();
@@ -179,8 +205,8 @@ impl GpuView {
                 self.report.upload_ms = None;
             }
         }
-        let id = self.ensure_target(size);
-        let target = self.target.as_ref().ok_or("no target")?;
+        let id = self.ensure_target(slot, size)?;
+        let target = self.targets[slot].as_ref().ok_or("no target")?;
         let (session, _) = self.session.as_mut().ok_or("no session")?;
         let request = FrameRequest {
             camera,
@@ -205,6 +231,7 @@ impl GpuView {
         });
         self.report.stats = Some(frame.stats);
         self.report.size = size;
+        self.last_slot = slot;
         Ok(id)
     }
 
@@ -231,11 +258,20 @@ impl GpuView {
         (self.renderer()?.read_lit_faces(&self.ctx, view.slot)).map_err(|e| e.to_string())
     }
 
-    fn ensure_target(&mut self, size: UVec2) -> egui::TextureId {
-        if let Some(t) = &self.target
+    /// The texture of `slot`, made (or made again) at `size`; a size the device cannot hold
+    /// is an error, before wgpu would raise one.
+    fn ensure_target(&mut self, slot: usize, size: UVec2) -> Result<egui::TextureId, String> {
+        if let Some(t) = &self.targets[slot]
             && t.size == size
         {
-            return t.id;
+            return Ok(t.id);
+        }
+        let max = self.ctx.device.limits().max_texture_dimension_2d;
+        if size.x > max || size.y > max {
+            return Err(format!(
+                "a {}×{} viewport is larger than the device's textures ({max} pixels)",
+                size.x, size.y
+            ));
         }
         let texture = self.ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("editor::viewport"),
@@ -253,7 +289,7 @@ impl GpuView {
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
         let mut egui = self.egui.write();
-        let id = match self.target.take() {
+        let id = match self.targets[slot].take() {
             Some(old) => {
                 egui.update_egui_texture_from_wgpu_texture(
                     &self.ctx.device,
@@ -267,12 +303,12 @@ impl GpuView {
                 egui.register_native_texture(&self.ctx.device, &view, wgpu::FilterMode::Nearest)
             }
         };
-        self.target = Some(Target {
+        self.targets[slot] = Some(Target {
             draw: view,
             id,
             size,
         });
-        id
+        Ok(id)
     }
 }
 
@@ -329,6 +365,20 @@ impl GpuView {
 
     /// The texture of the last frame, if one was rendered.
     pub fn texture(&self) -> Option<egui::TextureId> {
-        self.target.as_ref().map(|t| t.id)
+        self.targets[self.last_slot].as_ref().map(|t| t.id)
+    }
+
+    /// Draws the next frame's moving objects at `t` seconds (Play's physics clock, which the
+    /// worker follows so the player rides what is drawn).
+    pub fn set_animation_time(&mut self, t: f64) {
+        if let Some((session, _)) = &mut self.session {
+            session.set_animation_time(t);
+        }
+    }
+
+    /// Drops the session (after a panic left it in doubt): the next render makes a new one.
+    pub fn reset(&mut self) {
+        self.session = None;
+        self.probes = None;
     }
 }

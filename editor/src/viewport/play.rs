@@ -26,6 +26,8 @@ pub struct PlayPhysics {
     /// The animation time of the next frame when there is no session to ask (no GPU): it
     /// advances like the session's own clock.
     clock: f64,
+    /// The animation time the last frame posed the moving objects at.
+    posed: f64,
     /// What the colliders left out, or why there are none, for the Play banner.
     pub note: Option<String>,
 }
@@ -38,6 +40,7 @@ impl PlayPhysics {
             walker: None,
             revision: document.revision,
             clock: 0.0,
+            posed: 0.0,
             note: None,
         };
         physics.build(&document.level, camera);
@@ -95,6 +98,7 @@ impl PlayPhysics {
             }
         }
         let t = session_time.unwrap_or(self.clock);
+        self.posed = t;
         self.clock = Animation::next_time(t, dt);
         match &mut self.walker {
             Some(w) => {
@@ -110,6 +114,12 @@ impl PlayPhysics {
         if let Some(w) = &mut self.walker {
             w.toggle_fly(camera);
         }
+    }
+
+    /// The animation time the last frame posed the moving objects at: the frame drawn for
+    /// it shows them there.
+    pub fn time(&self) -> f64 {
+        self.posed
     }
 
     /// The walker, when there are colliders.
