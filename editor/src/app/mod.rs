@@ -100,7 +100,7 @@ impl EditorApp {
     /// Attaches eframe's wgpu renderer, so the viewport can render the level: its render
     /// worker starts, and asks `ctx` to repaint when a frame is done.
     pub fn attach_gpu(&mut self, rs: Option<egui_wgpu::RenderState>, ctx: &egui::Context) {
-        match rs.as_ref().map(GpuView::new) {
+        match rs.as_ref().map(GpuView::beside) {
             Some(Ok(gpu)) => self.viewport.attach(gpu, ctx.clone()),
             Some(Err(e)) => self.viewport.error = Some(e),
             None => {}
@@ -224,7 +224,7 @@ impl EditorApp {
         // The UI thread's own time: eframe's measure of the last frame (the UI and its
         // painting) when there is one, else this update's.
         let own = started.elapsed().as_secs_f32();
-        self.viewport.ui_frame_ms = self.cpu_usage.take().unwrap_or(own) * 1e3;
+        self.viewport.ui_busy_ms = self.cpu_usage.take().unwrap_or(own) * 1e3;
         self.log_stats();
         let title = self.title();
         if title != self.title {
@@ -280,6 +280,11 @@ impl EditorApp {
             ui.label(format!(
                 "ui frame {:.0} ms · {} a second",
                 self.viewport.ui_frame_ms, self.viewport.ui_fps
+            ))
+            .on_hover_text(format!(
+                "the UI thread worked {:.1} ms of its last frame (the rest waited for the \
+                 display); the viewport renders on a thread of its own",
+                self.viewport.ui_busy_ms
             ));
             ui.label(format!(
                 "edit stall {:.0} ms · {:?}",
@@ -463,6 +468,7 @@ impl EditorApp {
         let report = self.viewport.report();
         let figures = crate::stats_log::Figures {
             ui_frame_ms: f64::from(self.viewport.ui_frame_ms),
+            ui_busy_ms: f64::from(self.viewport.ui_busy_ms),
             ui_fps: self.viewport.ui_fps,
             render_ms: report.map_or(0.0, |r| r.frame_ms),
             edit_to_frame_ms: self.viewport.edit_stall_ms,

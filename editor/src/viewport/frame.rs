@@ -54,7 +54,7 @@ impl Viewport {
     /// Takes the newest frame the worker finished (and its error, and the answer to a
     /// pick); returns whether it is a new one. A frame that shows the oldest edit not yet
     /// shown times it ([`Viewport::edit_stall_ms`]).
-    pub(super) fn take_frame(&mut self, state: &mut EditorState) -> bool {
+    pub(super) fn take_frame(&mut self, ctx: &egui::Context, state: &mut EditorState) -> bool {
         let Some(worker) = &self.worker else {
             return false;
         };
@@ -76,6 +76,14 @@ impl Viewport {
         {
             self.edit_stall_ms = seen.elapsed().as_secs_f64() * 1e3;
             self.edit_seen = None;
+        }
+        if rendered && let Some(f) = &frame {
+            // egui uploads it before painting this UI frame.
+            let options = egui::TextureOptions::NEAREST;
+            match &mut self.texture {
+                Some(t) => t.set(f.image.clone(), options),
+                None => self.texture = Some(ctx.load_texture("viewport", f.image.clone(), options)),
+            }
         }
         self.shown = frame;
         rendered
@@ -194,7 +202,10 @@ impl Viewport {
                 ViewMode::Edit => self.camera.distance,
                 ViewMode::Play(_) => PLAY_DEPTH,
             };
-            reproject::paint(painter, rect, frame, camera, depth);
+            if let Some(texture) = &self.texture {
+                let drawn = &frame.view.camera;
+                reproject::paint(painter, rect, texture.id(), drawn, camera, depth);
+            }
             self.debug
                 .update(ctx, &**frame, rendered, rendered && frame.settled);
         }

@@ -16,7 +16,7 @@ use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
 use texel_runtime::load::LoadedLevel;
-use texel_runtime::session::{FrameRequest, Session, SessionError};
+use texel_runtime::session::{DrawnFrame, FrameRequest, Session, SessionError};
 
 /// The viewport texture's format: the renderer's own frame format, plain 8-bit holding its
 /// sRGB-encoded colours as they are. egui samples it so: its shader takes a texture's values
@@ -24,10 +24,6 @@ use texel_runtime::session::{FrameRequest, Session, SessionError};
 /// them. Sampled through an sRGB view, each colour was decoded once more and the view showed
 /// the level darker than the game (sky 195 → 139).
 pub const FORMAT: wgpu::TextureFormat = texel_render::target::FRAME_FORMAT;
-
-/// Textures a [`GpuView`] can draw into: the newest finished frame, the one the UI may still
-/// be painting, and the one being drawn (see `worker`).
-pub const SLOTS: usize = 3;
 
 /// What the last render cost.
 #[derive(Debug, Clone, Default)]
@@ -69,13 +65,10 @@ pub struct GpuView {
     density_view: bool,
     /// Whether the animation clock runs (Play; kept for a session made later).
     animating: bool,
-    egui: Arc<RwLock<egui_wgpu::Renderer>>,
-    /// The textures frames are drawn into, by slot ([`GpuView::render_slot`]): the render
-    /// worker takes turns between [`SLOTS`] of them, so the one egui shows is never drawn
-    /// into.
-    targets: [Option<Target>; SLOTS],
-    /// The slot of the last frame drawn.
-    last_slot: usize,
+    /// The egui renderer [`GpuView::render`] registers its texture with (`None` for a view
+    /// that only renders pixels, [`GpuView::offscreen`]).
+    egui: Option<Arc<RwLock<egui_wgpu::Renderer>>>,
+    target: Option<Target>,
     /// A box that every change since the session's revision fell in (terrain heights during
     /// a stroke): the next render updates only the probe faces that see it.
     region: Option<(glam::Vec3, glam::Vec3)>,
@@ -122,13 +115,38 @@ impl GpuView {
             lines: Vec::new(),
             density_view: false,
             animating: false,
-            egui: rs.renderer.clone(),
-            targets: Default::default(),
-            last_slot: 0,
+            egui: Some(rs.renderer.clone()),
+            target: None,
             region: None,
             report: RenderReport::default(),
             probes: None,
         })
+    }
+
+    /// A view rendering with a device of its own, opened on eframe's adapter: the render
+    /// worker's, whose frames then queue apart from the window's (a UI frame never waits
+    /// behind a viewport frame on one queue). It renders pixels ([`GpuView::render_pixels`]).
+    pub fn beside(rs: &egui_wgpu::RenderState) -> Result<Self, String> {
+        let (instance, adapter) = (rs.instance.clone(), rs.adapter.clone());
+        let ctx = pollster::block_on(GpuContext::on_adapter(instance, adapter))
+            .map_err(|e| format!("cannot open a device for the viewport: {e}"))?;
+        Ok(Self::offscreen(ctx))
+    }
+
+    /// A view on `ctx` that renders pixels only ([`GpuView::render_pixels`]).
+    pub fn offscreen(ctx: GpuContext) -> Self {
+        GpuView {
+            ctx,
+            session: None,
+            lines: Vec::new(),
+            density_view: false,
+            animating: false,
+            egui: None,
+            target: None,
+            region: None,
+            report: RenderReport::default(),
+            probes: None,
+        }
     }
 
     /// The document revision the session shows, once there is one.
@@ -143,8 +161,8 @@ impl GpuView {
         self.region = region;
     }
 
-    /// Renders `level` (at document `revision`) from `camera` at `size` and returns the
-    /// texture to show.
+    /// Renders `level` (at document `revision`) from `camera` at `size` into a texture
+    /// registered with egui, and returns it.
     pub fn render(
         &mut self,
         level: &LoadedLevel,
@@ -154,23 +172,58 @@ impl GpuView {
         schedule: Schedule,
         dt: f32,
     ) -> Result<egui::TextureId, String> {
-        self.render_slot(0, level, revision, camera, size, schedule, dt)
+        let size = size.max(UVec2::splat(16));
+        self.prepare(level, revision, camera, size)?;
+        let id = self.ensure_target(size)?;
+        let target = self.target.as_ref().ok_or("no target")?.draw.clone();
+        let request = FrameRequest {
+            camera,
+            dt,
+            schedule,
+            size,
+        };
+        let t = Instant::now();
+        let (session, _) = self.session.as_mut().ok_or("no session")?;
+        let frame = (session.draw(&self.ctx, &request, &target)).map_err(|e| e.to_string())?;
+        self.finish(&frame, t, size);
+        Ok(id)
     }
 
-    /// [`GpuView::render`] into the texture of `slot` (below [`SLOTS`]).
-    #[allow(clippy::too_many_arguments)]
-    pub fn render_slot(
+    /// [`GpuView::render`] offscreen: the frame read back as RGBA8 rows, its colours
+    /// sRGB-encoded as the game presents them ([`RenderReport::frame_ms`] counts the read).
+    pub fn render_pixels(
         &mut self,
-        slot: usize,
         level: &LoadedLevel,
         revision: u64,
         camera: Camera,
         size: UVec2,
         schedule: Schedule,
         dt: f32,
-    ) -> Result<egui::TextureId, String> {
-        let slot = slot.min(SLOTS - 1);
+    ) -> Result<(UVec2, Vec<u8>), String> {
         let size = size.max(UVec2::splat(16));
+        self.prepare(level, revision, camera, size)?;
+        let request = FrameRequest {
+            camera,
+            dt,
+            schedule,
+            size,
+        };
+        let t = Instant::now();
+        let (session, _) = self.session.as_mut().ok_or("no session")?;
+        let (frame, pixels) =
+            (session.draw_offscreen(&self.ctx, &request)).map_err(|e| e.to_string())?;
+        self.finish(&frame, t, size);
+        Ok((size, pixels))
+    }
+
+    /// Makes the session, or hands it `level` when `revision` is not the one it shows.
+    fn prepare(
+        &mut self,
+        level: &LoadedLevel,
+        revision: u64,
+        camera: Camera,
+        size: UVec2,
+    ) -> Result<(), String> {
         let err = |e: SessionError| e.to_string();
         let t = Instant::now();
         match &mut self.session {
@@ -205,21 +258,13 @@ impl GpuView {
                 self.report.upload_ms = None;
             }
         }
-        let id = self.ensure_target(slot, size)?;
-        let target = self.targets[slot].as_ref().ok_or("no target")?;
-        let (session, _) = self.session.as_mut().ok_or("no session")?;
-        let request = FrameRequest {
-            camera,
-            dt,
-            schedule,
-            size,
-        };
-        let t = Instant::now();
-        let frame = session
-            .draw(&self.ctx, &request, &target.draw)
-            .map_err(err)?;
-        self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
-        let input = frame.input;
+        Ok(())
+    }
+
+    /// Records what the frame `frame`, begun at `started`, cost and drew.
+    fn finish(&mut self, frame: &DrawnFrame, started: Instant, size: UVec2) {
+        self.report.frame_ms = started.elapsed().as_secs_f64() * 1e3;
+        let input = &frame.input;
         let other = match (input.filling_ahead, input.previous) {
             (true, _) => Some((OtherProbe::Next, input.grid)),
             (false, p) => p.map(|p| (OtherProbe::Previous, p)),
@@ -229,10 +274,8 @@ impl GpuView {
             grid: *input.cell_probe(),
             other,
         });
-        self.report.stats = Some(frame.stats);
+        self.report.stats = Some(frame.stats.clone());
         self.report.size = size;
-        self.last_slot = slot;
-        Ok(id)
     }
 
     /// The entity id under `pixel` of the last frame (`texel_runtime::frame_plan::entity_id`).
@@ -260,12 +303,16 @@ impl GpuView {
 
     /// The texture of `slot`, made (or made again) at `size`; a size the device cannot hold
     /// is an error, before wgpu would raise one.
-    fn ensure_target(&mut self, slot: usize, size: UVec2) -> Result<egui::TextureId, String> {
-        if let Some(t) = &self.targets[slot]
+    fn ensure_target(&mut self, size: UVec2) -> Result<egui::TextureId, String> {
+        if let Some(t) = &self.target
             && t.size == size
         {
             return Ok(t.id);
         }
+        let egui = self
+            .egui
+            .clone()
+            .ok_or("this view renders offscreen only")?;
         let max = self.ctx.device.limits().max_texture_dimension_2d;
         if size.x > max || size.y > max {
             return Err(format!(
@@ -288,8 +335,8 @@ impl GpuView {
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let mut egui = self.egui.write();
-        let id = match self.targets[slot].take() {
+        let mut egui = egui.write();
+        let id = match self.target.take() {
             Some(old) => {
                 egui.update_egui_texture_from_wgpu_texture(
                     &self.ctx.device,
@@ -303,7 +350,7 @@ impl GpuView {
                 egui.register_native_texture(&self.ctx.device, &view, wgpu::FilterMode::Nearest)
             }
         };
-        self.targets[slot] = Some(Target {
+        self.target = Some(Target {
             draw: view,
             id,
             size,
@@ -365,7 +412,7 @@ impl GpuView {
 
     /// The texture of the last frame, if one was rendered.
     pub fn texture(&self) -> Option<egui::TextureId> {
-        self.targets[self.last_slot].as_ref().map(|t| t.id)
+        self.target.as_ref().map(|t| t.id)
     }
 
     /// Draws the next frame's moving objects at `t` seconds (Play's physics clock, which the

@@ -74,11 +74,16 @@ pub struct Viewport {
     pub worker: Option<RenderWorker>,
     /// The last render or GPU error.
     pub error: Option<String>,
-    /// The frame shown: the newest the worker finished.
+    /// The frame shown: the newest the worker finished, and its texture.
     pub shown: Option<Arc<Frame>>,
-    /// Time the UI thread spent on its last frame, ms: eframe's measure (the UI and its
-    /// painting, not waiting for the display), or the UI's own update where there is none.
+    texture: Option<egui::TextureHandle>,
+    /// Wall time between the last two UI frames, ms (what the person feels while the
+    /// window repaints; the viewport's frames are drawn elsewhere, so it no longer holds
+    /// one).
     pub ui_frame_ms: f32,
+    /// Time the UI thread worked on its last frame, ms: eframe's measure (the UI and its
+    /// painting, not waiting for the display), or the UI's own update where there is none.
+    pub ui_busy_ms: f32,
     /// UI frames in the last whole second.
     pub ui_fps: u32,
     /// Debug views and what they read back.
@@ -112,6 +117,8 @@ pub struct Viewport {
     pick_error: Option<String>,
     /// UI frames counted in the current second, and when it began.
     fps_count: (u32, Option<Instant>),
+    /// When the last UI frame began.
+    clock: Option<Instant>,
 }
 
 impl Default for Viewport {
@@ -124,7 +131,9 @@ impl Default for Viewport {
             worker: None,
             error: None,
             shown: None,
+            texture: None,
             ui_frame_ms: 0.0,
+            ui_busy_ms: 0.0,
             ui_fps: 0,
             debug: DebugState::default(),
             grabbed: false,
@@ -142,6 +151,7 @@ impl Default for Viewport {
             picking: None,
             pick_error: None,
             fps_count: (0, None),
+            clock: None,
         }
     }
 }
@@ -254,7 +264,7 @@ impl Viewport {
         let camera = self.render_camera();
         let painter = ui.painter_at(rect);
         painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
-        let rendered = self.take_frame(state);
+        let rendered = self.take_frame(ui.ctx(), state);
         let size = self.render_size(ui.ctx(), rect, state, &camera);
         self.request_frame(state, camera, size, dt);
         self.paint_render(ui.ctx(), &painter, rect, &camera, rendered);
@@ -503,9 +513,14 @@ impl Viewport {
         self.shown.as_ref().map(|f| &f.report)
     }
 
-    /// Counts this UI frame into [`Viewport::ui_fps`].
+    /// Times this UI frame ([`Viewport::ui_frame_ms`]) and counts it into
+    /// [`Viewport::ui_fps`].
     fn count_frame(&mut self) {
         let now = Instant::now();
+        if let Some(t) = self.clock {
+            self.ui_frame_ms = now.duration_since(t).as_secs_f32() * 1e3;
+        }
+        self.clock = Some(now);
         let (count, since) = &mut self.fps_count;
         *count += 1;
         match since {

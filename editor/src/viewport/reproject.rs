@@ -5,29 +5,34 @@
 //! the next frame arrives, looking around and zooming move the picture at once.
 
 use egui::epaint::{Mesh, Vertex};
-use egui::{Color32, Painter, Pos2, Rect};
+use egui::{Color32, Painter, Pos2, Rect, TextureId};
 use glam::Vec3;
 use texel_render::input::Camera;
 
-use super::worker::Frame;
 use crate::camera::Projector;
 
 /// Quads across each side of the re-projected frame.
 pub const CELLS: usize = 8;
 
-/// Paints `frame` into `rect` as seen from `camera`, its content placed at `depth` along
-/// the frame camera's view; held in place when the cameras are the same or the plane
+/// Paints the frame in `texture`, drawn from `drawn`, into `rect` as seen from `camera`,
+/// its content placed at `depth` along the frame camera's view; held in place when the cameras are the same or the plane
 /// leaves the view (behind the eye).
-pub fn paint(painter: &Painter, rect: Rect, frame: &Frame, camera: &Camera, depth: f32) {
+pub fn paint(
+    painter: &Painter,
+    rect: Rect,
+    texture: TextureId,
+    drawn: &Camera,
+    camera: &Camera,
+    depth: f32,
+) {
     let full = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
-    let drawn = &frame.view.camera;
     if drawn == camera {
-        painter.image(frame.texture, rect, full, Color32::WHITE);
+        painter.image(texture, rect, full, Color32::WHITE);
         return;
     }
     match warped(rect, drawn, camera, depth) {
         Some(points) => {
-            let mut mesh = Mesh::with_texture(frame.texture);
+            let mut mesh = Mesh::with_texture(texture);
             let n = CELLS + 1;
             for (i, pos) in points.into_iter().enumerate() {
                 let uv = Pos2::new((i % n) as f32 / CELLS as f32, (i / n) as f32 / CELLS as f32);
@@ -48,7 +53,7 @@ pub fn paint(painter: &Painter, rect: Rect, frame: &Frame, camera: &Camera, dept
             painter.add(mesh);
         }
         None => {
-            painter.image(frame.texture, rect, full, Color32::WHITE);
+            painter.image(texture, rect, full, Color32::WHITE);
         }
     }
 }

@@ -7,9 +7,10 @@
 //!   any, is kept; the frame times add up).
 //! - The document goes over as a [`LevelSnapshot`] (its rows and shared assets) at most
 //!   once per frame the worker takes: a new snapshot is taken only when none is waiting.
-//! - Frames are drawn into [`SLOTS`] textures registered with egui in turn: never into the
-//!   newest finished one, nor into the one the UI frame in progress paints (the UI says
-//!   which, [`RenderWorker::newest`]), so the UI shows the last finished frame whole.
+//! - It draws on a device of its own ([`GpuView::beside`], on eframe's adapter): on one
+//!   queue, a UI frame's few draws waited behind a whole viewport frame (on lavapipe, the
+//!   window answered no faster than the viewport rendered). A finished frame is read back
+//!   into an image the UI hands to egui as its texture, whole, at its next frame.
 //! - A finished [`Frame`] or an error is published and a repaint asked of egui; after a
 //!   new request the worker draws [`SETTLE_FRAMES`] frames (one in Play), so probes finish
 //!   updating, then sleeps until the next.
@@ -23,6 +24,7 @@ use std::sync::{Arc, Condvar, Mutex, MutexGuard};
 use std::thread::JoinHandle;
 use std::time::Duration;
 
+use egui::ColorImage;
 use glam::{UVec2, Vec2, Vec3};
 use texel_render::input::{Camera, ProbeView, Schedule};
 use texel_render::readback::FrameIds;
@@ -31,7 +33,7 @@ use texel_scene::assets::AssetLibrary;
 use texel_scene::{Level, Scene};
 
 use super::debug::{FacesKey, FrameData, probe_key};
-use super::gpu::{GpuView, LastProbes, RenderReport, SLOTS};
+use super::gpu::{GpuView, LastProbes, RenderReport};
 use super::overlay;
 
 /// Frames drawn after a new request, so that probes finish updating.
@@ -108,9 +110,8 @@ pub struct Frame {
     pub number: u64,
     /// The request it drew (see [`RenderWorker::submit`]).
     pub request: u64,
-    /// The texture it is in.
-    pub texture: egui::TextureId,
-    slot: usize,
+    /// Its pixels, as the game presents them.
+    pub image: Arc<ColorImage>,
     /// What it shows.
     pub view: View,
     /// The document (id, revision) it shows.
@@ -161,10 +162,6 @@ struct State {
     frame: Option<Arc<Frame>>,
     /// The last error and the request it came with; a finished frame clears it.
     error: Option<(u64, String)>,
-    /// The UI frame in progress (counted by [`RenderWorker::newest`]) and the last UI frame
-    /// that painted each slot.
-    ui_frame: u64,
-    painting: [Option<u64>; SLOTS],
     /// A pick asked (number, position in the frame 0..1) and the last answer.
     pick: Option<(u64, Vec2)>,
     picked: Option<(u64, Result<Option<u32>, String>)>,
@@ -232,16 +229,9 @@ impl RenderWorker {
             .is_some_and(|r| r.level.is_some())
     }
 
-    /// For the UI frame starting: the newest finished frame, which this UI frame may paint
-    /// (the worker draws into another texture meanwhile), and the last error.
+    /// The newest finished frame, and the last error.
     pub fn newest(&self) -> (Option<Arc<Frame>>, Option<String>) {
-        let mut st = lock(&self.shared);
-        st.ui_frame += 1;
-        let ui_frame = st.ui_frame;
-        if let Some(f) = &st.frame {
-            let slot = f.slot;
-            st.painting[slot] = Some(ui_frame);
-        }
+        let st = lock(&self.shared);
         let error = st.error.as_ref().map(|e| e.1.clone());
         (st.frame.clone(), error)
     }
@@ -372,7 +362,6 @@ enum Job {
     Draw {
         request: Option<Box<Request>>,
         number: u64,
-        slot: usize,
     },
 }
 
@@ -416,12 +405,8 @@ impl Worker {
                     let answer = catch(|| self.gpu.pick(pixel)).map_err(|e| e.0);
                     lock(shared).picked = Some((n, answer));
                 }
-                Job::Draw {
-                    request,
-                    number,
-                    slot,
-                } => {
-                    let drawn = catch(|| self.draw(request, number, slot));
+                Job::Draw { request, number } => {
+                    let drawn = catch(|| self.draw(request, number));
                     if let Err((_, true)) = drawn {
                         // The session may be half-updated: the next request starts afresh.
                         self.gpu.reset();
@@ -465,22 +450,11 @@ impl Worker {
                 }
                 let request = st.pending.take().map(Box::new);
                 if request.is_some() || (self.settle > 0 && self.current.is_some()) {
-                    let newest = st.frame.as_ref().map(|f| f.slot);
-                    let ui_frame = Some(st.ui_frame);
-                    // Three slots: one is neither the newest nor painted by the UI frame in
-                    // progress.
-                    let slot = (0..SLOTS)
-                        .find(|&s| Some(s) != newest && st.painting[s] != ui_frame)
-                        .unwrap_or(0);
                     let number = match &request {
                         Some(_) => st.submitted,
                         None => self.current.map_or(0, |c| c.3),
                     };
-                    return Some(Job::Draw {
-                        request,
-                        number,
-                        slot,
-                    });
+                    return Some(Job::Draw { request, number });
                 }
             }
             st = shared
@@ -490,14 +464,9 @@ impl Worker {
         }
     }
 
-    /// Takes `request` (if a new one came) and draws the current one into `slot`, with
-    /// what the debug views want read back.
-    fn draw(
-        &mut self,
-        request: Option<Box<Request>>,
-        number: u64,
-        slot: usize,
-    ) -> Result<Frame, String> {
+    /// Takes `request` (if a new one came) and draws the current one, with what the debug
+    /// views want read back.
+    fn draw(&mut self, request: Option<Box<Request>>, number: u64) -> Result<Frame, String> {
         if let Some(r) = request {
             self.take(*r, number)?;
         }
@@ -509,15 +478,15 @@ impl Worker {
         let time = self.gpu.animation_time().unwrap_or(0.0);
         let (level, revision, document) = self.level.as_ref().ok_or("no level yet")?;
         let document = *document;
-        let texture = self.gpu.render_slot(
-            slot,
-            level,
-            *revision,
-            view.camera,
-            view.size,
-            view.schedule,
-            dt,
-        )?;
+        let (size, mut pixels) =
+            self.gpu
+                .render_pixels(level, *revision, view.camera, view.size, view.schedule, dt)?;
+        // Opaque, as the window shows it.
+        for p in pixels.chunks_exact_mut(4) {
+            p[3] = 255;
+        }
+        let image =
+            ColorImage::from_rgba_premultiplied([size.x as usize, size.y as usize], &pixels);
         self.settle = self.settle.saturating_sub(1);
         let settled = self.settle == 0;
         let ids = (view.eye_pixels)
@@ -527,8 +496,7 @@ impl Worker {
         Ok(Frame {
             number: 0,
             request: number,
-            texture,
-            slot,
+            image: Arc::new(image),
             view,
             document,
             time,
