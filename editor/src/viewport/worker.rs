@@ -128,6 +128,20 @@ pub struct Frame {
     faces: Option<(FacesKey, u32, Vec<Vec<u8>>)>,
 }
 
+impl std::fmt::Debug for Frame {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_struct("Frame")
+            .field("number", &self.number)
+            .field("request", &self.request)
+            .field("size", &self.image.size)
+            .field("view", &self.view)
+            .field("document", &self.document)
+            .field("time", &self.time)
+            .field("settled", &self.settled)
+            .finish_non_exhaustive()
+    }
+}
+
 impl FrameData for Frame {
     fn probes(&self) -> Option<LastProbes> {
         self.probes
@@ -169,6 +183,8 @@ struct State {
     held: bool,
     at_hold: bool,
     stop: bool,
+    /// Set by the thread as it ends.
+    ended: bool,
 }
 
 fn lock(shared: &Shared) -> MutexGuard<'_, State> {
@@ -197,7 +213,11 @@ impl RenderWorker {
         let theirs = shared.clone();
         let thread = std::thread::Builder::new()
             .name("texel-editor render".into())
-            .spawn(move || Worker::new(gpu).run(&theirs, &ctx))
+            .spawn(move || {
+                Worker::new(gpu).run(&theirs, &ctx);
+                lock(&theirs).ended = true;
+                theirs.news.notify_all();
+            })
             .map_err(|e| format!("cannot start the render thread: {e}"))?;
         Ok(RenderWorker {
             shared,
@@ -253,9 +273,9 @@ impl RenderWorker {
 
     /// Test hook: the worker draws nothing more until the returned hold is dropped (a frame
     /// in progress finishes).
-    pub fn hold(&self) -> Hold<'_> {
+    pub fn hold(&self) -> Hold {
         lock(&self.shared).held = true;
-        Hold { worker: self }
+        Hold(self.shared.clone())
     }
 
     /// Test helper: blocks until the newest request submitted was drawn (or failed), and
@@ -287,14 +307,33 @@ impl RenderWorker {
         }
     }
 
+    /// Test helper: blocks until the last pick is answered (the answer stays for
+    /// [`RenderWorker::picked`]).
+    pub fn wait_picked(&self) -> Result<(), String> {
+        let mut st = lock(&self.shared);
+        while st.picked.is_none() {
+            if st.stop || st.ended {
+                return Err("the render thread stopped".into());
+            }
+            let (next, timeout) = (self.shared.news)
+                .wait_timeout(st, WAIT_LIMIT)
+                .unwrap_or_else(std::sync::PoisonError::into_inner);
+            st = next;
+            if timeout.timed_out() {
+                return Err("the render thread is stuck".into());
+            }
+        }
+        Ok(())
+    }
+
     /// Whether the thread still runs (it stops only when the worker is dropped).
     pub fn running(&self) -> bool {
         self.thread.as_ref().is_some_and(|t| !t.is_finished())
     }
 
-    /// A handle that tells, once the worker is dropped, that its thread ended (tests).
+    /// A handle that tells whether the thread has ended (tests).
     pub fn watch(&self) -> WorkerWatch {
-        WorkerWatch(Arc::downgrade(&self.shared))
+        WorkerWatch(self.shared.clone())
     }
 }
 
@@ -314,27 +353,25 @@ impl Drop for RenderWorker {
 }
 
 /// See [`RenderWorker::watch`].
-pub struct WorkerWatch(std::sync::Weak<Shared>);
+pub struct WorkerWatch(Arc<Shared>);
 
 impl WorkerWatch {
-    /// Whether the thread has ended and let go of what it shared.
+    /// Whether the thread has ended.
     pub fn ended(&self) -> bool {
-        self.0.strong_count() == 0
+        lock(&self.0).ended
     }
 }
 
 /// See [`RenderWorker::hold`].
-pub struct Hold<'a> {
-    worker: &'a RenderWorker,
-}
+pub struct Hold(Arc<Shared>);
 
-impl Hold<'_> {
+impl Hold {
     /// Blocks until the worker waits at the hold (no frame in progress).
     pub fn wait_held(&self) -> Result<(), String> {
-        let shared = &self.worker.shared;
+        let shared = &self.0;
         let mut st = lock(shared);
         while !st.at_hold {
-            if !self.worker.running() {
+            if st.stop || st.ended {
                 return Err("the render thread stopped".into());
             }
             let (next, timeout) = (shared.news)
@@ -349,10 +386,10 @@ impl Hold<'_> {
     }
 }
 
-impl Drop for Hold<'_> {
+impl Drop for Hold {
     fn drop(&mut self) {
-        lock(&self.worker.shared).held = false;
-        self.worker.shared.wake.notify_all();
+        lock(&self.0).held = false;
+        self.0.wake.notify_all();
     }
 }
 
