@@ -182,6 +182,15 @@ impl Viewport {
         camera: &Camera,
         rendered: bool,
     ) {
+        // The background only where the frame leaves some: on a software rasterizer every
+        // pixel the window paints twice costs (lavapipe spends about 0.1 s of CPU on a
+        // 1280×800 window's frame).
+        let covered = self.error.is_none()
+            && self.texture.is_some()
+            && (self.shown.as_ref()).is_some_and(|f| f.view.camera == *camera);
+        if !covered {
+            painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
+        }
         if self.worker.is_none() {
             painter.text(
                 rect.center(),

@@ -1,6 +1,8 @@
-//! The level rendered by a `texel_runtime` session on eframe's own wgpu device, into a
-//! texture egui shows. The level is handed to the session again only when the document
-//! changed (the session re-plans by itself when the output size changes). The session's
+//! The level rendered by a `texel_runtime` session: on eframe's own wgpu device into a
+//! texture egui shows ([`GpuView::render`]), or on a device of its own into pixels
+//! ([`GpuView::beside`], [`GpuView::render_pixels`]: the editor's render worker). The level
+//! is handed to the session again only when the document changed (the session re-plans by
+//! itself when the output size changes). The session's
 //! animation clock stands still at 0 outside Play, so moving objects stay put while they are
 //! edited, and runs from 0 in Play.
 

@@ -263,7 +263,6 @@ impl Viewport {
         }
         let camera = self.render_camera();
         let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
         let rendered = self.take_frame(ui.ctx(), state);
         let size = self.render_size(ui.ctx(), rect, state, &camera);
         self.request_frame(state, camera, size, dt);
