@@ -1,9 +1,10 @@
 //! The viewport renders on a thread of its own (`viewport::worker`), on a headless GPU
 //! (lavapipe in CI): a UI frame completes while the worker is held busy and keeps showing
 //! the last finished frame, and the next frame shows once the worker is let go; a click
-//! selects through the worker's pick; a renderer error becomes the viewport's message and a
-//! good frame clears it; closing the editor ends and joins the thread. Nothing here is
-//! timed: the tests wait for the worker's frames, not for a clock.
+//! selects through the worker's pick; the debug views read what the worker read back; a
+//! renderer error becomes the viewport's message and a good frame clears it; closing the
+//! editor ends and joins the thread. Nothing here is timed: the tests wait for the worker's
+//! frames, not for a clock.
 
 use std::path::Path;
 
@@ -11,6 +12,7 @@ use egui_kittest::Harness;
 use glam::Vec2;
 use texel_editor::app::EditorApp;
 use texel_editor::files::Recent;
+use texel_editor::viewport::debug::DebugView;
 use texel_editor::viewport::worker::RenderWorker;
 use texel_render::context::test_context;
 
@@ -130,6 +132,34 @@ fn a_click_selects_what_the_worker_picks() {
         name.contains("Trilithon 1"),
         "the trilithon under the cursor: {name}"
     );
+}
+
+#[test]
+fn the_debug_views_take_their_data_from_the_workers_frames() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    assert_eq!(
+        h.state().viewport.debug.readbacks,
+        0,
+        "nothing read while off"
+    );
+    let flags = &mut h.state_mut().viewport.debug.flags;
+    flags.toggle(DebugView::EyePixels);
+    flags.toggle(DebugView::CubeFaces);
+    // The views are part of the request: the worker draws again and reads what they need.
+    h.step();
+    worker(&h)
+        .wait_drawn()
+        .expect("a frame with the views' data");
+    h.step();
+    let debug = &h.state().viewport.debug;
+    assert!(debug.has_eye_tint(), "the eye-sourced pixels' tint");
+    assert_eq!(debug.face_count(), 6, "the grid probe's faces");
 }
 
 #[test]

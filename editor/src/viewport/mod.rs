@@ -360,7 +360,7 @@ impl Viewport {
                         if fly {
                             p.toggle_fly(walk);
                         }
-                        p.frame(&state.document, None, walk, &keys, look, dt);
+                        p.frame(&state.document, walk, &keys, look, dt);
                     }
                     None => walk.update(&keys, look, dt),
                 }

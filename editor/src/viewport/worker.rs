@@ -125,8 +125,11 @@ pub struct Frame {
     /// Whether it was the last of a settle run.
     pub settled: bool,
     ids: Option<FrameIds>,
-    faces: Option<(FacesKey, u32, Vec<Vec<u8>>)>,
+    faces: Option<Arc<Faces>>,
 }
+
+/// The grid probe's faces as read back: whose they are, `n`, six `n × n` RGBA images.
+type Faces = (FacesKey, u32, Vec<Vec<u8>>);
 
 impl std::fmt::Debug for Frame {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
@@ -152,7 +155,7 @@ impl FrameData for Frame {
     }
 
     fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String> {
-        match &self.faces {
+        match self.faces.as_deref() {
             Some((key, n, faces)) if *key == probe_key(view) => Ok((*n, faces.clone())),
             _ => Err("not read back".into()),
         }
@@ -412,7 +415,9 @@ struct Worker {
     settle: u32,
     playing: bool,
     grid: Option<bool>,
-    faces_key: Option<FacesKey>,
+    /// The grid probe's faces last read, handed on with every frame while they are its
+    /// probe's (a UI frame may skip the frame that read them).
+    faces: Option<Arc<Faces>>,
     frames: u64,
 }
 
@@ -425,7 +430,7 @@ impl Worker {
             settle: 0,
             playing: false,
             grid: None,
-            faces_key: None,
+            faces: None,
             frames: 0,
         }
     }
@@ -580,21 +585,20 @@ impl Worker {
         Ok(())
     }
 
-    /// The grid probe's faces, read back when the cube-faces view is on and the probe
-    /// changed or the frame settled.
-    fn read_faces(&mut self, on: bool, settled: bool) -> Option<(FacesKey, u32, Vec<Vec<u8>>)> {
+    /// The grid probe's faces while the cube-faces view is on: read back when the probe
+    /// changed or the frame settled, else those read last.
+    fn read_faces(&mut self, on: bool, settled: bool) -> Option<Arc<Faces>> {
         let grid = self.gpu.probes.map(|p| p.grid).filter(|_| on);
         let Some(grid) = grid else {
-            self.faces_key = None;
+            self.faces = None;
             return None;
         };
         let key = probe_key(&grid);
-        if self.faces_key == Some(key) && !settled {
-            return None;
+        let same = self.faces.as_ref().is_some_and(|f| f.0 == key);
+        if !same || settled {
+            self.faces = (self.gpu.probe_faces(&grid).ok()).map(|(n, f)| Arc::new((key, n, f)));
         }
-        let (n, faces) = self.gpu.probe_faces(&grid).ok()?;
-        self.faces_key = Some(key);
-        Some((key, n, faces))
+        self.faces.clone()
     }
 }
 
