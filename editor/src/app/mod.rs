@@ -100,10 +100,14 @@ impl EditorApp {
     /// Attaches eframe's wgpu renderer, so the viewport can render the level: its render
     /// worker starts, and asks `ctx` to repaint when a frame is done.
     pub fn attach_gpu(&mut self, rs: Option<egui_wgpu::RenderState>, ctx: &egui::Context) {
-        match rs.as_ref().map(GpuView::beside) {
-            Some(Ok(gpu)) => self.viewport.attach(gpu, ctx.clone()),
-            Some(Err(e)) => self.viewport.error = Some(e),
-            None => {}
+        let Some(rs) = rs else {
+            return;
+        };
+        // A device of its own for the viewport; eframe's if the driver will not open a
+        // second one (the window's frames then queue with the viewport's).
+        match GpuView::beside(&rs).or_else(|_| GpuView::new(&rs)) {
+            Ok(gpu) => self.viewport.attach(gpu, ctx.clone()),
+            Err(e) => self.viewport.error = Some(e),
         }
     }
 
