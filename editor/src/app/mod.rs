@@ -291,7 +291,7 @@ impl EditorApp {
                 self.viewport.ui_busy_ms
             ));
             ui.label(format!(
-                "edit stall {:.0} ms · {:?}",
+                "edit to frame {:.0} ms · {:?}",
                 self.viewport.edit_stall_ms, self.viewport.schedule
             ));
             ui.separator();
