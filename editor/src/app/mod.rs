@@ -106,7 +106,10 @@ impl EditorApp {
         // A device of its own for the viewport; eframe's if the driver will not open a
         // second one (the window's frames then queue with the viewport's).
         match GpuView::beside(&rs).or_else(|_| GpuView::new(&rs)) {
-            Ok(gpu) => self.viewport.attach(gpu, ctx.clone()),
+            Ok(gpu) => {
+                self.viewport.attach(gpu, ctx.clone());
+                self.viewport.picture_target = Some(rs.target_format);
+            }
             Err(e) => self.viewport.error = Some(e),
         }
     }

@@ -8,6 +8,7 @@ use std::time::Instant;
 use texel_render::input::Camera;
 
 use super::gizmo::Mode;
+use super::picture::Picture;
 use super::play::PlayPhysics;
 use super::worker::{LevelSnapshot, Request, View};
 use super::{SCALE_MOVING, SCALE_STILL, ViewMode, Viewport, reproject};
@@ -77,7 +78,10 @@ impl Viewport {
             self.edit_stall_ms = seen.elapsed().as_secs_f64() * 1e3;
             self.edit_seen = None;
         }
-        if rendered && let Some(f) = &frame {
+        if rendered
+            && self.picture_target.is_none()
+            && let Some(f) = &frame
+        {
             // egui uploads it before painting this UI frame.
             let options = egui::TextureOptions::NEAREST;
             match &mut self.texture {
@@ -185,9 +189,8 @@ impl Viewport {
         // The background only where the frame leaves some: on a software rasterizer every
         // pixel the window paints twice costs (lavapipe spends about 0.1 s of CPU on a
         // 1280×800 window's frame).
-        let covered = self.error.is_none()
-            && self.texture.is_some()
-            && (self.shown.as_ref()).is_some_and(|f| f.view.camera == *camera);
+        let covered =
+            self.error.is_none() && (self.shown.as_ref()).is_some_and(|f| f.view.camera == *camera);
         if !covered {
             painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
         }
@@ -211,9 +214,19 @@ impl Viewport {
                 ViewMode::Edit => self.camera.distance,
                 ViewMode::Play(_) => PLAY_DEPTH,
             };
-            if let Some(texture) = &self.texture {
-                let drawn = &frame.view.camera;
-                reproject::paint(painter, rect, texture.id(), drawn, camera, depth);
+            let triangles = reproject::triangles(rect, &frame.view.camera, camera, depth);
+            match (self.picture_target, &self.texture) {
+                (Some(target), _) => {
+                    let picture = Picture {
+                        frame: (frame.number, frame.image.clone()),
+                        triangles,
+                        rect,
+                        target,
+                    };
+                    painter.add(egui_wgpu::Callback::new_paint_callback(rect, picture));
+                }
+                (None, Some(texture)) => reproject::paint(painter, texture.id(), &triangles),
+                (None, None) => {}
             }
             self.debug
                 .update(ctx, &**frame, rendered, rendered && frame.settled);

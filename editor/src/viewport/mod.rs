@@ -13,6 +13,7 @@ pub mod gizmo;
 pub mod gpu;
 pub mod handles;
 pub mod overlay;
+pub mod picture;
 pub mod play;
 pub mod reproject;
 pub mod terrain_tool;
@@ -77,6 +78,9 @@ pub struct Viewport {
     /// The frame shown: the newest the worker finished, and its texture.
     pub shown: Option<Arc<Frame>>,
     texture: Option<egui::TextureHandle>,
+    /// The format of egui's render target when the picture is drawn by its own paint
+    /// callback ([`picture`]; under eframe), else `None` (an egui image: tests).
+    pub picture_target: Option<wgpu::TextureFormat>,
     /// Wall time between the last two UI frames, ms (what the person feels while the
     /// window repaints; the viewport's frames are drawn elsewhere, so it no longer holds
     /// one).
@@ -132,6 +136,7 @@ impl Default for Viewport {
             error: None,
             shown: None,
             texture: None,
+            picture_target: None,
             ui_frame_ms: 0.0,
             ui_busy_ms: 0.0,
             ui_fps: 0,

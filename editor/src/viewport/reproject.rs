@@ -14,48 +14,54 @@ use crate::camera::Projector;
 /// Quads across each side of the re-projected frame.
 pub const CELLS: usize = 8;
 
-/// Paints the frame in `texture`, drawn from `drawn`, into `rect` as seen from `camera`,
-/// its content placed at `depth` along the frame camera's view; held in place when the cameras are the same or the plane
-/// leaves the view (behind the eye).
-pub fn paint(
-    painter: &Painter,
-    rect: Rect,
-    texture: TextureId,
-    drawn: &Camera,
-    camera: &Camera,
-    depth: f32,
-) {
-    let full = Rect::from_min_max(Pos2::ZERO, Pos2::new(1.0, 1.0));
-    if drawn == camera {
-        painter.image(texture, rect, full, Color32::WHITE);
-        return;
-    }
-    match warped(rect, drawn, camera, depth) {
-        Some(points) => {
-            let mut mesh = Mesh::with_texture(texture);
-            let n = CELLS + 1;
-            for (i, pos) in points.into_iter().enumerate() {
-                let uv = Pos2::new((i % n) as f32 / CELLS as f32, (i / n) as f32 / CELLS as f32);
-                mesh.vertices.push(Vertex {
-                    pos,
-                    uv,
-                    color: Color32::WHITE,
-                });
-            }
-            for y in 0..CELLS {
-                for x in 0..CELLS {
-                    let a = (y * n + x) as u32;
-                    let (b, c, d) = (a + 1, a + n as u32, a + n as u32 + 1);
-                    mesh.add_triangle(a, b, d);
-                    mesh.add_triangle(a, d, c);
-                }
-            }
-            painter.add(mesh);
-        }
-        None => {
-            painter.image(texture, rect, full, Color32::WHITE);
+/// The picture's triangles for the frame drawn from `drawn`, painted into `rect` as seen
+/// from `camera`, its content placed at `depth` along the frame camera's view: three
+/// (screen point, texture coordinate) each. One quad over `rect` (the frame held in place)
+/// when the cameras are the same or the plane leaves the view (behind the eye).
+pub fn triangles(rect: Rect, drawn: &Camera, camera: &Camera, depth: f32) -> Vec<(Pos2, Pos2)> {
+    let uv = |x: usize, y: usize, cells: usize| {
+        Pos2::new(x as f32 / cells as f32, y as f32 / cells as f32)
+    };
+    let (points, cells) = match (drawn != camera)
+        .then(|| warped(rect, drawn, camera, depth))
+        .flatten()
+    {
+        Some(points) => (points, CELLS),
+        None => (
+            vec![
+                rect.left_top(),
+                rect.right_top(),
+                rect.left_bottom(),
+                rect.right_bottom(),
+            ],
+            1,
+        ),
+    };
+    let n = cells + 1;
+    let mut out = Vec::with_capacity(cells * cells * 6);
+    for y in 0..cells {
+        for x in 0..cells {
+            let corner =
+                |dx: usize, dy: usize| (points[(y + dy) * n + x + dx], uv(x + dx, y + dy, cells));
+            let (a, b, c, d) = (corner(0, 0), corner(1, 0), corner(0, 1), corner(1, 1));
+            out.extend([a, b, d, a, d, c]);
         }
     }
+    out
+}
+
+/// Paints `triangles` ([`triangles`]) with `texture` through egui's own image path.
+pub fn paint(painter: &Painter, texture: TextureId, triangles: &[(Pos2, Pos2)]) {
+    let mut mesh = Mesh::with_texture(texture);
+    for (i, &(pos, uv)) in triangles.iter().enumerate() {
+        mesh.vertices.push(Vertex {
+            pos,
+            uv,
+            color: Color32::WHITE,
+        });
+        mesh.indices.push(i as u32);
+    }
+    painter.add(mesh);
 }
 
 /// Where the grid points of `rect` as `drawn` saw them land for `camera`, row by row
@@ -123,5 +129,17 @@ mod tests {
         let a = Camera::looking(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
         let b = Camera::looking(Vec3::new(0.0, 0.0, -20.0), Vec3::new(0.0, 0.0, -1.0));
         assert!(warped(rect(), &a, &b, 8.0).is_none());
+        // Held: one quad over the rectangle, the whole frame on it.
+        let held = triangles(rect(), &a, &b, 8.0);
+        assert_eq!(held.len(), 6);
+        assert!(held.contains(&(rect().right_bottom(), Pos2::new(1.0, 1.0))));
+    }
+
+    #[test]
+    fn a_turn_draws_the_grid() {
+        let a = Camera::looking(Vec3::ZERO, Vec3::new(0.0, 0.0, -1.0));
+        let b = Camera::looking(Vec3::ZERO, Vec3::new(0.1, 0.0, -1.0));
+        assert_eq!(triangles(rect(), &a, &b, 8.0).len(), CELLS * CELLS * 6);
+        assert_eq!(triangles(rect(), &a, &a, 8.0).len(), 6);
     }
 }
