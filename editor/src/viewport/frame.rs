@@ -189,8 +189,10 @@ impl Viewport {
         // The background only where the frame leaves some: on a software rasterizer every
         // pixel the window paints twice costs (lavapipe spends about 0.1 s of CPU on a
         // 1280×800 window's frame).
-        let covered =
-            self.error.is_none() && (self.shown.as_ref()).is_some_and(|f| f.view.camera == *camera);
+        // (The picture's own paint callback draws its background itself.)
+        let covered = self.error.is_none()
+            && (self.shown.as_ref())
+                .is_some_and(|f| f.view.camera == *camera || self.picture_target.is_some());
         if !covered {
             painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
         }

@@ -11,7 +11,8 @@ use egui::{ColorImage, Pos2, Rect};
 use egui_wgpu::wgpu;
 
 /// One UI frame's picture: the frame's image (uploaded when its number is new) and the
-/// mesh's triangles, as screen points and texture coordinates.
+/// mesh's triangles, as screen points and texture coordinates; with more than one quad (a
+/// re-projected frame) the background is drawn under them.
 pub struct Picture {
     /// The frame's number and pixels.
     pub frame: (u64, Arc<ColorImage>),
@@ -34,8 +35,8 @@ struct Resources {
     count: u32,
 }
 
-/// Vertices the buffer holds: an 8 × 8 grid of quads, or one quad.
-const MAX_VERTICES: u64 = 6 * 64;
+/// Vertices the buffer holds: the background's quad and an 8 × 8 grid of quads.
+const MAX_VERTICES: u64 = 6 * 65;
 /// Bytes of one vertex: position (NDC) and uv.
 const STRIDE: u64 = 16;
 
@@ -46,8 +47,11 @@ struct Out { @builtin(position) pos: vec4<f32>, @location(0) uv: vec2<f32> };
 }
 @group(0) @binding(0) var picture: texture_2d<f32>;
 @group(0) @binding(1) var nearest: sampler;
+// The background where the picture leaves some: texture coordinates below 0.
+const BACKGROUND: vec3<f32> = vec3<f32>(24.0, 26.0, 30.0) / 255.0;
 @fragment fn fs(in: Out) -> @location(0) vec4<f32> {
-    return vec4<f32>(textureSample(picture, nearest, in.uv).rgb, 1.0);
+    let picture = textureSample(picture, nearest, max(in.uv, vec2<f32>(0.0))).rgb;
+    return vec4<f32>(select(picture, BACKGROUND, in.uv.x < 0.0), 1.0);
 }
 ";
 
@@ -225,8 +229,22 @@ impl egui_wgpu::CallbackTrait for Picture {
         };
         r.upload(device, queue, self.target, self.frame.0, &self.frame.1);
         let (min, size) = (self.rect.min, self.rect.size());
-        let mut bytes = Vec::with_capacity(self.triangles.len() * STRIDE as usize);
-        for (p, uv) in self.triangles.iter().take(MAX_VERTICES as usize) {
+        // A re-projected picture leaves an edge uncovered: the background first, drawn by
+        // the same opaque pipeline (egui's fill under it was blended, pixel by pixel).
+        let (area, held) = (self.rect, self.triangles.len() <= 6);
+        let below = Pos2::new(-1.0, -1.0);
+        let background = [
+            (area.left_top(), below),
+            (area.right_top(), below),
+            (area.right_bottom(), below),
+            (area.left_top(), below),
+            (area.right_bottom(), below),
+            (area.left_bottom(), below),
+        ];
+        let background = if held { &[][..] } else { &background[..] };
+        let all = background.iter().chain(&self.triangles);
+        let mut bytes = Vec::with_capacity((6 + self.triangles.len()) * STRIDE as usize);
+        for (p, uv) in all.take(MAX_VERTICES as usize) {
             let x = (p.x - min.x) / size.x * 2.0 - 1.0;
             let y = 1.0 - (p.y - min.y) / size.y * 2.0;
             for v in [x, y, uv.x, uv.y] {
