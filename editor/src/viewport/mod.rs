@@ -4,7 +4,9 @@
 //! switches to the game's walking camera from the player start without touching the document:
 //! the player collides, falls and rides the moving objects ([`play::PlayPhysics`]), which
 //! move only in Play.
-//! Debug views of the probes ([`debug`]) paint over the render in both modes.
+//! Debug views of the probes ([`debug`]) paint over the render in both modes. The level is
+//! drawn on a thread of its own ([`worker`]); the viewport shows its newest finished frame,
+//! re-projected for the camera of the moment ([`reproject`], [`picture`]).
 
 pub mod debug;
 pub mod drag;

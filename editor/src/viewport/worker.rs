@@ -1,5 +1,5 @@
-//! The render worker: a thread that owns the viewport's renderer ([`GpuView`], on eframe's
-//! own device) and draws the newest [`Request`], so the UI never waits for a frame.
+//! The render worker: a thread that owns the viewport's renderer ([`GpuView`]) and draws
+//! the newest [`Request`], so the UI never waits for a frame.
 //!
 //! - The UI hands over a request whenever what it wants drawn changes (camera, size,
 //!   document revision, method, debug views; every UI frame in Play). Requests coalesce:
@@ -7,10 +7,10 @@
 //!   any, is kept; the frame times add up).
 //! - The document goes over as a [`LevelSnapshot`] (its rows and shared assets) at most
 //!   once per frame the worker takes: a new snapshot is taken only when none is waiting.
-//! - It draws on a device of its own ([`GpuView::beside`], on eframe's adapter): on one
-//!   queue, a UI frame's few draws waited behind a whole viewport frame (on lavapipe, the
-//!   window answered no faster than the viewport rendered). A finished frame is read back
-//!   into an image the UI hands to egui as its texture, whole, at its next frame.
+//! - It draws on a device of its own ([`GpuView::beside`], on eframe's adapter; eframe's
+//!   own when the driver will not open a second): its errors stay its own, and the window's
+//!   paint queues apart from its frames. A finished frame is read back into an image the UI
+//!   uploads whole ([`super::picture`]) at its next frame.
 //! - A finished [`Frame`] or an error is published and a repaint asked of egui; after a
 //!   new request the worker draws [`SETTLE_FRAMES`] frames (one in Play), so probes finish
 //!   updating, then sleeps until the next.
