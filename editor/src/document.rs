@@ -19,6 +19,12 @@ use crate::files;
 /// ([`Document::entities_since`]).
 const MAX_ENTITY_CHANGES: usize = 4096;
 
+/// A new [`Document`] id.
+fn next_id() -> u64 {
+    static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(1);
+    NEXT.fetch_add(1, std::sync::atomic::Ordering::Relaxed)
+}
+
 /// A level open in the editor.
 pub struct Document {
     /// The scene and its assets; `level.path` is where they are resolved from.
@@ -27,6 +33,9 @@ pub struct Document {
     pub path: Option<PathBuf>,
     /// Bumped on every change, so views know when to rebuild what they derive.
     pub revision: u64,
+    /// Tells this document from every other one made in this process (a view keyed by
+    /// revision alone would take a document just opened for the one before).
+    id: u64,
     /// The heights each heightmap file (by level-relative path) held when it was last read or
     /// written: a terrain whose heights are still these is not written again on save.
     on_disk: BTreeMap<String, Arc<Heightfield>>,
@@ -51,6 +60,7 @@ impl Document {
             },
             path: None,
             revision: 0,
+            id: next_id(),
             on_disk: BTreeMap::new(),
             paint_on_disk: BTreeMap::new(),
             full_revision: 0,
@@ -66,6 +76,7 @@ impl Document {
             level,
             path: Some(path.to_owned()),
             revision: 0,
+            id: next_id(),
             on_disk: BTreeMap::new(),
             paint_on_disk: BTreeMap::new(),
             full_revision: 0,
@@ -93,6 +104,11 @@ impl Document {
                 self.paint_on_disk.insert(p.path.clone(), image.clone());
             }
         }
+    }
+
+    /// This document's id, unique in this process.
+    pub fn id(&self) -> u64 {
+        self.id
     }
 
     /// The scene.

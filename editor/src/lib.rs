@@ -48,7 +48,7 @@ pub fn run(path: Option<PathBuf>, stats: Option<PathBuf>) -> anyhow::Result<()> 
         Box::new(move |cc| {
             let gpu = cc.wgpu_render_state.clone();
             let mut app = app::EditorApp::open(Some(&path));
-            app.attach_gpu(gpu);
+            app.attach_gpu(gpu, &cc.egui_ctx);
             if let Some(log) = stats {
                 app.set_stats_log(log);
             }

@@ -2,13 +2,19 @@
 //! benchmarks and tests read what a person sees. Each line:
 //!
 //! ```text
-//! {"t_s": 3.0, "ui_frame_ms": 16.7, "render_ms": 142.0, "edit_to_frame_ms": 310.0,
-//!  "upload_ms": 280.0, "uploads": 2, "entities": 25, "playing": false}
+//! {"t_s": 3.0, "ui_frame_ms": 24.1, "ui_busy_ms": 3.2, "ui_fps": 41, "render_ms": 142.0,
+//!  "edit_to_frame_ms": 310.0, "upload_ms": 280.0, "uploads": 2, "entities": 25,
+//!  "playing": false}
 //! ```
 //!
-//! `render_ms` is the viewport's last render, `edit_to_frame_ms` the render of the first
-//! frame after the last edit (its upload included), `upload_ms` that upload alone (null
-//! before the first edit), `uploads` the scene uploads since the renderer started.
+//! `ui_frame_ms` is the wall time between the last two UI frames (the viewport renders on a
+//! thread of its own, so no viewport frame is in it; while nothing moves egui repaints only
+//! on input, and the gap is the wait for it), `ui_busy_ms` the UI thread's work on its last
+//! frame (eframe's measure: the UI and its painting, not the wait for the display),
+//! `ui_fps` the UI frames a second over the last second or more. `render_ms` is the render worker's last frame, `edit_to_frame_ms` the
+//! wall time from the UI frame that saw the last edit to the one that showed it, `upload_ms`
+//! the last scene upload (null before the first edit), `uploads` the scene uploads since the
+//! renderer started.
 
 use std::io::Write as _;
 use std::path::{Path, PathBuf};
@@ -22,6 +28,10 @@ pub const EVERY: Duration = Duration::from_secs(1);
 pub struct Figures {
     /// Wall time between the last two UI frames.
     pub ui_frame_ms: f64,
+    /// The UI thread's work on its last frame (the UI and its painting).
+    pub ui_busy_ms: f64,
+    /// UI frames a second, over the last second or more.
+    pub ui_fps: u32,
     /// The viewport's last render.
     pub render_ms: f64,
     /// The first frame after the last edit.
@@ -68,6 +78,8 @@ impl StatsLog {
         let line = serde_json::json!({
             "t_s": (self.started.elapsed().as_secs_f64() * 10.0).round() / 10.0,
             "ui_frame_ms": figures.ui_frame_ms,
+            "ui_busy_ms": figures.ui_busy_ms,
+            "ui_fps": figures.ui_fps,
             "render_ms": figures.render_ms,
             "edit_to_frame_ms": figures.edit_to_frame_ms,
             "upload_ms": figures.upload_ms,

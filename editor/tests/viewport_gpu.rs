@@ -1,9 +1,12 @@
 //! The viewport's GPU path on a headless device (lavapipe in CI): the level renders into a
 //! texture egui can show, picking returns the entity under a pixel, and an edit re-uploads
-//! the scene; the orthographic view renders from orthographic probes. Prints the frame times
-//! measured.
+//! the scene; the orthographic view renders from orthographic probes; the viewport's own
+//! picture (a paint callback) shows a frame's bytes, held or re-projected. Prints the frame
+//! times measured.
 
 use glam::{UVec2, Vec3};
+use texel_editor::viewport::picture::Picture;
+use texel_editor::viewport::reproject;
 use texel_render::context::test_context;
 use texel_render::input::Schedule;
 use texel_render::target::{FRAME_FORMAT, OffscreenTarget};
@@ -125,15 +128,30 @@ fn egui_draws(
     id: egui::TextureId,
     size: UVec2,
 ) -> Vec<u8> {
-    let target = OffscreenTarget::with_format(ctx, size.x, size.y, FRAME_FORMAT);
-    let rect =
-        egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.x as f32, size.y as f32));
+    let rect = rect_of(size);
     let mut mesh = egui::Mesh::with_texture(id);
     let uv = egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0));
     mesh.add_rect_with_uv(rect, uv, egui::Color32::WHITE);
+    egui_paints(ctx, egui, egui::epaint::Primitive::Mesh(mesh), size)
+}
+
+fn rect_of(size: UVec2) -> egui::Rect {
+    egui::Rect::from_min_size(egui::Pos2::ZERO, egui::vec2(size.x as f32, size.y as f32))
+}
+
+/// What egui paints of `primitive` over the whole of a plain RGBA8 target of `size`, as
+/// eframe's window: RGBA8 rows.
+fn egui_paints(
+    ctx: &texel_render::context::GpuContext,
+    egui: &egui::mutex::RwLock<egui_wgpu::Renderer>,
+    primitive: egui::epaint::Primitive,
+    size: UVec2,
+) -> Vec<u8> {
+    let target = OffscreenTarget::with_format(ctx, size.x, size.y, FRAME_FORMAT);
+    let rect = rect_of(size);
     let jobs = [egui::ClippedPrimitive {
         clip_rect: rect,
-        primitive: egui::epaint::Primitive::Mesh(mesh),
+        primitive,
     }];
     let screen = egui_wgpu::ScreenDescriptor {
         size_in_pixels: [size.x, size.y],
@@ -207,4 +225,60 @@ fn the_viewport_shows_the_colours_the_game_shows() {
         &shown[..4],
         &game[..4]
     );
+}
+
+#[test]
+fn the_viewports_own_picture_shows_the_frames_bytes() {
+    // Under eframe the viewport's picture is drawn by a paint callback of its own
+    // (`viewport::picture`: opaque, no blending), held or re-projected.
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let (mut gpu, egui) = support::gpu_view_and_egui(&ctx);
+    let level = support::stone_circle();
+    let camera = support::camera().camera();
+    let size = UVec2::new(160, 120);
+    let mut frame = (size, Vec::new());
+    for _ in 0..4 {
+        frame =
+            (gpu.render_pixels(&level, 0, camera, size, Schedule::Ours, 0.016)).expect("render");
+    }
+    let (size, game) = frame;
+    let image = egui::ColorImage::from_rgba_unmultiplied([size.x as usize, size.y as usize], &game);
+    let rect = rect_of(size);
+    let paint = |triangles| {
+        let picture = Picture {
+            frame: (1, std::sync::Arc::new(image.clone())),
+            triangles,
+            rect,
+            target: FRAME_FORMAT,
+        };
+        let callback = egui_wgpu::Callback::new_paint_callback(rect, picture);
+        egui_paints(
+            &ctx,
+            &egui,
+            egui::epaint::Primitive::Callback(callback),
+            size,
+        )
+    };
+    // Held: the frame's own bytes, pixel for pixel.
+    let shown = paint(reproject::triangles(rect, &camera, &camera, 6.0));
+    assert_eq!(shown.len(), game.len());
+    let off = (shown.chunks_exact(4).zip(game.chunks_exact(4)))
+        .filter(|(a, b)| (0..3).any(|c| a[c] != b[c]))
+        .count();
+    assert_eq!(off, 0, "{off} pixels differ from the frame's");
+    // Turned a little to the right: the picture moves left over the background, its right
+    // edge uncovered.
+    let mut turned = camera;
+    turned.forward = (camera.forward + camera.forward.cross(Vec3::Y) * 0.05).normalize();
+    let moved = paint(reproject::triangles(rect, &camera, &turned, 6.0));
+    let row = (size.y / 2 * size.x) as usize * 4;
+    let last = row + (size.x as usize - 1) * 4;
+    assert_eq!(
+        &moved[last..last + 3],
+        &[24, 26, 30],
+        "the background at the uncovered edge"
+    );
+    assert_ne!(moved, shown, "the picture moved");
 }

@@ -165,6 +165,15 @@ impl GpuContext {
                 .await
                 .map_err(|e| GpuError::NoAdapter(e.to_string()))?,
         };
+        Self::on_adapter(instance, adapter).await
+    }
+
+    /// Opens a device of its own on `adapter` (the editor's render worker opens one beside
+    /// eframe's, so that its frames queue apart from the window's).
+    pub async fn on_adapter(
+        instance: wgpu::Instance,
+        adapter: wgpu::Adapter,
+    ) -> Result<Self, GpuError> {
         let features = adapter.features() & TIMESTAMPS;
         let (device, queue) = adapter
             .request_device(&wgpu::DeviceDescriptor {

@@ -54,6 +54,8 @@ pub struct EditorApp {
     /// The selected entity's pixel-perfect numbers, for the document revision, selection and
     /// viewport they were computed for (a glTF mesh's density walks its triangles).
     pixel_info: Option<(PixelKey, Option<PixelInfo>)>,
+    /// eframe's measure of the UI thread's last frame, seconds (`None` in tests).
+    cpu_usage: Option<f32>,
 }
 
 type PixelKey = (u64, Option<usize>, u32);
@@ -85,6 +87,7 @@ impl EditorApp {
             assets_checked: 0,
             pixel_calc: PixelCalc::default(),
             pixel_info: None,
+            cpu_usage: None,
         };
         match path {
             Some(p) => app.load(p),
@@ -94,12 +97,20 @@ impl EditorApp {
         app
     }
 
-    /// Attaches eframe's wgpu renderer, so the viewport can render the level.
-    pub fn attach_gpu(&mut self, rs: Option<egui_wgpu::RenderState>) {
-        match rs.as_ref().map(GpuView::new) {
-            Some(Ok(gpu)) => self.viewport.gpu = Some(gpu),
-            Some(Err(e)) => self.viewport.error = Some(e),
-            None => {}
+    /// Attaches eframe's wgpu renderer, so the viewport can render the level: its render
+    /// worker starts, and asks `ctx` to repaint when a frame is done.
+    pub fn attach_gpu(&mut self, rs: Option<egui_wgpu::RenderState>, ctx: &egui::Context) {
+        let Some(rs) = rs else {
+            return;
+        };
+        // A device of its own for the viewport; eframe's if the driver will not open a
+        // second one (the window's frames then queue with the viewport's).
+        match GpuView::beside(&rs).or_else(|_| GpuView::new(&rs)) {
+            Ok(gpu) => {
+                self.viewport.attach(gpu, ctx.clone());
+                self.viewport.picture_target = Some(rs.target_format);
+            }
+            Err(e) => self.viewport.error = Some(e),
         }
     }
 
@@ -125,6 +136,7 @@ impl EditorApp {
 
     /// One frame of the whole UI.
     pub fn ui(&mut self, ui: &mut Ui) {
+        let started = Instant::now();
         let ctx = ui.ctx().clone();
         self.ctx = Some(ctx.clone());
         let mut actions = self.shortcuts(&ctx);
@@ -216,6 +228,10 @@ impl EditorApp {
         self.end_gesture(&ctx);
         self.close_request(&ctx);
         self.autosave();
+        // The UI thread's own time: eframe's measure of the last frame (the UI and its
+        // painting) when there is one, else this update's.
+        let own = started.elapsed().as_secs_f32();
+        self.viewport.ui_busy_ms = self.cpu_usage.take().unwrap_or(own) * 1e3;
         self.log_stats();
         let title = self.title();
         if title != self.title {
@@ -226,8 +242,7 @@ impl EditorApp {
 
     fn status(&self, ui: &mut Ui) {
         ui.horizontal(|ui| {
-            let r = self.viewport.gpu.as_ref().map(|g| &g.report);
-            match r {
+            match self.viewport.report() {
                 Some(r) => {
                     // Before the first edit, what the renderer's start took.
                     let (what, ms) = match r.upload_ms {
@@ -269,9 +284,17 @@ impl EditorApp {
                 }
             }
             ui.separator();
-            ui.label(format!("ui frame {:.0} ms", self.viewport.ui_frame_ms));
             ui.label(format!(
-                "edit stall {:.0} ms · {:?}",
+                "ui frame {:.0} ms · {} a second",
+                self.viewport.ui_frame_ms, self.viewport.ui_fps
+            ))
+            .on_hover_text(format!(
+                "the UI thread worked {:.1} ms of its last frame (the rest waited for the \
+                 display); the viewport renders on a thread of its own",
+                self.viewport.ui_busy_ms
+            ));
+            ui.label(format!(
+                "edit to frame {:.0} ms · {:?}",
                 self.viewport.edit_stall_ms, self.viewport.schedule
             ));
             ui.separator();
@@ -449,9 +472,11 @@ impl EditorApp {
         let Some(log) = &mut self.stats else {
             return;
         };
-        let report = self.viewport.gpu.as_ref().map(|g| &g.report);
+        let report = self.viewport.report();
         let figures = crate::stats_log::Figures {
             ui_frame_ms: f64::from(self.viewport.ui_frame_ms),
+            ui_busy_ms: f64::from(self.viewport.ui_busy_ms),
+            ui_fps: self.viewport.ui_fps,
             render_ms: report.map_or(0.0, |r| r.frame_ms),
             edit_to_frame_ms: self.viewport.edit_stall_ms,
             upload_ms: report.and_then(|r| r.upload_ms),
@@ -480,7 +505,8 @@ impl EditorApp {
 }
 
 impl eframe::App for EditorApp {
-    fn ui(&mut self, ui: &mut Ui, _frame: &mut eframe::Frame) {
+    fn ui(&mut self, ui: &mut Ui, frame: &mut eframe::Frame) {
+        self.cpu_usage = frame.info().cpu_usage;
         EditorApp::ui(self, ui);
     }
 }

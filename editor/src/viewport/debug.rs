@@ -100,6 +100,31 @@ const NEXT_COLOUR: Color32 = Color32::from_rgb(140, 255, 120);
 /// Edge pieces per cell edge, so edges passing behind the camera keep their visible part.
 const EDGE_PIECES: usize = 6;
 
+/// The last frame's GPU data the debug views read: a [`GpuView`] reads it back when asked,
+/// a frame of the render worker carries what the worker read back after drawing it.
+pub trait FrameData {
+    /// The probes the frame drew.
+    fn probes(&self) -> Option<LastProbes>;
+    /// Per pixel of the frame: entity id and whether the eye probe drew it.
+    fn frame_ids(&self) -> Result<FrameIds, String>;
+    /// The six lit faces of `view`'s slot (sRGB8 RGBA, `n × n` texels each), with `n`.
+    fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String>;
+}
+
+impl FrameData for GpuView {
+    fn probes(&self) -> Option<LastProbes> {
+        self.probes
+    }
+
+    fn frame_ids(&self) -> Result<FrameIds, String> {
+        GpuView::frame_ids(self)
+    }
+
+    fn probe_faces(&self, view: &ProbeView) -> Result<(u32, Vec<Vec<u8>>), String> {
+        GpuView::probe_faces(self, view)
+    }
+}
+
 /// The grid probe's faces as last read back.
 struct Faces {
     key: FacesKey,
@@ -118,43 +143,49 @@ pub struct DebugState {
 }
 
 impl DebugState {
-    /// Reads back what the views that are on need: after a render (`rendered`), or when
-    /// a view was just switched on. `settled` says the frame was the last of a settle run
-    /// (the probe faces are complete then).
-    pub fn update(&mut self, ctx: &egui::Context, gpu: &GpuView, rendered: bool, settled: bool) {
+    /// Takes what the views that are on need from the last frame's `data`: after a new
+    /// frame (`rendered`), or when a view was just switched on. `settled` says the frame was
+    /// the last of a settle run (the probe faces are complete then).
+    pub fn update(
+        &mut self,
+        ctx: &egui::Context,
+        data: &dyn FrameData,
+        rendered: bool,
+        settled: bool,
+    ) {
         if !self.flags.eye_pixels {
             self.eye_tint = None;
         } else if rendered || self.eye_tint.is_none() {
-            self.readbacks += 1;
             // No frame yet gives an empty image, which egui cannot hold as a texture.
-            if let Ok(ids) = gpu.frame_ids()
+            if let Ok(ids) = data.frame_ids()
                 && ids.size.x > 0
                 && ids.size.y > 0
                 && ids.from_eye.len() == (ids.size.x * ids.size.y) as usize
             {
+                self.readbacks += 1;
                 let image = eye_mask(&ids);
                 self.eye_tint = Some(ctx.load_texture("debug::eye", image, nearest()));
             }
         }
         if !self.flags.cube_faces {
             self.faces = None;
-        } else if let Some(p) = gpu.probes {
+        } else if let Some(p) = data.probes() {
             let key = probe_key(&p.grid);
             let stale = self.faces.as_ref().is_none_or(|f| f.key != key);
-            if stale || (rendered && settled) {
+            if (stale || (rendered && settled))
+                && let Ok((n, faces)) = data.probe_faces(&p.grid)
+            {
                 self.readbacks += 1;
-                if let Ok((n, faces)) = gpu.probe_faces(&p.grid) {
-                    let textures = faces
-                        .into_iter()
-                        .enumerate()
-                        .map(|(i, rgba)| {
-                            let size = [n as usize, n as usize];
-                            let image = ColorImage::from_rgba_unmultiplied(size, &rgba);
-                            ctx.load_texture(format!("debug::face{i}"), image, nearest())
-                        })
-                        .collect();
-                    self.faces = Some(Faces { key, textures });
-                }
+                let textures = faces
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, rgba)| {
+                        let size = [n as usize, n as usize];
+                        let image = ColorImage::from_rgba_unmultiplied(size, &rgba);
+                        ctx.load_texture(format!("debug::face{i}"), image, nearest())
+                    })
+                    .collect();
+                self.faces = Some(Faces { key, textures });
             }
         }
     }
@@ -371,9 +402,11 @@ fn nearest() -> TextureOptions {
 
 /// Slot, origin bits, face resolution and captured faces of a probe: the faces are read
 /// again when any of these changes.
-type FacesKey = (usize, [u32; 3], u32, u8);
+/// What identifies a probe's faces: slot, origin, face resolution, captured faces.
+pub type FacesKey = (usize, [u32; 3], u32, u8);
 
-fn probe_key(v: &ProbeView) -> FacesKey {
+/// The [`FacesKey`] of `v`.
+pub fn probe_key(v: &ProbeView) -> FacesKey {
     (
         v.slot as usize,
         v.origin.to_array().map(f32::to_bits),

@@ -1,15 +1,23 @@
 //! The steps of one viewport frame that [`Viewport::show`] takes in turn: the keyboard
-//! shortcuts, the render's size, the render itself (while frames are left to settle), and
-//! painting it with what goes over it.
+//! shortcuts, the newest frame from the render worker, the size to ask for, the request
+//! handed to the worker, and painting the shown frame with what goes over it.
 
 use egui::{Color32, Key, PointerButton};
 use glam::UVec2;
 use std::time::Instant;
+use texel_render::input::Camera;
 
 use super::gizmo::Mode;
-use super::{SCALE_MOVING, SCALE_STILL, SETTLE_FRAMES, ViewMode, Viewport, overlay};
+use super::picture::Picture;
+use super::play::PlayPhysics;
+use super::worker::{LevelSnapshot, Request, View};
+use super::{SCALE_MOVING, SCALE_STILL, ViewMode, Viewport, reproject};
 use crate::command::CommandError;
 use crate::state::EditorState;
+
+/// The depth Play's frames are re-projected at, units: about where the walls and floor the
+/// player walks past are.
+const PLAY_DEPTH: f32 = 6.0;
 
 impl Viewport {
     /// The viewport's keys outside Play (and while no text field takes the keyboard): W, E,
@@ -44,125 +52,152 @@ impl Viewport {
         Ok(())
     }
 
-    /// The size to render `rect` at (coarser while the view moves or an edit lands), and
-    /// whether the document was edited since the last frame; a new revision, camera or size
-    /// (or Play) starts the frames that settle the render again.
+    /// Takes the newest frame the worker finished (and its error, and the answer to a
+    /// pick); returns whether it is a new one. A frame that shows the oldest edit not yet
+    /// shown times it ([`Viewport::edit_stall_ms`]).
+    pub(super) fn take_frame(&mut self, ctx: &egui::Context, state: &mut EditorState) -> bool {
+        let Some(worker) = &self.worker else {
+            return false;
+        };
+        let (frame, error) = worker.newest();
+        if let Some((n, answer)) = worker.picked()
+            && self.picking == Some(n)
+        {
+            self.picking = None;
+            match answer {
+                Ok(id) => state.selection = id.and_then(texel_runtime::frame_plan::entity_index),
+                Err(e) => self.pick_error = Some(e),
+            }
+        }
+        self.error = error.or_else(|| self.pick_error.clone());
+        let rendered = frame.as_ref().map(|f| f.number) != self.shown.as_ref().map(|f| f.number);
+        if let (Some(f), Some((edit, seen))) = (&frame, self.edit_seen)
+            && f.document.0 == edit.0
+            && f.document.1 >= edit.1
+        {
+            self.edit_stall_ms = seen.elapsed().as_secs_f64() * 1e3;
+            self.edit_seen = None;
+        }
+        if rendered
+            && self.picture_target.is_none()
+            && let Some(f) = &frame
+        {
+            // egui uploads it before painting this UI frame.
+            let options = egui::TextureOptions::NEAREST;
+            match &mut self.texture {
+                Some(t) => t.set(f.image.clone(), options),
+                None => self.texture = Some(ctx.load_texture("viewport", f.image.clone(), options)),
+            }
+        }
+        self.shown = frame;
+        rendered
+    }
+
+    /// The size to render `rect` at: coarser while the view moves or an edit lands, that
+    /// is while the shown frame is not of this camera or this revision (not in Play). The
+    /// frame of the still view follows at the finer size.
     pub(super) fn render_size(
         &mut self,
         ctx: &egui::Context,
         rect: egui::Rect,
         state: &EditorState,
-    ) -> (UVec2, bool) {
-        // An edit (a gizmo or inspector drag, or a single change) renders its first frame
-        // cheaply too: the scene upload and new probes then cost less, and the still
-        // resolution refines it on the next frame.
-        let edited = self.last.is_some_and(|l| l.0 != state.document.revision);
-        if edited {
-            self.moving = true;
-        }
+        camera: &Camera,
+    ) -> UVec2 {
+        let document = (state.document.id(), state.document.revision);
+        let moving = !self.playing()
+            && (self.shown.as_ref())
+                .is_some_and(|f| f.view.camera != *camera || f.document != document);
         let ppp = ctx.pixels_per_point();
-        let scale = if self.moving {
-            SCALE_MOVING
-        } else {
-            SCALE_STILL
-        };
-        let size = UVec2::new(
+        let scale = if moving { SCALE_MOVING } else { SCALE_STILL };
+        self.still_height = (rect.height() * ppp * SCALE_STILL).max(16.0) as u32;
+        UVec2::new(
             (rect.width() * ppp * scale).max(16.0) as u32,
             (rect.height() * ppp * scale).max(16.0) as u32,
-        );
-        self.still_height = (rect.height() * ppp * SCALE_STILL).max(16.0) as u32;
-        let key = (state.document.revision, self.camera, size);
-        let changed = self.last != Some(key) || self.playing();
-        if changed {
-            self.settle = SETTLE_FRAMES;
-            self.last = Some(key);
-        }
-        (size, edited)
+        )
     }
 
-    /// Renders the level through `camera` at `size` while frames are left to settle, after
-    /// bringing the ground grid (not in Play) and the texel-density view up to date; an
-    /// edit's first frame is timed. Returns whether a frame was rendered.
-    pub(super) fn render(
+    /// Hands the worker what this UI frame wants drawn, when that changed since it was last
+    /// handed over (every frame in Play): the view, and a snapshot of the document when it
+    /// changed and no snapshot waits (else the next UI frame sends it).
+    pub(super) fn request_frame(
         &mut self,
-        ctx: &egui::Context,
         state: &EditorState,
-        camera: texel_render::input::Camera,
+        camera: Camera,
         size: UVec2,
         dt: f32,
-        edited: bool,
-    ) -> bool {
-        // The ground grid is drawn by the renderer, hidden by the scene; not in Play.
-        let grid = !self.playing();
-        let Some(gpu) = &mut self.gpu else {
-            return false;
+    ) {
+        let Some(worker) = &self.worker else {
+            return;
         };
-        if self.grid_lines != Some(grid) {
-            let lines = if grid {
-                overlay::grid_lines()
-            } else {
-                Vec::new()
-            };
-            gpu.set_lines(&lines);
-            self.grid_lines = Some(grid);
-            self.settle = SETTLE_FRAMES;
+        let playing = self.playing();
+        let flags = self.debug.flags;
+        let view = View {
+            camera,
+            size,
+            schedule: self.schedule,
+            // The ground grid is drawn by the renderer, hidden by the scene; not in Play.
+            grid: !playing,
+            density: flags.texel_density,
+            eye_pixels: flags.eye_pixels,
+            cube_faces: flags.cube_faces,
+            playing,
+        };
+        let doc = &state.document;
+        let key = (doc.id(), doc.revision);
+        let new_level = self.sent_level.map(|s| (s.0, s.1)) != Some(key);
+        if new_level && self.sent_level.is_some() && self.edit_seen.is_none() {
+            self.edit_seen = Some((key, Instant::now()));
         }
-        let density = self.debug.flags.texel_density;
-        if gpu.texture_density_view() != density {
-            if let Err(e) = gpu.set_texture_density_view(density) {
-                self.error = Some(e);
+        let level = (new_level && !worker.snapshot_waiting()).then(|| {
+            let number = self.sent_level.map_or(0, |s| s.2) + 1;
+            let before = (self.sent_level).filter(|s| s.0 == key.0);
+            let since = before.and_then(|s| doc.region_since(s.1).map(|r| (s.2, r)));
+            let entities = before.and_then(|s| doc.entities_since(s.1).map(|e| (s.2, e)));
+            self.sent_level = Some((key.0, key.1, number));
+            LevelSnapshot {
+                number,
+                document: key,
+                since,
+                entities,
+                path: doc.level.path.clone(),
+                rows: doc.level.scene.to_level(),
+                assets: doc.level.assets.clone(),
             }
-            self.settle = SETTLE_FRAMES;
+        });
+        if level.is_none() && !playing && self.sent_view == Some(view) {
+            return;
         }
-        let rendered = self.settle > 0;
-        if rendered {
-            let t = Instant::now();
-            let since = gpu.session_revision();
-            gpu.use_region(since.and_then(|r| state.document.region_since(r)));
-            gpu.use_entities(since.and_then(|r| state.document.entities_since(r)));
-            let r = gpu.render(
-                &state.document.level,
-                state.document.revision,
-                camera,
-                size,
-                self.schedule,
-                dt,
-            );
-            self.error = r.err();
-            if edited {
-                self.edit_stall_ms = t.elapsed().as_secs_f64() * 1e3;
-            }
-            self.settle -= 1;
-            ctx.request_repaint();
-        }
-        rendered
+        let time = self.physics.as_ref().map_or(0.0, PlayPhysics::time);
+        worker.submit(Request {
+            view,
+            dt,
+            time,
+            level,
+        });
+        self.sent_view = Some(view);
     }
 
-    /// Paints the last render into `rect` (and lets the debug views read this frame's
-    /// counters), or says why there is none: no GPU renderer, or the render's error.
+    /// Paints the shown frame into `rect` (and lets the debug views take this frame's
+    /// data), or says why there is none: no GPU renderer, or the render's error.
     pub(super) fn paint_render(
         &mut self,
         ctx: &egui::Context,
         painter: &egui::Painter,
         rect: egui::Rect,
+        camera: &Camera,
         rendered: bool,
     ) {
-        if let Some(gpu) = &mut self.gpu {
-            if self.error.is_none()
-                && let Some(id) = gpu.texture()
-            {
-                painter.image(
-                    id,
-                    rect,
-                    egui::Rect::from_min_max(egui::pos2(0.0, 0.0), egui::pos2(1.0, 1.0)),
-                    Color32::WHITE,
-                );
-            }
-            if self.error.is_none() {
-                self.debug
-                    .update(ctx, gpu, rendered, rendered && self.settle == 0);
-            }
-        } else {
+        // The background only where the frame leaves some: on a software rasterizer every
+        // pixel the window paints twice costs (lavapipe spends about 0.1 s of CPU on a
+        // 1280×800 window's frame).
+        // (The picture's own paint callback draws its background itself.)
+        let covered = self.error.is_none()
+            && (self.shown.as_ref())
+                .is_some_and(|f| f.view.camera == *camera || self.picture_target.is_some());
+        if !covered {
+            painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
+        }
+        if self.worker.is_none() {
             painter.text(
                 rect.center(),
                 egui::Align2::CENTER_CENTER,
@@ -170,6 +205,34 @@ impl Viewport {
                 egui::FontId::proportional(14.0),
                 Color32::GRAY,
             );
+        }
+        if let Some(frame) = &self.shown
+            && self.error.is_none()
+        {
+            let depth = match self.mode {
+                // The render camera of the orthographic view stands pulled back.
+                ViewMode::Edit if self.camera.ortho => {
+                    self.camera.distance * (1.0 + crate::camera::ORTHO_PULL_BACK)
+                }
+                ViewMode::Edit => self.camera.distance,
+                ViewMode::Play(_) => PLAY_DEPTH,
+            };
+            let triangles = reproject::triangles(rect, &frame.view.camera, camera, depth);
+            match (self.picture_target, &self.texture) {
+                (Some(target), _) => {
+                    let picture = Picture {
+                        frame: (frame.number, frame.image.clone()),
+                        triangles,
+                        rect,
+                        target,
+                    };
+                    painter.add(egui_wgpu::Callback::new_paint_callback(rect, picture));
+                }
+                (None, Some(texture)) => reproject::paint(painter, texture.id(), &triangles),
+                (None, None) => {}
+            }
+            self.debug
+                .update(ctx, &**frame, rendered, rendered && frame.settled);
         }
         if let Some(e) = &self.error {
             painter.text(

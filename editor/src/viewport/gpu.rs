@@ -1,6 +1,8 @@
-//! The level rendered by a `texel_runtime` session on eframe's own wgpu device, into a
-//! texture egui shows. The level is handed to the session again only when the document
-//! changed (the session re-plans by itself when the output size changes). The session's
+//! The level rendered by a `texel_runtime` session: on eframe's own wgpu device into a
+//! texture egui shows ([`GpuView::render`]), or on a device of its own into pixels
+//! ([`GpuView::beside`], [`GpuView::render_pixels`]: the editor's render worker). The level
+//! is handed to the session again only when the document changed (the session re-plans by
+//! itself when the output size changes). The session's
 //! animation clock stands still at 0 outside Play, so moving objects stay put while they are
 //! edited, and runs from 0 in Play.
 
@@ -16,7 +18,7 @@ use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
 use texel_runtime::load::LoadedLevel;
-use texel_runtime::session::{EditUpdate, FrameRequest, Session, SessionError};
+use texel_runtime::session::{DrawnFrame, EditUpdate, FrameRequest, Session, SessionError};
 
 /// The viewport texture's format: the renderer's own frame format, plain 8-bit holding its
 /// sRGB-encoded colours as they are. egui samples it so: its shader takes a texture's values
@@ -68,7 +70,9 @@ pub struct GpuView {
     density_view: bool,
     /// Whether the animation clock runs (Play; kept for a session made later).
     animating: bool,
-    egui: Arc<RwLock<egui_wgpu::Renderer>>,
+    /// The egui renderer [`GpuView::render`] registers its texture with (`None` for a view
+    /// that only renders pixels, [`GpuView::offscreen`]).
+    egui: Option<Arc<RwLock<egui_wgpu::Renderer>>>,
     target: Option<Target>,
     /// A box that every change since the session's revision fell in (terrain heights during
     /// a stroke): the next render updates only the probe faces that see it.
@@ -119,13 +123,40 @@ impl GpuView {
             lines: Vec::new(),
             density_view: false,
             animating: false,
-            egui: rs.renderer.clone(),
+            egui: Some(rs.renderer.clone()),
             target: None,
             region: None,
             entities: None,
             report: RenderReport::default(),
             probes: None,
         })
+    }
+
+    /// A view rendering with a device of its own, opened on eframe's adapter: the render
+    /// worker's, whose frames then queue apart from the window's (a UI frame never waits
+    /// behind a viewport frame on one queue). It renders pixels ([`GpuView::render_pixels`]).
+    pub fn beside(rs: &egui_wgpu::RenderState) -> Result<Self, String> {
+        let (instance, adapter) = (rs.instance.clone(), rs.adapter.clone());
+        let ctx = pollster::block_on(GpuContext::on_adapter(instance, adapter))
+            .map_err(|e| format!("cannot open a device for the viewport: {e}"))?;
+        Ok(Self::offscreen(ctx))
+    }
+
+    /// A view on `ctx` that renders pixels only ([`GpuView::render_pixels`]).
+    pub fn offscreen(ctx: GpuContext) -> Self {
+        GpuView {
+            ctx,
+            session: None,
+            lines: Vec::new(),
+            density_view: false,
+            animating: false,
+            egui: None,
+            target: None,
+            region: None,
+            entities: None,
+            report: RenderReport::default(),
+            probes: None,
+        }
     }
 
     /// The document revision the session shows, once there is one.
@@ -147,8 +178,8 @@ impl GpuView {
         self.entities = entities;
     }
 
-    /// Renders `level` (at document `revision`) from `camera` at `size` and returns the
-    /// texture to show.
+    /// Renders `level` (at document `revision`) from `camera` at `size` into a texture
+    /// registered with egui, and returns it.
     pub fn render(
         &mut self,
         level: &LoadedLevel,
@@ -159,6 +190,57 @@ impl GpuView {
         dt: f32,
     ) -> Result<egui::TextureId, String> {
         let size = size.max(UVec2::splat(16));
+        self.prepare(level, revision, camera, size)?;
+        let id = self.ensure_target(size)?;
+        let target = self.target.as_ref().ok_or("no target")?.draw.clone();
+        let request = FrameRequest {
+            camera,
+            dt,
+            schedule,
+            size,
+        };
+        let t = Instant::now();
+        let (session, _) = self.session.as_mut().ok_or("no session")?;
+        let frame = (session.draw(&self.ctx, &request, &target)).map_err(|e| e.to_string())?;
+        self.finish(&frame, t, size);
+        Ok(id)
+    }
+
+    /// [`GpuView::render`] offscreen: the frame read back as RGBA8 rows, its colours
+    /// sRGB-encoded as the game presents them ([`RenderReport::frame_ms`] counts the read).
+    pub fn render_pixels(
+        &mut self,
+        level: &LoadedLevel,
+        revision: u64,
+        camera: Camera,
+        size: UVec2,
+        schedule: Schedule,
+        dt: f32,
+    ) -> Result<(UVec2, Vec<u8>), String> {
+        let size = size.max(UVec2::splat(16));
+        self.prepare(level, revision, camera, size)?;
+        let request = FrameRequest {
+            camera,
+            dt,
+            schedule,
+            size,
+        };
+        let t = Instant::now();
+        let (session, _) = self.session.as_mut().ok_or("no session")?;
+        let (frame, pixels) =
+            (session.draw_offscreen(&self.ctx, &request)).map_err(|e| e.to_string())?;
+        self.finish(&frame, t, size);
+        Ok((size, pixels))
+    }
+
+    /// Makes the session, or hands it `level` when `revision` is not the one it shows.
+    fn prepare(
+        &mut self,
+        level: &LoadedLevel,
+        revision: u64,
+        camera: Camera,
+        size: UVec2,
+    ) -> Result<(), String> {
         let err = |e: SessionError| e.to_string();
         let t = Instant::now();
         match &mut self.session {
@@ -203,21 +285,13 @@ impl GpuView {
                 self.report.upload_ms = None;
             }
         }
-        let id = self.ensure_target(size);
-        let target = self.target.as_ref().ok_or("no target")?;
-        let (session, _) = self.session.as_mut().ok_or("no session")?;
-        let request = FrameRequest {
-            camera,
-            dt,
-            schedule,
-            size,
-        };
-        let t = Instant::now();
-        let frame = session
-            .draw(&self.ctx, &request, &target.draw)
-            .map_err(err)?;
-        self.report.frame_ms = t.elapsed().as_secs_f64() * 1e3;
-        let input = frame.input;
+        Ok(())
+    }
+
+    /// Records what the frame `frame`, begun at `started`, cost and drew.
+    fn finish(&mut self, frame: &DrawnFrame, started: Instant, size: UVec2) {
+        self.report.frame_ms = started.elapsed().as_secs_f64() * 1e3;
+        let input = &frame.input;
         let other = match (input.filling_ahead, input.previous) {
             (true, _) => Some((OtherProbe::Next, input.grid)),
             (false, p) => p.map(|p| (OtherProbe::Previous, p)),
@@ -227,9 +301,8 @@ impl GpuView {
             grid: *input.cell_probe(),
             other,
         });
-        self.report.stats = Some(frame.stats);
+        self.report.stats = Some(frame.stats.clone());
         self.report.size = size;
-        Ok(id)
     }
 
     /// The entity id under `pixel` of the last frame (`texel_runtime::frame_plan::entity_id`).
@@ -255,11 +328,24 @@ impl GpuView {
         (self.renderer()?.read_lit_faces(&self.ctx, view.slot)).map_err(|e| e.to_string())
     }
 
-    fn ensure_target(&mut self, size: UVec2) -> egui::TextureId {
+    /// The texture of `slot`, made (or made again) at `size`; a size the device cannot hold
+    /// is an error, before wgpu would raise one.
+    fn ensure_target(&mut self, size: UVec2) -> Result<egui::TextureId, String> {
         if let Some(t) = &self.target
             && t.size == size
         {
-            return t.id;
+            return Ok(t.id);
+        }
+        let egui = self
+            .egui
+            .clone()
+            .ok_or("this view renders offscreen only")?;
+        let max = self.ctx.device.limits().max_texture_dimension_2d;
+        if size.x > max || size.y > max {
+            return Err(format!(
+                "a {}×{} viewport is larger than the device's textures ({max} pixels)",
+                size.x, size.y
+            ));
         }
         let texture = self.ctx.device.create_texture(&wgpu::TextureDescriptor {
             label: Some("editor::viewport"),
@@ -276,7 +362,7 @@ impl GpuView {
             view_formats: &[],
         });
         let view = texture.create_view(&wgpu::TextureViewDescriptor::default());
-        let mut egui = self.egui.write();
+        let mut egui = egui.write();
         let id = match self.target.take() {
             Some(old) => {
                 egui.update_egui_texture_from_wgpu_texture(
@@ -296,7 +382,7 @@ impl GpuView {
             id,
             size,
         });
-        id
+        Ok(id)
     }
 }
 
@@ -354,5 +440,19 @@ impl GpuView {
     /// The texture of the last frame, if one was rendered.
     pub fn texture(&self) -> Option<egui::TextureId> {
         self.target.as_ref().map(|t| t.id)
+    }
+
+    /// Draws the next frame's moving objects at `t` seconds (Play's physics clock, which the
+    /// worker follows so the player rides what is drawn).
+    pub fn set_animation_time(&mut self, t: f64) {
+        if let Some((session, _)) = &mut self.session {
+            session.set_animation_time(t);
+        }
+    }
+
+    /// Drops the session (after a panic left it in doubt): the next render makes a new one.
+    pub fn reset(&mut self) {
+        self.session = None;
+        self.probes = None;
     }
 }

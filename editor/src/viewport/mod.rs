@@ -4,7 +4,9 @@
 //! switches to the game's walking camera from the player start without touching the document:
 //! the player collides, falls and rides the moving objects ([`play::PlayPhysics`]), which
 //! move only in Play.
-//! Debug views of the probes ([`debug`]) paint over the render in both modes.
+//! Debug views of the probes ([`debug`]) paint over the render in both modes. The level is
+//! drawn on a thread of its own ([`worker`]); the viewport shows its newest finished frame,
+//! re-projected for the camera of the moment ([`reproject`], [`picture`]).
 
 pub mod debug;
 pub mod drag;
@@ -13,13 +15,17 @@ pub mod gizmo;
 pub mod gpu;
 pub mod handles;
 pub mod overlay;
+pub mod picture;
 pub mod play;
+pub mod reproject;
 pub mod terrain_tool;
+pub mod worker;
 
+use std::sync::Arc;
 use std::time::Instant;
 
 use egui::{Color32, Key, PointerButton, Sense, Ui};
-use glam::{UVec2, Vec2, Vec3};
+use glam::{Vec2, Vec3};
 use texel_render::input::Schedule;
 use texel_runtime::extract::Viewport as ExtractViewport;
 use texel_runtime::first_person::{InputState, WalkCamera};
@@ -31,18 +37,17 @@ use crate::state::EditorState;
 use debug::DebugState;
 use drag::Pointer;
 use gizmo::{Drag, Mode};
-use gpu::GpuView;
+use gpu::{GpuView, RenderReport};
 use handles::FaceDrag;
 use play::PlayPhysics;
 use terrain_tool::TerrainTool;
+use worker::{Frame, RenderWorker, View};
 
 /// Internal resolution relative to the panel's physical pixels while the view is still, and
 /// while it moves (cheaper frames keep the camera responsive on a CPU rasterizer).
 pub const SCALE_STILL: f32 = 0.5;
 /// See [`SCALE_STILL`].
 pub const SCALE_MOVING: f32 = 0.25;
-/// Frames rendered after the last change, so that probes finish updating.
-const SETTLE_FRAMES: u32 = 6;
 /// Fly speed of the editor camera, units per second.
 const FLY_SPEED: f32 = 6.0;
 /// Internal height assumed before the viewport was first drawn (an 800-point panel at
@@ -68,20 +73,33 @@ pub struct Viewport {
     pub schedule: Schedule,
     /// Gizmo mode.
     pub gizmo: Mode,
-    /// The GPU renderer, when eframe runs on wgpu.
-    pub gpu: Option<GpuView>,
+    /// The thread drawing the level, when eframe runs on wgpu ([`worker`]).
+    pub worker: Option<RenderWorker>,
     /// The last render or GPU error.
     pub error: Option<String>,
-    /// Wall time between the last two UI frames, ms (what the person feels).
+    /// The frame shown: the newest the worker finished, and its texture.
+    pub shown: Option<Arc<Frame>>,
+    texture: Option<egui::TextureHandle>,
+    /// The format of egui's render target when the picture is drawn by its own paint
+    /// callback ([`picture`]; under eframe), else `None` (an egui image: tests).
+    pub picture_target: Option<wgpu::TextureFormat>,
+    /// Wall time between the last two UI frames, ms (what the person feels while the
+    /// window repaints; the viewport's frames are drawn elsewhere, so it no longer holds
+    /// one).
     pub ui_frame_ms: f32,
+    /// Time the UI thread worked on its last frame, ms: eframe's measure (the UI and its
+    /// painting, not waiting for the display), or the UI's own update where there is none.
+    pub ui_busy_ms: f32,
+    /// UI frames in the last whole second.
+    pub ui_fps: u32,
     /// Debug views and what they read back.
     pub debug: DebugState,
     /// Whether the pointer is grabbed (hidden and held) for Play.
     pub grabbed: bool,
     /// Where the viewport was drawn last (screen points).
     pub rect: Option<egui::Rect>,
-    /// Wall time of the render of the first frame after the last edit (scene upload,
-    /// frame driver, first frame), ms.
+    /// Wall time from the UI frame that first saw the last edit to the UI frame that first
+    /// showed a frame with it (its snapshot, upload and frame on the worker included), ms.
     pub edit_stall_ms: f64,
     /// The terrain tool.
     pub terrain: TerrainTool,
@@ -93,12 +111,20 @@ pub struct Viewport {
     drag: Option<Drag>,
     face_drag: Option<FaceDrag>,
     /// Whether the renderer was last given the grid (`None`: never told).
-    grid_lines: Option<bool>,
     grab_lost: bool,
-    settle: u32,
-    last: Option<(u64, EditorCamera, UVec2)>,
+    /// What the worker was last handed, and the last level snapshot: document id,
+    /// revision and snapshot number.
+    sent_view: Option<View>,
+    sent_level: Option<(u64, u64, u64)>,
+    /// The oldest edit no frame shows yet: document (id, revision), and when it was seen.
+    edit_seen: Option<((u64, u64), Instant)>,
+    /// The pick asked of the worker, if one is on its way, and the last pick's error.
+    picking: Option<u64>,
+    pick_error: Option<String>,
+    /// UI frames counted in the current second, and when it began.
+    fps_count: (u32, Option<Instant>),
+    /// When the last UI frame began.
     clock: Option<Instant>,
-    moving: bool,
 }
 
 impl Default for Viewport {
@@ -108,9 +134,14 @@ impl Default for Viewport {
             mode: ViewMode::Edit,
             schedule: Schedule::Ours,
             gizmo: Mode::Translate,
-            gpu: None,
+            worker: None,
             error: None,
+            shown: None,
+            texture: None,
+            picture_target: None,
             ui_frame_ms: 0.0,
+            ui_busy_ms: 0.0,
+            ui_fps: 0,
             debug: DebugState::default(),
             grabbed: false,
             rect: None,
@@ -120,12 +151,14 @@ impl Default for Viewport {
             still_height: DEFAULT_STILL_HEIGHT,
             drag: None,
             face_drag: None,
-            grid_lines: None,
             grab_lost: false,
-            settle: SETTLE_FRAMES,
-            last: None,
+            sent_view: None,
+            sent_level: None,
+            edit_seen: None,
+            picking: None,
+            pick_error: None,
+            fps_count: (0, None),
             clock: None,
-            moving: false,
         }
     }
 }
@@ -137,10 +170,6 @@ impl Viewport {
         let mut camera = WalkCamera::from_scene(state.scene());
         self.physics = Some(PlayPhysics::new(&state.document, &mut camera));
         self.mode = ViewMode::Play(camera);
-        if let Some(gpu) = &mut self.gpu {
-            gpu.set_animating(true);
-        }
-        self.settle = SETTLE_FRAMES;
         self.grab_lost = false;
     }
 
@@ -148,10 +177,6 @@ impl Viewport {
     pub fn stop(&mut self) {
         self.mode = ViewMode::Edit;
         self.physics = None;
-        if let Some(gpu) = &mut self.gpu {
-            gpu.set_animating(false);
-        }
-        self.settle = SETTLE_FRAMES;
     }
 
     /// Why some (or every) object has no collider in Play, when that is so.
@@ -161,17 +186,13 @@ impl Viewport {
 
     /// Switches the render method (the view renders again).
     pub fn set_schedule(&mut self, schedule: Schedule) {
-        if schedule != self.schedule {
-            self.schedule = schedule;
-            self.settle = SETTLE_FRAMES;
-        }
+        self.schedule = schedule;
     }
 
     /// Switches the editor camera between perspective and orthographic (Play's walking
     /// camera is always perspective).
     pub fn toggle_ortho(&mut self) {
         self.camera.ortho = !self.camera.ortho;
-        self.settle = SETTLE_FRAMES;
     }
 
     /// Whether Play is on.
@@ -229,16 +250,13 @@ impl Viewport {
         let view = self.extract_viewport();
         let settings = level.scene.settings;
         crate::pixel::frame_one_to_one(&mut self.camera, &row, &settings, &level.assets, view)?;
-        self.settle = SETTLE_FRAMES;
         Ok(())
     }
 
     /// Draws the viewport into the remaining space of `ui`. A command of the gizmo or the
     /// face handles that fails is returned, for the caller to show.
     pub fn show(&mut self, ui: &mut Ui, state: &mut EditorState) -> Result<(), CommandError> {
-        let wall = self.clock.map_or(0.0, |c| c.elapsed().as_secs_f32());
-        self.clock = Some(Instant::now());
-        self.ui_frame_ms = wall * 1e3;
+        self.count_frame();
         // egui's frame time: the wall clock's under eframe, the harness's fixed step in tests,
         // so Play's physics and moving objects run alike in both.
         let dt = ui.input(|i| i.unstable_dt);
@@ -252,16 +270,16 @@ impl Viewport {
         }
         let camera = self.render_camera();
         let painter = ui.painter_at(rect);
-        painter.rect_filled(rect, 0.0, Color32::from_rgb(24, 26, 30));
-        let (size, edited) = self.render_size(ui.ctx(), rect, state);
-        let rendered = self.render(ui.ctx(), state, camera, size, dt, edited);
-        self.paint_render(ui.ctx(), &painter, rect, rendered);
+        let rendered = self.take_frame(ui.ctx(), state);
+        let size = self.render_size(ui.ctx(), rect, state, &camera);
+        self.request_frame(state, camera, size, dt);
+        self.paint_render(ui.ctx(), &painter, rect, &camera, rendered);
         let proj = Projector::new(&camera, rect);
         let extract_view = ExtractViewport {
             height: size.y,
             fov_y: camera.fov_y,
         };
-        let probes = self.gpu.as_ref().and_then(|g| g.probes);
+        let probes = self.shown.as_ref().and_then(|f| f.probes);
         self.debug.paint(
             &painter,
             &proj,
@@ -292,7 +310,7 @@ impl Viewport {
         let used = if sculpting {
             self.drag = None;
             self.face_drag = None;
-            let upload_ms = self.gpu.as_ref().and_then(|g| g.report.upload_ms);
+            let upload_ms = self.report().and_then(|r| r.upload_ms);
             let refresh = terrain_tool::refresh_interval(upload_ms);
             self.terrain
                 .ui(ui, &response, &painter, &proj, state, refresh)?
@@ -305,7 +323,7 @@ impl Viewport {
             self.terrain.panel(ui.ctx(), rect, state);
         }
         if response.clicked() && !used {
-            self.select_at(&response, rect, size, state);
+            self.select_at(&response, rect);
         }
         Ok(())
     }
@@ -338,19 +356,18 @@ impl Viewport {
             )
         });
         let keys = if typing { InputState::default() } else { keys };
-        let before = (self.camera, self.mode);
         match &mut self.mode {
             ViewMode::Play(walk) => {
                 let drag = Vec2::new(delta.x, delta.y);
                 let look = play::look(self.grabbed, raw, response.dragged(), drag);
-                // The time the session draws this frame's moving objects at.
-                let t = self.gpu.as_ref().and_then(GpuView::animation_time);
+                // The physics keeps the animation clock; the frame asked of the worker
+                // poses the moving objects at the time the player rode them.
                 match &mut self.physics {
                     Some(p) => {
                         if fly {
                             p.toggle_fly(walk);
                         }
-                        p.frame(&state.document, t, walk, &keys, look, dt);
+                        p.frame(&state.document, walk, &keys, look, dt);
                     }
                     None => walk.update(&keys, look, dt),
                 }
@@ -380,7 +397,6 @@ impl Viewport {
                 }
             }
         }
-        self.moving = before != (self.camera, self.mode) && !matches!(self.mode, ViewMode::Play(_));
     }
 
     /// Takes the pointer while playing, gives it back when Play stops or the window loses
@@ -476,24 +492,51 @@ impl Viewport {
         Ok(frame.used)
     }
 
-    fn select_at(
-        &mut self,
-        response: &egui::Response,
-        rect: egui::Rect,
-        size: UVec2,
-        state: &mut EditorState,
-    ) {
-        let (Some(gpu), Some(pos)) = (&self.gpu, response.interact_pointer_pos()) else {
+    /// Asks the worker for the entity under the click; the selection follows when the
+    /// answer comes ([`Viewport::take_frame`]), from the frame it drew last.
+    fn select_at(&mut self, response: &egui::Response, rect: egui::Rect) {
+        let (Some(worker), Some(pos)) = (&self.worker, response.interact_pointer_pos()) else {
             return;
         };
         let uv = (pos - rect.min) / rect.size();
-        let pixel = UVec2::new(
-            ((uv.x * size.x as f32) as u32).min(size.x - 1),
-            ((uv.y * size.y as f32) as u32).min(size.y - 1),
-        );
-        match gpu.pick(pixel) {
-            Ok(id) => state.selection = id.and_then(texel_runtime::frame_plan::entity_index),
+        self.picking = Some(worker.pick(Vec2::new(uv.x, uv.y)));
+    }
+
+    /// Starts the render worker drawing with `gpu` (`ctx` repaints when a frame is done); a
+    /// worker that cannot start becomes the viewport's message.
+    pub fn attach(&mut self, gpu: GpuView, ctx: egui::Context) {
+        self.shown = None;
+        self.sent_view = None;
+        self.sent_level = None;
+        match RenderWorker::start(gpu, ctx) {
+            Ok(w) => self.worker = Some(w),
             Err(e) => self.error = Some(e),
+        }
+    }
+
+    /// What the shown frame cost, and the renderer's totals.
+    pub fn report(&self) -> Option<&RenderReport> {
+        self.shown.as_ref().map(|f| &f.report)
+    }
+
+    /// Times this UI frame ([`Viewport::ui_frame_ms`]) and counts it into
+    /// [`Viewport::ui_fps`].
+    fn count_frame(&mut self) {
+        let now = Instant::now();
+        if let Some(t) = self.clock {
+            self.ui_frame_ms = now.duration_since(t).as_secs_f32() * 1e3;
+        }
+        self.clock = Some(now);
+        let (count, since) = &mut self.fps_count;
+        *count += 1;
+        match since {
+            Some(t) if now.duration_since(*t).as_secs_f32() >= 1.0 => {
+                let secs = now.duration_since(*t).as_secs_f32();
+                self.ui_fps = (*count as f32 / secs).round() as u32;
+                (*count, *since) = (0, Some(now));
+            }
+            Some(_) => {}
+            None => *since = Some(now),
         }
     }
 }

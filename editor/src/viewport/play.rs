@@ -23,9 +23,11 @@ pub struct PlayPhysics {
     walker: Option<Walker>,
     /// The document revision the colliders were built from.
     revision: u64,
-    /// The animation time of the next frame when there is no session to ask (no GPU): it
-    /// advances like the session's own clock.
+    /// The animation time of the next frame: Play's one clock (the render worker draws
+    /// each frame at the time its physics frame posed the moving objects at).
     clock: f64,
+    /// The animation time the last frame posed the moving objects at.
+    posed: f64,
     /// What the colliders left out, or why there are none, for the Play banner.
     pub note: Option<String>,
 }
@@ -38,6 +40,7 @@ impl PlayPhysics {
             walker: None,
             revision: document.revision,
             clock: 0.0,
+            posed: 0.0,
             note: None,
         };
         physics.build(&document.level, camera);
@@ -66,13 +69,13 @@ impl PlayPhysics {
         }
     }
 
-    /// One Play frame, `dt` seconds long: `session_time` is the animation time the session
-    /// will draw this frame at (`None` without a session); a document at another revision
-    /// than the colliders' builds them again, keeping the player where it is.
+    /// One Play frame, `dt` seconds long: the moving objects posed at the physics' clock
+    /// ([`PlayPhysics::time`], which the viewport's frame is drawn at), which then advances;
+    /// a document at another revision than the colliders' builds them again, keeping the
+    /// player where it is.
     pub fn frame(
         &mut self,
         document: &Document,
-        session_time: Option<f64>,
         camera: &mut WalkCamera,
         input: &InputState,
         look: Vec2,
@@ -94,7 +97,8 @@ impl PlayPhysics {
                 None => self.build(level, camera),
             }
         }
-        let t = session_time.unwrap_or(self.clock);
+        let t = self.clock;
+        self.posed = t;
         self.clock = Animation::next_time(t, dt);
         match &mut self.walker {
             Some(w) => {
@@ -110,6 +114,12 @@ impl PlayPhysics {
         if let Some(w) = &mut self.walker {
             w.toggle_fly(camera);
         }
+    }
+
+    /// The animation time the last frame posed the moving objects at: the frame drawn for
+    /// it shows them there.
+    pub fn time(&self) -> f64 {
+        self.posed
     }
 
     /// The walker, when there are colliders.

@@ -1,0 +1,224 @@
+//! The viewport renders on a thread of its own (`viewport::worker`), on a headless GPU
+//! (lavapipe in CI): a UI frame completes while the worker is held busy and keeps showing
+//! the last finished frame, and the next frame shows once the worker is let go; a click
+//! selects through the worker's pick; the debug views read what the worker read back; a
+//! renderer error becomes the viewport's message and a good frame clears it; closing the
+//! editor ends and joins the thread. Nothing here is timed: the tests wait for the worker's
+//! frames, not for a clock.
+
+use std::path::Path;
+
+use egui_kittest::Harness;
+use glam::Vec2;
+use texel_editor::app::EditorApp;
+use texel_editor::files::Recent;
+use texel_editor::viewport::debug::DebugView;
+use texel_editor::viewport::worker::RenderWorker;
+use texel_render::context::test_context;
+
+// Only its `gpu_view` and `camera`.
+#[allow(dead_code)]
+mod support;
+
+fn harness() -> Harness<'static, EditorApp> {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/stone_circle.ron");
+    Harness::builder()
+        .with_size([1000.0, 600.0])
+        .with_step_dt(1.0 / 60.0)
+        .build_ui_state(
+            |ui, app: &mut EditorApp| app.ui(ui),
+            EditorApp::with_recent(Some(&path), Recent::default()),
+        )
+}
+
+/// The editor with its render worker on `ctx`'s device, looking at the first trilithon.
+fn editor_on(ctx: &texel_render::context::GpuContext) -> Harness<'static, EditorApp> {
+    let mut h = harness();
+    let egui = h.ctx.clone();
+    let viewport = &mut h.state_mut().viewport;
+    viewport.attach(support::gpu_view(ctx), egui);
+    viewport.camera = support::camera();
+    h
+}
+
+fn worker<'a>(h: &'a Harness<'_, EditorApp>) -> &'a RenderWorker {
+    h.state().viewport.worker.as_ref().expect("a render worker")
+}
+
+fn shown(h: &Harness<'_, EditorApp>) -> u64 {
+    h.state().viewport.shown.as_ref().map_or(0, |f| f.number)
+}
+
+#[test]
+fn a_ui_frame_completes_while_the_worker_is_busy_and_the_next_frame_follows() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    assert!(shown(&h) > 0, "the first frame is shown");
+
+    // The worker is held: it finishes the frame in hand, if any, and draws no other.
+    let hold = worker(&h).hold();
+    hold.wait_held().expect("the worker waits");
+    h.step();
+    let held = shown(&h);
+    let before = h.state().viewport.render_camera();
+    h.state_mut().viewport.camera.look(Vec2::new(60.0, 0.0));
+    // These UI frames complete (were the UI waiting for a frame, this would never return).
+    for _ in 0..3 {
+        h.step();
+    }
+    let now = h.state().viewport.render_camera();
+    assert_ne!(now, before, "the camera turned");
+    let frame = h.state().viewport.shown.clone().expect("a frame");
+    assert_eq!(frame.number, held, "the last finished frame is held");
+    assert_eq!(
+        frame.view.camera, before,
+        "drawn from the camera before the turn"
+    );
+    assert!(h.state().viewport.error.is_none());
+
+    // Let go: the frame of the turned camera follows.
+    drop(hold);
+    let next = worker(&h).wait_drawn().expect("the next frame");
+    assert_eq!(next.view.camera, now);
+    h.step();
+    assert!(shown(&h) > held, "a newer frame is shown");
+    let frame = h.state().viewport.shown.clone().expect("a frame");
+    assert!(frame.number >= next.number);
+    assert_eq!(frame.view.camera, now);
+}
+
+#[test]
+fn a_click_selects_what_the_worker_picks() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    h.state_mut().state.selection = None;
+    let rect = h.state().viewport.rect.expect("the viewport was drawn");
+    h.event(egui::Event::PointerMoved(rect.center()));
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: rect.center(),
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.step();
+    }
+    assert_eq!(
+        h.state().state.selection,
+        None,
+        "not yet: the worker answers"
+    );
+    // The answer comes from the worker; the UI takes it at its next frame.
+    worker(&h).wait_picked().expect("an answer");
+    h.step();
+    let (_, row) = h
+        .state()
+        .state
+        .selected_row()
+        .expect("something is selected");
+    let name = format!("{:?}", row.name);
+    assert!(
+        name.contains("Trilithon 1"),
+        "the trilithon under the cursor: {name}"
+    );
+}
+
+#[test]
+fn the_debug_views_take_their_data_from_the_workers_frames() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    assert_eq!(
+        h.state().viewport.debug.readbacks,
+        0,
+        "nothing read while off"
+    );
+    let flags = &mut h.state_mut().viewport.debug.flags;
+    flags.toggle(DebugView::EyePixels);
+    flags.toggle(DebugView::CubeFaces);
+    // The views are part of the request: the worker draws again and reads what they need.
+    h.step();
+    worker(&h)
+        .wait_drawn()
+        .expect("a frame with the views' data");
+    h.step();
+    let debug = &h.state().viewport.debug;
+    assert!(debug.has_eye_tint(), "the eye-sourced pixels' tint");
+    assert_eq!(debug.face_count(), 6, "the grid probe's faces");
+}
+
+#[test]
+fn a_render_error_is_the_viewports_message_until_a_good_frame() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    // A level the frame planner refuses: a probe-grid volume of cell size zero (added
+    // straight to the scene, as a hand-edited file could not be: nothing in the UI shows
+    // it to correct it).
+    let bad = texel_scene::EntityRow {
+        probe_grid_override: Some(texel_scene::components::ProbeGridOverride {
+            cell_size: 0.0,
+            ..Default::default()
+        }),
+        ..Default::default()
+    };
+    let entity = h.state_mut().state.document.scene_mut().spawn(bad);
+    h.step();
+    let error = worker(&h).wait_drawn().expect_err("the level is refused");
+    h.step();
+    let shown = h
+        .state()
+        .viewport
+        .error
+        .clone()
+        .expect("the viewport's message");
+    assert_eq!(shown, error);
+    assert!(shown.contains("cell_size 0"), "{shown}");
+    // The UI goes on: more frames complete while the error stands.
+    h.step();
+    assert!(h.state().viewport.error.is_some());
+
+    h.state_mut().state.document.scene_mut().despawn(entity);
+    h.step();
+    worker(&h).wait_drawn().expect("a good frame again");
+    h.step();
+    assert_eq!(h.state().viewport.error, None, "the message goes");
+}
+
+#[test]
+fn closing_the_editor_ends_and_joins_the_render_thread() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    let watch = worker(&h).watch();
+    // Closed with a request waiting behind a hold: dropping the worker lets go and joins.
+    let hold = worker(&h).hold();
+    hold.wait_held().expect("the worker waits");
+    h.state_mut().viewport.camera.look(Vec2::new(30.0, 0.0));
+    h.step();
+    assert!(worker(&h).running());
+    assert!(!watch.ended());
+    drop(h);
+    assert!(watch.ended(), "the thread ended before the editor was gone");
+    drop(hold);
+}
