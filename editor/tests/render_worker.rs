@@ -222,3 +222,53 @@ fn closing_the_editor_ends_and_joins_the_render_thread() {
     assert!(watch.ended(), "the thread ended before the editor was gone");
     drop(hold);
 }
+
+/// A gizmo drag step or an inspector change reaches the worker as that entity alone: its
+/// level snapshot says which entity changed since the one before, and the renderer rewrites
+/// it in place (`Session::update_entities`) instead of rebuilding the scene.
+#[test]
+fn an_edited_entity_is_taken_in_alone_by_the_worker() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let mut h = editor_on(&ctx);
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    // Move the first trilithon's left upright half a unit, as one gizmo step would.
+    let state = &mut h.state_mut().state;
+    let scene = state.scene();
+    let e = scene.entities().nth(1).expect("an entity");
+    let before = scene.row(e).expect("row");
+    let mut after = before.clone();
+    let t = after.transform.as_mut().expect("a transform");
+    t.translation.x += 0.5;
+    let command = texel_editor::command::Command::SetRow {
+        index: 1,
+        before: Box::new(before),
+        after: Box::new(after),
+    };
+    state.apply(command, None).expect("the move applies");
+    let mut last = None;
+    for _ in 0..40 {
+        h.step();
+        worker(&h).wait_drawn().expect("a frame");
+        h.step();
+        last = h
+            .state()
+            .viewport
+            .shown
+            .as_ref()
+            .and_then(|f| f.report.last_edit.clone());
+        if last.is_some() {
+            break;
+        }
+    }
+    assert!(
+        matches!(
+            last,
+            Some(texel_runtime::session::EditUpdate::InPlace { .. })
+        ),
+        "the worker took the edit in as {last:?}"
+    );
+}
