@@ -259,7 +259,7 @@ fn an_edited_entity_is_taken_in_alone_by_the_worker() {
             .viewport
             .shown
             .as_ref()
-            .and_then(|f| f.report.last_edit.clone());
+            .and_then(|f| f.report.last_edit);
         if last.is_some() {
             break;
         }
