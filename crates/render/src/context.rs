@@ -124,9 +124,9 @@ pub struct GpuContext {
     pub timestamps: bool,
     /// What the device reported outside error scopes.
     pub errors: GpuErrors,
-    /// Keeps the device's modules and pipelines shared by every renderer on it while a
-    /// context (or a clone of it) holds it.
-    _pipelines: Arc<pipeline_cache::Registration>,
+    /// The device's modules and pipelines, shared by every renderer built on this context
+    /// or a clone of it.
+    pub(crate) pipelines: pipeline_cache::PipelineCache,
 }
 
 impl fmt::Debug for GpuContext {
@@ -203,7 +203,7 @@ impl GpuContext {
         let timestamps = device.features().contains(wanted);
         let errors = GpuErrors::install(&device);
         GpuContext {
-            _pipelines: Arc::new(pipeline_cache::register(&device)),
+            pipelines: pipeline_cache::PipelineCache::default(),
             instance,
             adapter,
             device,
@@ -228,7 +228,7 @@ impl GpuContext {
     /// How many pipelines were compiled on this device (each once, for every renderer on
     /// it: [`pipeline_cache`]).
     pub fn pipelines_compiled(&self) -> u64 {
-        pipeline_cache::compiled(&self.device)
+        self.pipelines.compiled()
     }
 
     /// Blocks until the GPU has finished all submitted work.

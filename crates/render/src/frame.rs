@@ -146,6 +146,7 @@ impl Renderer {
     /// pipeline compiles on its first use (`passes::LazyCompute`), so one the device rejects
     /// fails the first frame that draws with it (`GpuContext::check`). Neither panics.
     pub fn new(ctx: &GpuContext, colour: wgpu::TextureFormat) -> Result<Self, RenderError> {
+        let _cache = crate::pipeline_cache::building(&ctx.pipelines);
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let built = Self::build(ctx, colour);
         if let Some(e) = pollster::block_on(scope.pop()) {

@@ -5,18 +5,22 @@
 //! `VkPipelineCache` they can fill: see `docs/stability-log.md`, 2026-12-06). So a process
 //! that builds several renderers on one device (`texel-eval`, one per method and path; the
 //! baselines beside the splat renderer; tests that share one device) compiled each pipeline
-//! again for every renderer: on SwiftShader 0.7 to 1.5 s for the big ones. Here a device,
-//! while a [`GpuContext`](crate::context::GpuContext) holds it, keeps:
+//! again for every renderer: on SwiftShader 0.7 to 1.5 s for the big ones. Here each
+//! [`GpuContext`](crate::context::GpuContext) holds a [`PipelineCache`] for its device
+//! (its clones share it), which keeps:
 //!
-//! - its shader modules by file name (a file assembles to the same WGSL every time);
+//! - the device's shader modules by file name (a file assembles to the same WGSL every time);
 //! - its pipelines by module, owner label, entry points and fixed state (targets, depth,
 //!   topology, vertex buffers). Bind group layouts are not in the key: they follow from the
 //!   same code, and wgpu gives identical layouts one identity, so a pipeline made for one
 //!   renderer's layouts takes another's bind groups; a mismatch would be a validation error
 //!   (the context reports it), never a wrong picture.
 //!
-//! A device no context registered compiles as before, uncached.
+//! A renderer's constructor names its context's cache for the passes it builds
+//! ([`building`]); the cache is not found from the `wgpu::Device`, because wgpu compares
+//! devices by an id that two devices of two instances may share.
 
+use std::cell::RefCell;
 use std::collections::HashMap;
 use std::sync::{Arc, Mutex, MutexGuard, PoisonError};
 
@@ -29,68 +33,57 @@ struct Made {
     compiled: u64,
 }
 
-/// A registered device: how many registrations hold it, and what it made.
-struct Entry {
-    device: wgpu::Device,
-    holders: usize,
-    made: Arc<Mutex<Made>>,
-}
+/// One device's modules and pipelines (a clone is the same cache).
+#[derive(Clone, Default)]
+pub struct PipelineCache(Arc<Mutex<Made>>);
 
-static DEVICES: Mutex<Vec<Entry>> = Mutex::new(Vec::new());
+impl std::fmt::Debug for PipelineCache {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "PipelineCache({} compiled)", self.compiled())
+    }
+}
 
 fn lock<T>(m: &Mutex<T>) -> MutexGuard<'_, T> {
     // A panic elsewhere while holding the lock leaves maps that are still whole.
     m.lock().unwrap_or_else(PoisonError::into_inner)
 }
 
-/// Keeps `device`'s modules and pipelines while it lives; dropping the last registration of
-/// a device forgets them.
-#[derive(Debug)]
-pub struct Registration(wgpu::Device);
-
-/// Registers `device`: from now on its modules and pipelines are made once.
-pub fn register(device: &wgpu::Device) -> Registration {
-    let mut devices = lock(&DEVICES);
-    match devices.iter_mut().find(|e| e.device == *device) {
-        Some(entry) => entry.holders += 1,
-        None => devices.push(Entry {
-            device: device.clone(),
-            holders: 1,
-            made: Arc::default(),
-        }),
-    }
-    Registration(device.clone())
+thread_local! {
+    /// The cache of the renderer being built on this thread ([`building`]).
+    static BUILDING: RefCell<Option<PipelineCache>> = const { RefCell::new(None) };
 }
 
-impl Drop for Registration {
+/// While the returned guard lives, the modules and pipelines this thread's passes are built
+/// with come from (and go to) `cache`.
+pub(crate) fn building(cache: &PipelineCache) -> Building {
+    Building(BUILDING.with(|b| b.replace(Some(cache.clone()))))
+}
+
+/// Restores the cache named before [`building`] when dropped.
+pub(crate) struct Building(Option<PipelineCache>);
+
+impl Drop for Building {
     fn drop(&mut self) {
-        let mut devices = lock(&DEVICES);
-        if let Some(i) = devices.iter().position(|e| e.device == self.0) {
-            devices[i].holders -= 1;
-            if devices[i].holders == 0 {
-                devices.swap_remove(i);
-            }
-        }
+        let before = self.0.take();
+        BUILDING.with(|b| *b.borrow_mut() = before);
     }
 }
 
-fn made(device: &wgpu::Device) -> Option<Arc<Mutex<Made>>> {
-    let devices = lock(&DEVICES);
-    (devices.iter())
-        .find(|e| e.device == *device)
-        .map(|e| e.made.clone())
+/// The cache named by the innermost [`building`] on this thread, if any.
+pub(crate) fn current() -> Option<PipelineCache> {
+    BUILDING.with(|b| b.borrow().clone())
 }
 
-/// The module of the shader file `name`, made by `make` the first time on `device`.
+/// The module of the shader file `name`, made by `make` the first time for the cache being
+/// built with (every time without one).
 pub(crate) fn module<E>(
-    device: &wgpu::Device,
     name: &str,
     make: impl FnOnce() -> Result<wgpu::ShaderModule, E>,
 ) -> Result<wgpu::ShaderModule, E> {
-    let Some(made) = made(device) else {
+    let Some(cache) = current() else {
         return make();
     };
-    let mut made = lock(&made);
+    let mut made = lock(&cache.0);
     if let Some(m) = made.modules.get(name) {
         return Ok(m.clone());
     }
@@ -99,53 +92,49 @@ pub(crate) fn module<E>(
     Ok(m)
 }
 
-/// A pipeline of `key` in `module` from the map `pick` chooses, made by `make` the first
-/// time on `device`.
-fn pipeline<P: Clone>(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    key: String,
-    pick: fn(&mut Made) -> &mut HashMap<(wgpu::ShaderModule, String), P>,
-    make: impl FnOnce() -> P,
-) -> P {
-    let Some(made) = made(device) else {
-        return make();
-    };
-    let mut made = lock(&made);
-    let key = (module.clone(), key);
-    if let Some(p) = pick(&mut made).get(&key) {
-        return p.clone();
+impl PipelineCache {
+    /// How many pipelines were compiled into this cache.
+    pub fn compiled(&self) -> u64 {
+        lock(&self.0).compiled
     }
-    let p = make();
-    made.compiled += 1;
-    pick(&mut made).insert(key, p.clone());
-    p
-}
 
-/// The compute pipeline `key` names in `module`, compiled by `make` the first time on
-/// `device`.
-pub(crate) fn compute(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    key: String,
-    make: impl FnOnce() -> wgpu::ComputePipeline,
-) -> wgpu::ComputePipeline {
-    pipeline(device, module, key, |m| &mut m.compute, make)
-}
+    /// A pipeline of `key` in `module` from the map `pick` chooses, made by `make` the first
+    /// time.
+    fn pipeline<P: Clone>(
+        &self,
+        module: &wgpu::ShaderModule,
+        key: String,
+        pick: fn(&mut Made) -> &mut HashMap<(wgpu::ShaderModule, String), P>,
+        make: impl FnOnce() -> P,
+    ) -> P {
+        let mut made = lock(&self.0);
+        let key = (module.clone(), key);
+        if let Some(p) = pick(&mut made).get(&key) {
+            return p.clone();
+        }
+        let p = make();
+        made.compiled += 1;
+        pick(&mut made).insert(key, p.clone());
+        p
+    }
 
-/// The render pipeline `key` names in `module`, compiled by `make` the first time on
-/// `device`.
-pub(crate) fn render(
-    device: &wgpu::Device,
-    module: &wgpu::ShaderModule,
-    key: String,
-    make: impl FnOnce() -> wgpu::RenderPipeline,
-) -> wgpu::RenderPipeline {
-    pipeline(device, module, key, |m| &mut m.render, make)
-}
+    /// The compute pipeline `key` names in `module`, compiled by `make` the first time.
+    pub(crate) fn compute(
+        &self,
+        module: &wgpu::ShaderModule,
+        key: String,
+        make: impl FnOnce() -> wgpu::ComputePipeline,
+    ) -> wgpu::ComputePipeline {
+        self.pipeline(module, key, |m| &mut m.compute, make)
+    }
 
-/// How many pipelines were compiled on `device` since it was registered (none counted on a
-/// device no context holds).
-pub fn compiled(device: &wgpu::Device) -> u64 {
-    made(device).map_or(0, |m| lock(&m).compiled)
+    /// The render pipeline `key` names in `module`, compiled by `make` the first time.
+    pub(crate) fn render(
+        &self,
+        module: &wgpu::ShaderModule,
+        key: String,
+        make: impl FnOnce() -> wgpu::RenderPipeline,
+    ) -> wgpu::RenderPipeline {
+        self.pipeline(module, key, |m| &mut m.render, make)
+    }
 }

@@ -231,10 +231,10 @@ fn expand_lines(
     Ok(())
 }
 
-/// The shader module of an assembled file, labelled with its name: made once per device
-/// while a context holds it ([`crate::pipeline_cache`]).
+/// The shader module of an assembled file, labelled with its name: made once per context
+/// for the renderers built with its cache ([`crate::pipeline_cache`]).
 pub fn module(device: &wgpu::Device, name: &str) -> Result<wgpu::ShaderModule, ShaderError> {
-    crate::pipeline_cache::module(device, name, || {
+    crate::pipeline_cache::module(name, || {
         let src = assemble(name)?;
         Ok(device.create_shader_module(wgpu::ShaderModuleDescriptor {
             label: Some(name),

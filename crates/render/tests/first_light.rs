@@ -117,3 +117,26 @@ fn a_second_renderer_on_a_device_compiles_nothing_and_draws_the_same_frame() {
     assert!(r.render_offscreen(&clone, &input).unwrap().1 == first);
     assert_eq!(clone.pipelines_compiled(), compiled);
 }
+
+/// Two contexts of two instances may hold devices wgpu numbers alike; each keeps its own
+/// pipelines, so renderers on both draw (a cache found by the device's id handed one
+/// device's pipelines to the other, which wgpu-core refused with a panic).
+#[test]
+fn renderers_on_two_instances_keep_their_own_pipelines() {
+    if test_context().is_none() {
+        return;
+    }
+    let open = || texel_render::context::GpuContext::headless().expect("a device");
+    let (a, b) = (open(), open());
+    let size = UVec2::new(96, 54);
+    let cam = Camera::looking(Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0));
+    let input = common::frame(cam, Vec3::new(0.0, 2.0, 3.0), 32, size, Schedule::Ours);
+    let frame = |ctx: &texel_render::context::GpuContext| {
+        let mut r = Renderer::headless(ctx).unwrap();
+        r.set_scene(ctx, &common::boxes_scene()).expect("scene");
+        r.render_offscreen(ctx, &input).unwrap().1
+    };
+    let (on_a, on_b) = (frame(&a), frame(&b));
+    assert!(on_a == on_b, "the two devices drew different frames");
+    assert!(a.pipelines_compiled() > 0 && b.pipelines_compiled() == a.pipelines_compiled());
+}

@@ -203,6 +203,7 @@ pub struct BaselineRenderer {
 impl BaselineRenderer {
     /// Builds every pipeline. A shader or pipeline the device rejects is an error.
     pub fn new(ctx: &GpuContext) -> Result<Self, RenderError> {
+        let _cache = crate::pipeline_cache::building(&ctx.pipelines);
         let scope = ctx.device.push_error_scope(wgpu::ErrorFilter::Validation);
         let d = &ctx.device;
         let built = (|| {

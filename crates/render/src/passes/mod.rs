@@ -187,6 +187,7 @@ fn pipeline_of(
         .collect();
     LazyRender {
         device: device.clone(),
+        cache: pipeline_cache::current(),
         layout: pipeline_layout(device, spec.owner, spec.layouts),
         module: spec.module.clone(),
         label: format!("{}::pipeline", spec.owner),
@@ -219,6 +220,8 @@ struct VertexBuffer {
 /// sprites' and baselines' pipelines cost nothing where nothing draws them.
 pub(crate) struct LazyRender {
     device: wgpu::Device,
+    /// The cache of the context the pass was built for ([`pipeline_cache::building`]).
+    cache: Option<pipeline_cache::PipelineCache>,
     layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     label: String,
@@ -237,9 +240,11 @@ impl LazyRender {
     /// ([`crate::pipeline_cache`]).
     pub(crate) fn get(&self) -> &wgpu::RenderPipeline {
         self.pipeline.get_or_init(|| {
-            pipeline_cache::render(&self.device, &self.module, self.key(), || {
-                timed_compile(&self.label, &self.vertex, || self.compile())
-            })
+            let compile = || timed_compile(&self.label, &self.vertex, || self.compile());
+            match &self.cache {
+                Some(cache) => cache.render(&self.module, self.key(), compile),
+                None => compile(),
+            }
         })
     }
 
@@ -315,6 +320,7 @@ pub(crate) fn compute_pipeline(
 ) -> LazyCompute {
     LazyCompute {
         device: device.clone(),
+        cache: pipeline_cache::current(),
         layout: pipeline_layout(device, owner, layouts),
         module: module.clone(),
         label: format!("{owner}::pipeline"),
@@ -330,6 +336,8 @@ pub(crate) fn compute_pipeline(
 /// are still parsed and validated up front, so a WGSL error shows when the renderer starts.
 pub(crate) struct LazyCompute {
     device: wgpu::Device,
+    /// The cache of the context the pass was built for ([`pipeline_cache::building`]).
+    cache: Option<pipeline_cache::PipelineCache>,
     layout: wgpu::PipelineLayout,
     module: wgpu::ShaderModule,
     label: String,
@@ -343,8 +351,7 @@ impl LazyCompute {
     /// ([`crate::pipeline_cache`]).
     pub(crate) fn get(&self) -> &wgpu::ComputePipeline {
         self.pipeline.get_or_init(|| {
-            let key = format!("{}|{}", self.label, self.entry);
-            pipeline_cache::compute(&self.device, &self.module, key, || {
+            let compile = || {
                 timed_compile(&self.label, &self.entry, || {
                     (self.device).create_compute_pipeline(&wgpu::ComputePipelineDescriptor {
                         label: Some(&self.label),
@@ -355,7 +362,14 @@ impl LazyCompute {
                         cache: None,
                     })
                 })
-            })
+            };
+            match &self.cache {
+                Some(cache) => {
+                    let key = format!("{}|{}", self.label, self.entry);
+                    cache.compute(&self.module, key, compile)
+                }
+                None => compile(),
+            }
         })
     }
 }
