@@ -91,6 +91,27 @@ pub(crate) fn by_weight(mut suites: Vec<Suite>, weight: &BTreeMap<String, f64>) 
     suites
 }
 
+/// `suites` with those of [`plan::SECOND_DRIVER_ALONE`] split into one suite a test.
+pub(crate) fn alone(suites: Vec<Suite>) -> Vec<Suite> {
+    let mut out = Vec::new();
+    for suite in suites {
+        if plan::SECOND_DRIVER_ALONE
+            .iter()
+            .any(|(binary, _)| *binary == suite.binary)
+        {
+            for test in &suite.tests {
+                out.push(Suite {
+                    tests: vec![test.clone()],
+                    ..suite.clone()
+                });
+            }
+        } else {
+            out.push(suite);
+        }
+    }
+    out
+}
+
 /// What libtest says about one test.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) enum Event {
@@ -319,6 +340,14 @@ fn run_suite(
         outcomes.push(outcome(suite, name, seconds, false, used_gpu, true));
         return (outcomes, None);
     }
+    // A test that took the shared device names itself in the log (libtest's thread name):
+    // its own lines count even when they were written before its start line was read.
+    let log_text = fs::read_to_string(log).unwrap_or_default();
+    for o in &mut outcomes {
+        let named = (log_text.lines())
+            .any(|line| line.split('\t').nth(1) == Some(o.timing.test.name.as_str()));
+        o.used_gpu |= named;
+    }
     let broken = match status {
         Ok(s) if s.success() => None,
         // A failed test makes libtest exit non-zero: that failure is the test's.
@@ -386,7 +415,7 @@ pub(crate) fn run_pass(session: &mut Session, step: &Step) -> Result<(), Failure
             *weight.entry(t.test.binary).or_insert(0.0) += t.seconds;
         }
     }
-    let suites = by_weight(suites, &weight);
+    let suites = alone(by_weight(suites, &weight));
     let lanes = thread::available_parallelism().map_or(1, |n| n.get());
     println!(
         "==> {} binaries, each in one process, {lanes} at a time (a test's budget: {} s)",

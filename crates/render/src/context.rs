@@ -253,10 +253,16 @@ fn record_device_for_test_plan() {
         return;
     };
     let var = |key| std::env::var(key).unwrap_or_else(|_| "?".to_owned());
+    // Outside nextest, libtest runs each test on a thread named after it.
+    let test = std::env::var("NEXTEST_TEST_NAME").ok().or_else(|| {
+        (std::thread::current().name())
+            .filter(|name| *name != "main")
+            .map(str::to_owned)
+    });
     let line = format!(
         "{}\t{}\n",
         var("NEXTEST_BINARY_ID"),
-        var("NEXTEST_TEST_NAME")
+        test.as_deref().unwrap_or("?")
     );
     // One write to a file opened for appending: lines of concurrent processes stay whole.
     let written = std::fs::OpenOptions::new()
