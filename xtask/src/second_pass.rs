@@ -91,27 +91,6 @@ pub(crate) fn by_weight(mut suites: Vec<Suite>, weight: &BTreeMap<String, f64>) 
     suites
 }
 
-/// `suites` with those of [`plan::SECOND_DRIVER_ALONE`] split into one suite a test.
-pub(crate) fn alone(suites: Vec<Suite>) -> Vec<Suite> {
-    let mut out = Vec::new();
-    for suite in suites {
-        if plan::SECOND_DRIVER_ALONE
-            .iter()
-            .any(|(binary, _)| *binary == suite.binary)
-        {
-            for test in &suite.tests {
-                out.push(Suite {
-                    tests: vec![test.clone()],
-                    ..suite.clone()
-                });
-            }
-        } else {
-            out.push(suite);
-        }
-    }
-    out
-}
-
 /// What libtest says about one test.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) enum Event {
@@ -415,7 +394,7 @@ pub(crate) fn run_pass(session: &mut Session, step: &Step) -> Result<(), Failure
             *weight.entry(t.test.binary).or_insert(0.0) += t.seconds;
         }
     }
-    let suites = alone(by_weight(suites, &weight));
+    let suites = by_weight(suites, &weight);
     let lanes = thread::available_parallelism().map_or(1, |n| n.get());
     println!(
         "==> {} binaries, each in one process, {lanes} at a time (a test's budget: {} s)",

@@ -472,12 +472,6 @@ fn the_second_pass_finds_each_binary_and_runs_the_dearest_first() {
     let weight = [("texel_render".to_owned(), 90.0)].into();
     let ordered = second_pass::by_weight(suites, &weight);
     assert_eq!(ordered[0].binary, "texel_render");
-    // A binary whose tests must not share a process runs one process a test.
-    let mut worker = ordered[1].clone();
-    worker.binary = plan::SECOND_DRIVER_ALONE[0].0.to_owned();
-    let split = second_pass::alone(vec![worker]);
-    assert_eq!(split.len(), 2);
-    assert_eq!((split[0].tests.len(), split[1].tests.len()), (1, 1));
     // A test or binary the listing lacks is an error naming it.
     let gone = second_pass::suites(list, &[id("texel_eval::stability", "gone")]);
     assert!(gone.unwrap_err().contains("`gone`"));
