@@ -11,8 +11,6 @@ use texel_editor::files::Recent;
 use texel_editor::viewport::ViewMode;
 use texel_render::context::test_context;
 
-// Only its `gpu_view`; the level and camera helpers serve the other tests.
-#[allow(dead_code)]
 mod support;
 
 const STEP: f32 = 1.0 / 60.0;

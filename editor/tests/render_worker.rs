@@ -16,12 +16,11 @@ use texel_editor::viewport::debug::DebugView;
 use texel_editor::viewport::worker::RenderWorker;
 use texel_render::context::test_context;
 
-// Only its `gpu_view` and `camera`.
-#[allow(dead_code)]
 mod support;
 
-fn harness() -> Harness<'static, EditorApp> {
-    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/stone_circle.ron");
+/// The editor on a copy of stone_circle in `dir` (its autosaves land there).
+fn harness(dir: &Path) -> Harness<'static, EditorApp> {
+    let path = support::bundled_copy(dir, "stone_circle");
     Harness::builder()
         .with_size([1000.0, 600.0])
         .with_step_dt(1.0 / 60.0)
@@ -31,9 +30,10 @@ fn harness() -> Harness<'static, EditorApp> {
         )
 }
 
-/// The editor with its render worker on `ctx`'s device, looking at the first trilithon.
-fn editor_on(ctx: &texel_render::context::GpuContext) -> Harness<'static, EditorApp> {
-    let mut h = harness();
+/// The editor with its render worker on `ctx`'s device, looking at the first trilithon, on
+/// a level copied into `dir`.
+fn editor_on(ctx: &texel_render::context::GpuContext, dir: &Path) -> Harness<'static, EditorApp> {
+    let mut h = harness(dir);
     let egui = h.ctx.clone();
     let viewport = &mut h.state_mut().viewport;
     viewport.attach(support::gpu_view(ctx), egui);
@@ -54,7 +54,8 @@ fn a_ui_frame_completes_while_the_worker_is_busy_and_the_next_frame_follows() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut h = editor_on(&ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
     h.step();
     worker(&h).wait_drawn().expect("a first frame");
     h.step();
@@ -97,7 +98,8 @@ fn a_click_selects_what_the_worker_picks() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut h = editor_on(&ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
     h.step();
     worker(&h).wait_drawn().expect("a first frame");
     h.step();
@@ -139,7 +141,8 @@ fn the_debug_views_take_their_data_from_the_workers_frames() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut h = editor_on(&ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
     h.step();
     worker(&h).wait_drawn().expect("a first frame");
     h.step();
@@ -167,7 +170,8 @@ fn a_render_error_is_the_viewports_message_until_a_good_frame() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut h = editor_on(&ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
     h.step();
     worker(&h).wait_drawn().expect("a first frame");
     // A level the frame planner refuses: a probe-grid volume of cell size zero (added
@@ -208,7 +212,8 @@ fn closing_the_editor_ends_and_joins_the_render_thread() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut h = editor_on(&ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
     h.step();
     let watch = worker(&h).watch();
     // Closed with a request waiting behind a hold: dropping the worker lets go and joins.
@@ -231,7 +236,8 @@ fn an_edited_entity_is_taken_in_alone_by_the_worker() {
     let Some(ctx) = test_context() else {
         return;
     };
-    let mut h = editor_on(&ctx);
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
     h.step();
     worker(&h).wait_drawn().expect("a first frame");
     h.step();

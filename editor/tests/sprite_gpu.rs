@@ -9,7 +9,6 @@ use texel_render::context::test_context;
 use texel_render::input::Schedule;
 use texel_runtime::load::load_level;
 
-#[allow(dead_code)]
 mod support;
 
 #[test]

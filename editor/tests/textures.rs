@@ -21,7 +21,6 @@ use texel_scene::{
     EntityRow, Geometry, LevelSettings, Material, Name, PixelScale, Scene, TextureMap, Transform,
 };
 
-#[allow(dead_code)]
 mod support;
 
 fn workspace() -> PathBuf {
@@ -282,7 +281,8 @@ fn frame_one_to_one_on_a_turned_box_follows_its_face() {
 
 #[test]
 fn texel_density_view_toggles_with_its_legend() {
-    let path = workspace().join("assets/levels/textured.ron");
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = support::bundled_copy(dir.path(), "textured");
     let mut h = harness(EditorApp::with_recent(Some(&path), Recent::default()));
     h.state_mut().state.selection = Some(2);
     h.run();

@@ -577,6 +577,10 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
     let total = Instant::now();
     let mut results = Vec::new();
     let mut reports = Vec::new();
+    let tree = tree::untracked();
+    if tree.is_none() {
+        println!("(not a git checkout: what the tests leave in the tree is not checked)");
+    }
     for (index, step) in steps.iter().enumerate() {
         let step = prepare_step(step, scope)?;
         let title = step.describe();
@@ -607,6 +611,9 @@ fn run_tests(scope: &Scope) -> Result<(), Failure> {
             if result.is_ok() {
                 result = second_pass::check_second_driver();
             }
+        }
+        if result.is_ok() {
+            result = tree::check(tree.as_ref(), &step.short());
         }
         let elapsed = format_duration(started.elapsed());
         let verdict = if result.is_ok() { "ok" } else { "FAILED" };
@@ -772,3 +779,4 @@ fn format_duration(duration: Duration) -> String {
 
 #[cfg(test)]
 mod tests;
+mod tree;

@@ -27,13 +27,6 @@ pub(crate) const SECOND_DRIVER_EXCEPTIONS: &[(&str, &str)] = &[
          4-bit sub-pixel precision and rounds depth its own way, so it differs by design",
     ),
     (
-        "a_click_selects_what_the_worker_picks",
-        "hangs past 300 s on SwiftShader now and then (2 of 3 runs on 2026-12-07, alone in \
-         its process too; the third passed in 7.5 s with the same code), never on lavapipe: \
-         an intermittent wait in the test or the worker, cause not found yet; a known bug, \
-         named in the closing note, to be found and this line removed",
-    ),
-    (
         "plays_five_frames_of_the_stone_circle_and_exits",
         "presents to a window; the SwiftShader Chromium ships has no window-system surfaces \
          (`texel-run play` says so, which its other tests check)",

@@ -187,6 +187,8 @@ struct State {
     pick: Option<(u64, Vec2)>,
     picked: Option<(u64, Result<Option<u32>, String>)>,
     picks: u64,
+    /// The number of the last pick answered (its answer may have been taken since).
+    answered: u64,
     held: bool,
     at_hold: bool,
     stop: bool,
@@ -314,11 +316,15 @@ impl RenderWorker {
         }
     }
 
-    /// Test helper: blocks until the last pick is answered (the answer stays for
-    /// [`RenderWorker::picked`]).
+    /// Test helper: blocks until the last pick asked is answered (its answer stays for
+    /// [`RenderWorker::picked`] unless the UI took it already); an error at once when no
+    /// pick was asked (a click that never reached the viewport would otherwise wait on).
     pub fn wait_picked(&self) -> Result<(), String> {
         let mut st = lock(&self.shared);
-        while st.picked.is_none() {
+        if st.picks == 0 {
+            return Err("no pick was asked".into());
+        }
+        while st.answered < st.picks {
             if st.stop || st.ended {
                 return Err("the render thread stopped".into());
             }
@@ -449,7 +455,9 @@ impl Worker {
                         ((at.y * size.y as f32) as u32).min(size.y.saturating_sub(1)),
                     );
                     let answer = catch(|| self.gpu.pick(pixel)).map_err(|e| e.0);
-                    lock(shared).picked = Some((n, answer));
+                    let mut st = lock(shared);
+                    st.picked = Some((n, answer));
+                    st.answered = n;
                 }
                 Job::Draw { request, number } => {
                     let drawn = catch(|| self.draw(request, number));

@@ -1,6 +1,9 @@
 //! Helpers shared by the editor's GPU tests and benches: a viewport renderer on a headless
 //! device, the `stone_circle` level and a camera looking at its first trilithon.
 
+// Each test binary and bench includes this module and uses a part of it.
+#![allow(dead_code)]
+
 use std::path::Path;
 use std::sync::Arc;
 
@@ -39,6 +42,21 @@ pub fn gpu_view_and_egui(ctx: &GpuContext) -> (GpuView, Arc<RwLock<egui_wgpu::Re
 pub fn stone_circle() -> LoadedLevel {
     let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets/levels/stone_circle.ron");
     load_level(&path).expect("stone_circle")
+}
+
+/// A copy of `assets/levels/<name>.ron` in `dir/levels`, beside links to the bundled asset
+/// folders (so its relative paths resolve): an editor opened on it autosaves and recovers
+/// there, never beside the bundled level, where a later test would be offered it back.
+pub fn bundled_copy(dir: &Path, name: &str) -> std::path::PathBuf {
+    let assets = Path::new(env!("CARGO_MANIFEST_DIR")).join("../assets");
+    let levels = dir.join("levels");
+    std::fs::create_dir_all(&levels).expect("levels folder");
+    for folder in ["meshes", "sprites", "textures"] {
+        std::os::unix::fs::symlink(assets.join(folder), dir.join(folder)).expect("asset link");
+    }
+    let to = levels.join(format!("{name}.ron"));
+    std::fs::copy(assets.join(format!("levels/{name}.ron")), &to).expect("copy level");
+    to
 }
 
 /// A camera looking at the first trilithon from 6 units away.
