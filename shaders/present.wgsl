@@ -2,9 +2,11 @@
 // (crates/render/src/passes/present.rs). Texel-exact: each output pixel copies the internal
 // pixel under its centre. The internal frame holds sRGB-encoded bytes in a plain unorm
 // texture: `fs` copies them to a plain target, `fs_decode` decodes them for an sRGB one.
+// With a palette, each pixel takes its palette colour, dithered by the texel its key names.
 
 #include "lib/fullscreen.wgsl"
 #include "lib/common.wgsl"
+#include "lib/palette.wgsl"
 
 struct Sizes {
     output: vec2<u32>,
@@ -16,6 +18,8 @@ struct Sizes {
 
 @group(0) @binding(0) var frame: texture_2d<f32>;
 @group(0) @binding(1) var<uniform> sizes: Sizes;
+@group(0) @binding(2) var keys: texture_2d<u32>;
+@group(0) @binding(3) var<uniform> palette: Palette;
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
@@ -26,7 +30,12 @@ fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
 // division, which CPU rasterizers run lane by lane); present.rs mirrors it.
 fn source(pos: vec2<f32>) -> vec4<f32> {
     let src = min(vec2<u32>(pos * sizes.scale), sizes.internal - vec2(1u));
-    return textureLoad(frame, src, 0);
+    let c = textureLoad(frame, src, 0);
+    if palette.count == 0u {
+        return c;
+    }
+    let t = texel_threshold(textureLoad(keys, src, 0).r, src, palette.max_n);
+    return vec4(palette.srgb[palette_index(srgb_to_linear(c.rgb), t)].rgb, c.a);
 }
 
 @fragment

@@ -107,6 +107,11 @@ pub struct BaselineSource<'a> {
 }
 
 impl<'a> BaselineSource<'a> {
+    /// Maps the frames to `palette` from the next one on (`None`: as shaded).
+    pub fn set_palette(&mut self, palette: Option<&texel_render::palette::PaletteInput>) {
+        self.renderer.set_palette(self.ctx, palette);
+    }
+
     /// A baseline renderer for `scene` (its moving objects posed by `animation`), comparing
     /// against splats of `face_res`.
     pub fn new(

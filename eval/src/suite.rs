@@ -356,15 +356,20 @@ pub fn method_source<'a>(
     view: &SourceView,
 ) -> Result<Box<dyn FrameSource + 'a>, EvalError> {
     Ok(match baseline_of(method) {
-        Some(b) => Box::new(BaselineSource::new(
-            ctx,
-            (scene, animation),
-            b,
-            view.size,
-            view.face_res,
-            view.look,
-            &view.warm_up,
-        )?),
+        Some(b) => {
+            let mut source = BaselineSource::new(
+                ctx,
+                (scene, animation),
+                b,
+                view.size,
+                view.face_res,
+                view.look,
+                &view.warm_up,
+            )?;
+            let palettes = texel_runtime::frame_plan::level_palettes(level);
+            source.set_palette(palettes.first());
+            Box::new(source)
+        }
         None => {
             let schedule = match method {
                 Method::SplatPaper => Schedule::Paper,

@@ -155,6 +155,8 @@ enum KeyAction {
     ToggleFly,
     ToggleSchedule,
     ToggleOverlay,
+    /// The level's palette or its alternate (day and night).
+    SwapPalette,
     Escape,
 }
 
@@ -173,6 +175,7 @@ fn key_action(code: KeyCode) -> Option<KeyAction> {
         KeyCode::KeyG => Sculpt(false),
         KeyCode::Tab => ToggleSchedule,
         KeyCode::F3 => ToggleOverlay,
+        KeyCode::KeyN => SwapPalette,
         KeyCode::Escape => Escape,
         _ => return None,
     })
@@ -407,6 +410,12 @@ impl App {
                 }
             }
             KeyAction::ToggleOverlay => self.overlay = !self.overlay,
+            KeyAction::SwapPalette => {
+                let swapped = (self.running.as_mut()).and_then(|r| r.session.swap_palette());
+                if swapped.is_none() {
+                    eprintln!("N: the level names no alternate palette");
+                }
+            }
             KeyAction::Escape if self.grabbed => self.set_grab(event_loop, false),
             KeyAction::Escape => event_loop.exit(),
             KeyAction::Move(_) | KeyAction::Sculpt(_) => {}

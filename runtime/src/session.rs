@@ -52,6 +52,8 @@ pub struct DrawnFrame {
 pub struct Session {
     renderer: Renderer,
     driver: FrameDriver,
+    /// Frames map to the level's alternate palette ([`Session::swap_palette`]).
+    alternate_palette: bool,
 }
 
 /// How [`Session::update_entities`] took an edit in.
@@ -109,8 +111,13 @@ impl Session {
     ) -> Result<Self, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
         renderer.set_scene(ctx, level.scene())?;
+        renderer.set_palette(level.palette(false));
         let driver = FrameDriver::prepared(level, size, fov_y)?;
-        Ok(Session { renderer, driver })
+        Ok(Session {
+            renderer,
+            driver,
+            alternate_palette: false,
+        })
     }
 
     /// Replaces the level (after an edit): uploads its scene and plans afresh.
@@ -119,10 +126,25 @@ impl Session {
         // Checked and uploaded first: a level the device cannot hold leaves the session as
         // it was.
         self.renderer.set_scene(ctx, level.scene())?;
+        self.renderer
+            .set_palette(level.palette(self.alternate_palette));
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
         let driver = FrameDriver::prepared(level, size, fov_y)?;
         self.replace_driver(driver);
         Ok(())
+    }
+
+    /// Swaps between the level's palette and its alternate (day and night); returns whether
+    /// frames now map to the alternate, `None` when the level has no alternate.
+    pub fn swap_palette(&mut self) -> Option<bool> {
+        let level = self.driver.level().clone();
+        if level.palettes.len() < 2 {
+            return None;
+        }
+        self.alternate_palette = !self.alternate_palette;
+        self.renderer
+            .set_palette(level.palette(self.alternate_palette));
+        Some(self.alternate_palette)
     }
 
     /// Takes in an edit of the entities at `indices` of `level` (which is the session's
@@ -205,6 +227,8 @@ impl Session {
     ) -> Result<u32, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
         self.renderer.set_scene(ctx, level.scene())?;
+        self.renderer
+            .set_palette(level.palette(self.alternate_palette));
         let (lo, hi) = level.shadow_region(min, max);
         Ok(self.driver.replace_level(level, lo, hi))
     }

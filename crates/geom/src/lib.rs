@@ -3,6 +3,7 @@
 //! ([`TriMesh`]), the images its surfaces sample ([`texture`]) and the engine's limits and conventions ([`limits`]), and the
 //! ray–triangle test the renderer and the evaluator share ([`ray`]).
 
+pub mod colour;
 pub mod limits;
 pub mod mesh;
 pub mod ray;

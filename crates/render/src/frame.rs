@@ -56,6 +56,7 @@ impl Screen {
         size: (u32, u32),
         output: (u32, u32),
         format: wgpu::TextureFormat,
+        palette: bool,
     ) -> Self {
         let tex = |label, format, usage| {
             ctx.device.create_texture(&wgpu::TextureDescriptor {
@@ -82,8 +83,9 @@ impl Screen {
         );
         // The frame is drawn sRGB-encoded into a plain unorm target (the splats' colours are
         // stored so, and an sRGB target would encode every fragment): into the caller's
-        // target when it is plain and of the output size, else into this texture.
-        let colour = (size != output || format.is_srgb()).then(|| {
+        // target when it is plain, of the output size and not mapped to a palette, else into
+        // this texture.
+        let colour = (size != output || format.is_srgb() || palette).then(|| {
             tex(
                 "frame::internal_colour",
                 format.remove_srgb_suffix(),
@@ -302,6 +304,11 @@ impl Renderer {
         self.display = display;
     }
 
+    /// The palette frames are mapped to from the next one on (`None`: as drawn).
+    pub fn set_palette(&mut self, palette: Option<crate::palette::PaletteInput>) {
+        self.present.set_palette(palette);
+    }
+
     /// The probe textures (for tests and debug views).
     pub fn probes(&self) -> &ProbeStore {
         &self.store
@@ -365,6 +372,10 @@ impl Renderer {
             }
             Display::March => self.draw_marched(ctx, input, target, &lit, &mut stages)?,
         };
+        let shown = Shown {
+            max_n: globals.max_n,
+            ..shown
+        };
         self.finish(ctx, input, target, started, stages, shown)
     }
 
@@ -398,12 +409,11 @@ impl Renderer {
         self.visible.ensure_capacity(&ctx.device, globals.max_n);
         let output = (input.size.x, input.size.y);
         let size = (input.internal_size.x, input.internal_size.y);
-        if self
-            .screen
-            .as_ref()
-            .is_none_or(|s| s.size != size || s.output != output)
+        let palette = self.present.has_palette();
+        if (self.screen.as_ref())
+            .is_none_or(|s| s.size != size || s.output != output || (palette && s.colour.is_none()))
         {
-            self.screen = Some(Screen::new(ctx, size, output, self.colour));
+            self.screen = Some(Screen::new(ctx, size, output, self.colour, palette));
         }
         if self.display == Display::March && self.march.is_none() {
             let colour = self.colour.remove_srgb_suffix();
@@ -539,6 +549,7 @@ impl Renderer {
             copies,
             terrain_drawn,
             pixels_marched: 0,
+            max_n: 0,
         })
     }
 
@@ -580,6 +591,7 @@ impl Renderer {
             copies: vec![(march.counters.clone(), COUNTERS_BYTES)],
             terrain_drawn: false,
             pixels_marched: u64::from(size.0) * u64::from(size.1),
+            max_n: 0,
         })
     }
 
@@ -602,7 +614,9 @@ impl Renderer {
         });
         stages.run("present", |enc| {
             if let Some(frame) = &screen.colour {
-                self.present.record(ctx, enc, frame, target, size, output);
+                let (sources, n) = ((frame, &screen.keys_view), shown.max_n);
+                self.present
+                    .record(ctx, enc, sources, target, size, output, n);
             }
         });
         let mut copies: Vec<(&wgpu::Buffer, u64)> =
@@ -684,6 +698,8 @@ struct Shown {
     terrain_drawn: bool,
     /// Pixels marched (0 when splatting).
     pixels_marched: u64,
+    /// The faces' side the frame's texel keys are dense over.
+    max_n: u32,
 }
 
 /// The on-screen render pass: colour and key targets, splat depth. The first pass of a frame

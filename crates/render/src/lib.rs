@@ -21,6 +21,7 @@ pub mod gpu_sprites;
 pub mod input;
 pub mod layouts;
 pub mod memory;
+pub mod palette;
 pub mod passes;
 pub mod pipeline_cache;
 pub mod probe_store;

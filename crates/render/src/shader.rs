@@ -11,6 +11,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/common.wgsl"),
     ),
     (
+        "lib/palette.wgsl",
+        include_str!("../../../shaders/lib/palette.wgsl"),
+    ),
+    (
         "lib/view.wgsl",
         include_str!("../../../shaders/lib/view.wgsl"),
     ),

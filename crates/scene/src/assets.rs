@@ -11,22 +11,21 @@ use crate::components::{Geometry, Material, Sampling};
 use crate::gltf_import::{GltfError, load_gltf_report};
 use crate::level::Level;
 use crate::mesh::TriMesh;
+use crate::palette::{Palette, PaletteError};
 use crate::sprite::Sprite;
 use crate::terrain::{HeightSource, Heightfield, Terrain};
 use crate::texture::{TextureError, load_heightmap, load_paint, load_texture};
 
 /// A file a level refers to could not be loaded.
 #[derive(Debug, thiserror::Error)]
-#[error("{}{}: entity {entity} ({name}): {source}", level.display(), at.map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default())]
+#[error("{}{}: {owner}: {source}", level.display(), at.map(|(l, c)| format!(":{l}:{c}")).unwrap_or_default())]
 pub struct AssetError {
     /// The level file.
     pub level: PathBuf,
     /// Line and column of the reference in the level file, when known.
     pub at: Option<(usize, usize)>,
-    /// Index of the entity row.
-    pub entity: usize,
-    /// The entity's name.
-    pub name: String,
+    /// What refers to the file: `entity 3 (Crate)`, or `palette`.
+    pub owner: String,
     /// The file's own error (which names the file).
     pub source: AssetFileError,
 }
@@ -40,6 +39,9 @@ pub enum AssetFileError {
     /// A PNG or JPEG texture.
     #[error(transparent)]
     Texture(#[from] TextureError),
+    /// A palette file (its error names the file and line).
+    #[error(transparent)]
+    Palette(#[from] PaletteError),
     /// A sprite's sheet or map that does not fit the sprite (frames that do not divide it,
     /// a map of another size, …).
     #[error("{}: {message}", file.display())]
@@ -58,10 +60,16 @@ pub struct AssetLibrary {
     meshes: BTreeMap<String, Arc<TriMesh>>,
     textures: BTreeMap<String, Arc<Image>>,
     heightfields: BTreeMap<String, Arc<Heightfield>>,
+    palettes: BTreeMap<String, Arc<Palette>>,
     mesh_warnings: BTreeMap<String, Vec<String>>,
 }
 
 impl AssetLibrary {
+    /// The palette for a level-relative path, if loaded.
+    pub fn palette(&self, rel: &str) -> Option<&Arc<Palette>> {
+        self.palettes.get(rel)
+    }
+
     /// The mesh for a level-relative path, if loaded.
     pub fn get(&self, rel: &str) -> Option<&Arc<TriMesh>> {
         self.meshes.get(rel)
@@ -264,11 +272,10 @@ pub fn load_assets(
         let error_at = |needles: &[String], source: AssetFileError| AssetError {
             level: level_path.to_owned(),
             at: level_text.and_then(|t| locate_in_row(t, i, needles)),
-            entity: i,
-            name: row
-                .name
-                .as_ref()
-                .map_or_else(|| "unnamed".to_owned(), |n| n.0.clone()),
+            owner: format!(
+                "entity {i} ({})",
+                (row.name.as_ref()).map_or("unnamed", |n| n.0.as_str())
+            ),
             source,
         };
         let error = |path: &str, source: AssetFileError| error_at(&[format!("{path:?}")], source);
@@ -317,7 +324,33 @@ pub fn load_assets(
             load_sprite(&mut lib, sprite, level_path).map_err(|(at, e)| error_at(&at, e))?;
         }
     }
+    load_palettes(&mut lib, level, level_path, level_text)?;
     Ok(lib)
+}
+
+/// Loads the level's palette and its alternate into `lib`.
+fn load_palettes(
+    lib: &mut AssetLibrary,
+    level: &Level,
+    level_path: &Path,
+    level_text: Option<&str>,
+) -> Result<(), AssetError> {
+    let Some(setting) = &level.palette else {
+        return Ok(());
+    };
+    for file in std::iter::once(&setting.file).chain(&setting.alternate) {
+        if lib.palettes.contains_key(file) {
+            continue;
+        }
+        let palette = Palette::load(&resolve(level_path, file)).map_err(|e| AssetError {
+            level: level_path.to_owned(),
+            at: level_text.and_then(|t| locate(t, &format!("{file:?}"))),
+            owner: "palette".into(),
+            source: e.into(),
+        })?;
+        lib.palettes.insert(file.clone(), Arc::new(palette));
+    }
+    Ok(())
 }
 
 /// Loads a sprite's sheet and maps into `lib` and checks them against the sprite: the

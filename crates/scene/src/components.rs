@@ -390,6 +390,39 @@ pub struct LevelSettings {
     pub reference_distance: f32,
 }
 
+/// The palette a level's frames are mapped to: every pixel takes the nearest of its colours
+/// in OKLab, optionally dithered between the two nearest (`crate::palette`).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PaletteSetting {
+    /// The palette file (`.gpl`, `.hex` or `.pal`), relative to the level.
+    pub file: String,
+    /// Ordered dithering between the two nearest colours, anchored to the texel: 0 (none;
+    /// left out of the file) to 1.
+    #[serde(default, skip_serializing_if = "is_zero", with = "num::unit")]
+    pub dither: f32,
+    /// A second palette (night, say) that `texel-run play` swaps to with a key.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub alternate: Option<String>,
+}
+
+impl Validate for PaletteSetting {
+    fn validate(&self) -> Result<(), (&'static str, String)> {
+        let named = |p: &str| {
+            if p.trim().is_empty() {
+                Err("must name a palette file".to_owned())
+            } else {
+                Ok(())
+            }
+        };
+        field("file", named(&self.file))?;
+        if let Some(a) = &self.alternate {
+            field("alternate", named(a))?;
+        }
+        field("dither", num::check_unit(self.dither).map(|_| ()))
+    }
+}
+
 fn is_zero(v: &f32) -> bool {
     *v == 0.0
 }

@@ -19,8 +19,8 @@ use ron::ser::PrettyConfig;
 use serde::{Deserialize, Serialize};
 
 use crate::components::{
-    DirectionalLight, Geometry, LevelSettings, Material, Name, PlayerStart, PointLight,
-    ProbeGridOverride, Transform, Validate,
+    DirectionalLight, Geometry, LevelSettings, Material, Name, PaletteSetting, PlayerStart,
+    PointLight, ProbeGridOverride, Transform, Validate,
 };
 
 /// The version this build writes.
@@ -37,6 +37,10 @@ pub struct Level {
     /// Level-wide settings.
     #[serde(default)]
     pub settings: LevelSettings,
+    /// The palette the level's frames are mapped to, if any (left out of the file when
+    /// none).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub palette: Option<PaletteSetting>,
     /// One row per entity, in a stable order.
     #[serde(default, deserialize_with = "de_entities")]
     pub entities: Vec<EntityRow>,
@@ -47,6 +51,7 @@ impl Default for Level {
         Self {
             version: CURRENT_VERSION,
             settings: LevelSettings::default(),
+            palette: None,
             entities: Vec::new(),
         }
     }
@@ -242,6 +247,10 @@ impl Level {
         self.settings
             .validate()
             .map_err(|e| invalid("settings".into(), "level", "settings", e))?;
+        if let Some(p) = &self.palette {
+            p.validate()
+                .map_err(|e| invalid("palette".into(), "level", "palette", e))?;
+        }
         for (i, row) in self.entities.iter().enumerate() {
             let name = row.display_name();
             row.validate()

@@ -13,6 +13,7 @@ pub mod level;
 pub mod level_read;
 pub mod migrate;
 pub mod num;
+pub mod palette;
 pub mod primitives;
 pub mod read;
 pub mod save;

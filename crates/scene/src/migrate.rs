@@ -114,6 +114,7 @@ impl From<LevelV1> for Level {
         Level {
             version: CURRENT_VERSION,
             settings: v1.settings,
+            palette: None,
             entities: v1
                 .entities
                 .into_iter()

@@ -30,19 +30,22 @@ pub enum FileKind {
     Report,
     /// A texture image (`.png` or `.jpg`).
     Texture,
+    /// A palette (`.gpl`, `.hex` or `.pal`).
+    Palette,
 }
 
 const MIB: u64 = 1 << 20;
 
 impl FileKind {
     /// Every kind, for documentation and tests.
-    pub const ALL: [FileKind; 6] = [
+    pub const ALL: [FileKind; 7] = [
         FileKind::Level,
         FileKind::Mesh,
         FileKind::MeshBuffer,
         FileKind::CameraPath,
         FileKind::Report,
         FileKind::Texture,
+        FileKind::Palette,
     ];
 
     /// What messages call the file.
@@ -54,18 +57,21 @@ impl FileKind {
             FileKind::CameraPath => "camera path",
             FileKind::Report => "report",
             FileKind::Texture => "texture",
+            FileKind::Palette => "palette",
         }
     }
 
     /// The built-in cap in bytes: levels 64 MiB (a 10,000-entity level is about 3 MiB),
     /// glTF files and buffers 512 MiB each, camera paths 16 MiB, reports 64 MiB, textures
-    /// 64 MiB (a 2048² RGBA PNG is at most 16 MiB).
+    /// 64 MiB (a 2048² RGBA PNG is at most 16 MiB), palettes 1 MiB (256 colours take a few
+    /// KiB).
     pub fn default_cap(self) -> u64 {
         match self {
             FileKind::Level => 64 * MIB,
             FileKind::Mesh | FileKind::MeshBuffer => 512 * MIB,
             FileKind::CameraPath => 16 * MIB,
             FileKind::Report | FileKind::Texture => 64 * MIB,
+            FileKind::Palette => MIB,
         }
     }
 
@@ -78,6 +84,7 @@ impl FileKind {
             FileKind::CameraPath => "TEXEL_MAX_PATH_BYTES",
             FileKind::Report => "TEXEL_MAX_REPORT_BYTES",
             FileKind::Texture => "TEXEL_MAX_TEXTURE_BYTES",
+            FileKind::Palette => "TEXEL_MAX_PALETTE_BYTES",
         }
     }
 

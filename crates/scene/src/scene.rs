@@ -22,6 +22,8 @@ use crate::terrain::Terrain;
 pub struct Scene {
     /// Level-wide settings.
     pub settings: LevelSettings,
+    /// The palette the frames are mapped to, if any.
+    pub palette: Option<crate::components::PaletteSetting>,
     world: World,
     order: Vec<Entity>,
 }
@@ -36,6 +38,7 @@ impl Scene {
     pub fn from_level(level: &Level) -> Self {
         let mut scene = Scene {
             settings: level.settings,
+            palette: level.palette.clone(),
             ..Scene::default()
         };
         for row in &level.entities {
@@ -58,6 +61,7 @@ impl Scene {
     pub fn to_level(&self) -> Level {
         Level {
             settings: self.settings,
+            palette: self.palette.clone(),
             entities: self.entities().filter_map(|e| self.row(e)).collect(),
             ..Level::default()
         }

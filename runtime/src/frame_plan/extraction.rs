@@ -9,6 +9,7 @@ use texel_probes::grid::{GridDefaults, GridOverride};
 use texel_render::input::{
     Camera, Look, MaterialInput, ObjectInput, PointLightInput, SceneInput, SunInput, TerrainInput,
 };
+use texel_render::palette::PaletteInput;
 use texel_render::shadow_region::{scene_floor, sun_shadow_bounds};
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::terrain::Terrain;
@@ -38,6 +39,8 @@ pub struct PreparedLevel {
     pub animation: Animation,
     /// The lowest point of the scene, where sun shadows end ([`scene_floor`]).
     pub(super) floor: f32,
+    /// The level's palette and its alternate, as the renderer maps to them (empty: none).
+    pub palettes: Vec<PaletteInput>,
 }
 
 impl PreparedLevel {
@@ -55,7 +58,15 @@ impl PreparedLevel {
             cell_size: s.cell_size,
             overrides: grid_overrides(&level.scene),
             start: start_camera(&level.scene),
+            palettes: level_palettes(level),
         }
+    }
+
+    /// The palette to map frames to: the level's, or its alternate (the first when it has
+    /// none); `None` for a level without a palette.
+    pub fn palette(&self, alternate: bool) -> Option<PaletteInput> {
+        let i = usize::from(alternate && self.palettes.len() > 1);
+        self.palettes.get(i).cloned()
     }
 
     /// The renderer's view of the scene.
@@ -87,6 +98,21 @@ pub fn level_look(scene: &Scene) -> Look {
         bands: s.bands,
         haze: s.haze,
     }
+}
+
+/// The level's palette and its alternate as the renderer takes them, loaded with its assets
+/// (a palette the assets lack, which a loaded level cannot have, is left out).
+pub fn level_palettes(level: &LoadedLevel) -> Vec<PaletteInput> {
+    let Some(setting) = &level.scene.palette else {
+        return Vec::new();
+    };
+    (std::iter::once(&setting.file).chain(&setting.alternate))
+        .filter_map(|file| level.assets.palette(file))
+        .map(|p| PaletteInput {
+            colours: p.colours.clone(),
+            dither: setting.dither,
+        })
+        .collect()
 }
 
 /// The camera at the player start, or at (0, 1.6, 10) looking at the origin.

@@ -237,6 +237,13 @@ impl BaselineRenderer {
         Ok(())
     }
 
+    /// The palette the raster, naive and snap frames are mapped to from the next one on
+    /// (`None`: as shaded), dithered by each method's own art pixel. The cubemap baseline
+    /// draws without it.
+    pub fn set_palette(&self, ctx: &GpuContext, palette: Option<&crate::palette::PaletteInput>) {
+        self.upscale.set_palette(&ctx.queue, palette);
+    }
+
     /// Screen targets of `size`, taken out of the cache (give them back with `keep`).
     fn take_screen(&mut self, ctx: &GpuContext, size: UVec2) -> ScreenTargets {
         match self.screens.iter().position(|s| s.size == size) {

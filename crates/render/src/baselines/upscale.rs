@@ -11,6 +11,7 @@ use glam::Vec2;
 use super::gbuffer::ScreenTargets;
 use super::{Output, fullscreen_pipeline};
 use crate::gpu_scene::GpuScene;
+use crate::palette::PaletteInput;
 use crate::passes::{FLOAT, UINT, entry, storage, texture, uniform, uniform_buffer};
 use crate::shader;
 
@@ -37,6 +38,7 @@ pub struct UpscalePass {
     pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     uniform: wgpu::Buffer,
+    palette: wgpu::Buffer,
 }
 
 impl UpscalePass {
@@ -52,6 +54,7 @@ impl UpscalePass {
                 entry(1, f, texture(FLOAT, d2)),
                 entry(2, f, texture(UINT, d2)),
                 entry(3, f, storage(true)),
+                entry(4, f, uniform(false)),
             ],
         });
         let pipeline = fullscreen_pipeline(device, &module, &layout, "baselines::upscale");
@@ -60,11 +63,22 @@ impl UpscalePass {
             "baselines::upscale::uniform",
             size_of::<UpscaleUniform>() as u64,
         );
+        let palette = uniform_buffer(
+            device,
+            "baselines::upscale::palette",
+            crate::palette::PALETTE_UNIFORM_SIZE,
+        );
         Ok(UpscalePass {
             pipeline,
             layout,
             uniform,
+            palette,
         })
+    }
+
+    /// The palette the output is mapped to from the next frame on (`None`: as shaded).
+    pub fn set_palette(&self, queue: &wgpu::Queue, palette: Option<&PaletteInput>) {
+        queue.write_buffer(&self.palette, 0, &crate::palette::uniform_bytes(palette, 0));
     }
 
     /// Records drawing `src.lit` (and its ids) into `out` through `mapping`.
@@ -94,6 +108,7 @@ impl UpscalePass {
                 wgpu::BindingResource::TextureView(&src.lit.view),
                 wgpu::BindingResource::TextureView(&src.ids.view),
                 scene.objects.as_entire_binding(),
+                self.palette.as_entire_binding(),
             ],
         );
         let mut pass = out.begin(encoder, "baselines::upscale::pass");

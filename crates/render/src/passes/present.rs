@@ -1,12 +1,14 @@
-//! Present: nearest upscale of the internal frame to the output (`shaders/present.wgsl`).
+//! Present: nearest upscale of the internal frame to the output (`shaders/present.wgsl`),
+//! mapping each pixel to the palette when there is one (`crate::palette`).
 
 use crate::context::GpuContext;
 use crate::passes::LazyRender;
 use bytemuck::{Pod, Zeroable};
 
 use super::{
-    FLOAT, RenderSpec, bind_group, entry, render_pipeline, texture, uniform, uniform_buffer,
+    FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, texture, uniform, uniform_buffer,
 };
+use crate::palette::{PALETTE_UNIFORM_SIZE, PaletteInput, uniform_bytes};
 use crate::shader;
 
 #[repr(C)]
@@ -43,6 +45,8 @@ pub struct PresentPass {
     pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     sizes: wgpu::Buffer,
+    palette_buffer: wgpu::Buffer,
+    palette: Option<PaletteInput>,
 }
 
 impl PresentPass {
@@ -59,6 +63,8 @@ impl PresentPass {
             entries: &[
                 entry(0, f, texture(FLOAT, wgpu::TextureViewDimension::D2)),
                 entry(1, f, uniform(false)),
+                entry(2, f, texture(UINT, wgpu::TextureViewDimension::D2)),
+                entry(3, f, uniform(false)),
             ],
         });
         let pipeline = render_pipeline(
@@ -75,22 +81,38 @@ impl PresentPass {
             },
         );
         let sizes = uniform_buffer(device, "present::sizes", size_of::<Sizes>() as u64);
+        let palette_buffer = uniform_buffer(device, "present::palette", PALETTE_UNIFORM_SIZE);
         Ok(PresentPass {
             pipeline,
             layout,
             sizes,
+            palette_buffer,
+            palette: None,
         })
     }
 
-    /// Records the upscale of `frame` (`internal` pixels) into `target` (`output` pixels).
+    /// The palette frames are mapped to from the next one on (`None`: colours as drawn).
+    pub fn set_palette(&mut self, palette: Option<PaletteInput>) {
+        self.palette = palette.filter(|p| !p.colours.is_empty());
+    }
+
+    /// Whether frames are mapped to a palette (they then go through the internal target).
+    pub fn has_palette(&self) -> bool {
+        self.palette.is_some()
+    }
+
+    /// Records the upscale of `frame` (`internal` pixels, their texel keys in `keys`, dense
+    /// over faces of `max_n`) into `target` (`output` pixels).
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
-        frame: &wgpu::TextureView,
+        (frame, keys): (&wgpu::TextureView, &wgpu::TextureView),
         target: &wgpu::TextureView,
         internal: (u32, u32),
         output: (u32, u32),
+        max_n: u32,
     ) {
         let (device, queue) = (&ctx.device, &ctx.queue);
         let sizes = Sizes {
@@ -100,6 +122,8 @@ impl PresentPass {
             _pad: [0; 2],
         };
         queue.write_buffer(&self.sizes, 0, bytemuck::bytes_of(&sizes));
+        let palette = uniform_bytes(self.palette.as_ref(), max_n);
+        queue.write_buffer(&self.palette_buffer, 0, &palette);
         let bind = bind_group(
             device,
             "present::bind",
@@ -107,6 +131,8 @@ impl PresentPass {
             &[
                 wgpu::BindingResource::TextureView(frame),
                 self.sizes.as_entire_binding(),
+                wgpu::BindingResource::TextureView(keys),
+                self.palette_buffer.as_entire_binding(),
             ],
         );
         let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
