@@ -101,3 +101,32 @@ fn mesh_warnings_are_kept_once_per_mesh() {
         ]
     );
 }
+
+/// A level's palette loads with its assets; a bad one stops the load naming the level's
+/// line, the palette file and its line.
+#[test]
+fn a_levels_palette_loads_and_a_bad_one_is_named() {
+    let dir = tempfile::tempdir().unwrap();
+    std::fs::write(dir.path().join("day.hex"), "102030\nffeedd\n").unwrap();
+    std::fs::write(dir.path().join("night.gpl"), "GIMP Palette\n0 0 0\n1 2 x\n").unwrap();
+    let text =
+        "(\n    version: 3,\n    palette: (file: \"day.hex\", alternate: \"night.gpl\"),\n)\n";
+    let level = Level::from_ron_str(text, Path::new("level.ron")).unwrap();
+    let setting = level.palette.clone().unwrap();
+    assert_eq!((setting.file.as_str(), setting.dither), ("day.hex", 0.0));
+    let path = dir.path().join("level.ron");
+    let e = load_assets(&level, &path, Some(text))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains(":3:"), "the level's line: {e}");
+    assert!(e.contains("palette") && e.contains("night.gpl:3:"), "{e}");
+    assert!(e.contains("blue `x`"), "{e}");
+
+    std::fs::write(dir.path().join("night.gpl"), "GIMP Palette\n0 0 0\n").unwrap();
+    let lib = load_assets(&level, &path, None).unwrap();
+    assert_eq!(
+        lib.palette("day.hex").unwrap().colours,
+        [[16, 32, 48], [255, 238, 221]]
+    );
+    assert_eq!(lib.palette("night.gpl").unwrap().colours.len(), 1);
+}
