@@ -2,7 +2,8 @@
 // (crates/render/src/passes/present.rs). Texel-exact: each output pixel copies the internal
 // pixel under its centre. The internal frame holds sRGB-encoded bytes in a plain unorm
 // texture: `fs` copies them to a plain target, `fs_decode` decodes them for an sRGB one.
-// With a palette, each pixel takes its palette colour, dithered by the texel its key names.
+// With a palette, `fs_map` first maps each internal pixel to its palette colour, dithered by
+// the texel its key names, into a texture of the internal size that `fs` then upscales.
 
 #include "lib/fullscreen.wgsl"
 #include "lib/common.wgsl"
@@ -30,12 +31,7 @@ fn vs(@builtin(vertex_index) vi: u32) -> @builtin(position) vec4<f32> {
 // division, which CPU rasterizers run lane by lane); present.rs mirrors it.
 fn source(pos: vec2<f32>) -> vec4<f32> {
     let src = min(vec2<u32>(pos * sizes.scale), sizes.internal - vec2(1u));
-    let c = textureLoad(frame, src, 0);
-    if palette.count == 0u {
-        return c;
-    }
-    let t = texel_threshold(textureLoad(keys, src, 0).r, src, palette.max_n);
-    return vec4(palette.srgb[palette_index(srgb_to_linear(c.rgb), t)].rgb, c.a);
+    return textureLoad(frame, src, 0);
 }
 
 @fragment
@@ -47,4 +43,13 @@ fn fs(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 fn fs_decode(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let c = source(pos.xy);
     return vec4(srgb_to_linear(c.rgb), c.a);
+}
+
+// Internal pixel `pos` of the frame in its palette colour (drawn at the internal size).
+@fragment
+fn fs_map(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    let src = min(vec2<u32>(pos.xy), sizes.internal - vec2(1u));
+    let c = textureLoad(frame, src, 0);
+    let t = texel_threshold(textureLoad(keys, src, 0).r, src, palette.max_n);
+    return vec4(palette.srgb[palette_index(srgb_to_linear(c.rgb), t)].rgb, c.a);
 }

@@ -43,10 +43,16 @@ pub const SIZES_SIZE: usize = size_of::<Sizes>();
 /// The present pass.
 pub struct PresentPass {
     pipeline: LazyRender,
+    /// The palette's mapping at the internal size (`fs_map`), into `mapped`.
+    map_pipeline: LazyRender,
     layout: wgpu::BindGroupLayout,
     sizes: wgpu::Buffer,
     palette_buffer: wgpu::Buffer,
     palette: Option<PaletteInput>,
+    /// The frame in its palette colours, at the internal size (made with the first mapped
+    /// frame of a size).
+    mapped: Option<((u32, u32), wgpu::TextureView)>,
+    internal_format: wgpu::TextureFormat,
 }
 
 impl PresentPass {
@@ -67,33 +73,42 @@ impl PresentPass {
                 entry(3, f, uniform(false)),
             ],
         });
-        let pipeline = render_pipeline(
-            device,
-            RenderSpec {
-                owner: "present",
-                module: &module,
-                vertex: "vs",
-                layouts: &[&layout],
-                vertex_buffers: &[],
-                fragment: if colour.is_srgb() { "fs_decode" } else { "fs" },
-                targets: &[colour],
-                depth: None,
-            },
-        );
+        let internal_format = colour.remove_srgb_suffix();
+        let layouts = [&layout];
+        let (outputs, internals) = ([colour], [internal_format]);
+        let spec = |fragment, targets| RenderSpec {
+            owner: "present",
+            module: &module,
+            vertex: "vs",
+            layouts: &layouts,
+            vertex_buffers: &[],
+            fragment,
+            targets,
+            depth: None,
+        };
+        let fragment = if colour.is_srgb() { "fs_decode" } else { "fs" };
+        let pipeline = render_pipeline(device, spec(fragment, &outputs));
+        let map_pipeline = render_pipeline(device, spec("fs_map", &internals));
         let sizes = uniform_buffer(device, "present::sizes", size_of::<Sizes>() as u64);
         let palette_buffer = uniform_buffer(device, "present::palette", PALETTE_UNIFORM_SIZE);
         Ok(PresentPass {
             pipeline,
+            map_pipeline,
             layout,
             sizes,
             palette_buffer,
             palette: None,
+            mapped: None,
+            internal_format,
         })
     }
 
     /// The palette frames are mapped to from the next one on (`None`: colours as drawn).
     pub fn set_palette(&mut self, palette: Option<PaletteInput>) {
         self.palette = palette.filter(|p| !p.colours.is_empty());
+        if self.palette.is_none() {
+            self.mapped = None;
+        }
     }
 
     /// Whether frames are mapped to a palette (they then go through the internal target).
@@ -102,10 +117,11 @@ impl PresentPass {
     }
 
     /// Records the upscale of `frame` (`internal` pixels, their texel keys in `keys`, dense
-    /// over faces of `max_n`) into `target` (`output` pixels).
+    /// over faces of `max_n`) into `target` (`output` pixels); with a palette, the frame is
+    /// first mapped to it at the internal size.
     #[allow(clippy::too_many_arguments)]
     pub fn record(
-        &self,
+        &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         (frame, keys): (&wgpu::TextureView, &wgpu::TextureView),
@@ -122,39 +138,84 @@ impl PresentPass {
             _pad: [0; 2],
         };
         queue.write_buffer(&self.sizes, 0, bytemuck::bytes_of(&sizes));
-        let palette = uniform_bytes(self.palette.as_ref(), max_n);
-        queue.write_buffer(&self.palette_buffer, 0, &palette);
-        let bind = bind_group(
-            device,
-            "present::bind",
-            &self.layout,
-            &[
-                wgpu::BindingResource::TextureView(frame),
-                self.sizes.as_entire_binding(),
-                wgpu::BindingResource::TextureView(keys),
-                self.palette_buffer.as_entire_binding(),
-            ],
+        let bind = |frame| {
+            bind_group(
+                device,
+                "present::bind",
+                &self.layout,
+                &[
+                    wgpu::BindingResource::TextureView(frame),
+                    self.sizes.as_entire_binding(),
+                    wgpu::BindingResource::TextureView(keys),
+                    self.palette_buffer.as_entire_binding(),
+                ],
+            )
+        };
+        let Some(palette) = &self.palette else {
+            draw(encoder, self.pipeline.get(), &bind(frame), target);
+            return;
+        };
+        queue.write_buffer(
+            &self.palette_buffer,
+            0,
+            &uniform_bytes(Some(palette), max_n),
         );
-        let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
-            label: Some("present::pass"),
-            color_attachments: &[Some(wgpu::RenderPassColorAttachment {
-                view: target,
-                depth_slice: None,
-                resolve_target: None,
-                ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
-                    store: wgpu::StoreOp::Store,
+        if self
+            .mapped
+            .as_ref()
+            .is_none_or(|(size, _)| *size != internal)
+        {
+            let texture = device.create_texture(&wgpu::TextureDescriptor {
+                label: Some("present::mapped"),
+                size: wgpu::Extent3d {
+                    width: internal.0,
+                    height: internal.1,
+                    depth_or_array_layers: 1,
                 },
-            })],
-            depth_stencil_attachment: None,
-            timestamp_writes: None,
-            occlusion_query_set: None,
-            multiview_mask: None,
-        });
-        pass.set_pipeline(self.pipeline.get());
-        pass.set_bind_group(0, &bind, &[]);
-        pass.draw(0..3, 0..1);
+                mip_level_count: 1,
+                sample_count: 1,
+                dimension: wgpu::TextureDimension::D2,
+                format: self.internal_format,
+                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
+                    | wgpu::TextureUsages::TEXTURE_BINDING,
+                view_formats: &[],
+            });
+            self.mapped = Some((internal, texture.create_view(&Default::default())));
+        }
+        let Some((_, mapped)) = &self.mapped else {
+            return;
+        };
+        draw(encoder, self.map_pipeline.get(), &bind(frame), mapped);
+        draw(encoder, self.pipeline.get(), &bind(mapped), target);
     }
+}
+
+/// One fullscreen triangle of `pipeline` into `target`.
+fn draw(
+    encoder: &mut wgpu::CommandEncoder,
+    pipeline: &wgpu::RenderPipeline,
+    bind: &wgpu::BindGroup,
+    target: &wgpu::TextureView,
+) {
+    let mut pass = encoder.begin_render_pass(&wgpu::RenderPassDescriptor {
+        label: Some("present::pass"),
+        color_attachments: &[Some(wgpu::RenderPassColorAttachment {
+            view: target,
+            depth_slice: None,
+            resolve_target: None,
+            ops: wgpu::Operations {
+                load: wgpu::LoadOp::Clear(wgpu::Color::BLACK),
+                store: wgpu::StoreOp::Store,
+            },
+        })],
+        depth_stencil_attachment: None,
+        timestamp_writes: None,
+        occlusion_query_set: None,
+        multiview_mask: None,
+    });
+    pass.set_pipeline(pipeline);
+    pass.set_bind_group(0, bind, &[]);
+    pass.draw(0..3, 0..1);
 }
 
 #[cfg(test)]
