@@ -77,7 +77,12 @@ impl ObjectSlot {
         instance: Option<u32>,
     ) -> Self {
         ObjectSlot {
-            vertices: before[0]..after[0],
+            // A shared mesh's vertices are its mesh's, not its own (the first user's
+            // marks hold them): nothing to rewrite.
+            vertices: match instance {
+                Some(_) => after[0]..after[0],
+                None => before[0]..after[0],
+            },
             ranges: before[1]..after[1],
             casters: before[2]..after[2],
             own,
