@@ -44,8 +44,8 @@ fn pixel_uv(pixel: vec2<f32>) -> vec2<f32> {
 @group(0) @binding(1) var<storage, read> objects: array<Object>;
 
 @vertex
-fn vs(v: SceneVertex) -> VsOut {
-    return raster_vertex(v, face.view_proj);
+fn vs(v: SceneVertex, i: SceneInstance) -> VsOut {
+    return raster_vertex(instance_vertex(v, i), face.view_proj);
 }
 
 struct FsOut {

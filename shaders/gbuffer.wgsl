@@ -26,11 +26,11 @@ struct Camera {
 @group(0) @binding(7) var<storage, read> motions: array<Motion>;
 
 @vertex
-fn vs(v: SceneVertex) -> VsOut {
+fn vs(v: SceneVertex, i: SceneInstance) -> VsOut {
     // Animated objects where they are this frame (their UV gradients are covectors: the
-    // normal matrix carries them too).
-    var w = v;
-    let flags = objects[v.object].flags;
+    // normal matrix carries them too); objects drawn from a shared mesh where they stand.
+    var w = instance_vertex(v, i);
+    let flags = objects[w.object].flags;
     if is_animated(flags) {
         let m = motions[flags >> 8u];
         w.position = (m.to_now * vec4(v.position, 1.0)).xyz;

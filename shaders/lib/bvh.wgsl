@@ -14,11 +14,14 @@
 //
 // filled from `GpuBvh::upload` (buffers `bvh::nodes` and `bvh::triangles`),
 // `GpuScene::bvh_instances` and the terrains' heightfields (`crates/render/src/bvh/field.rs`:
-// a terrain casts through its max-height quadtree, not through triangles in the tree). The static scene's tree has its root at node 0; each animated
-// object's tree follows it, built in the object's base pose, and its instance record carries
-// rays from where the object is now into that pose; last, a top-level tree over the casters'
-// bounds now, rebuilt each frame, whose leaves name instance records (record 0 is a header
-// holding the top-level root).
+// a terrain casts through its max-height quadtree, not through triangles in the tree). The
+// static scene's tree (objects whose meshes no other shares) has its root at node 0; each
+// animated object's tree follows it, built in the object's base pose, and its instance
+// record carries rays from where the object is now into that pose; then one tree per shared
+// mesh, in object space, which the still objects drawing it reach through their instance
+// records (`crates/render/src/bvh/instances.rs`); last, two top-level trees whose leaves
+// name instance records: one over the animated casters' bounds now, rebuilt each frame, one
+// over the still instances, refit when one moves (record 0 is a header holding both roots).
 
 #include "lib/constants.wgsl"
 #include "lib/ray.wgsl"
@@ -40,8 +43,10 @@ struct BvhInstance {
     max: vec4<f32>,
     // Root node of its tree; 0xffffffff: casts no shadow.
     root: u32,
-    pad0: u32,
-    pad1: u32,
+    // In the header (record 0) only: how many still instances there are (0: none) and the
+    // root of their top-level tree.
+    statics: u32,
+    statics_root: u32,
     pad2: u32,
 }
 
@@ -272,9 +277,13 @@ fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bo
             return true;
         }
     }
-    // Record 0 is the header: its `root` is the top-level tree over the casters' bounds.
-    let top = bvh_instances[0].root;
-    return top != 0xffffffffu && bvh_top_hit(top, origin, dir, t_max);
+    // Record 0 is the header: its `root` is the top-level tree over the animated casters'
+    // bounds now, its `statics_root` the one over the still objects sharing meshes.
+    let header = bvh_instances[0];
+    if header.statics != 0u && bvh_top_hit(header.statics_root, origin, dir, t_max) {
+        return true;
+    }
+    return header.root != 0xffffffffu && bvh_top_hit(header.root, origin, dir, t_max);
 }
 
 // Whether the ray hits instance `i`'s tree, carried into the object's base pose (an affine

@@ -17,6 +17,38 @@ struct SceneVertex {
     @location(7) grad_v: vec3<f32>,
 }
 
+// The instance record a draw places its vertices with (`GpuScene::instances`,
+// crates/render/src/gpu_scene.rs `GpuInstance`): record 0 is the identity for vertices
+// written in world space (object 0xffffffff: the vertex names its object); a shared mesh's
+// object-space vertices are placed by their object's similarity.
+struct SceneInstance {
+    @location(8) m0: vec4<f32>,
+    @location(9) m1: vec4<f32>,
+    @location(10) m2: vec4<f32>,
+    @location(11) m3: vec4<f32>,
+    @location(12) object: u32,
+}
+
+// `v` placed by instance `i` in world space. A similarity's linear part L carries normals
+// (up to length, which the fragment normalizes) and, divided by its squared scale, the UV
+// gradients (covectors: L^-T = L / s^2). The identity record leaves the vertex untouched.
+fn instance_vertex(v: SceneVertex, i: SceneInstance) -> SceneVertex {
+    if i.object == 0xffffffffu {
+        return v;
+    }
+    var w = v;
+    let p = v.position;
+    w.position = ((i.m0.xyz * p.x + i.m1.xyz * p.y) + i.m2.xyz * p.z) + i.m3.xyz;
+    let l = mat3x3(i.m0.xyz, i.m1.xyz, i.m2.xyz);
+    let n = l * v.normal;
+    w.normal = select(vec3(0.0), normalize(n), dot(n, n) > 0.0);
+    let s2 = dot(i.m0.xyz, i.m0.xyz);
+    w.grad_u = (l * v.grad_u) / s2;
+    w.grad_v = (l * v.grad_v) / s2;
+    w.object = i.object;
+    return w;
+}
+
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
     @location(0) world: vec3<f32>,

@@ -62,6 +62,7 @@ use obvhs::ploc::PlocBuilder;
 use obvhs::triangle::Triangle;
 
 pub mod field;
+pub mod instances;
 pub mod refit;
 
 /// Entries of the traversal stack (`BVH_STACK_SIZE` in WGSL); also the depth at which the
@@ -439,6 +440,16 @@ fn box_entry(node: &BvhNode, origin: Vec3, inv_dir: Vec3, t_max: f32) -> Option<
     (near <= far).then_some(near)
 }
 
+/// The inverse of `dir` for the slab test, tiny components replaced (`bvh_inv_dir`).
+fn safe_inv_dir(dir: Vec3) -> Vec3 {
+    let safe = Vec3::select(
+        dir.abs().cmplt(Vec3::splat(DIR_EPS)),
+        Vec3::splat(DIR_EPS),
+        dir,
+    );
+    safe.recip()
+}
+
 /// Whether any triangle of leaf `node` is hit.
 fn leaf_hit(bvh: &GpuBvh, node: &BvhNode, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
     let range = node.first as usize..(node.first + node.count) as usize;
@@ -455,12 +466,7 @@ pub fn any_hit_cpu(bvh: &GpuBvh, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
 
 /// [`any_hit_cpu`] in the tree whose root is node `root` (one [`GpuBvh::append`] returned).
 pub fn any_hit_cpu_from(bvh: &GpuBvh, root: u32, origin: Vec3, dir: Vec3, t_max: f32) -> bool {
-    let safe = Vec3::select(
-        dir.abs().cmplt(Vec3::splat(DIR_EPS)),
-        Vec3::splat(DIR_EPS),
-        dir,
-    );
-    let inv_dir = safe.recip();
+    let inv_dir = safe_inv_dir(dir);
     let Some(root) = bvh.nodes.get(root as usize) else {
         return false;
     };

@@ -205,12 +205,28 @@ impl Renderer {
     /// Uploads the scene (meshes, materials, textures, lights, shadow BVH), after checking
     /// that the device can hold it (else the scene in use stays).
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
+        self.set_scene_with(ctx, scene, true)
+    }
+
+    /// [`Renderer::set_scene`], meshes several objects share instanced only if `instancing`
+    /// (else every copy written out, to compare against).
+    pub fn set_scene_with(
+        &mut self,
+        ctx: &GpuContext,
+        scene: &SceneInput,
+        instancing: bool,
+    ) -> Result<(), RenderError> {
         crate::validate::scene(&ctx.device.limits(), scene)?;
-        let uploaded =
-            GpuScene::upload(ctx, scene).map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
+        let uploaded = GpuScene::upload_with(ctx, scene, instancing)
+            .map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
         self.scene = Some(uploaded);
         self.terrain_splat.forget();
         Ok(())
+    }
+
+    /// The uploaded scene's objects drawn from shared meshes, and the meshes they share.
+    pub fn instanced(&self) -> (usize, usize) {
+        self.scene.as_ref().map_or((0, 0), |s| s.instanced)
     }
 
     /// Brings the scene up to `scene` after an edit of the objects `changed` (their

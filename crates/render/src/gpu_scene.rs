@@ -11,6 +11,7 @@ use glam::{Mat3, Vec3};
 use crate::bvh::BvhNode;
 use crate::textures::{AtlasError, GpuTextures};
 
+mod instances;
 mod ranges;
 #[cfg(test)]
 mod tests;
@@ -21,7 +22,7 @@ pub use update::{InPlaceEdit, NotInPlace};
 
 pub use ranges::{
     CaptureCull, DRAW_MIN_TEXELS, DrawRange, EYE_LOD_SAMPLE_TEXELS, LOD_SAMPLE_TEXELS, LodFrom,
-    RANGE_TRIANGLES, chunk_lod, full_detail_runs, spans_a_texel, visible_runs,
+    RANGE_TRIANGLES, Run, chunk_lod, full_detail_runs, spans_a_texel, visible_runs,
     visible_runs_by_kind,
 };
 
@@ -51,6 +52,68 @@ pub struct Vertex {
     pub grad_u: [f32; 3],
     /// World-space gradient of the triangle's V.
     pub grad_v: [f32; 3],
+}
+
+/// One draw's placement of a mesh (80 bytes; the per-instance vertex attributes of
+/// `lib/raster.wgsl` `SceneInstance`). Record 0 is the identity, for vertices written in
+/// world space (each carries its object); a mesh several still objects share is uploaded
+/// once in object space and drawn once per object with that object's record.
+#[repr(C)]
+#[derive(Debug, Clone, Copy, PartialEq, Pod, Zeroable)]
+pub struct GpuInstance {
+    /// Object → world, columns. Only similarities (rotation, mirror, uniform scale and
+    /// translation) are instanced, so it also carries normals and UV gradients (divided by
+    /// the squared scale).
+    pub model: [[f32; 4]; 4],
+    /// The object's index; [`GpuInstance::WORLD`]'s is `u32::MAX`: the vertex's own.
+    pub object: u32,
+    /// Padding.
+    pub _pad: [u32; 3],
+}
+
+impl GpuInstance {
+    /// The identity record: the vertices are in world space and name their objects.
+    pub const WORLD: GpuInstance = GpuInstance {
+        model: [
+            [1.0, 0.0, 0.0, 0.0],
+            [0.0, 1.0, 0.0, 0.0],
+            [0.0, 0.0, 1.0, 0.0],
+            [0.0, 0.0, 0.0, 1.0],
+        ],
+        object: u32::MAX,
+        _pad: [0; 3],
+    };
+
+    /// Object `object` placed by `model`.
+    pub fn new(model: glam::Mat4, object: u32) -> Self {
+        GpuInstance {
+            model: model.to_cols_array_2d(),
+            object,
+            _pad: [0; 3],
+        }
+    }
+}
+
+/// Whether `m` is a similarity whose normals and UV gradients an instance may carry: an
+/// affine map whose linear part has orthogonal columns of one length (within 1e-5).
+pub fn is_similarity(m: glam::Mat4) -> bool {
+    let row3 = m.row(3);
+    if !m.is_finite() || row3 != glam::Vec4::W {
+        return false;
+    }
+    let (a, b, c) = (
+        m.x_axis.truncate(),
+        m.y_axis.truncate(),
+        m.z_axis.truncate(),
+    );
+    let s2 = a.length_squared();
+    let close = |x: f32, y: f32| (x - y).abs() <= 1e-5 * s2;
+    s2 > 1e-12
+        && close(b.length_squared(), s2)
+        && close(c.length_squared(), s2)
+        && close(a.dot(b), 0.0)
+        && close(a.dot(c), 0.0)
+        && close(b.dot(c), 0.0)
 }
 
 /// World bounds of an object-space box under `m`.
@@ -263,6 +326,10 @@ pub struct GpuScene {
     pub vertices: wgpu::Buffer,
     /// Number of vertices (non-indexed triangle list).
     pub vertex_count: u32,
+    /// Instance records ([`GpuInstance`]; record 0 the identity), the second vertex buffer.
+    pub instances: wgpu::Buffer,
+    /// Objects drawn from a shared mesh, and the distinct meshes they share.
+    pub instanced: (usize, usize),
     /// Object records.
     pub objects: wgpu::Buffer,
     /// Point lights (at least one record; `point_count` says how many are real).
@@ -287,8 +354,11 @@ pub struct GpuScene {
     /// Animated objects' shadow trees where they are now: a header (its `root` the top-level
     /// tree's root, or none), then one record per caster in the top-level tree's order.
     pub bvh_instances: wgpu::Buffer,
-    /// Where the top-level tree's nodes start in `bvh_nodes`.
+    /// Where the animated casters' top-level tree's nodes start in `bvh_nodes`.
     pub tlas_root: u32,
+    /// The still instances' top level, as the header carries it: `[records, root]`
+    /// (`[0, 0]`: none; `bvh::instances`).
+    pub static_top: [u32; 2],
     /// Animated objects' motion records, one per [`GpuScene::animated`] (at least one).
     pub motions: wgpu::Buffer,
     /// The animated objects, in motion record order.
@@ -339,6 +409,7 @@ impl GpuScene {
         crate::memory::GpuMemory {
             scene: buffer_bytes(&[
                 &self.vertices,
+                &self.instances,
                 &self.objects,
                 &self.points,
                 &self.motions,
@@ -398,11 +469,13 @@ impl GpuScene {
             .collect();
         let (nodes, order) = crate::bvh::build_tlas(&bounds, self.tlas_root, 1);
         let mut header = GpuBvhInstance::NONE;
+        header._pad[..2].copy_from_slice(&self.static_top);
         if !nodes.is_empty() {
             header.root = self.tlas_root;
             let offset = u64::from(self.tlas_root) * size_of::<BvhNode>() as u64;
             queue.write_buffer(&self.bvh_nodes, offset, bytemuck::cast_slice(&nodes));
         }
+        // Animated casters have records 1..; the still instances' follow theirs, untouched.
         let records: Vec<GpuBvhInstance> = std::iter::once(header)
             .chain(order.iter().map(|&k| casting[k as usize]))
             .collect();
@@ -464,6 +537,19 @@ impl GpuScene {
         wgpu::VertexBufferLayout {
             array_stride: std::mem::size_of::<Vertex>() as u64,
             step_mode: wgpu::VertexStepMode::Vertex,
+            attributes: &ATTRS,
+        }
+    }
+
+    /// The per-instance layout of [`GpuInstance`] (locations 8..=12: the model matrix's
+    /// columns, the object), the scene rasters' second vertex buffer.
+    pub fn instance_layout() -> wgpu::VertexBufferLayout<'static> {
+        const ATTRS: [wgpu::VertexAttribute; 5] = wgpu::vertex_attr_array![
+            8 => Float32x4, 9 => Float32x4, 10 => Float32x4, 11 => Float32x4, 12 => Uint32
+        ];
+        wgpu::VertexBufferLayout {
+            array_stride: std::mem::size_of::<GpuInstance>() as u64,
+            step_mode: wgpu::VertexStepMode::Instance,
             attributes: &ATTRS,
         }
     }

@@ -259,7 +259,11 @@ impl GBufferPass {
         // Terrains at full detail, no culling (a G-buffer is one view, drawn once).
         // Animated objects too, where their motion records put them.
         let mut runs = crate::gpu_scene::full_detail_runs(&scene.ranges);
-        runs.extend(scene.animated_runs());
+        runs.extend(
+            scene
+                .animated_runs()
+                .map(|(first, count)| (first, count, 0)),
+        );
         let draw = RasterDraw {
             pipeline: self.pipeline.get(),
             bind: &bind,

@@ -27,7 +27,13 @@ pub struct DrawRange {
     /// An untextured terrain's triangles: a capture draws them with its terrain pipeline
     /// (`shaders/capture.wgsl` `vs_terrain`), which reads the surface from the heightmap.
     pub terrain: bool,
+    /// The instance record it is drawn with (`GpuScene::instances`): 0, the identity, for
+    /// vertices written in world space; another for a shared mesh's object-space vertices.
+    pub instance: u32,
 }
+
+/// A draw: `(first vertex, vertex count, instance record)`.
+pub type Run = (u32, u32, u32);
 
 impl DrawRange {
     /// Whether any part of the box may be inside the clip volume of `view_proj` (depth 0..1):
@@ -52,18 +58,18 @@ impl DrawRange {
 }
 
 /// Every range at level 0 (terrains at full detail), neighbours merged.
-pub fn full_detail_runs(ranges: &[DrawRange]) -> Vec<(u32, u32)> {
+pub fn full_detail_runs(ranges: &[DrawRange]) -> Vec<Run> {
     merge_runs(ranges.iter().filter(|r| r.lod == 0))
 }
 
-/// Vertex runs `(first, count)` of `ranges` (in buffer order), contiguous ones merged into
-/// one draw.
-pub(super) fn merge_runs<'a>(ranges: impl Iterator<Item = &'a DrawRange>) -> Vec<(u32, u32)> {
-    let mut runs: Vec<(u32, u32)> = Vec::new();
+/// Vertex runs `(first, count, instance)` of `ranges` (in buffer order), contiguous ones of
+/// one instance record merged into one draw.
+pub(super) fn merge_runs<'a>(ranges: impl Iterator<Item = &'a DrawRange>) -> Vec<Run> {
+    let mut runs: Vec<Run> = Vec::new();
     for r in ranges {
         match runs.last_mut() {
-            Some(last) if last.0 + last.1 == r.first => last.1 += r.count,
-            _ => runs.push((r.first, r.count)),
+            Some(last) if last.0 + last.1 == r.first && last.2 == r.instance => last.1 += r.count,
+            _ => runs.push((r.first, r.count, r.instance)),
         }
     }
     runs
@@ -173,7 +179,7 @@ pub enum LodFrom {
 /// fragment is heavy (the full-detail terrain point, terrain pixel colour, textures).
 /// Measured on `terrain_hills` `terrain_walk` at 1280×720, faces of 128 (lavapipe):
 /// captures 50 → 33 ms a frame, the frame's median 94–97 → 73–76 ms.
-pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<(u32, u32)> {
+pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<Run> {
     merge_runs(ranges_drawn(ranges, view_proj, lod, CaptureCull::Footprint).into_iter())
 }
 
@@ -185,7 +191,7 @@ pub fn visible_runs_by_kind(
     view_proj: &glam::Mat4,
     lod: LodFrom,
     cull: CaptureCull,
-) -> ([Vec<(u32, u32)>; 2], usize) {
+) -> ([Vec<Run>; 2], usize) {
     let visible = ranges_drawn(ranges, view_proj, lod, cull);
     let count = visible.len();
     let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =

@@ -19,6 +19,7 @@ fn down_z() -> (glam::Mat4, impl Fn(u32, f32) -> DrawRange) {
         max_lod: 0,
         spacing: 0.0,
         terrain: false,
+        instance: 0,
     };
     (camera.projection(1.0) * camera.view(), r)
 }
@@ -30,7 +31,7 @@ fn ranges_outside_a_frustum_are_skipped_and_neighbours_merge() {
     let ranges = [r(0, -5.0), r(3, -9.0), r(6, 5.0), r(9, -200.0), r(12, -3.0)];
     assert_eq!(
         visible_runs(&ranges, &view_proj, LodFrom::Full),
-        vec![(0, 6), (12, 3)]
+        vec![(0, 6, 0), (12, 3, 0)]
     );
 }
 
@@ -42,13 +43,13 @@ fn a_probe_draws_its_nearest_ranges_first() {
     let ranges = [r(0, -30.0), r(3, -3.0), r(6, -3.5), r(9, -9.0)];
     assert_eq!(
         visible_runs(&ranges, &view_proj, LodFrom::Probe(Vec3::ZERO, 64)),
-        vec![(3, 9), (0, 3)]
+        vec![(3, 9, 0), (0, 3, 0)]
     );
     // Out of buffer order they are not merged.
     let ranges = [r(0, -30.0), r(3, -3.0), r(6, -9.0), r(9, -3.5)];
     assert_eq!(
         visible_runs(&ranges, &view_proj, LodFrom::Probe(Vec3::ZERO, 64)),
-        vec![(3, 3), (9, 3), (6, 3), (0, 3)]
+        vec![(3, 3, 0), (9, 3, 0), (6, 3, 0), (0, 3, 0)]
     );
 }
 
@@ -57,6 +58,7 @@ fn a_capture_splits_plain_terrain_runs_from_the_rest() {
     let (view_proj, r) = down_z();
     let terrain = |first, z| DrawRange {
         terrain: true,
+        instance: 0,
         ..r(first, z)
     };
     // Buffer order: terrain, terrain, object, terrain; nearest first within each kind,
@@ -71,10 +73,13 @@ fn a_capture_splits_plain_terrain_runs_from_the_rest() {
     let ([plain, rest], count) =
         visible_runs_by_kind(&ranges, &view_proj, lod, CaptureCull::Footprint);
     assert_eq!(count, 4);
-    assert_eq!(plain, vec![(3, 3), (9, 3), (0, 3)]);
-    assert_eq!(rest, vec![(6, 3)]);
+    assert_eq!(plain, vec![(3, 3, 0), (9, 3, 0), (0, 3, 0)]);
+    assert_eq!(rest, vec![(6, 3, 0)]);
     // Drawn together, the middle three are one run.
-    assert_eq!(visible_runs(&ranges, &view_proj, lod), vec![(3, 9), (0, 3)]);
+    assert_eq!(
+        visible_runs(&ranges, &view_proj, lod),
+        vec![(3, 9, 0), (0, 3, 0)]
+    );
 }
 
 #[test]
@@ -91,6 +96,7 @@ fn the_eye_draws_terrain_chunks_coarser_than_a_stable_probe() {
         max_lod: 4,
         spacing: 0.25,
         terrain: true,
+        instance: 0,
     };
     assert_eq!(chunk_lod(&chunk(0), Vec3::ZERO, 64), 1);
     let eye = chunk_lod_within(&chunk(0), Vec3::ZERO, 64, EYE_LOD_SAMPLE_TEXELS);
@@ -98,9 +104,9 @@ fn the_eye_draws_terrain_chunks_coarser_than_a_stable_probe() {
     let (view_proj, _) = down_z();
     let ranges: Vec<DrawRange> = (0..=4).map(chunk).collect();
     let drawn = |lod| visible_runs(&ranges, &view_proj, lod);
-    assert_eq!(drawn(LodFrom::Probe(Vec3::ZERO, 64)), vec![(3, 3)]);
-    assert_eq!(drawn(LodFrom::Eye(Vec3::ZERO, 64)), vec![(eye * 3, 3)]);
-    assert_eq!(drawn(LodFrom::Full), vec![(0, 3)]);
+    assert_eq!(drawn(LodFrom::Probe(Vec3::ZERO, 64)), vec![(3, 3, 0)]);
+    assert_eq!(drawn(LodFrom::Eye(Vec3::ZERO, 64)), vec![(eye * 3, 3, 0)]);
+    assert_eq!(drawn(LodFrom::Full), vec![(0, 3, 0)]);
 }
 
 #[test]
@@ -146,6 +152,7 @@ fn a_probe_leaves_out_what_spans_less_than_a_texel_where_it_sees_it() {
     assert!(spans_a_texel(&r(0, -125.0), LodFrom::Full));
     let terrain = DrawRange {
         terrain: true,
+        instance: 0,
         ..r(0, -1000.0)
     };
     assert!(spans_a_texel(&terrain, probe));
@@ -157,10 +164,10 @@ fn a_probe_leaves_out_what_spans_less_than_a_texel_where_it_sees_it() {
     let far = camera.projection(1.0) * camera.view();
     assert_eq!(
         visible_runs(&[r(0, -5.0), r(3, -125.0)], &far, probe),
-        vec![(0, 3)]
+        vec![(0, 3, 0)]
     );
     assert_eq!(
         visible_runs(&[r(0, -5.0), r(3, -125.0)], &far, LodFrom::Full),
-        vec![(0, 6)]
+        vec![(0, 6, 0)]
     );
 }

@@ -14,9 +14,11 @@ use glam::Vec3;
 use texel_geom::mesh::TriMesh;
 use texel_geom::texture::SurfaceMaps;
 
+use super::GpuBvhInstance;
 use super::upload::{Meshes, ObjectTriangles, object_record, point_lights, suns};
 use super::{GpuObject, GpuScene, Vertex};
 use crate::bvh::GpuBvh;
+use crate::bvh::instances::{TopLevel, instance_record};
 use crate::bvh::refit::RefitIndex;
 use crate::input::{ObjectInput, SceneInput};
 
@@ -32,10 +34,14 @@ pub struct InPlaceEdit {
     pub objects: usize,
     /// Vertices rewritten.
     pub vertices: usize,
+    /// Instance records rewritten (objects drawn from a shared mesh: their vertices stay).
+    pub instances: usize,
     /// Shadow-casting triangles rewritten in the tree.
     pub shadow_triangles: usize,
     /// Tree nodes refit.
     pub nodes: usize,
+    /// Top-level nodes refit (still instances moved: their meshes' trees stay).
+    pub top_nodes: usize,
 }
 
 /// One object as uploaded: where its data lies and what it was made from.
@@ -56,6 +62,8 @@ pub(super) struct ObjectSlot {
     casts: bool,
     /// An animated object or a terrain: never edited in place.
     fixed: bool,
+    /// Its instance record, when it draws a shared mesh (its vertices are the mesh's).
+    instance: Option<u32>,
 }
 
 impl ObjectSlot {
@@ -66,9 +74,15 @@ impl ObjectSlot {
         (before, after): ([u32; 3], [u32; 3]),
         (own, parts): (u32, Vec<u32>),
         fixed: bool,
+        instance: Option<u32>,
     ) -> Self {
         ObjectSlot {
-            vertices: before[0]..after[0],
+            // A shared mesh's vertices are its mesh's, not its own (the first user's
+            // marks hold them): nothing to rewrite.
+            vertices: match instance {
+                Some(_) => after[0]..after[0],
+                None => before[0]..after[0],
+            },
             ranges: before[1]..after[1],
             casters: before[2]..after[2],
             own,
@@ -77,6 +91,7 @@ impl ObjectSlot {
             maps: o.material.maps.clone(),
             casts: o.material.casts_shadows,
             fixed,
+            instance,
         }
     }
 }
@@ -89,6 +104,11 @@ pub(super) struct InPlace {
     /// Inputs of the static tree (its triangles' ids are below this).
     static_casters: usize,
     refit: Option<RefitIndex>,
+    /// The still instances' top-level tree, the shadow instance records (all of them, as
+    /// uploaded) and each object's record, if it is such an instance.
+    top: Option<TopLevel>,
+    records: Vec<GpuBvhInstance>,
+    record_of: Vec<Option<u32>>,
 }
 
 impl InPlace {
@@ -99,6 +119,24 @@ impl InPlace {
             bvh,
             static_casters,
             refit: None,
+            top: None,
+            records: Vec::new(),
+            record_of: Vec::new(),
+        }
+    }
+
+    /// With the still instances' top level `top`, the instance records and each object's.
+    pub(super) fn with_instances(
+        self,
+        top: Option<TopLevel>,
+        records: Vec<GpuBvhInstance>,
+        record_of: Vec<Option<u32>>,
+    ) -> Self {
+        InPlace {
+            top,
+            records,
+            record_of,
+            ..self
         }
     }
 }
@@ -163,14 +201,21 @@ impl GpuScene {
             nodes: refit.map_or(0, |r| r.nodes.len()),
             ..InPlaceEdit::default()
         };
+        for r in &remade {
+            cost.top_nodes += self.move_shadow_instance(queue, r.index, scene);
+        }
         for r in remade {
             let slot = &self.edits.objects[r.index];
-            let offset = u64::from(slot.vertices.start) * size_of::<Vertex>() as u64;
-            queue.write_buffer(
-                &self.vertices,
-                offset,
-                bytemuck::cast_slice(&r.meshes.vertices),
-            );
+            if let (Some(k), Some(record)) = (slot.instance, r.meshes.instances.first()) {
+                let offset = u64::from(k) * size_of::<super::GpuInstance>() as u64;
+                queue.write_buffer(&self.instances, offset, bytemuck::bytes_of(record));
+                cost.instances += 1;
+            }
+            if !r.meshes.vertices.is_empty() {
+                let offset = u64::from(slot.vertices.start) * size_of::<Vertex>() as u64;
+                let vertices = bytemuck::cast_slice(&r.meshes.vertices);
+                queue.write_buffer(&self.vertices, offset, vertices);
+            }
             let at = slot.ranges.start as usize..slot.ranges.end as usize;
             self.ranges[at].copy_from_slice(&r.meshes.ranges);
             let offset = (r.index * size_of::<GpuObject>()) as u64;
@@ -184,6 +229,43 @@ impl GpuScene {
             self.shadow_lights = crate::shadow_region::ShadowLights::new(scene);
         }
         Ok(cost)
+    }
+
+    /// Moves object `index`'s shadow instance, if it is one, to where `scene` places it: its
+    /// record rewritten, the top-level boxes above it refit. Returns the nodes refit.
+    fn move_shadow_instance(
+        &mut self,
+        queue: &wgpu::Queue,
+        index: usize,
+        scene: &SceneInput,
+    ) -> usize {
+        let e = &mut self.edits;
+        let (Some(Some(k)), Some(top)) = (e.record_of.get(index).copied(), e.top.as_mut()) else {
+            return 0;
+        };
+        let record = instance_record(
+            &e.bvh,
+            e.records[k as usize].root,
+            scene.objects[index].transform,
+        );
+        e.records[k as usize] = record;
+        let record_size = size_of::<GpuBvhInstance>() as u64;
+        queue.write_buffer(
+            &self.bvh_instances,
+            u64::from(k) * record_size,
+            bytemuck::bytes_of(&record),
+        );
+        let changed = top.refit(&e.records, (k - top.first_item) as usize);
+        let node_size = size_of::<crate::bvh::BvhNode>() as u64;
+        for &i in &changed {
+            let at = u64::from(top.node_offset + i) * node_size;
+            queue.write_buffer(
+                &self.bvh_nodes,
+                at,
+                bytemuck::bytes_of(&top.nodes[i as usize]),
+            );
+        }
+        changed.len()
     }
 
     /// Object `index` of `scene` made again where its old data lies, or why it cannot be.
@@ -206,15 +288,28 @@ impl GpuScene {
             return not(format!("object {index} casts shadows or stops casting"));
         }
         let mut meshes = Meshes::one(slot.vertices.start);
-        meshes.add_triangles(&ObjectTriangles {
-            object: o,
-            index: index as u32,
-            own: slot.own,
-            part_surfaces: &slot.parts,
-            plain_terrain: false,
-            casts: slot.casts,
-            moving: false,
-        });
+        if let Some(k) = slot.instance {
+            if !super::is_similarity(o.transform) {
+                return not(format!(
+                    "object {index} is no longer placed by a similarity"
+                ));
+            }
+            let first = self.ranges[slot.ranges.start as usize].first;
+            meshes.add_instance_ranges(o, first, k);
+            meshes
+                .instances
+                .push(super::GpuInstance::new(o.transform, index as u32));
+        } else {
+            meshes.add_triangles(&ObjectTriangles {
+                object: o,
+                index: index as u32,
+                own: slot.own,
+                part_surfaces: &slot.parts,
+                plain_terrain: false,
+                casts: slot.casts,
+                moving: false,
+            });
+        }
         let same = meshes.vertices.len() == slot.vertices.len()
             && meshes.ranges.len() == slot.ranges.len()
             && meshes.casters.len() == slot.casters.len();

@@ -12,32 +12,60 @@ use super::ranges::{DrawRange, RANGE_TRIANGLES, merge_runs};
 use super::update::{InPlace, ObjectSlot};
 use super::{
     AnimatedObject, FLAG_ANIMATED, FLAG_EMISSIVE, FLAG_IN_BVH, FLAG_OUTLINED, FLAG_TERRAIN,
-    GpuBvhInstance, GpuMotion, GpuObject, GpuPointLight, GpuScene, GpuTerrain, MAX_SUNS,
-    UploadError, Vertex, transform_bounds,
+    GpuBvhInstance, GpuInstance, GpuMotion, GpuObject, GpuPointLight, GpuScene, GpuTerrain,
+    MAX_SUNS, UploadError, Vertex, transform_bounds,
 };
+use crate::bvh::instances::{TopLevel, instance_record};
 use crate::bvh::{BvhNode, GpuBvh, build_bvh};
 use crate::context::GpuContext;
 use crate::input::{ObjectInput, SceneInput};
 use crate::textures::{NO_TEXTURE, TextureSet};
 
 impl GpuScene {
-    /// Uploads `scene`: transforms every mesh to world space, packs the textures and builds
-    /// the shadow BVH. Fails only when the textures do not fit the device's limits.
+    /// Uploads `scene`: a mesh several still objects share once, in object space, with an
+    /// instance record per object (`gpu_scene/instances.rs`), every other mesh transformed
+    /// to world space; packs the textures and builds the shadow trees. Fails only when the
+    /// textures do not fit the device's limits.
     pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, UploadError> {
+        Self::upload_with(ctx, scene, true)
+    }
+
+    /// [`GpuScene::upload`], shared meshes instanced only if `instancing` (else every copy
+    /// is written out in world space, as tests compare).
+    pub fn upload_with(
+        ctx: &GpuContext,
+        scene: &SceneInput,
+        instancing: bool,
+    ) -> Result<GpuScene, UploadError> {
         let mut textures = TextureSet::default();
         let mut meshes = Meshes::new(scene);
+        // Surfaces first, in object order (the atlas is laid out as they come), then which
+        // still objects share a mesh.
+        let surfaces: Vec<(u32, Vec<u32>)> = (scene.objects.iter())
+            .map(|o| surfaces(o, &mut textures))
+            .collect();
+        let mut shared = match instancing {
+            true => super::instances::SharedMeshes::new(scene, &meshes.animated_index, &surfaces),
+            false => super::instances::SharedMeshes::new(&SceneInput::default(), &[], &[]),
+        };
         let mut slots = Vec::with_capacity(scene.objects.len());
-        for index in 0..scene.objects.len() {
+        for (index, (own, parts)) in surfaces.into_iter().enumerate() {
             let before = meshes.mark();
-            let (own, parts) = meshes.add_object(scene, index, &mut textures);
-            let fixed = meshes.animated_index[index].is_some()
-                || scene.objects[index].material.terrain.is_some();
             let o = &scene.objects[index];
+            let instance = match shared.group(index) {
+                Some(g) => Some(meshes.add_instance(scene, index, g, &mut shared, (own, &parts))),
+                None => {
+                    meshes.add_object(scene, index, (own, &parts));
+                    None
+                }
+            };
+            let fixed = meshes.animated_index[index].is_some() || o.material.terrain.is_some();
             slots.push(ObjectSlot::new(
                 o,
                 (before, meshes.mark()),
                 (own, parts),
                 fixed,
+                instance,
             ));
         }
         let motions = motion_records(&meshes.animated);
@@ -53,7 +81,14 @@ impl GpuScene {
             (meshes.casters).extend(crate::gpu_sprites::shadow_triangles(sprite, toward_sun));
         }
         let sprites = crate::gpu_sprites::GpuSprites::upload(ctx, &scene.sprites)?;
-        let trees = ShadowTrees::build(&meshes.casters, &meshes.animated_casters);
+        let trees = ShadowTrees::build(
+            &meshes.casters,
+            &meshes.animated_casters,
+            &meshes.shared_casters,
+            &meshes.casting_instances,
+        );
+        let static_top = trees.static_top();
+        let bvh_records = trees.record_of(&meshes.casting_objects, scene.objects.len());
         for (&(i, _), &root) in meshes.animated_casters.iter().zip(&trees.animated_roots) {
             meshes.animated[i].bvh_root = root;
         }
@@ -77,6 +112,12 @@ impl GpuScene {
                 wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             ),
             vertex_count,
+            instances: storage(
+                "scene::instances",
+                bytemuck::cast_slice(&meshes.instances),
+                wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
+            ),
+            instanced: (meshes.instances.len() - 1, shared.meshes()),
             objects: storage(
                 "scene::objects",
                 bytemuck::cast_slice(&meshes.objects),
@@ -97,12 +138,13 @@ impl GpuScene {
             ranges: meshes.ranges,
             bvh_instances: storage(
                 "scene::bvh_instances",
-                bytemuck::cast_slice(&trees.instances),
+                bytemuck::cast_slice(&trees.instances.clone()),
                 writable,
             ),
             motions: storage("scene::motions", bytemuck::cast_slice(&motions), writable),
             animated: meshes.animated,
             tlas_root: trees.tlas_root,
+            static_top,
             casters: std::sync::Mutex::new(Vec::new()),
             shadow_lights: crate::shadow_region::ShadowLights::new(scene),
             terrain_count: scene.terrains.len(),
@@ -119,7 +161,11 @@ impl GpuScene {
             bvh_fields,
             field_data,
             shadow_fields: meshes.cast_fields.len(),
-            edits: InPlace::new(slots, trees.bvh, static_casters),
+            edits: InPlace::new(slots, trees.bvh, static_casters).with_instances(
+                trees.top,
+                trees.instances.clone(),
+                bvh_records,
+            ),
         };
         // The casters at their base poses until a frame says otherwise.
         gpu.set_poses(&ctx.queue, &[]);
@@ -132,19 +178,26 @@ impl GpuScene {
 pub(super) struct Meshes {
     /// Index of the first of `vertices` in the scene's vertex buffer (0 but when one
     /// object's vertices are made again: [`Meshes::one`]).
-    base: u32,
+    pub(super) base: u32,
     /// Capture vertices, world space.
     pub(super) vertices: Vec<Vertex>,
     /// Draw ranges of the captured (not animated) objects.
     pub(super) ranges: Vec<DrawRange>,
     /// One record per object.
-    objects: Vec<GpuObject>,
+    pub(super) objects: Vec<GpuObject>,
+    /// Instance records: the identity, then one per object drawn from a shared mesh.
+    pub(super) instances: Vec<GpuInstance>,
     /// The static shadow casters' triangles (world space).
     pub(super) casters: Vec<[Vec3; 3]>,
     /// Motion record index of each animated object (terrains never move).
-    animated_index: Vec<Option<u32>>,
+    pub(super) animated_index: Vec<Option<u32>>,
     /// The animated objects, in motion record order.
     animated: Vec<AnimatedObject>,
+    /// Each shared mesh's triangles in object space, by group (empty until met).
+    pub(super) shared_casters: Vec<Vec<[Vec3; 3]>>,
+    /// Each still instance casting shadows: its group and transform, and its object.
+    pub(super) casting_instances: Vec<(usize, glam::Mat4)>,
+    pub(super) casting_objects: Vec<usize>,
     /// Each animated caster's triangles in its base pose, by index into `animated`.
     animated_casters: Vec<(usize, Vec<[Vec3; 3]>)>,
     /// Terrains whose shadows and edge rays walk their heights rather than triangles.
@@ -180,9 +233,13 @@ impl Meshes {
             vertices: Vec::new(),
             ranges: Vec::new(),
             objects: Vec::with_capacity(scene.objects.len().max(1)),
+            instances: vec![GpuInstance::WORLD],
             casters: Vec::new(),
             animated_index,
             animated,
+            shared_casters: Vec::new(),
+            casting_instances: Vec::new(),
+            casting_objects: Vec::new(),
             animated_casters: Vec::new(),
             walked: crate::bvh::field::walked_terrains(&scene.terrains),
             cast_fields: Vec::new(),
@@ -197,9 +254,13 @@ impl Meshes {
             vertices: Vec::new(),
             ranges: Vec::new(),
             objects: Vec::new(),
+            instances: Vec::new(),
             casters: Vec::new(),
             animated_index: Vec::new(),
             animated: Vec::new(),
+            shared_casters: Vec::new(),
+            casting_instances: Vec::new(),
+            casting_objects: Vec::new(),
             animated_casters: Vec::new(),
             walked: Vec::new(),
             cast_fields: Vec::new(),
@@ -211,15 +272,14 @@ impl Meshes {
         [self.vertices.len(), self.ranges.len(), self.casters.len()].map(|n| n as u32)
     }
 
-    /// Adds object `index` of `scene`: its record, its surfaces (into `textures`), its
-    /// triangles and, for an animated object, its runs and bounds. Returns its surfaces
-    /// (its own, and each part's).
+    /// Adds object `index` of `scene` with its surfaces `(own, parts)`: its record, its
+    /// triangles and, for an animated object, its runs and bounds.
     fn add_object(
         &mut self,
         scene: &SceneInput,
         index: usize,
-        textures: &mut TextureSet,
-    ) -> (u32, Vec<u32>) {
+        (own, part_surfaces): (u32, &[u32]),
+    ) {
         let o = &scene.objects[index];
         let m = &o.material;
         let terrain = m
@@ -233,20 +293,18 @@ impl Meshes {
         }
         let ranges_before = self.ranges.len();
         self.objects.push(object_record(o, terrain, moving));
-        let (own, part_surfaces) = surfaces(o, textures);
         let own_casters = self.add_triangles(&ObjectTriangles {
             object: o,
             index: index as u32,
             own,
             plain_terrain: terrain != 0 && own == 0 && part_surfaces.iter().all(|&s| s == 0),
-            part_surfaces: &part_surfaces,
+            part_surfaces,
             casts: m.casts_shadows && field.is_none(),
             moving: moving.is_some(),
         });
         if let Some(i) = moving {
             self.settle_animated(i as usize, ranges_before, own_casters);
         }
-        (own, part_surfaces)
     }
 
     /// Adds the object's triangles (world space) to the vertices, opening a new draw range
@@ -353,7 +411,7 @@ impl Meshes {
             a.centre = 0.5 * (lo + hi);
             (a.min, a.max) = (lo, hi);
         }
-        a.runs = merge_runs(own.iter());
+        a.runs = merge_runs(own.iter()).iter().map(|r| (r.0, r.1)).collect();
         if !casters.is_empty() {
             self.animated_casters.push((i, casters));
         }
@@ -416,7 +474,7 @@ pub(super) fn object_record(o: &ObjectInput, terrain: u32, moving: Option<u32>) 
 
 /// The surface of `o`'s own maps and of each of its mesh's parts (the material's textures
 /// win over the mesh's own), added to `textures` in that order.
-fn surfaces(o: &ObjectInput, textures: &mut TextureSet) -> (u32, Vec<u32>) {
+pub(super) fn surfaces(o: &ObjectInput, textures: &mut TextureSet) -> (u32, Vec<u32>) {
     let m = &o.material;
     let own = textures.surface(&m.maps);
     let mut part_surfaces: Vec<u32> = Vec::with_capacity(o.mesh.parts.len());
@@ -461,6 +519,7 @@ fn new_range(
         max_lod,
         spacing,
         terrain: plain_terrain,
+        instance: 0,
     }
 }
 
@@ -501,26 +560,44 @@ pub(super) fn suns(scene: &SceneInput) -> Vec<(Vec3, Vec3)> {
         .collect()
 }
 
-/// The shadow BVH: the static casters' tree, each animated caster's own tree after it, and
-/// room for the per-frame top-level tree.
+/// The shadow BVH: the static casters' tree, each animated caster's own tree after it, each
+/// shared mesh's tree (in object space), room for the animated casters' per-frame top-level
+/// tree, and the top-level tree over the still objects drawn from shared meshes.
 struct ShadowTrees {
     /// Every tree's nodes and triangles.
     bvh: GpuBvh,
     /// The root of each animated caster's tree, in `animated_casters` order.
     animated_roots: Vec<u32>,
-    /// Where the top-level tree's nodes start.
+    /// Where the animated casters' top-level tree's nodes start.
     tlas_root: u32,
-    /// The instance records (a header, then one per animated caster), not yet placed.
+    /// The instance records: a header, one per animated caster (placed each frame), then
+    /// the still instances' in their top-level tree's order.
     instances: Vec<GpuBvhInstance>,
+    /// The still instances' top-level tree.
+    top: Option<TopLevel>,
 }
 
 impl ShadowTrees {
     /// Builds the static tree over `casters`, then each animated caster's own, in its base
-    /// pose, after the static one.
-    fn build(casters: &[[Vec3; 3]], animated_casters: &[(usize, Vec<[Vec3; 3]>)]) -> Self {
+    /// pose, then each shared mesh's tree (`shared`: each group's object-space triangles)
+    /// that a still instance casting shadows (`instances`: its group and transform) uses,
+    /// and the top level over those instances.
+    fn build(
+        casters: &[[Vec3; 3]],
+        animated_casters: &[(usize, Vec<[Vec3; 3]>)],
+        shared: &[Vec<[Vec3; 3]>],
+        instances: &[(usize, glam::Mat4)],
+    ) -> Self {
         let mut bvh: GpuBvh = build_bvh(casters);
         let animated_roots = (animated_casters.iter())
             .map(|(_, tris)| bvh.append(&build_bvh(tris)))
+            .collect();
+        let mut roots: Vec<Option<u32>> = vec![None; shared.len()];
+        let records: Vec<GpuBvhInstance> = (instances.iter())
+            .map(|&(g, model)| {
+                let root = *roots[g].get_or_insert_with(|| bvh.append(&build_bvh(&shared[g])));
+                instance_record(&bvh, root, model)
+            })
             .collect();
         // Room after the trees for the per-frame top-level tree over the casters' bounds
         // (fewer than two nodes per caster), and the instance records behind a header.
@@ -528,12 +605,43 @@ impl ShadowTrees {
         let casters_n = animated_casters.len();
         bvh.nodes
             .extend(std::iter::repeat_n(BvhNode::zeroed(), 2 * casters_n));
+        let bounds: Vec<(Vec3, Vec3)> = (records.iter())
+            .map(|r| (Vec3::from_slice(&r.min[..3]), Vec3::from_slice(&r.max[..3])))
+            .collect();
+        let first_item = 1 + casters_n as u32;
+        let top = TopLevel::build(&bounds, bvh.nodes.len() as u32, first_item);
+        let mut all = vec![GpuBvhInstance::NONE; 1 + casters_n];
+        if let Some(top) = &top {
+            bvh.nodes.extend_from_slice(&top.nodes);
+            all.extend(top.order.iter().map(|&k| records[k as usize]));
+            all[0]._pad[..2].copy_from_slice(&[top.order.len() as u32, top.node_offset]);
+        }
         ShadowTrees {
             bvh,
             animated_roots,
             tlas_root,
-            instances: vec![GpuBvhInstance::NONE; 1 + casters_n],
+            instances: all,
+            top,
         }
+    }
+
+    /// Each of `objects` objects' shadow instance record (`casting`: the object of each
+    /// input of the top level), if it is one.
+    fn record_of(&self, casting: &[usize], objects: usize) -> Vec<Option<u32>> {
+        let mut at = vec![None; objects];
+        if let Some(top) = &self.top {
+            for (p, &k) in top.order.iter().enumerate() {
+                at[casting[k as usize]] = Some(top.first_item + p as u32);
+            }
+        }
+        at
+    }
+
+    /// The header's words for the still instances' top level: `[records, root]`.
+    fn static_top(&self) -> [u32; 2] {
+        self.top
+            .as_ref()
+            .map_or([0, 0], |t| [t.order.len() as u32, t.node_offset])
     }
 }
 

@@ -111,7 +111,7 @@ impl CapturePass {
             device,
             &spec,
             ("vs_terrain", "fs_terrain"),
-            GpuScene::point_vertex_layout(),
+            &[GpuScene::point_vertex_layout()],
         );
         let c = wgpu::ShaderStages::COMPUTE;
         let d2 = wgpu::TextureViewDimension::D2;
@@ -237,7 +237,7 @@ impl CapturePass {
                 crate::gpu_scene::visible_runs_by_kind(&scene.ranges, &view_proj, lod, self.cull);
             work.ranges += count as u64;
             work.triangles += (terrain_runs.iter().chain(&runs))
-                .map(|&(_, n)| u64::from(n / 3))
+                .map(|&(_, n, _)| u64::from(n / 3))
                 .sum::<u64>();
             let f = c.face.index();
             let clear = wgpu::Color::TRANSPARENT;

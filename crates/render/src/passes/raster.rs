@@ -28,7 +28,8 @@ pub(crate) fn pipeline(
         layout,
         targets,
     };
-    pipeline_with(device, &spec, ("vs", "fs"), GpuScene::vertex_layout())
+    let vertices = [GpuScene::vertex_layout(), GpuScene::instance_layout()];
+    pipeline_with(device, &spec, ("vs", "fs"), &vertices)
 }
 
 /// What every pipeline of one scene raster shares.
@@ -40,14 +41,15 @@ pub(crate) struct RasterSpec<'a> {
 }
 
 /// A scene-raster pipeline over the entry points `(vertex, fragment)` and the vertex
-/// buffer's attributes `vertices` lists (see [`pipeline`]).
+/// buffers' attributes `vertices` lists (the scene's vertices, then perhaps its instance
+/// records: see [`pipeline`]).
 pub(crate) fn pipeline_with(
     device: &wgpu::Device,
     spec: &RasterSpec<'_>,
     (vertex, fragment): (&str, &str),
-    vertices: wgpu::VertexBufferLayout<'_>,
+    vertices: &[wgpu::VertexBufferLayout<'_>],
 ) -> LazyRender {
-    let vertex_buffers = [Some(vertices)];
+    let vertex_buffers: Vec<_> = vertices.iter().cloned().map(Some).collect();
     render_pipeline(
         device,
         RenderSpec {
@@ -95,13 +97,13 @@ pub(crate) struct RasterDraw<'a> {
     pub(crate) bind: &'a wgpu::BindGroup,
     pub(crate) offsets: &'a [u32],
     pub(crate) scissor: Option<TexelRect>,
-    /// Draw only these vertex runs `(first, count)` (the ranges the view may see); `None`
-    /// draws every triangle.
-    pub(crate) runs: Option<&'a [(u32, u32)]>,
+    /// Draw only these vertex runs `(first, count, instance)` (the ranges the view may
+    /// see); `None` draws every range at full detail.
+    pub(crate) runs: Option<&'a [crate::gpu_scene::Run]>,
     /// Runs drawn first, with their own pipeline (a capture's plain terrain chunks, whose
     /// vertex stage passes only the point and the object: lavapipe's cost per triangle
     /// grows with the varyings it sets up).
-    pub(crate) first: Option<(&'a wgpu::RenderPipeline, &'a [(u32, u32)])>,
+    pub(crate) first: Option<(&'a wgpu::RenderPipeline, &'a [crate::gpu_scene::Run])>,
 }
 
 /// Records one render pass that clears `targets` and draws every triangle of `scene`.
@@ -154,20 +156,25 @@ pub(crate) fn record(
     }
     pass.set_bind_group(0, draw.bind, draw.offsets);
     pass.set_vertex_buffer(0, scene.vertices.slice(..));
+    pass.set_vertex_buffer(1, scene.instances.slice(..));
     if let Some((pipeline, runs)) = draw.first.filter(|(_, runs)| !runs.is_empty()) {
         pass.set_pipeline(pipeline);
-        for &(first, count) in runs {
-            pass.draw(first..first + count, 0..1);
+        for &(first, count, instance) in runs {
+            pass.draw(first..first + count, instance..instance + 1);
         }
     }
     pass.set_pipeline(draw.pipeline);
     match draw.runs {
         Some(runs) => {
-            for &(first, count) in runs {
-                pass.draw(first..first + count, 0..1);
+            for &(first, count, instance) in runs {
+                pass.draw(first..first + count, instance..instance + 1);
             }
         }
-        None => pass.draw(0..scene.vertex_count, 0..1),
+        None => {
+            for (first, count, instance) in crate::gpu_scene::full_detail_runs(&scene.ranges) {
+                pass.draw(first..first + count, instance..instance + 1);
+            }
+        }
     }
 }
 

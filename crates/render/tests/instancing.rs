@@ -1,0 +1,163 @@
+//! Mesh instancing: a mesh several still objects share is uploaded once, in object space,
+//! and drawn per object with its transform; its shadows go through one tree in object space
+//! under a top level over the objects. The frames must equal those of the same scene with
+//! every copy written out in world space (`Renderer::set_scene_with(.., false)`).
+
+mod common;
+
+use std::sync::Arc;
+
+use glam::{Mat4, Quat, UVec2, Vec3};
+use texel_render::context::test_context;
+use texel_render::frame::Renderer;
+use texel_render::input::{Camera, ObjectInput, PointLightInput, SceneInput, Schedule};
+use texel_scene::primitives::{box_mesh, sphere};
+
+/// The boxes scene with `placements` copies of one sphere and of one box (every other a
+/// box), each placed by its transform: 2 shared meshes.
+fn copies_scene(placements: &[Mat4]) -> SceneInput {
+    let mut scene = common::boxes_scene();
+    let ball = Arc::new(sphere(0.45, 12));
+    let crate_ = Arc::new(box_mesh(Vec3::new(0.7, 0.5, 0.9)));
+    for (i, &m) in placements.iter().enumerate() {
+        let mut o: ObjectInput = common::object(Default::default(), m, Vec3::new(0.6, 0.5, 0.4), 0);
+        o.mesh = if i % 2 == 0 {
+            ball.clone()
+        } else {
+            crate_.clone()
+        };
+        o.id = scene.objects.len() as u32 + 1;
+        scene.objects.push(o);
+    }
+    scene.points.push(PointLightInput {
+        position: Vec3::new(0.5, 2.5, -4.0),
+        colour: Vec3::new(1.0, 0.8, 0.5) * 3.0,
+        radius: 8.0,
+    });
+    scene
+}
+
+/// `n` placements on a ring around the boxes: turned by quarter turns at whole coordinates
+/// when `exact` (so a transform rounds nothing), else at any angle and place, one mirrored
+/// and one scaled.
+fn placements(n: usize, exact: bool) -> Vec<Mat4> {
+    (0..n)
+        .map(|i| {
+            let a = i as f32 / n as f32 * std::f32::consts::TAU;
+            if exact {
+                let at = Vec3::new((3.0 * a.cos()).round(), 0.5, (3.0 * a.sin()).round() - 4.0);
+                let turn = Quat::from_rotation_y(std::f32::consts::FRAC_PI_2 * (i % 4) as f32);
+                Mat4::from_rotation_translation(turn, at)
+            } else {
+                let at = Vec3::new(3.1 * a.cos(), 0.55, 3.3 * a.sin() - 4.2);
+                let scale = match i {
+                    3 => Vec3::new(-1.0, 1.0, 1.0),
+                    4 => Vec3::splat(1.4),
+                    _ => Vec3::ONE,
+                };
+                Mat4::from_scale_rotation_translation(
+                    scale,
+                    Quat::from_rotation_y(0.37 * i as f32),
+                    at,
+                )
+            }
+        })
+        .collect()
+}
+
+/// Renders `scene` (instanced or written out) from two cameras; the frames and the GPU
+/// scene's bytes.
+fn render(scene: &SceneInput, instancing: bool) -> (Vec<Vec<u8>>, u64, (usize, usize)) {
+    let ctx = test_context().expect("device");
+    let mut r = Renderer::headless(&ctx).unwrap();
+    r.set_scene_with(&ctx, scene, instancing).expect("scene");
+    let size = UVec2::new(240, 136);
+    let mut frames = Vec::new();
+    let mut bytes = 0;
+    for (eye, look) in [
+        (Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0)),
+        (Vec3::new(4.5, 3.0, -1.0), Vec3::new(-1.0, -0.5, -0.8)),
+    ] {
+        let cam = Camera::looking(eye, look);
+        let input = common::frame(cam, eye + Vec3::Y * 0.4, 64, size, Schedule::Ours);
+        let (stats, px) = r.render_offscreen(&ctx, &input).unwrap();
+        bytes = stats.counters.gpu_scene_bytes;
+        frames.push(px);
+    }
+    (frames, bytes, r.instanced())
+}
+
+#[test]
+fn instanced_and_copied_meshes_render_identically() {
+    if test_context().is_none() {
+        return;
+    }
+    for exact in [true, false] {
+        let scene = copies_scene(&placements(12, exact));
+        let (shared, shared_bytes, counts) = render(&scene, true);
+        let (copied, copied_bytes, none) = render(&scene, false);
+        // The 12 copies draw 2 meshes; the boxes scene's three boxes differ in size.
+        assert_eq!(counts, (12, 2), "exact: {exact}");
+        assert_eq!(none, (0, 0));
+        assert!(
+            shared_bytes < copied_bytes,
+            "{shared_bytes} < {copied_bytes}"
+        );
+        for (k, (a, b)) in shared.iter().zip(&copied).enumerate() {
+            let size = UVec2::new(240, 136);
+            common::save_png(&format!("instancing_{exact}_{k}_shared.png"), a, size);
+            common::save_png(&format!("instancing_{exact}_{k}_copied.png"), b, size);
+            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();
+            assert_eq!(
+                differ, 0,
+                "exact: {exact}, view {k}: {differ} pixels differ"
+            );
+        }
+    }
+}
+
+/// One copy of a shared mesh moved and turned in place: its instance record is rewritten and
+/// the top level above its shadow record refit; no vertex and no shadow triangle is, and the
+/// frame equals that of a renderer given the moved scene afresh.
+#[test]
+fn moving_an_instance_rewrites_its_record_and_refits_the_top_level_only() {
+    let Some(ctx) = test_context() else { return };
+    let mut scene = copies_scene(&placements(12, false));
+    let mut r = Renderer::headless(&ctx).unwrap();
+    r.set_scene(&ctx, &scene).expect("scene");
+    let size = UVec2::new(240, 136);
+    let eye = Vec3::new(0.3, 1.6, 3.0);
+    let input = common::frame(
+        Camera::looking(eye, Vec3::new(0.0, -0.25, -1.0)),
+        eye,
+        64,
+        size,
+        Schedule::Ours,
+    );
+    let (_, before) = r.render_offscreen(&ctx, &input).unwrap();
+    let moved = scene.objects.len() - 3;
+    scene.objects[moved].transform =
+        Mat4::from_rotation_translation(Quat::from_rotation_y(0.8), Vec3::new(-0.8, 0.45, -1.5));
+    let edit = r
+        .update_scene(&ctx, &scene, &[moved])
+        .unwrap()
+        .expect("in place");
+    assert_eq!(
+        (edit.objects, edit.instances, edit.vertices),
+        (1, 1, 0),
+        "{edit:?}"
+    );
+    assert_eq!(edit.shadow_triangles, 0, "{edit:?}");
+    assert!(edit.top_nodes > 0 && edit.nodes == 0, "{edit:?}");
+    let (_, after) = r.render_offscreen(&ctx, &input).unwrap();
+    assert!(after != before, "the move shows");
+    let mut fresh = Renderer::headless(&ctx).unwrap();
+    fresh.set_scene(&ctx, &scene).expect("scene");
+    let (_, rebuilt) = fresh.render_offscreen(&ctx, &input).unwrap();
+    let differ = after
+        .chunks(4)
+        .zip(rebuilt.chunks(4))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "pixels differing from a fresh upload's frame");
+}
