@@ -77,7 +77,15 @@ impl Mixed {
         let prefix = format!("{component}/");
         let fields: BTreeSet<&str> = (self.paths.iter())
             .filter_map(|p| p.strip_prefix(&prefix))
-            .map(|rest| rest.split('/').next().unwrap_or(rest))
+            // An enum's variant ("Box") names no field: the field under it does.
+            .map(|rest| {
+                let mut segs = rest.split('/');
+                let first = segs.next().unwrap_or(rest);
+                match segs.next() {
+                    Some(f) if first.starts_with(char::is_uppercase) => f,
+                    _ => first,
+                }
+            })
             .collect();
         let list: Vec<&str> = fields.into_iter().collect();
         match (some, list.is_empty()) {
@@ -203,6 +211,15 @@ mod tests {
     use glam::Vec3;
     use texel_scene::{Geometry, Level, Material, PointLight, Transform};
 
+    fn sphere_of(row: &EntityRow, radius: f32) -> EntityRow {
+        let mut r = row.clone();
+        r.geometry = Some(Geometry::Sphere {
+            radius,
+            segments: 16,
+        });
+        r
+    }
+
     fn rows_of(level: &str) -> Vec<EntityRow> {
         let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
             .join("../assets/levels")
@@ -268,6 +285,18 @@ mod tests {
         );
         assert_eq!(out[1].1.material, None, "the light gets no material");
         // A change of kind is taken whole.
+        assert_eq!(
+            Mixed::of(&[rows[0].clone(), sphere_of(&rows[0], 2.0)]).note("geometry"),
+            " (mixed)"
+        );
+        let mut wide = rows[1].clone();
+        wide.geometry = Some(Geometry::Box {
+            size: Vec3::splat(2.0),
+        });
+        assert_eq!(
+            Mixed::of(&[rows[0].clone(), wide]).note("geometry"),
+            " (mixed: size)"
+        );
         let mut sphere = rows[0].clone();
         sphere.geometry = Some(Geometry::Sphere {
             radius: 0.5,
