@@ -72,15 +72,26 @@ pub enum Command {
         /// The pixels changed.
         change: Arc<PaintChange>,
     },
+    /// Several commands as one undo step (an edit of many entities, a paste, a delete of
+    /// the selection), executed in order and reverted in reverse order.
+    Batch {
+        /// What it does, for menus ("Undo duplicate").
+        label: &'static str,
+        /// The steps, in execution order.
+        steps: Vec<Command>,
+    },
 }
 
 /// What should be selected after a command ran.
-#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+#[derive(Debug, Clone, PartialEq, Eq)]
 pub enum Focus {
     /// Leave the selection as it is.
     Keep,
-    /// Select the entity at this position.
+    /// The entity at this position was edited: keep a selection that holds it, else
+    /// select it alone.
     Entity(usize),
+    /// Select exactly these entities (the last one active).
+    Entities(Vec<usize>),
     /// Select nothing.
     Nothing,
 }
@@ -123,7 +134,7 @@ impl Command {
                 }
                 scene.spawn_at(*index, (**row).clone());
                 ensure_heights(None, row.terrain.as_ref(), assets);
-                Ok(Focus::Entity(*index))
+                Ok(Focus::Entities(vec![*index]))
             }
             Command::Despawn { index, .. } => {
                 let e = entity_at(scene, *index)?;
@@ -136,6 +147,7 @@ impl Command {
             }
             Command::SetHeights { .. } => self.set_heights(scene, assets, true),
             Command::SetPaint { .. } => self.set_paint(scene, assets, true),
+            Command::Batch { steps, .. } => batch(steps, scene, assets, true),
         }
     }
 
@@ -149,6 +161,7 @@ impl Command {
             // Without copying the heights an inverse would hold.
             Command::SetHeights { .. } => self.set_heights(scene, assets, false),
             Command::SetPaint { .. } => self.set_paint(scene, assets, false),
+            Command::Batch { steps, .. } => batch(steps, scene, assets, false),
             _ => self.inverse().execute(scene, assets),
         }
     }
@@ -266,6 +279,10 @@ impl Command {
                 after: before.clone(),
                 change: Arc::new(change.reversed()),
             },
+            Command::Batch { label, steps } => Command::Batch {
+                label,
+                steps: steps.iter().rev().map(Command::inverse).collect(),
+            },
         }
     }
 
@@ -277,6 +294,7 @@ impl Command {
             | Command::SetPaint { before, after, .. } => vec![before, after],
             Command::Spawn { row, .. } | Command::Despawn { row, .. } => vec![row],
             Command::SetSettings { .. } => Vec::new(),
+            Command::Batch { steps, .. } => steps.iter().flat_map(Command::rows).collect(),
         }
     }
 
@@ -299,6 +317,12 @@ impl Command {
                 *after = *a2;
                 true
             }
+            // The same entities edited again (a drag of the whole selection).
+            (Command::Batch { steps, .. }, Command::Batch { steps: s2, .. })
+                if steps.len() == s2.len() && steps.iter().zip(s2).all(|(a, b)| a.same_row(b)) =>
+            {
+                steps.iter_mut().zip(s2).all(|(a, b)| a.absorb(b))
+            }
             _ => false,
         }
     }
@@ -312,8 +336,76 @@ impl Command {
             Command::SetSettings { .. } => "level settings",
             Command::SetHeights { change, .. } => change.describe(),
             Command::SetPaint { change, .. } => change.describe(),
+            Command::Batch { label, .. } => label,
         }
     }
+
+    /// Whether both replace the components of the entity at the same position.
+    fn same_row(&self, other: &Command) -> bool {
+        matches!(
+            (self, other),
+            (Command::SetRow { index: a, .. }, Command::SetRow { index: b, .. }) if a == b
+        )
+    }
+
+    /// The positions of the entities a batch of [`Command::SetRow`]s edits, when it is one
+    /// (the viewport then takes in those entities alone).
+    pub fn edited_rows(&self) -> Option<Vec<usize>> {
+        let Command::Batch { steps, .. } = self else {
+            return None;
+        };
+        steps
+            .iter()
+            .map(|c| match c {
+                Command::SetRow { index, .. } => Some(*index),
+                _ => None,
+            })
+            .collect()
+    }
+}
+
+/// Runs the steps of a batch forward (execute, in order) or backward (revert, in reverse
+/// order). A step that fails takes back the steps already run, so a batch happens whole or
+/// not at all. The focus: every entity the steps focus, or nothing when one deletes.
+fn batch(
+    steps: &[Command],
+    scene: &mut Scene,
+    assets: &mut AssetLibrary,
+    forward: bool,
+) -> Result<Focus, CommandError> {
+    let order: Vec<&Command> = if forward {
+        steps.iter().collect()
+    } else {
+        steps.iter().rev().collect()
+    };
+    let run = |c: &Command, s: &mut Scene, a: &mut AssetLibrary, fwd: bool| {
+        if fwd { c.execute(s, a) } else { c.revert(s, a) }
+    };
+    let mut focus = Some(Vec::new());
+    for (done, &c) in order.iter().enumerate() {
+        match run(c, scene, assets, forward) {
+            Ok(Focus::Entity(i)) => focus.iter_mut().for_each(|f| f.push(i)),
+            Ok(Focus::Entities(v)) => focus.iter_mut().for_each(|f| f.extend(&v)),
+            Ok(Focus::Nothing) => focus = None,
+            Ok(Focus::Keep) => {}
+            Err(e) => {
+                for &c in order[..done].iter().rev() {
+                    // Best effort: the scene was as these steps expect a moment ago.
+                    let _ = run(c, scene, assets, !forward);
+                }
+                return Err(e);
+            }
+        }
+    }
+    Ok(match focus {
+        None => Focus::Nothing,
+        Some(v) if v.is_empty() => Focus::Keep,
+        Some(mut v) => {
+            v.sort_unstable();
+            v.dedup();
+            Focus::Entities(v)
+        }
+    })
 }
 
 /// Gives a terrain whose heights `assets` lacks the heights that can be made without reading

@@ -142,6 +142,18 @@ impl Document {
         (&mut self.level.scene, &mut self.level.assets)
     }
 
+    /// [`Document::entity_parts_mut`] for a command that changes only the components of the
+    /// entities at `indices` (an edit of the whole selection).
+    pub fn entities_parts_mut(&mut self, indices: &[usize]) -> (&mut Scene, &mut AssetLibrary) {
+        if indices.len() >= MAX_ENTITY_CHANGES / 2 {
+            return self.parts_mut();
+        }
+        for &i in indices {
+            self.entity_parts_mut(i);
+        }
+        (&mut self.level.scene, &mut self.level.assets)
+    }
+
     /// Marks a change made in place, so views rebuild.
     pub fn touch(&mut self) {
         self.revision += 1;

@@ -7,12 +7,14 @@
 pub mod add_sprite;
 pub mod app;
 pub mod camera;
+pub mod clipboard;
 pub mod command;
 pub mod document;
 pub mod files;
 pub mod history;
 pub mod paint;
 pub mod pixel;
+pub mod selection;
 pub mod state;
 pub mod stats_log;
 pub mod terrain;

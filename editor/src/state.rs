@@ -1,6 +1,7 @@
 //! The editor's state: the document, what is selected, and the history of commands.
 //! Panels borrow the parts they need; every change goes through [`EditorState::apply`].
 
+use std::collections::BTreeSet;
 use std::path::Path;
 
 use texel_scene::{EntityRow, Scene};
@@ -13,11 +14,18 @@ use crate::history::{History, MergeKey};
 pub type Selection = Option<usize>;
 
 /// Document, selection and history.
+///
+/// The selection is the active entity ([`EditorState::selection`]: the one last clicked,
+/// whose components the inspector shows and the single-entity tools use) and the others
+/// selected with it ([`EditorState::also_selected`]); `crate::selection` has the ways to
+/// change it.
 pub struct EditorState {
     /// The level being edited.
     pub document: Document,
-    /// The selected entity.
+    /// The active entity (`None`: nothing is selected, whatever `also_selected` holds).
     pub selection: Selection,
+    /// The other entities selected with the active one.
+    pub also_selected: BTreeSet<usize>,
     /// Undo and redo.
     pub history: History,
     saved_id: u64,
@@ -29,6 +37,7 @@ impl EditorState {
         EditorState {
             document,
             selection: None,
+            also_selected: BTreeSet::new(),
             history: History::default(),
             saved_id: 0,
         }
@@ -94,18 +103,28 @@ impl EditorState {
     ) -> (&mut Scene, &mut texel_scene::assets::AssetLibrary) {
         match command {
             Command::SetRow { index, .. } => self.document.entity_parts_mut(*index),
-            _ => self.document.parts_mut(),
+            _ => match command.edited_rows() {
+                Some(rows) => self.document.entities_parts_mut(&rows),
+                None => self.document.parts_mut(),
+            },
         }
     }
 
     fn focus(&mut self, focus: Focus) {
         match focus {
             Focus::Keep => {}
-            Focus::Entity(i) => self.selection = Some(i),
-            Focus::Nothing => self.selection = None,
+            Focus::Entity(i) if self.is_selected(i) => {}
+            Focus::Entity(i) => self.select_only(i),
+            Focus::Entities(v) => {
+                let active = self.selection.filter(|a| v.contains(a));
+                self.select_many(v, active);
+            }
+            Focus::Nothing => self.select_none(),
         }
-        if self.selection.is_some_and(|i| i >= self.scene().len()) {
-            self.selection = None;
+        let len = self.scene().len();
+        self.also_selected.retain(|&i| i < len);
+        if self.selection.is_some_and(|i| i >= len) {
+            self.selection = self.also_selected.pop_last();
         }
     }
 

@@ -278,3 +278,59 @@ fn an_edited_entity_is_taken_in_alone_by_the_worker() {
         "the worker took the edit in as {last:?}"
     );
 }
+
+/// Clicks the middle of the viewport with `modifiers` and waits for the worker's answer.
+fn click_centre(h: &mut Harness<'_, EditorApp>, modifiers: egui::Modifiers) {
+    let rect = h.state().viewport.rect.expect("the viewport was drawn");
+    h.event(egui::Event::PointerMoved(rect.center()));
+    h.step();
+    for pressed in [true, false] {
+        h.event_modifiers(
+            egui::Event::PointerButton {
+                pos: rect.center(),
+                button: egui::PointerButton::Primary,
+                pressed,
+                modifiers,
+            },
+            modifiers,
+        );
+        h.step();
+    }
+    worker(h).wait_picked().expect("an answer");
+    h.step();
+}
+
+#[test]
+fn a_ctrl_click_adds_and_takes_away_what_the_worker_picks() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    // The player start: nowhere near the middle of the view.
+    let start = h.state().state.scene().len() - 1;
+    h.state_mut().state.select_only(start);
+    click_centre(&mut h, egui::Modifiers::COMMAND);
+    let picked = h
+        .state()
+        .state
+        .selection
+        .expect("the picked entity is active");
+    assert_ne!(picked, start);
+    let mut both = vec![start, picked];
+    both.sort_unstable();
+    assert_eq!(h.state().state.selected(), both, "Ctrl-click adds");
+    click_centre(&mut h, egui::Modifiers::COMMAND);
+    assert_eq!(h.state().state.selected(), [start], "and takes away");
+    click_centre(&mut h, egui::Modifiers::SHIFT);
+    assert_eq!(h.state().state.selected(), both, "Shift-click adds");
+    click_centre(&mut h, egui::Modifiers::NONE);
+    assert_eq!(
+        h.state().state.selected(),
+        [picked],
+        "a plain click selects it alone"
+    );
+}

@@ -21,6 +21,7 @@ use crate::ui::{hierarchy, inspector};
 use crate::viewport::Viewport;
 use crate::viewport::gpu::GpuView;
 
+mod clipboard_chores;
 mod file_chores;
 
 /// The editor.
@@ -56,6 +57,8 @@ pub struct EditorApp {
     pixel_info: Option<(PixelKey, Option<PixelInfo>)>,
     /// eframe's measure of the UI thread's last frame, seconds (`None` in tests).
     cpu_usage: Option<f32>,
+    /// The text the last copy put on the clipboard.
+    copied: Option<String>,
 }
 
 type PixelKey = (u64, Option<usize>, u32);
@@ -88,6 +91,7 @@ impl EditorApp {
             pixel_calc: PixelCalc::default(),
             pixel_info: None,
             cpu_usage: None,
+            copied: None,
         };
         match path {
             Some(p) => app.load(p),
@@ -337,6 +341,9 @@ impl EditorApp {
                 out.push(Action::Delete);
             }
         });
+        if !typing {
+            out.extend(self.selection_shortcuts(ctx));
+        }
         out
     }
 
@@ -348,6 +355,8 @@ impl EditorApp {
                 | Action::Redo
                 | Action::Duplicate
                 | Action::Delete
+                | Action::Cut
+                | Action::Paste(_)
                 | Action::ImportHeightmapPath(_)
                 | Action::ToggleTerrainTool
         );
@@ -398,17 +407,19 @@ impl EditorApp {
             Action::ExportHeightmap => self.ask(Purpose::ExportHeightmap),
             Action::ExportHeightmapPath(p) => self.export_heightmap(&p),
             Action::Duplicate => {
-                if let Some(i) = self.state.selection {
-                    let duplicated = self.state.duplicate(i);
-                    self.report("duplicate", duplicated);
-                }
+                let duplicated = self.state.duplicate_selection();
+                self.report("duplicate", duplicated);
             }
             Action::Delete => {
-                if let Some(i) = self.state.selection {
-                    let deleted = self.state.delete(i);
-                    self.report("delete", deleted);
-                }
+                let deleted = self.state.delete_selection();
+                self.report("delete", deleted);
             }
+            Action::Copy => self.copy(false),
+            Action::Cut => self.copy(true),
+            Action::RequestPaste => self.request_paste(),
+            Action::Paste(text) => self.paste(&text),
+            Action::SelectAll => self.state.select_all(),
+            Action::SelectNone => self.state.select_none(),
             Action::TogglePlay => {
                 if self.viewport.playing() {
                     self.viewport.stop();

@@ -1,10 +1,11 @@
-//! The scene hierarchy: every entity with its kind icon and name; select, rename, duplicate,
-//! delete.
+//! The scene hierarchy: every entity with its kind icon and name; select (Ctrl-click
+//! toggles, Shift-click selects a range), rename, duplicate, delete.
 
 use egui::Ui;
 use texel_scene::Name;
 
 use crate::command::CommandError;
+use crate::selection::Pick;
 use crate::state::EditorState;
 use crate::ui::widgets::{display_name, kind_icon};
 
@@ -34,10 +35,16 @@ pub fn show(
                 }
                 continue;
             }
-            let selected = state.selection == Some(i);
-            let r = ui.selectable_label(selected, format!("{} {}", kind_icon(row), name));
+            let selected = state.is_selected(i);
+            let mut text = egui::RichText::new(format!("{} {}", kind_icon(row), name));
+            if state.selection == Some(i) && !state.also_selected.is_empty() {
+                // The active one of several: the inspector shows its components.
+                text = text.strong().underline();
+            }
+            let r = ui.selectable_label(selected, text);
             if r.clicked() {
-                action = Some(Action::Select(i));
+                let how = Pick::from_modifiers(ui.input(|inp| inp.modifiers), Pick::Range);
+                action = Some(Action::Select(i, how));
             }
             if r.double_clicked() {
                 *rename = Some((i, name.clone()));
@@ -56,7 +63,10 @@ pub fn show(
         }
     });
     match action {
-        Some(Action::Select(i)) => state.selection = Some(i),
+        Some(Action::Select(i, how)) => state.pick(Some(i), how),
+        // On a selected row: the whole selection.
+        Some(Action::Duplicate(i)) if state.is_selected(i) => state.duplicate_selection()?,
+        Some(Action::Delete(i)) if state.is_selected(i) => state.delete_selection()?,
         Some(Action::Duplicate(i)) => state.duplicate(i)?,
         Some(Action::Delete(i)) => state.delete(i)?,
         Some(Action::Rename(i, text)) => {
@@ -72,7 +82,7 @@ pub fn show(
 }
 
 enum Action {
-    Select(usize),
+    Select(usize, Pick),
     Duplicate(usize),
     Delete(usize),
     Rename(usize, String),

@@ -1,6 +1,8 @@
 //! The inspector: every component of the selected entity, and the level settings. Edits are
 //! made on a copy of the entity's row and applied as one command per gesture.
 
+use std::sync::Arc;
+
 use egui::Ui;
 use glam::{Vec2, Vec3};
 use texel_scene::assets::AssetLibrary;
@@ -16,8 +18,9 @@ use texel_scene::{
 use crate::command::{Command, CommandError};
 use crate::history::MergeKey;
 use crate::state::EditorState;
+use crate::ui::multi_edit::{self, Mixed};
 use crate::ui::sprite_section::SpritePanel;
-use crate::ui::widgets::{BIG, MIN_SIZE, colour, integer, scalar, vec2, vec3};
+use crate::ui::widgets::{BIG, MIN_SIZE, colour, integer, scalar, vec2, vec3, vec3_mixed};
 
 /// The selected entity's components (`sprites`: the sprite section's state between frames).
 /// A command that fails is returned, for the caller to show.
@@ -30,6 +33,10 @@ pub fn entity(
         ui.label("Nothing selected");
         return Ok(());
     };
+    let others: Vec<(usize, EntityRow)> = (state.selected_rows().into_iter())
+        .filter(|(i, _)| *i != index)
+        .collect();
+    let mixed = mixed_fields(ui, state, &before, &others);
     let mut row = before.clone();
     let terrain = TerrainInfo::of(state, index, &before);
     let sprite = SpriteContext {
@@ -37,7 +44,7 @@ pub fn entity(
         assets: &state.document.level.assets,
         panel: sprites,
     };
-    edit_row(ui, &mut row, &terrain, sprite);
+    edit_row(ui, &mut row, &terrain, sprite, &mixed);
     crate::ui::sprite_section::keep_row_valid(ui.ctx(), &before, &mut row, sprites);
     let cleared = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_none());
     let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
@@ -46,10 +53,59 @@ pub fn entity(
         crate::terrain_edits::clear_paint(state, index, row)?;
     } else if row != before {
         let key = gesture_widget(ui.ctx()).map(|widget| MergeKey::Row { index, widget });
-        state.set_row(index, row, key)?;
+        if others.is_empty() {
+            state.set_row(index, row, key)?;
+        } else {
+            // The same change on every selected entity that has the field, one step.
+            let mut rows = multi_edit::spread(&before, &row, others);
+            rows.push((index, row));
+            rows.sort_by_key(|r| r.0);
+            state.set_rows(rows, key)?;
+        }
     }
     Ok(())
 }
+
+/// The fields that differ across the selection (none for one entity), said above the
+/// fields; kept between frames for the document revision and selection they were found for.
+fn mixed_fields(
+    ui: &mut Ui,
+    state: &EditorState,
+    active: &EntityRow,
+    others: &[(usize, EntityRow)],
+) -> Arc<Mixed> {
+    if others.is_empty() {
+        return Arc::default();
+    }
+    let name = active
+        .name
+        .as_ref()
+        .map_or("the active entity's", |n| n.0.as_str());
+    ui.label(format!(
+        "{} entities selected: an edit applies to all that have the field; \
+         \u{2014} marks a value that differs. Other values shown: {name}.",
+        others.len() + 1
+    ));
+    let key = (
+        state.document.id(),
+        state.document.revision,
+        state.selected(),
+    );
+    let id = egui::Id::unique("inspector mixed fields");
+    let cached = ui.data(|d| d.get_temp::<(MixedKey, Arc<Mixed>)>(id));
+    if let Some((k, m)) = cached
+        && k == key
+    {
+        return m;
+    }
+    let mut rows = vec![active.clone()];
+    rows.extend(others.iter().map(|(_, r)| r.clone()));
+    let m = Arc::new(Mixed::of(&rows));
+    ui.data_mut(|d| d.insert_temp(id, (key, m.clone())));
+    m
+}
+
+type MixedKey = (u64, u64, Vec<usize>);
 
 /// What the terrain section shows beside the component: the file a noise source switched to
 /// File starts with, the size of the loaded heights and of the paint layer.
@@ -94,19 +150,38 @@ struct SpriteContext<'a> {
     panel: &'a mut SpritePanel,
 }
 
-fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo, sprite: SpriteContext<'_>) {
-    let mut name = row.name.as_ref().map(|n| n.0.clone()).unwrap_or_default();
+fn edit_row(
+    ui: &mut Ui,
+    row: &mut EntityRow,
+    info: &TerrainInfo,
+    sprite: SpriteContext<'_>,
+    mixed: &Mixed,
+) {
+    // A name that differs shows empty, "—" greyed in it; typing names them all.
+    let mixed_name = mixed.has("name");
+    let mut name = match &row.name {
+        Some(n) if !mixed_name => n.0.clone(),
+        _ => String::new(),
+    };
     ui.horizontal(|ui| {
         ui.label("Name");
-        if ui
-            .text_edit_singleline(&mut name)
-            .accessible_name("Name")
-            .changed()
-        {
+        let edit = egui::TextEdit::singleline(&mut name).hint_text(if mixed_name {
+            "\u{2014}"
+        } else {
+            ""
+        });
+        if ui.add(edit).accessible_name("Name").changed() {
             row.name = (!name.is_empty()).then(|| Name(name.clone()));
         }
     });
-    section(ui, "Transform", &mut row.transform, transform);
+    let title = |t: &str, key: &str| format!("{t}{}", mixed.note(key));
+    section_with(
+        ui,
+        &title("Transform", "transform"),
+        &mut row.transform,
+        Transform::default,
+        |ui, t| transform(ui, t, mixed),
+    );
     // A terrain lies along the world's axes: say so where its rotation or scale is set.
     let unapplied = (row.terrain.as_ref().and(row.transform.as_ref()))
         .and_then(texel_scene::terrain::unapplied_transform);
@@ -116,24 +191,40 @@ fn edit_row(ui: &mut Ui, row: &mut EntityRow, info: &TerrainInfo, sprite: Sprite
     crate::ui::sprite_section::section(ui, sprite.index, row, sprite.assets, sprite.panel);
     section_with(
         ui,
-        "Geometry",
+        &title("Geometry", "geometry"),
         &mut row.geometry,
         || geometry_of_kind(0),
         geometry,
     );
-    section(ui, "Material", &mut row.material, material);
-    section(ui, "Directional light", &mut row.directional_light, sun);
-    section(ui, "Point light", &mut row.point_light, point);
     section(
         ui,
-        "Probe-grid override",
+        &title("Material", "material"),
+        &mut row.material,
+        material,
+    );
+    let sun_title = title("Directional light", "directional_light");
+    section(ui, &sun_title, &mut row.directional_light, sun);
+    section(
+        ui,
+        &title("Point light", "point_light"),
+        &mut row.point_light,
+        point,
+    );
+    section(
+        ui,
+        &title("Probe-grid override", "probe_grid_override"),
         &mut row.probe_grid_override,
         probe,
     );
-    section(ui, "Player start", &mut row.player_start, start);
+    section(
+        ui,
+        &title("Player start", "player_start"),
+        &mut row.player_start,
+        start,
+    );
     section_with(
         ui,
-        "Terrain",
+        &title("Terrain", "terrain"),
         &mut row.terrain,
         crate::terrain::default_terrain,
         |ui, t| terrain(ui, t, info),
@@ -153,31 +244,43 @@ fn section_with<T>(
     make: fn() -> T,
     body: impl FnOnce(&mut Ui, &mut T),
 ) {
+    // A title may carry a note on the selection's values after " (": the header keeps its
+    // place (and its open state) by the plain name.
+    let name = title.split(" (").next().unwrap_or(title);
     match c {
         Some(v) => {
             let mut remove = false;
             egui::CollapsingHeader::new(title)
+                .id_salt(name)
                 .default_open(true)
                 .show(ui, |ui| {
                     body(ui, v);
-                    remove = ui.small_button(format!("Remove {title}")).clicked();
+                    remove = ui.small_button(format!("Remove {name}")).clicked();
                 });
             if remove {
                 *c = None;
             }
         }
         None => {
-            if ui.small_button(format!("Add {title}")).clicked() {
+            if ui.small_button(format!("Add {name}")).clicked() {
                 *c = Some(make());
             }
         }
     }
 }
 
-fn transform(ui: &mut Ui, t: &mut Transform) {
-    vec3(ui, "Translation", &mut t.translation, 0.05, -BIG);
-    vec3(ui, "Rotation", &mut t.rotation, 1.0, -BIG);
-    vec3(ui, "Scale", &mut t.scale, 0.01, MIN_SIZE);
+fn transform(ui: &mut Ui, t: &mut Transform, mixed: &Mixed) {
+    let axes = |field: &str| [0, 1, 2].map(|k| mixed.has(&format!("transform/{field}/{k}")));
+    vec3_mixed(
+        ui,
+        "Translation",
+        &mut t.translation,
+        0.05,
+        -BIG,
+        axes("translation"),
+    );
+    vec3_mixed(ui, "Rotation", &mut t.rotation, 1.0, -BIG, axes("rotation"));
+    vec3_mixed(ui, "Scale", &mut t.scale, 0.01, MIN_SIZE, axes("scale"));
 }
 
 const KINDS: [&str; 6] = ["Box", "Sphere", "Cylinder", "Plane", "Wedge", "Mesh"];

@@ -56,6 +56,18 @@ pub enum Action {
     Duplicate,
     /// Delete the selection.
     Delete,
+    /// Put the selection on the clipboard.
+    Copy,
+    /// Put the selection on the clipboard and delete it (one undo step).
+    Cut,
+    /// Ask the window for the clipboard's text (it comes back as [`Action::Paste`]).
+    RequestPaste,
+    /// Add the entities this clipboard text holds, or say why it holds none.
+    Paste(String),
+    /// Select every entity.
+    SelectAll,
+    /// Select nothing.
+    SelectNone,
     /// Start or stop Play.
     TogglePlay,
     /// Use this schedule in the viewport.
@@ -190,7 +202,8 @@ fn file_menu(ui: &mut Ui, recent: &[PathBuf], out: &mut Option<Action>) {
     }
 }
 
-/// The Edit menu: undo and redo (named after what they undo or redo), duplicate, delete.
+/// The Edit menu: undo and redo (named after what they undo or redo), cut, copy, paste,
+/// duplicate, delete, select all and none.
 fn edit_menu(ui: &mut Ui, undo: Option<&str>, redo: Option<&str>, out: &mut Option<Action>) {
     let u = undo.map_or("Undo".to_owned(), |d| format!("Undo {d}  (Ctrl+Z)"));
     if ui
@@ -206,11 +219,24 @@ fn edit_menu(ui: &mut Ui, undo: Option<&str>, redo: Option<&str>, out: &mut Opti
     {
         *out = Some(Action::Redo);
     }
-    if ui.button("Duplicate  (Ctrl+D)").clicked() {
-        *out = Some(Action::Duplicate);
+    ui.separator();
+    for (label, a) in [
+        ("Cut  (Ctrl+X)", Action::Cut),
+        ("Copy  (Ctrl+C)", Action::Copy),
+        ("Paste  (Ctrl+V)", Action::RequestPaste),
+        ("Duplicate  (Ctrl+D)", Action::Duplicate),
+        ("Delete  (Del)", Action::Delete),
+    ] {
+        if ui.button(label).clicked() {
+            *out = Some(a);
+        }
     }
-    if ui.button("Delete  (Del)").clicked() {
-        *out = Some(Action::Delete);
+    ui.separator();
+    if ui.button("Select all  (Ctrl+A)").clicked() {
+        *out = Some(Action::SelectAll);
+    }
+    if ui.button("Select none  (Esc)").clicked() {
+        *out = Some(Action::SelectNone);
     }
 }
 

@@ -5,6 +5,7 @@ pub mod dialogs;
 pub mod hierarchy;
 pub mod inspector;
 pub mod menu;
+pub mod multi_edit;
 pub mod pixel_section;
 pub mod sprite_section;
 pub mod widgets;

@@ -13,18 +13,39 @@ pub const MIN_SIZE: f32 = 0.001;
 
 /// A row of three drag values named `"{name} X"` etc. Returns true when one changed.
 pub fn vec3(ui: &mut Ui, name: &str, v: &mut Vec3, speed: f32, min: f32) -> bool {
+    vec3_mixed(ui, name, v, speed, min, [false; 3])
+}
+
+/// [`vec3`] where the `mixed` components differ across a selection: they show "—" (and
+/// their value once dragged or typed).
+pub fn vec3_mixed(
+    ui: &mut Ui,
+    name: &str,
+    v: &mut Vec3,
+    speed: f32,
+    min: f32,
+    mixed: [bool; 3],
+) -> bool {
     let mut changed = false;
     ui.horizontal(|ui| {
         ui.label(name);
-        for (axis, c) in ["X", "Y", "Z"].iter().zip([&mut v.x, &mut v.y, &mut v.z]) {
+        let axes = ["X", "Y", "Z"].iter().zip([&mut v.x, &mut v.y, &mut v.z]);
+        for ((axis, c), mixed) in axes.zip(mixed) {
+            let mut drag = DragValue::new(c).speed(speed).range(min..=f32::MAX);
+            if mixed {
+                drag = drag.custom_formatter(|_, _| MIXED.to_owned());
+            }
             changed |= ui
-                .add(DragValue::new(c).speed(speed).range(min..=f32::MAX))
+                .add(drag)
                 .accessible_name(format!("{name} {axis}"))
                 .changed();
         }
     });
     changed
 }
+
+/// What a field shows when its value differs across the selection.
+pub const MIXED: &str = "\u{2014}";
 
 /// Two drag values named `"{name} X"`, `"{name} Z"` (sizes in the XZ plane).
 pub fn vec2(ui: &mut Ui, name: &str, v: &mut Vec2, speed: f32, min: f32) -> bool {

@@ -61,11 +61,12 @@ impl Viewport {
         };
         let (frame, error) = worker.newest();
         if let Some((n, answer)) = worker.picked()
-            && self.picking == Some(n)
+            && let Some((asked, how)) = self.picking
+            && asked == n
         {
             self.picking = None;
             match answer {
-                Ok(id) => state.selection = id.and_then(texel_runtime::frame_plan::entity_index),
+                Ok(id) => state.pick(id.and_then(texel_runtime::frame_plan::entity_index), how),
                 Err(e) => self.pick_error = Some(e),
             }
         }

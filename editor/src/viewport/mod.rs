@@ -18,6 +18,7 @@ pub mod overlay;
 pub mod picture;
 pub mod play;
 pub mod reproject;
+pub mod select;
 pub mod terrain_tool;
 pub mod worker;
 
@@ -109,6 +110,10 @@ pub struct Viewport {
     /// pixel size gives follows it.
     still_height: u32,
     drag: Option<Drag>,
+    /// The selected rows when a gizmo drag of several began.
+    drag_rows: Vec<(usize, texel_scene::EntityRow)>,
+    /// A box select in progress.
+    box_drag: Option<select::BoxDrag>,
     face_drag: Option<FaceDrag>,
     /// Whether the renderer was last given the grid (`None`: never told).
     grab_lost: bool,
@@ -118,8 +123,9 @@ pub struct Viewport {
     sent_level: Option<(u64, u64, u64)>,
     /// The oldest edit no frame shows yet: document (id, revision), and when it was seen.
     edit_seen: Option<((u64, u64), Instant)>,
-    /// The pick asked of the worker, if one is on its way, and the last pick's error.
-    picking: Option<u64>,
+    /// The pick asked of the worker, if one is on its way (and what it does to the
+    /// selection), and the last pick's error.
+    picking: Option<(u64, crate::selection::Pick)>,
     pick_error: Option<String>,
     /// UI frames counted in the current second, and when it began.
     fps_count: (u32, Option<Instant>),
@@ -150,6 +156,8 @@ impl Default for Viewport {
             physics: None,
             still_height: DEFAULT_STILL_HEIGHT,
             drag: None,
+            drag_rows: Vec::new(),
+            box_drag: None,
             face_drag: None,
             grab_lost: false,
             sent_view: None,
@@ -209,13 +217,17 @@ impl Viewport {
         }
     }
 
-    /// Looks at the selected entity.
+    /// Looks at the selection: the selected entity, or the centre of several from far
+    /// enough to take them in.
     pub fn focus_selection(&mut self, state: &EditorState) {
-        if let Some((_, row)) = state.selected_row() {
-            let t = row.transform.unwrap_or_default();
-            let size = t.scale.max_element().max(1.0) * 4.0;
-            self.camera.focus(t.translation, size.max(4.0));
-        }
+        let rows = state.selected_rows();
+        let Some(c) = select::centre(&rows) else {
+            return;
+        };
+        let size = (rows.iter().filter_map(|(_, r)| r.transform))
+            .map(|t| t.scale.max_element().max(1.0) * 4.0 + 2.0 * (t.translation - c).length())
+            .fold(4.0, f32::max);
+        self.camera.focus(c, size);
     }
 
     /// Where something added "at the view's focus" goes: where the view's centre line meets
@@ -303,7 +315,8 @@ impl Viewport {
                 Color32::WHITE,
             );
         }
-        overlay::markers(&painter, &proj, state.scene(), state.selection);
+        overlay::markers(&painter, &proj, state.scene(), &state.selected());
+        select::paint_selected(&painter, &proj, state);
         // The terrain tool on a selected terrain takes the primary button (no gizmo).
         let sculpting =
             self.terrain.active && crate::terrain_edits::selected_terrain(state).is_some();
@@ -317,13 +330,24 @@ impl Viewport {
         } else {
             self.terrain.finish(state)?;
             let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;
-            on_face || self.gizmo_ui(ui, &response, &painter, &proj, state)?
+            let on_gizmo = if state.also_selected.is_empty() {
+                self.gizmo_ui(ui, &response, &painter, &proj, state)?
+            } else {
+                self.gizmo_many(ui, &response, &painter, &proj, state)?
+            };
+            let used = on_face || on_gizmo;
+            self.box_select(ui, &response, &painter, &proj, state, used);
+            used
         };
         if self.terrain.active {
             self.terrain.panel(ui.ctx(), rect, state);
         }
         if response.clicked() && !used {
-            self.select_at(&response, rect);
+            let how = crate::selection::Pick::from_modifiers(
+                ui.input(|i| i.modifiers),
+                crate::selection::Pick::Add,
+            );
+            self.select_at(&response, rect, how);
         }
         Ok(())
     }
@@ -418,8 +442,8 @@ impl Viewport {
         }
     }
 
-    /// The face handles of a selected probe-grid override; true when the pointer is on one
-    /// or a face drag is in progress.
+    /// The face handles of a selected probe-grid override (alone in the selection); true
+    /// when the pointer is on one or a face drag is in progress.
     fn face_handles_ui(
         &mut self,
         ui: &Ui,
@@ -428,7 +452,8 @@ impl Viewport {
         proj: &Projector,
         state: &mut EditorState,
     ) -> Result<bool, CommandError> {
-        let Some((index, row)) = state.selected_row() else {
+        let alone = state.also_selected.is_empty();
+        let Some((index, row)) = state.selected_row().filter(|_| alone) else {
             self.face_drag = None;
             return Ok(false);
         };
@@ -494,12 +519,17 @@ impl Viewport {
 
     /// Asks the worker for the entity under the click; the selection follows when the
     /// answer comes ([`Viewport::take_frame`]), from the frame it drew last.
-    fn select_at(&mut self, response: &egui::Response, rect: egui::Rect) {
+    fn select_at(
+        &mut self,
+        response: &egui::Response,
+        rect: egui::Rect,
+        how: crate::selection::Pick,
+    ) {
         let (Some(worker), Some(pos)) = (&self.worker, response.interact_pointer_pos()) else {
             return;
         };
         let uv = (pos - rect.min) / rect.size();
-        self.picking = Some(worker.pick(Vec2::new(uv.x, uv.y)));
+        self.picking = Some((worker.pick(Vec2::new(uv.x, uv.y)), how));
     }
 
     /// Starts the render worker drawing with `gpu` (`ctx` repaints when a frame is done); a

@@ -60,14 +60,14 @@ pub fn wire_box(p: &Painter, proj: &Projector, min: Vec3, max: Vec3, stroke: Str
 }
 
 /// Icons for lights and player starts, and boxes for probe-grid override volumes.
-/// `selected` is highlighted.
-pub fn markers(p: &Painter, proj: &Projector, scene: &Scene, selected: Option<usize>) {
+/// The `selected` positions (ascending) are highlighted.
+pub fn markers(p: &Painter, proj: &Projector, scene: &Scene, selected: &[usize]) {
     let w = scene.world();
     for (i, e) in scene.entities().enumerate() {
         let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
-        let hot = selected == Some(i);
+        let hot = selected.binary_search(&i).is_ok();
         let colour = if hot {
-            Color32::from_rgb(255, 200, 40)
+            super::select::SELECTED
         } else {
             Color32::from_rgb(240, 240, 240)
         };
