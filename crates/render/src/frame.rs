@@ -203,9 +203,11 @@ impl Renderer {
     }
 
     /// Uploads the scene (meshes, materials, textures, lights, shadow BVH), after checking
-    /// that the device can hold it (else the scene in use stays).
+    /// that the device can hold it (else the scene in use stays). Shared meshes are
+    /// instanced unless `TEXEL_NO_INSTANCING` is set (to measure against).
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
-        self.set_scene_with(ctx, scene, true)
+        let instancing = std::env::var_os("TEXEL_NO_INSTANCING").is_none();
+        self.set_scene_with(ctx, scene, instancing)
     }
 
     /// [`Renderer::set_scene`], meshes several objects share instanced only if `instancing`
