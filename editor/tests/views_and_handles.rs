@@ -196,7 +196,10 @@ fn dragging_a_face_handle_resizes_the_volume_and_undo_restores_it() {
     let min_x = |t: &texel_scene::Transform, o: &texel_scene::ProbeGridOverride| {
         t.translation.x - o.size.x * t.scale.x * 0.5
     };
-    assert!((min_x(&t1, &o1) - min_x(&t0, &o0)).abs() < 1e-4);
+    assert!(
+        (min_x(&t1, &o1) - min_x(&t0, &o0)).abs() < 1e-4,
+        "{t0:?} {o0:?} -> {t1:?} {o1:?}"
+    );
     assert_eq!(h.state().state.history.undo_len(), steps + 1, "one step");
     assert_eq!(h.state().state.selection, Some(index));
 

@@ -330,11 +330,13 @@ impl Viewport {
         } else {
             self.terrain.finish(state)?;
             let on_face = self.face_handles_ui(ui, &response, &painter, &proj, state)?;
-            let on_gizmo = if state.also_selected.is_empty() {
-                self.gizmo_ui(ui, &response, &painter, &proj, state)?
-            } else {
-                self.gizmo_many(ui, &response, &painter, &proj, state)?
-            };
+            // A face handle in use takes the drag from the gizmo.
+            let on_gizmo = !on_face
+                && if state.also_selected.is_empty() {
+                    self.gizmo_ui(ui, &response, &painter, &proj, state)?
+                } else {
+                    self.gizmo_many(ui, &response, &painter, &proj, state)?
+                };
             let used = on_face || on_gizmo;
             self.box_select(ui, &response, &painter, &proj, state, used);
             used
