@@ -107,6 +107,11 @@ pub struct BaselineSource<'a> {
 }
 
 impl<'a> BaselineSource<'a> {
+    /// Blooms the frames from the next one on (`None`: none).
+    pub fn set_bloom(&mut self, bloom: Option<texel_render::passes::bloom::BloomInput>) {
+        self.renderer.set_bloom(bloom);
+    }
+
     /// Maps the frames to `palette` from the next one on (`None`: as shaded).
     pub fn set_palette(&mut self, palette: Option<&texel_render::palette::PaletteInput>) {
         self.renderer.set_palette(self.ctx, palette);

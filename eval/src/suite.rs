@@ -368,6 +368,7 @@ pub fn method_source<'a>(
             )?;
             let palettes = texel_runtime::frame_plan::level_palettes(level);
             source.set_palette(palettes.first());
+            source.set_bloom(texel_runtime::frame_plan::level_bloom(&level.scene));
             Box::new(source)
         }
         None => {

@@ -112,6 +112,7 @@ impl Session {
         let level = Arc::new(PreparedLevel::new(level));
         renderer.set_scene(ctx, level.scene())?;
         renderer.set_palette(level.palette(false));
+        renderer.set_bloom(level.bloom);
         let driver = FrameDriver::prepared(level, size, fov_y)?;
         Ok(Session {
             renderer,
@@ -126,12 +127,18 @@ impl Session {
         // Checked and uploaded first: a level the device cannot hold leaves the session as
         // it was.
         self.renderer.set_scene(ctx, level.scene())?;
-        self.renderer
-            .set_palette(level.palette(self.alternate_palette));
+        self.take_look(&level);
         let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
         let driver = FrameDriver::prepared(level, size, fov_y)?;
         self.replace_driver(driver);
         Ok(())
+    }
+
+    /// The level's palette (or its alternate, as swapped) and bloom, to the renderer.
+    fn take_look(&mut self, level: &PreparedLevel) {
+        self.renderer
+            .set_palette(level.palette(self.alternate_palette));
+        self.renderer.set_bloom(level.bloom);
     }
 
     /// Swaps between the level's palette and its alternate (day and night); returns whether
@@ -227,8 +234,7 @@ impl Session {
     ) -> Result<u32, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
         self.renderer.set_scene(ctx, level.scene())?;
-        self.renderer
-            .set_palette(level.palette(self.alternate_palette));
+        self.take_look(&level);
         let (lo, hi) = level.shadow_region(min, max);
         Ok(self.driver.replace_level(level, lo, hi))
     }

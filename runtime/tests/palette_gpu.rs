@@ -1,7 +1,8 @@
-//! Palettes (issue 61): a level that names a palette draws every pixel in one of its
+//! Palettes and bloom (issue 61): a level that names a palette draws every pixel in one of its
 //! colours, on texel splatting and on the baselines; dithering is anchored to the texel (a
 //! texel keeps its colour while the camera moves inside a cell) and does dither; the
-//! alternate palette swaps in. The stone circle at 160×90, faces of 64.
+//! alternate palette swaps in; a bloom only adds light. The stone circle at 160×90, faces of
+//! 64.
 
 use std::collections::{BTreeSet, HashMap};
 use std::path::{Path, PathBuf};
@@ -216,4 +217,60 @@ fn the_baselines_map_to_the_palette_too() {
         let frame = renderer.render(&ctx, method, &view).expect("frame");
         assert_eq!(off_palette(&frame.pixels, &day), 0, "{method:?}");
     }
+}
+
+/// A bloom only adds light: every pixel is at least as bright as without it, pixels near the
+/// bright sky brighter; the baselines bloom too.
+#[test]
+fn a_bloom_adds_light_near_bright_pixels_and_takes_none_away() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut plain = level_with_palette(dir.path(), 0.0);
+    plain.scene.palette = None;
+    let mut bloomed = level_with_palette(dir.path(), 0.0);
+    bloomed.scene.palette = None;
+    bloomed.scene.settings.bloom = Some(texel_scene::components::Bloom {
+        threshold: 0.45,
+        strength: 1.0,
+        radius: 3,
+    });
+    let frame_of = |level: &LoadedLevel| {
+        let mut session = Session::headless(&ctx, level, SIZE, 1.0).expect("session");
+        frame(&ctx, &mut session, camera(0.0)).0
+    };
+    let (without, with) = (frame_of(&plain), frame_of(&bloomed));
+    // (A pixel the bloom leaves alone goes through linear light and back: a byte may round.)
+    let darker = (without.iter().zip(&with))
+        .filter(|(a, b)| u16::from(**b) + 1 < u16::from(**a))
+        .count();
+    let brighter = (without.iter().zip(&with)).filter(|(a, b)| b > a).count();
+    assert_eq!(darker, 0, "no channel darker");
+    assert!(brighter > 200, "{brighter} channels brighter");
+
+    let scene = texel_runtime::frame_plan::scene_input(&bloomed);
+    let mut renderer = BaselineRenderer::new(&ctx).expect("baselines");
+    renderer.set_scene(&ctx, &scene).expect("scene");
+    let view = BaselineView {
+        camera: camera(0.0),
+        size: SIZE,
+        face_res: 64,
+        look: level_look(&bloomed.scene),
+    };
+    let before = renderer
+        .render(&ctx, Baseline::Naive, &view)
+        .expect("frame");
+    renderer.set_bloom(texel_runtime::frame_plan::level_bloom(&bloomed.scene));
+    let after = renderer
+        .render(&ctx, Baseline::Naive, &view)
+        .expect("frame");
+    let darker = (before.pixels.iter().zip(&after.pixels))
+        .filter(|(a, b)| b < a)
+        .count();
+    let brighter = (before.pixels.iter().zip(&after.pixels))
+        .filter(|(a, b)| b > a)
+        .count();
+    assert_eq!(darker, 0, "naive: no channel darker");
+    assert!(brighter > 200, "naive: {brighter} channels brighter");
 }

@@ -12,6 +12,7 @@ pub use crate::error::RenderError;
 use crate::gpu_scene::GpuScene;
 use crate::input::{Display, FrameInput, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
+use crate::passes::bloom::BloomPass;
 use crate::passes::capture::{CaptureMode, CapturePass};
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::lines::{LineVertex, LinesPass};
@@ -128,6 +129,7 @@ pub struct Renderer {
     march: Option<MarchPass>,
     lines: LinesPass,
     visible: VisiblePass,
+    bloom: BloomPass,
     present: PresentPass,
     colour: wgpu::TextureFormat,
     pub(crate) store: ProbeStore,
@@ -177,6 +179,7 @@ impl Renderer {
             march: None,
             lines: LinesPass::new(d, colour.remove_srgb_suffix())?,
             visible: VisiblePass::new(d)?,
+            bloom: BloomPass::new(d, colour.remove_srgb_suffix(), true)?,
             present: PresentPass::new(d, colour)?,
             colour,
             store: ProbeStore::new(ctx, 16),
@@ -322,6 +325,11 @@ impl Renderer {
         self.display = display;
     }
 
+    /// The bloom of the frames from the next one on (`None`: none).
+    pub fn set_bloom(&mut self, bloom: Option<crate::passes::bloom::BloomInput>) {
+        self.bloom.set(bloom);
+    }
+
     /// The palette frames are mapped to from the next one on (`None`: as drawn).
     pub fn set_palette(&mut self, palette: Option<crate::palette::PaletteInput>) {
         self.present.set_palette(palette);
@@ -427,7 +435,7 @@ impl Renderer {
         self.visible.ensure_capacity(&ctx.device, globals.max_n);
         let output = (input.size.x, input.size.y);
         let size = (input.internal_size.x, input.internal_size.y);
-        let palette = self.present.has_palette();
+        let palette = self.present.has_palette() || self.bloom.on();
         if (self.screen.as_ref())
             .is_none_or(|s| s.size != size || s.output != output || (palette && s.colour.is_none()))
         {
@@ -630,8 +638,15 @@ impl Renderer {
         stages.run("visible", |enc| {
             self.visible.record(ctx, enc, &screen.keys_view, size);
         });
+        let mut bloomed = false;
+        if let (Some(frame), true) = (&screen.colour, self.bloom.on()) {
+            stages.run("bloom", |enc| {
+                bloomed = self.bloom.record(ctx, enc, frame, size, 1.0).is_some();
+            });
+        }
         stages.run("present", |enc| {
             if let Some(frame) = &screen.colour {
+                let frame = (self.bloom.output().filter(|_| bloomed)).unwrap_or(frame);
                 let (sources, n) = ((frame, &screen.keys_view), shown.max_n);
                 self.present
                     .record(ctx, enc, sources, target, size, output, n);

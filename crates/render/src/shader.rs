@@ -113,6 +113,7 @@ pub const SOURCES: &[(&str, &str)] = &[
         "visible.wgsl",
         include_str!("../../../shaders/visible.wgsl"),
     ),
+    ("bloom.wgsl", include_str!("../../../shaders/bloom.wgsl")),
     (
         "present.wgsl",
         include_str!("../../../shaders/present.wgsl"),

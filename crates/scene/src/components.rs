@@ -388,6 +388,45 @@ pub struct LevelSettings {
         with = "num::positive"
     )]
     pub reference_distance: f32,
+    /// Light spilling from bright pixels, on the art pixels (none: left out of the file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bloom: Option<Bloom>,
+}
+
+/// Light spilling from bright pixels (`settings.bloom`), computed on the art pixels so it
+/// holds as still as they do.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Bloom {
+    /// Relative luminance (linear, 0–1) above which a pixel spills light.
+    #[serde(default = "default_bloom_threshold", with = "num::unit")]
+    pub threshold: f32,
+    /// How much of the spilled light is added, 0–4.
+    #[serde(default = "default_bloom_strength", with = "num::bloom_strength")]
+    pub strength: f32,
+    /// How far it spills, in art pixels, 1–16.
+    #[serde(default = "default_bloom_radius", with = "num::bloom_radius")]
+    pub radius: u32,
+}
+
+fn default_bloom_threshold() -> f32 {
+    0.7
+}
+fn default_bloom_strength() -> f32 {
+    0.8
+}
+fn default_bloom_radius() -> u32 {
+    4
+}
+
+impl Default for Bloom {
+    fn default() -> Self {
+        Bloom {
+            threshold: default_bloom_threshold(),
+            strength: default_bloom_strength(),
+            radius: default_bloom_radius(),
+        }
+    }
 }
 
 /// The palette a level's frames are mapped to: every pixel takes the nearest of its colours
@@ -447,6 +486,7 @@ impl Default for LevelSettings {
             cell_size: 1.0,
             haze: 0.0,
             reference_distance: DEFAULT_REFERENCE_DISTANCE,
+            bloom: None,
         }
     }
 }
@@ -593,7 +633,13 @@ impl Validate for LevelSettings {
         field(
             "reference_distance",
             num::check_positive(self.reference_distance, "reference distance"),
-        )
+        )?;
+        if let Some(b) = self.bloom {
+            field("bloom", num::check_unit(b.threshold))?;
+            field("bloom", num::check_bloom_strength(b.strength))?;
+            field("bloom", num::check_range(b.radius, 1..=16, "bloom radius"))?;
+        }
+        Ok(())
     }
 }
 

@@ -347,6 +347,28 @@ f32_with!(
     check_unit
 );
 
+/// Checks a bloom's strength: finite, within 0..=4.
+pub fn check_bloom_strength(v: f32) -> Result<f32, String> {
+    if v.is_finite() && (0.0..=4.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("bloom strength must be in 0..=4, got {v:?}"))
+    }
+}
+
+f32_with!(
+    /// A bloom's strength, within 0..=4.
+    bloom_strength,
+    check_bloom_strength
+);
+
+u32_with!(
+    /// A bloom's radius in art pixels.
+    bloom_radius,
+    1..=16,
+    "bloom radius"
+);
+
 /// Checks a length of time in seconds (a loop's period): finite, > 0, at most `MAX_COORD`.
 pub fn check_period(v: f32) -> Result<f32, String> {
     check_positive(v, "period")

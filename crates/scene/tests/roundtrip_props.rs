@@ -407,9 +407,10 @@ fn settings() -> impl Strategy<Value = LevelSettings> {
         positive(),
         prop_oneof![Just(0.0f32), 0.0f32..=10.0],
         prop_oneof![Just(DEFAULT_REFERENCE_DISTANCE), positive()],
+        prop::option::of((0.0f32..=1.0, 0.0f32..=4.0, 1u32..=16)),
     )
         .prop_map(
-            |(sky, ambient, bands, pixel_scale, cell_size, haze, reference_distance)| {
+            |(sky, ambient, bands, pixel_scale, cell_size, haze, reference_distance, bloom)| {
                 LevelSettings {
                     sky,
                     ambient,
@@ -418,6 +419,13 @@ fn settings() -> impl Strategy<Value = LevelSettings> {
                     cell_size,
                     haze,
                     reference_distance,
+                    bloom: bloom.map(|(threshold, strength, radius)| {
+                        texel_scene::components::Bloom {
+                            threshold,
+                            strength,
+                            radius,
+                        }
+                    }),
                 }
             },
         )

@@ -10,6 +10,7 @@ use texel_render::input::{
     Camera, Look, MaterialInput, ObjectInput, PointLightInput, SceneInput, SunInput, TerrainInput,
 };
 use texel_render::palette::PaletteInput;
+use texel_render::passes::bloom::BloomInput;
 use texel_render::shadow_region::{scene_floor, sun_shadow_bounds};
 use texel_scene::primitives::primitive_mesh;
 use texel_scene::terrain::Terrain;
@@ -41,6 +42,8 @@ pub struct PreparedLevel {
     pub(super) floor: f32,
     /// The level's palette and its alternate, as the renderer maps to them (empty: none).
     pub palettes: Vec<PaletteInput>,
+    /// The level's bloom, as the renderer takes it.
+    pub bloom: Option<BloomInput>,
 }
 
 impl PreparedLevel {
@@ -59,6 +62,7 @@ impl PreparedLevel {
             overrides: grid_overrides(&level.scene),
             start: start_camera(&level.scene),
             palettes: level_palettes(level),
+            bloom: level_bloom(&level.scene),
         }
     }
 
@@ -98,6 +102,15 @@ pub fn level_look(scene: &Scene) -> Look {
         bands: s.bands,
         haze: s.haze,
     }
+}
+
+/// The level's bloom as the renderer takes it.
+pub fn level_bloom(scene: &Scene) -> Option<BloomInput> {
+    scene.settings.bloom.map(|b| BloomInput {
+        threshold: b.threshold,
+        strength: b.strength,
+        radius: b.radius,
+    })
 }
 
 /// The level's palette and its alternate as the renderer takes them, loaded with its assets

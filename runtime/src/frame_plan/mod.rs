@@ -34,7 +34,7 @@ mod tests;
 pub use animation::Animation;
 pub use edit::{EntityEdit, NotAlone};
 pub use extraction::{
-    PreparedLevel, entity_id, entity_index, level_look, level_palettes, scene_input,
+    PreparedLevel, entity_id, entity_index, level_bloom, level_look, level_palettes, scene_input,
     shadow_extended, start_camera, terrain_input,
 };
 pub use fade::{OUR_FADE_CELLS, OUR_FADE_SECONDS, OUR_MIN_FADE_FRAMES};

@@ -24,6 +24,7 @@ use crate::context::GpuContext;
 use crate::error::RenderError;
 use crate::gpu_scene::GpuScene;
 use crate::input::{Camera, Look, SceneInput};
+use crate::passes::bloom::BloomPass;
 use crate::passes::capture::CapturePass;
 use crate::passes::shade::ShadePass;
 use crate::passes::shade::{ShadeInputs, ShadeJob};
@@ -189,6 +190,7 @@ pub struct BaselineRenderer {
     gbuffer: GBufferPass,
     shade: ScreenShadePass,
     upscale: UpscalePass,
+    bloom: BloomPass,
     capture: CapturePass,
     cube_shade: ShadePass,
     cube: CubemapPass,
@@ -211,6 +213,7 @@ impl BaselineRenderer {
                 gbuffer: GBufferPass::new(d)?,
                 shade: ScreenShadePass::new(d)?,
                 upscale: UpscalePass::new(d)?,
+                bloom: BloomPass::new(d, gbuffer::LIT_FORMAT, false)?,
                 capture: CapturePass::new(d)?,
                 cube_shade: ShadePass::new(d)?,
                 cube: CubemapPass::new(d)?,
@@ -235,6 +238,12 @@ impl BaselineRenderer {
             GpuScene::upload(ctx, scene).map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
         self.scene = Some(uploaded);
         Ok(())
+    }
+
+    /// The bloom of the raster, naive and snap frames from the next one on (`None`: none),
+    /// on each method's art pixels. The cubemap baseline draws without it.
+    pub fn set_bloom(&mut self, bloom: Option<crate::passes::bloom::BloomInput>) {
+        self.bloom.set(bloom);
     }
 
     /// The palette the raster, naive and snap frames are mapped to from the next one on
@@ -359,9 +368,27 @@ impl BaselineRenderer {
         let shaded = stages.run("shade", |enc| {
             self.shade.record(ctx, enc, &screen, scene, &view.look, eye)
         });
+        // Bloom on the method's art pixels: its shaded screen, or the raster's full one
+        // with the radius grown to the art pixel's size.
+        let mut bloomed = false;
+        if self.bloom.on() {
+            let art = match method {
+                Baseline::Raster => {
+                    let a = low_res_size(size, art_pixel_height(view.face_res, cam.fov_y)?);
+                    size.y as f32 / a.y.max(1) as f32
+                }
+                _ => 1.0,
+            };
+            let (lit, at) = (&screen.lit.view, (target.x, target.y));
+            stages.run("bloom", |enc| {
+                bloomed = self.bloom.record(ctx, enc, lit, at, art).is_some();
+            });
+        }
         stages.run("upscale", |enc| {
             let mapping = Mapping { scale, offset };
-            self.upscale.record(ctx, enc, &screen, scene, mapping, out);
+            let lit = (self.bloom.output().filter(|_| bloomed)).unwrap_or(&screen.lit.view);
+            self.upscale
+                .record(ctx, enc, &screen, lit, scene, mapping, out);
         });
         let result = stages.finish(&[]);
         self.keep_screen(screen);

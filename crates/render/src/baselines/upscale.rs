@@ -81,12 +81,15 @@ impl UpscalePass {
         queue.write_buffer(&self.palette, 0, &crate::palette::uniform_bytes(palette, 0));
     }
 
-    /// Records drawing `src.lit` (and its ids) into `out` through `mapping`.
+    /// Records drawing `lit` (`src.lit`, or it with a bloom; and `src`'s ids) into `out`
+    /// through `mapping`.
+    #[allow(clippy::too_many_arguments)]
     pub fn record(
         &self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         src: &ScreenTargets,
+        lit: &wgpu::TextureView,
         scene: &GpuScene,
         mapping: Mapping,
         out: &Output,
@@ -105,7 +108,7 @@ impl UpscalePass {
             &self.layout,
             &[
                 self.uniform.as_entire_binding(),
-                wgpu::BindingResource::TextureView(&src.lit.view),
+                wgpu::BindingResource::TextureView(lit),
                 wgpu::BindingResource::TextureView(&src.ids.view),
                 scene.objects.as_entire_binding(),
                 self.palette.as_entire_binding(),

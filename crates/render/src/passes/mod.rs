@@ -7,6 +7,7 @@ use std::sync::OnceLock;
 use crate::pipeline_cache;
 
 pub mod background;
+pub mod bloom;
 pub mod capture;
 pub mod cull;
 pub mod lines;

@@ -191,7 +191,7 @@ impl PresentPass {
 }
 
 /// One fullscreen triangle of `pipeline` into `target`.
-fn draw(
+pub(crate) fn draw(
     encoder: &mut wgpu::CommandEncoder,
     pipeline: &wgpu::RenderPipeline,
     bind: &wgpu::BindGroup,
