@@ -67,7 +67,10 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     if (flags & FLAG_EMISSIVE) != 0u {
         colour = objects[id - 1u].emissive;
     } else {
-        colour = alb.rgb * lighting(world.xyz, normal, SHADOW_OFFSET);
+        // Highlights as the camera sees them: the screen-space methods' own view.
+        let to_eye = normalize(globals.eye.xyz - world.xyz);
+        let lit = lighting_seen(world.xyz, normal, SHADOW_OFFSET, to_eye, objects[id - 1u].specular);
+        colour = alb.rgb * lit.diffuse + lit.shine;
     }
     var shift = 0.0;
     if globals.outlines != 0u && (flags & FLAG_OUTLINED) != 0u {

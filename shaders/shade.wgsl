@@ -588,6 +588,8 @@ fn settle_side(e: ptr<function, EdgeSearch>, hit: bool, hidden: u32, step: u32) 
 struct Traced {
     light: vec3<f32>,
     unshadowed: u32,
+    // The highlights of the lights that reach it, seen from the probe (linear colour).
+    shine: vec3<f32>,
     similar: u32,
     lights: u32,
 }
@@ -608,7 +610,10 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
         lit_normal = normalize(unpack4x8snorm(shading).xyz);
     }
     let start = x.p + lit_normal * offset;
-    var out = Traced(globals.ambient.rgb, 0xffffffffu, sides.similar, select(light_count(), 0u, emissive));
+    var out = Traced(globals.ambient.rgb, 0xffffffffu, vec3(0.0), sides.similar, select(light_count(), 0u, emissive));
+    // Highlights as the probe sees them: the view is the texel's ray from its origin, so
+    // the shine is cached with the texel and changes only where the probe does.
+    let spec = objects[x.me.id - 1u].specular;
     let lights = out.lights;
     let hidden = sides.hidden;
     let search = globals.edges != 0u && sides.seek != 0u;
@@ -647,6 +652,7 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
         if i < lights {
             if !hit {
                 out.light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
+                out.shine += r.colour * (r.fall * r.fall * highlight(lit_normal, r.dir, -normalize(x.ray), spec));
             } else {
                 out.unshadowed &= ~(1u << i);
             }
@@ -667,6 +673,9 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
 fn texel_colour(x: Texel, albedo: vec3<f32>, object_flags: u32, sides: Sides, traced: Traced) -> vec3<f32> {
     let emissive = (x.flags & FLAG_EMISSIVE) != 0u;
     var colour = albedo * traced.light;
+    if (object_flags & FLAG_TERRAIN) == 0u {
+        colour += traced.shine;
+    }
     if emissive {
         colour = objects[x.me.id - 1u].emissive;
     }

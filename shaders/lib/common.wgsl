@@ -207,6 +207,18 @@ struct Object {
     flags: u32,
     emissive: vec3<f32>,
     id: u32,
+    // A highlight's strength (0: none) and shininess (crates/scene Material `specular`).
+    specular: vec4<f32>,
+}
+
+// The Blinn-Phong highlight of a light from `to_light` on a surface of normal `n` seen along
+// `to_eye` (both unit), for `spec` (strength, shininess).
+fn highlight(n: vec3<f32>, to_light: vec3<f32>, to_eye: vec3<f32>, spec: vec4<f32>) -> f32 {
+    if spec.x <= 0.0 {
+        return 0.0;
+    }
+    let h = normalize(to_light + to_eye);
+    return spec.x * pow(max(dot(n, h), 0.0), spec.y);
 }
 
 // A directional light: unit direction toward it, and its colour (crates/render/src/passes/

@@ -132,7 +132,7 @@ pub(crate) fn transform_bounds(m: glam::Mat4, min: Vec3, max: Vec3) -> (Vec3, Ve
     }
     (lo, hi)
 }
-/// One object's material and id (32 bytes; `shaders/lib/scene.wgsl` `Object`).
+/// One object's material and id (48 bytes; `shaders/lib/common.wgsl` `Object`).
 #[repr(C)]
 #[derive(Debug, Clone, Copy, Pod, Zeroable)]
 pub struct GpuObject {
@@ -145,6 +145,8 @@ pub struct GpuObject {
     pub emissive: [f32; 3],
     /// Entity id (non-zero).
     pub id: u32,
+    /// The highlight's strength (0: none) and shininess; two words of padding.
+    pub specular: [f32; 4],
 }
 
 /// A point light (32 bytes; WGSL `PointLight`).

@@ -4,7 +4,7 @@
 
 use std::sync::Arc;
 
-use glam::{Mat4, UVec2, Vec3, Vec4};
+use glam::{Mat4, UVec2, Vec2, Vec3, Vec4};
 pub use texel_geom::TextureRef;
 pub use texel_geom::texture::Image;
 use texel_geom::{SurfaceMaps, TriMesh};
@@ -35,6 +35,9 @@ pub struct MaterialInput {
     /// Index into [`SceneInput::terrains`]: the surface is coloured as that terrain (its
     /// world pixel grid, bands, gradient and displacement) instead of by albedo and texture.
     pub terrain: Option<usize>,
+    /// A highlight: strength (0: none) and shininess (the Blinn-Phong exponent), seen from
+    /// the probe that captures the texel (texel splatting) or the camera (the baselines).
+    pub specular: Vec2,
 }
 
 impl Default for MaterialInput {
@@ -46,6 +49,7 @@ impl Default for MaterialInput {
             outlined: true,
             maps: SurfaceMaps::default(),
             terrain: None,
+            specular: Vec2::ZERO,
         }
     }
 }

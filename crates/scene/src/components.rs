@@ -145,6 +145,26 @@ pub struct Material {
     /// (with its UV scale, density and sampling when there is one).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub normal_map: Option<String>,
+    /// A highlight from the lights (none: matte; left out of the file).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub specular: Option<Specular>,
+}
+
+/// A highlight from the lights, as the probe that captured a texel sees it (so it is cached
+/// with the texel's shading and changes only where the probe does; `ARCHITECTURE.md`).
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Specular {
+    /// How bright the highlight is, 0–4 (times the light's colour).
+    #[serde(with = "num::strength")]
+    pub strength: f32,
+    /// How tight it is: the Blinn-Phong exponent, 1–1024 (default 32).
+    #[serde(default = "default_shininess", with = "num::shininess")]
+    pub shininess: f32,
+}
+
+fn default_shininess() -> f32 {
+    32.0
 }
 
 /// How texture pixels are filtered.
@@ -227,6 +247,7 @@ impl Default for Material {
             outlined: true,
             texture: None,
             normal_map: None,
+            specular: None,
         }
     }
 }
@@ -402,7 +423,7 @@ pub struct Bloom {
     #[serde(default = "default_bloom_threshold", with = "num::unit")]
     pub threshold: f32,
     /// How much of the spilled light is added, 0–4.
-    #[serde(default = "default_bloom_strength", with = "num::bloom_strength")]
+    #[serde(default = "default_bloom_strength", with = "num::strength")]
     pub strength: f32,
     /// How far it spills, in art pixels, 1–16.
     #[serde(default = "default_bloom_radius", with = "num::bloom_radius")]
@@ -544,6 +565,10 @@ impl Validate for Geometry {
 impl Validate for Material {
     fn validate(&self) -> Result<(), (&'static str, String)> {
         field("albedo", num::check_colour(self.albedo))?;
+        if let Some(s) = self.specular {
+            field("specular", num::check_strength(s.strength))?;
+            field("specular", num::check_shininess(s.shininess))?;
+        }
         field("emissive", num::check_colour(self.emissive))?;
         if let Some(t) = &self.texture {
             if t.path.trim().is_empty() {
@@ -636,7 +661,7 @@ impl Validate for LevelSettings {
         )?;
         if let Some(b) = self.bloom {
             field("bloom", num::check_unit(b.threshold))?;
-            field("bloom", num::check_bloom_strength(b.strength))?;
+            field("bloom", num::check_strength(b.strength))?;
             field("bloom", num::check_range(b.radius, 1..=16, "bloom radius"))?;
         }
         Ok(())

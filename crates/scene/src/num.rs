@@ -347,19 +347,34 @@ f32_with!(
     check_unit
 );
 
-/// Checks a bloom's strength: finite, within 0..=4.
-pub fn check_bloom_strength(v: f32) -> Result<f32, String> {
+/// Checks a strength (a bloom's, a highlight's): finite, within 0..=4.
+pub fn check_strength(v: f32) -> Result<f32, String> {
     if v.is_finite() && (0.0..=4.0).contains(&v) {
         Ok(v)
     } else {
-        Err(format!("bloom strength must be in 0..=4, got {v:?}"))
+        Err(format!("strength must be in 0..=4, got {v:?}"))
     }
 }
 
 f32_with!(
-    /// A bloom's strength, within 0..=4.
-    bloom_strength,
-    check_bloom_strength
+    /// A strength (a bloom's, a highlight's), within 0..=4.
+    strength,
+    check_strength
+);
+
+/// Checks a highlight's shininess (the Blinn-Phong exponent): finite, within 1..=1024.
+pub fn check_shininess(v: f32) -> Result<f32, String> {
+    if v.is_finite() && (1.0..=1024.0).contains(&v) {
+        Ok(v)
+    } else {
+        Err(format!("shininess must be in 1..=1024, got {v:?}"))
+    }
+}
+
+f32_with!(
+    /// A highlight's shininess, within 1..=1024.
+    shininess,
+    check_shininess
 );
 
 u32_with!(

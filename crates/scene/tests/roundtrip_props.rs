@@ -87,15 +87,20 @@ fn material() -> impl Strategy<Value = Material> {
         any::<bool>(),
         proptest::option::of(texture_map()),
         proptest::option::of("[a-z_/.]{1,20}\\.png"),
+        proptest::option::of((0.0f32..=4.0, 1.0f32..=1024.0)),
     )
         .prop_map(
-            |(albedo, emissive, casts_shadows, outlined, texture, normal_map)| Material {
+            |(albedo, emissive, casts_shadows, outlined, texture, normal_map, specular)| Material {
                 albedo,
                 emissive,
                 casts_shadows,
                 outlined,
                 texture,
                 normal_map,
+                specular: specular.map(|(strength, shininess)| texel_scene::components::Specular {
+                    strength,
+                    shininess,
+                }),
             },
         )
 }

@@ -191,6 +191,9 @@ pub(super) fn add_entity(level: &LoadedLevel, index: usize, e: hecs::Entity, out
                         outlined: m.outlined,
                         maps: level.assets.surface_maps(&m, primitive),
                         terrain: None,
+                        specular: (m.specular).map_or(glam::Vec2::ZERO, |s| {
+                            glam::Vec2::new(s.strength, s.shininess)
+                        }),
                     },
                     id: entity_id(index),
                 });
@@ -209,6 +212,7 @@ pub(super) fn add_entity(level: &LoadedLevel, index: usize, e: hecs::Entity, out
                     outlined: terrain.outlined,
                     maps: Default::default(),
                     terrain: Some(out.terrains.len()),
+                    specular: glam::Vec2::ZERO,
                 },
                 id: entity_id(index),
             });

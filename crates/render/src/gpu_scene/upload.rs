@@ -469,6 +469,7 @@ pub(super) fn object_record(o: &ObjectInput, terrain: u32, moving: Option<u32>) 
             + u32::from(m.casts_shadows && moving.is_none()) * FLAG_IN_BVH,
         emissive: m.emissive.to_array(),
         id: o.id,
+        specular: [m.specular.x.max(0.0), m.specular.y.max(1.0), 0.0, 0.0],
     }
 }
 

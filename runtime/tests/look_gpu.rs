@@ -65,7 +65,8 @@ fn request(camera: Camera) -> FrameRequest {
     }
 }
 
-/// A settled frame at `camera`: its RGBA pixels and each output pixel's texel key.
+/// A settled frame at `camera`: its RGBA pixels and each output pixel's texel key (0 where
+/// the eye probe drew it: the eye's texels are captured anew as the camera moves).
 fn frame(ctx: &GpuContext, session: &mut Session, camera: Camera) -> (Vec<u8>, Vec<u32>) {
     let mut last = None;
     for _ in 0..8 {
@@ -79,6 +80,8 @@ fn frame(ctx: &GpuContext, session: &mut Session, camera: Camera) -> (Vec<u8>, V
     let internal = (drawn.input.internal_size.x, drawn.input.internal_size.y);
     let keys = session.renderer().keys_texture().expect("keys");
     let raw = read_texture_layer(ctx, keys, 0, 4).expect("keys read");
+    let ids = session.renderer().read_frame_ids(ctx).expect("ids");
+    assert_eq!(ids.size, SIZE, "ids at the output size");
     let key = |x, y| {
         let (sx, sy) = source_pixel(x, y, internal, (SIZE.x, SIZE.y));
         let i = 4 * (sy * internal.0 + sx) as usize;
@@ -86,7 +89,10 @@ fn frame(ctx: &GpuContext, session: &mut Session, camera: Camera) -> (Vec<u8>, V
     };
     let keys = (0..SIZE.y)
         .flat_map(|y| (0..SIZE.x).map(move |x| (x, y)))
-        .map(|(x, y)| key(x, y))
+        .map(|(x, y)| match ids.from_eye[(y * SIZE.x + x) as usize] {
+            true => 0,
+            false => key(x, y),
+        })
         .collect();
     (pixels, keys)
 }
@@ -273,4 +279,73 @@ fn a_bloom_adds_light_near_bright_pixels_and_takes_none_away() {
         .count();
     assert_eq!(darker, 0, "naive: no channel darker");
     assert!(brighter > 200, "naive: {brighter} channels brighter");
+}
+
+/// Specular highlights are seen from the probe: they brighten the stones' texels; the grid
+/// probe's lit texels, highlights included, stay byte for byte the same while the camera
+/// moves inside its cell, and are the same whichever camera in the cell lit them (naive's
+/// highlights follow its camera instead).
+#[test]
+fn highlights_are_cached_with_the_texel_while_the_camera_moves_inside_a_cell() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut matte = level_with_palette(dir.path(), 0.0);
+    matte.scene.palette = None;
+    let mut shiny = level_with_palette(dir.path(), 0.0);
+    shiny.scene.palette = None;
+    let entities: Vec<_> = shiny.scene.entities().collect();
+    for e in entities {
+        let mut row = shiny.scene.row(e).expect("row");
+        if let Some(m) = &mut row.material {
+            m.specular = Some(texel_scene::components::Specular {
+                strength: 1.5,
+                shininess: 16.0,
+            });
+            shiny.scene.set_row(e, row).expect("set");
+        }
+    }
+    // The grid probe's lit faces after settling at `camera`, and the probe.
+    let lit = |session: &mut Session, camera: Camera| {
+        frame(&ctx, session, camera);
+        let grid = (session
+            .draw_offscreen(&ctx, &request(camera))
+            .expect("frame")
+            .0)
+            .input
+            .grid;
+        let (_, faces) = (session.renderer())
+            .read_lit_faces(&ctx, grid.slot)
+            .expect("lit faces");
+        (faces, grid.origin)
+    };
+    let mut session = Session::headless(&ctx, &shiny, SIZE, 1.0).expect("session");
+    let (a, origin_a) = lit(&mut session, camera(0.0));
+    let (b, origin_b) = lit(&mut session, camera(0.2));
+    assert_eq!(origin_a, origin_b, "one grid probe");
+    let differ = |x: &[Vec<u8>], y: &[Vec<u8>]| {
+        (x.iter().zip(y))
+            .map(|(f, g)| {
+                f.chunks_exact(4)
+                    .zip(g.chunks_exact(4))
+                    .filter(|(p, q)| p != q)
+                    .count()
+            })
+            .sum::<usize>()
+    };
+    assert_eq!(
+        differ(&a, &b),
+        0,
+        "the grid probe's texels, highlights included, held"
+    );
+    let mut plain = Session::headless(&ctx, &matte, SIZE, 1.0).expect("session");
+    let (m, _) = lit(&mut plain, camera(0.0));
+    let brighter = (m.iter().zip(&a))
+        .map(|(f, g)| f.iter().zip(g).filter(|(p, q)| q > p).count())
+        .sum::<usize>();
+    assert!(
+        brighter > 200,
+        "highlights brighten {brighter} texel channels"
+    );
 }
