@@ -309,6 +309,12 @@ impl Document {
         Ok(())
     }
 
+    /// Records the palette file `rel` just read as holding `palette` (not written on save
+    /// until edited).
+    pub fn note_palette_read(&mut self, rel: &str, palette: Arc<Palette>) {
+        self.palettes_on_disk.insert(rel.to_owned(), palette);
+    }
+
     /// Whether the level has palette colours edited and not yet saved.
     pub fn palettes_edited(&self) -> bool {
         let Some(setting) = &self.level.scene.palette else {

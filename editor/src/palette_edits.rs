@@ -118,7 +118,11 @@ impl EditorState {
         };
         // A file already loaded (edited, perhaps) keeps the colours in memory.
         let loaded = self.document.level.assets.palette(&rel).cloned();
-        let palette = loaded.unwrap_or_else(|| Arc::new(palette));
+        let palette = loaded.unwrap_or_else(|| {
+            let read = Arc::new(palette);
+            self.document.note_palette_read(&rel, read.clone());
+            read
+        });
         let after = PaletteState::of(Some(&setting), &self.document.level.assets);
         let mut after = after;
         after.palettes.retain(|(f, _)| *f != rel);
