@@ -134,7 +134,7 @@ fn a_swatch_edit_is_one_undo_step_and_saving_writes_the_palette() {
 
     // A colour picker drag: many changes under one gesture.
     let key = Some(MergeKey::Palette {
-        widget: egui::Id::new("picker"),
+        widget: egui::Id::unique("picker"),
     });
     let rel = "../palettes/texel-night.gpl";
     for g in [10u8, 60, 120, 200] {
