@@ -655,6 +655,26 @@ mod region_tests {
         );
     }
 
+    /// A palette change alone is told apart (the view maps colours again); mixed with an
+    /// entity change, neither shortcut applies.
+    #[test]
+    fn palette_changes_alone_are_told_apart() {
+        let mut d = Document::new_empty();
+        let r0 = d.revision;
+        assert!(!d.palette_only_since(r0), "nothing changed");
+        d.palette_parts_mut();
+        assert!(d.palette_only_since(r0));
+        assert_eq!(d.entities_since(r0), None);
+        let r1 = d.revision;
+        d.entity_parts_mut(0);
+        assert!(!d.palette_only_since(r1));
+        assert!(!d.palette_only_since(r0));
+        assert_eq!(d.entities_since(r0), None, "a palette change in between");
+        assert_eq!(d.entities_since(r1), Some(vec![0]));
+        d.touch();
+        assert!(!d.palette_only_since(r0), "a full change");
+    }
+
     /// Entity changes since a revision are listed once each, in order; a region or a full
     /// change since makes the list `None`, and an entity change makes the region `None`.
     #[test]
