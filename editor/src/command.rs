@@ -11,6 +11,7 @@ use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 use texel_scene::{EntityRow, LevelSettings, Scene};
 
 use crate::paint::PaintChange;
+use crate::palette_edits::PaletteState;
 use crate::terrain::HeightChange;
 
 /// One undoable change to the scene.
@@ -71,6 +72,14 @@ pub enum Command {
         after: Box<EntityRow>,
         /// The pixels changed.
         change: Arc<PaintChange>,
+    },
+    /// Replaces the level's palette: the files it names, its dither and the colours of
+    /// each file (a palette picked, a swatch edited).
+    SetPalette {
+        /// Before.
+        before: Box<PaletteState>,
+        /// After.
+        after: Box<PaletteState>,
     },
     /// Several commands as one undo step (an edit of many entities, a paste, a delete of
     /// the selection), executed in order and reverted in reverse order.
@@ -143,6 +152,10 @@ impl Command {
             }
             Command::SetSettings { after, .. } => {
                 scene.settings = *after;
+                Ok(Focus::Keep)
+            }
+            Command::SetPalette { after, .. } => {
+                after.apply(&mut scene.palette, assets);
                 Ok(Focus::Keep)
             }
             Command::SetHeights { .. } => self.set_heights(scene, assets, true),
@@ -279,6 +292,10 @@ impl Command {
                 after: before.clone(),
                 change: Arc::new(change.reversed()),
             },
+            Command::SetPalette { before, after } => Command::SetPalette {
+                before: after.clone(),
+                after: before.clone(),
+            },
             Command::Batch { label, steps } => Command::Batch {
                 label,
                 steps: steps.iter().rev().map(Command::inverse).collect(),
@@ -293,7 +310,7 @@ impl Command {
             | Command::SetHeights { before, after, .. }
             | Command::SetPaint { before, after, .. } => vec![before, after],
             Command::Spawn { row, .. } | Command::Despawn { row, .. } => vec![row],
-            Command::SetSettings { .. } => Vec::new(),
+            Command::SetSettings { .. } | Command::SetPalette { .. } => Vec::new(),
             Command::Batch { steps, .. } => steps.iter().flat_map(Command::rows).collect(),
         }
     }
@@ -317,6 +334,10 @@ impl Command {
                 *after = *a2;
                 true
             }
+            (Command::SetPalette { after, .. }, Command::SetPalette { after: a2, .. }) => {
+                *after = a2.clone();
+                true
+            }
             // The same entities edited again (a drag of the whole selection).
             (Command::Batch { steps, .. }, Command::Batch { steps: s2, .. })
                 if steps.len() == s2.len() && steps.iter().zip(s2).all(|(a, b)| a.same_row(b)) =>
@@ -334,6 +355,7 @@ impl Command {
             Command::Spawn { .. } => "add",
             Command::Despawn { .. } => "delete",
             Command::SetSettings { .. } => "level settings",
+            Command::SetPalette { .. } => "palette",
             Command::SetHeights { change, .. } => change.describe(),
             Command::SetPaint { change, .. } => change.describe(),
             Command::Batch { label, .. } => label,

@@ -9,6 +9,7 @@ use std::sync::Arc;
 
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_scene::assets::{AssetLibrary, load_assets, resolve, texture_paths};
+use texel_scene::palette::Palette;
 use texel_scene::terrain::{HeightSource, Heightfield, PaintLayer, Terrain};
 use texel_scene::texture::Image;
 use texel_scene::{EntityRow, Geometry, Scene};
@@ -47,6 +48,11 @@ pub struct Document {
     regions: Vec<(u64, glam::Vec3, glam::Vec3)>,
     /// Revisions that only changed one entity's components, with its position.
     entities: Vec<(u64, usize)>,
+    /// The colours each palette file (by level-relative path) held when it was last read or
+    /// written: a palette whose colours are still these is not written again on save.
+    palettes_on_disk: BTreeMap<String, Arc<Palette>>,
+    /// Revisions that only changed the palette (the views map colours again, nothing else).
+    palette_changes: Vec<u64>,
 }
 
 impl Document {
@@ -66,6 +72,8 @@ impl Document {
             full_revision: 0,
             regions: Vec::new(),
             entities: Vec::new(),
+            palettes_on_disk: BTreeMap::new(),
+            palette_changes: Vec::new(),
         }
     }
 
@@ -82,6 +90,8 @@ impl Document {
             full_revision: 0,
             regions: Vec::new(),
             entities: Vec::new(),
+            palettes_on_disk: BTreeMap::new(),
+            palette_changes: Vec::new(),
         };
         doc.note_files_read(&AssetLibrary::default());
         Ok(doc)
@@ -90,6 +100,11 @@ impl Document {
     /// Records the heightmap and paint files just read (the scene's terrains whose heights
     /// or paint `old` lacked) as what is on disk.
     fn note_files_read(&mut self, old: &AssetLibrary) {
+        for (rel, p) in self.level.assets.palettes() {
+            if old.palette(rel).is_none() {
+                self.palettes_on_disk.insert(rel.to_owned(), p.clone());
+            }
+        }
         for t in terrains(&self.level.scene) {
             if let HeightSource::File { path } = &t.heightmap
                 && old.heightfield(&t).is_none()
@@ -160,6 +175,29 @@ impl Document {
         self.full_revision = self.revision;
         self.regions.clear();
         self.entities.clear();
+        self.palette_changes.clear();
+    }
+
+    /// The scene and the asset library, for a command that changes only the level's palette
+    /// (its setting and colours): views map colours again and nothing else
+    /// ([`Document::palette_only_since`]).
+    pub fn palette_parts_mut(&mut self) -> (&mut Scene, &mut AssetLibrary) {
+        self.revision += 1;
+        self.palette_changes.push(self.revision);
+        (&mut self.level.scene, &mut self.level.assets)
+    }
+
+    /// Whether every change since `revision` changed only the palette (and one did).
+    pub fn palette_only_since(&self, revision: u64) -> bool {
+        self.full_revision <= revision
+            && !self.regions.iter().any(|r| r.0 > revision)
+            && !self.entities.iter().any(|e| e.0 > revision)
+            && self.palette_changes.last().is_some_and(|&r| r > revision)
+    }
+
+    /// Whether a palette change came after `revision`.
+    fn palette_changed_since(&self, revision: u64) -> bool {
+        self.palette_changes.last().is_some_and(|&r| r > revision)
     }
 
     /// Marks a change of terrain heights confined to the world box `min..max` (a stroke in
@@ -172,7 +210,10 @@ impl Document {
     /// The box every change since `revision` fell in, when they were all region changes
     /// ([`Document::touch_region`]); `None` when something else changed (rebuild the view).
     pub fn region_since(&self, revision: u64) -> Option<(glam::Vec3, glam::Vec3)> {
-        if self.full_revision > revision || self.entities.iter().any(|e| e.0 > revision) {
+        if self.full_revision > revision
+            || self.entities.iter().any(|e| e.0 > revision)
+            || self.palette_changed_since(revision)
+        {
             return None;
         }
         self.regions
@@ -186,7 +227,10 @@ impl Document {
     /// change, when every change since was an entity's alone
     /// ([`Document::entity_parts_mut`]); `None` when something else changed (or nothing).
     pub fn entities_since(&self, revision: u64) -> Option<Vec<usize>> {
-        if self.full_revision > revision || self.regions.iter().any(|r| r.0 > revision) {
+        if self.full_revision > revision
+            || self.regions.iter().any(|r| r.0 > revision)
+            || self.palette_changed_since(revision)
+        {
             return None;
         }
         let mut out: Vec<usize> = Vec::new();
@@ -205,6 +249,7 @@ impl Document {
     pub fn save_as(&mut self, path: &Path) -> Result<(), String> {
         self.write_heightmaps(path)?;
         self.write_paint_layers(path)?;
+        self.write_palettes(path)?;
         self.level.scene.save(path).map_err(|e| e.to_string())?;
         self.path = Some(path.to_owned());
         self.level.path = path.to_owned();
@@ -239,6 +284,49 @@ impl Document {
             self.on_disk.insert(rel.clone(), field);
         }
         Ok(())
+    }
+
+    /// Writes each palette file the level names whose colours differ from what the file held
+    /// (edited), or that is missing, in its own format, atomically (every one when the level
+    /// moves to another folder).
+    fn write_palettes(&mut self, level: &Path) -> Result<(), String> {
+        let moved = self.moves_to(level);
+        let Some(setting) = self.level.scene.palette.clone() else {
+            return Ok(());
+        };
+        for rel in std::iter::once(&setting.file).chain(&setting.alternate) {
+            let Some(palette) = self.level.assets.palette(rel).cloned() else {
+                continue;
+            };
+            let file = resolve(level, rel);
+            let same = (self.palettes_on_disk.get(rel)).is_some_and(|p| Arc::ptr_eq(p, &palette));
+            if same && !moved && file.is_file() {
+                continue;
+            }
+            palette.save(&file).map_err(|e| e.to_string())?;
+            self.palettes_on_disk.insert(rel.clone(), palette);
+        }
+        Ok(())
+    }
+
+    /// Records the palette file `rel` just read as holding `palette` (not written on save
+    /// until edited).
+    pub fn note_palette_read(&mut self, rel: &str, palette: Arc<Palette>) {
+        self.palettes_on_disk.insert(rel.to_owned(), palette);
+    }
+
+    /// Whether the level has palette colours edited and not yet saved.
+    pub fn palettes_edited(&self) -> bool {
+        let Some(setting) = &self.level.scene.palette else {
+            return false;
+        };
+        std::iter::once(&setting.file)
+            .chain(&setting.alternate)
+            .any(|rel| {
+                let now = self.level.assets.palette(rel);
+                let disk = self.palettes_on_disk.get(rel);
+                !matches!((now, disk), (Some(a), Some(b)) if Arc::ptr_eq(a, b))
+            })
     }
 
     /// Whether the level moves to `level` from another folder (or was never saved), so every
@@ -425,6 +513,8 @@ impl Document {
     pub fn reload_assets_keeping(&mut self, more: &[Terrain]) -> Result<(), String> {
         let old = &self.level.assets;
         let mut level = self.level.scene.to_level();
+        // Palettes in memory (edited, perhaps) are kept, not read again.
+        level.palette = None;
         for row in &mut level.entities {
             if let Some(t) = &mut row.terrain {
                 if t.displacement
@@ -475,6 +565,9 @@ impl Document {
             {
                 assets.insert_texture(&p.path, image.clone());
             }
+        }
+        for (rel, p) in old.palettes() {
+            assets.insert_palette(rel, p.clone());
         }
         let old = std::mem::replace(&mut self.level.assets, assets);
         self.note_files_read(&old);
@@ -560,6 +653,26 @@ mod region_tests {
             d.region_since(d.revision - 1),
             Some((Vec3::ZERO, Vec3::ONE))
         );
+    }
+
+    /// A palette change alone is told apart (the view maps colours again); mixed with an
+    /// entity change, neither shortcut applies.
+    #[test]
+    fn palette_changes_alone_are_told_apart() {
+        let mut d = Document::new_empty();
+        let r0 = d.revision;
+        assert!(!d.palette_only_since(r0), "nothing changed");
+        d.palette_parts_mut();
+        assert!(d.palette_only_since(r0));
+        assert_eq!(d.entities_since(r0), None);
+        let r1 = d.revision;
+        d.entity_parts_mut(0);
+        assert!(!d.palette_only_since(r1));
+        assert!(!d.palette_only_since(r0));
+        assert_eq!(d.entities_since(r0), None, "a palette change in between");
+        assert_eq!(d.entities_since(r1), Some(vec![0]));
+        d.touch();
+        assert!(!d.palette_only_since(r0), "a full change");
     }
 
     /// Entity changes since a revision are listed once each, in order; a region or a full

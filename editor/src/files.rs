@@ -66,6 +66,15 @@ pub fn pick_sprite() -> Picked {
     })
 }
 
+/// Asks for a palette file.
+pub fn pick_palette() -> Picked {
+    timed(|| {
+        rfd::FileDialog::new()
+            .add_filter("Palette (GIMP, hex, JASC)", &["gpl", "hex", "pal"])
+            .pick_file()
+    })
+}
+
 /// Asks for a 16-bit heightmap PNG to import.
 pub fn pick_heightmap() -> Picked {
     timed(|| {

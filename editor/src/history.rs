@@ -22,6 +22,12 @@ pub enum MergeKey {
         /// The widget being dragged or typed into.
         widget: egui::Id,
     },
+    /// The palette section editing the level's palette through one widget (a swatch's
+    /// colour picker, the dither slider).
+    Palette {
+        /// The widget being dragged or typed into.
+        widget: egui::Id,
+    },
     /// The viewport gizmo dragging the entity at `index`.
     Gizmo {
         /// Position in the level order.

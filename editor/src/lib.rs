@@ -13,6 +13,7 @@ pub mod document;
 pub mod files;
 pub mod history;
 pub mod paint;
+pub mod palette_edits;
 pub mod pixel;
 pub mod selection;
 pub mod state;

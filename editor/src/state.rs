@@ -103,6 +103,7 @@ impl EditorState {
     ) -> (&mut Scene, &mut texel_scene::assets::AssetLibrary) {
         match command {
             Command::SetRow { index, .. } => self.document.entity_parts_mut(*index),
+            Command::SetPalette { .. } => self.document.palette_parts_mut(),
             _ => match command.edited_rows() {
                 Some(rows) => self.document.entities_parts_mut(&rows),
                 None => self.document.parts_mut(),

@@ -154,6 +154,26 @@ impl Session {
         Some(self.alternate_palette)
     }
 
+    /// Replaces the level's palette and its alternate (an edit of the palette, its dither
+    /// or its files): only the present pass maps frames differently from the next one on;
+    /// nothing is uploaded, captured or shaded again.
+    pub fn set_palettes(&mut self, palettes: Vec<texel_render::palette::PaletteInput>) {
+        self.driver.level_mut().palettes = palettes;
+        let level = self.driver.level().clone();
+        self.renderer
+            .set_palette(level.palette(self.alternate_palette));
+    }
+
+    /// Maps frames to the level's alternate palette (`true`: night) or its own; a level
+    /// without an alternate keeps its own. Nothing is shaded again.
+    pub fn set_alternate_palette(&mut self, on: bool) {
+        if self.alternate_palette != on {
+            self.alternate_palette = on;
+            let level = self.driver.level().clone();
+            self.renderer.set_palette(level.palette(on));
+        }
+    }
+
     /// Takes in an edit of the entities at `indices` of `level` (which is the session's
     /// level but for them: a gizmo drag step, an inspector change, a row reloaded from
     /// disk) at the cost of what changed: each entity is extracted alone, its vertices,

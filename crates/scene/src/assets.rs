@@ -70,6 +70,16 @@ impl AssetLibrary {
         self.palettes.get(rel)
     }
 
+    /// Adds (or replaces) the palette a level names `rel` (a palette edited in the editor).
+    pub fn insert_palette(&mut self, rel: &str, palette: Arc<Palette>) {
+        self.palettes.insert(rel.to_owned(), palette);
+    }
+
+    /// Every palette loaded, by level-relative path.
+    pub fn palettes(&self) -> impl Iterator<Item = (&str, &Arc<Palette>)> {
+        self.palettes.iter().map(|(k, v)| (k.as_str(), v))
+    }
+
     /// The mesh for a level-relative path, if loaded.
     pub fn get(&self, rel: &str) -> Option<&Arc<TriMesh>> {
         self.meshes.get(rel)

@@ -103,6 +103,51 @@ impl Palette {
         Ok(Palette { colours })
     }
 
+    /// The palette as the text of a `format` file, which [`Palette::parse`] reads back as
+    /// the same colours: a `.gpl` with `Name: name`, a `.hex` of `rrggbb` lines, a JASC
+    /// `.pal` with its count. Colour names and comments a file had are not kept.
+    pub fn to_text(&self, format: PaletteFormat, name: &str) -> String {
+        let mut out = String::new();
+        match format {
+            PaletteFormat::Gpl => {
+                // A name on one line, without what would end it.
+                let name: String = name.chars().filter(|c| !c.is_control()).collect();
+                out.push_str(&format!("GIMP Palette\nName: {name}\nColumns: 8\n#\n"));
+                for [r, g, b] in &self.colours {
+                    out.push_str(&format!("{r:3} {g:3} {b:3}\n"));
+                }
+            }
+            PaletteFormat::Hex => {
+                for [r, g, b] in &self.colours {
+                    out.push_str(&format!("{r:02x}{g:02x}{b:02x}\n"));
+                }
+            }
+            PaletteFormat::Pal => {
+                out.push_str(&format!("JASC-PAL\r\n0100\r\n{}\r\n", self.colours.len()));
+                for [r, g, b] in &self.colours {
+                    out.push_str(&format!("{r} {g} {b}\r\n"));
+                }
+            }
+        }
+        out
+    }
+
+    /// Writes the palette to `path` atomically (a temporary file beside it, renamed over
+    /// it), in the format its extension names; a `.gpl` is named after the file.
+    pub fn save(&self, path: &Path) -> Result<(), PaletteError> {
+        let error = |message: String| PaletteError {
+            path: path.to_owned(),
+            line: None,
+            message,
+        };
+        let format = PaletteFormat::of(path).ok_or_else(|| {
+            error("not a palette file: the name must end in .gpl, .hex or .pal".into())
+        })?;
+        let name = path.file_stem().map(|s| s.to_string_lossy().into_owned());
+        let text = self.to_text(format, name.as_deref().unwrap_or("palette"));
+        crate::save::write_atomic(path, text.as_bytes()).map_err(|e| error(e.to_string()))
+    }
+
     /// The colours as linear RGB (0–1).
     pub fn linear(&self) -> Vec<Vec3> {
         (self.colours.iter())
@@ -368,6 +413,31 @@ mod tests {
             let p = Palette::load(&dir.join(name)).unwrap_or_else(|e| panic!("{e}"));
             assert_eq!(p.colours.len(), n, "{name}");
         }
+    }
+
+    /// Each format written reads back as the same colours, and a saved file loads again
+    /// (written atomically: no temporary file is left beside it).
+    #[test]
+    fn palettes_round_trip_through_each_format() {
+        let p = Palette {
+            colours: vec![[0, 0, 0], [255, 128, 7], [12, 200, 99], [255, 255, 255]],
+        };
+        for format in [PaletteFormat::Gpl, PaletteFormat::Hex, PaletteFormat::Pal] {
+            let text = p.to_text(format, "Round\ntrip");
+            assert_eq!(Palette::parse(&text, format), Ok(p.clone()), "{text}");
+        }
+        let dir = tempfile::tempdir().expect("tempdir");
+        for name in ["a.gpl", "b.hex", "c.PAL"] {
+            let path = dir.path().join(name);
+            p.save(&path).unwrap_or_else(|e| panic!("{e}"));
+            assert_eq!(Palette::load(&path), Ok(p.clone()), "{name}");
+        }
+        let gpl = std::fs::read_to_string(dir.path().join("a.gpl")).expect("read");
+        assert!(gpl.starts_with("GIMP Palette\nName: a\n"), "{gpl}");
+        let left: Vec<_> = std::fs::read_dir(dir.path()).expect("dir").collect();
+        assert_eq!(left.len(), 3, "only the three palettes");
+        let e = p.save(&dir.path().join("d.txt")).expect_err("extension");
+        assert!(e.to_string().contains(".gpl, .hex or .pal"), "{e}");
     }
 
     #[test]

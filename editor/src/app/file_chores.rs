@@ -56,6 +56,7 @@ impl EditorApp {
             Purpose::Sprite => files::pick_sprite(),
             Purpose::ImportHeightmap => files::pick_heightmap(),
             Purpose::ExportHeightmap => files::pick_heightmap_save(&self.export_name()),
+            Purpose::Palette(_) => files::pick_palette(),
         };
         match picked {
             Picked::Path(p) => self.answer(Answer::Path(purpose, p)),
@@ -85,6 +86,7 @@ impl EditorApp {
             Answer::Path(Purpose::Sprite, p) => self.add_sprite(&p),
             Answer::Path(Purpose::ImportHeightmap, p) => self.import_heightmap(&p),
             Answer::Path(Purpose::ExportHeightmap, p) => self.export_heightmap(&p),
+            Answer::Path(Purpose::Palette(slot), p) => self.pick_palette(slot, &p),
             Answer::Discard(pending) => self.proceed(pending),
             Answer::Recover(p) => self.recover(&p),
         }
@@ -161,6 +163,15 @@ impl EditorApp {
         let at = self.viewport.ground_focus();
         if let Err(e) = crate::add_sprite::add_sprite(&mut self.state, file, at) {
             self.dialogs.error = Some(format!("cannot add the sprite: {e}"));
+        }
+    }
+
+    /// Makes the palette file `file` the level's palette or its alternate (one undo step);
+    /// a file that cannot be used is shown in the error dialog (its file and line), and
+    /// nothing changes.
+    pub fn pick_palette(&mut self, slot: crate::palette_edits::Slot, file: &Path) {
+        if let Err(e) = self.state.pick_palette(slot, file) {
+            self.dialogs.error = Some(format!("cannot use the palette: {e}"));
         }
     }
 

@@ -15,6 +15,7 @@ use crate::state::EditorState;
 use crate::terrain;
 use crate::ui::dialogs::{Dialogs, Pending, Purpose};
 use crate::ui::menu::{self, Action};
+use crate::ui::palette_section;
 use crate::ui::pixel_section::{self, PixelCalc};
 use crate::ui::sprite_section::SpritePanel;
 use crate::ui::{hierarchy, inspector};
@@ -159,6 +160,9 @@ impl EditorApp {
                 terrain_selection: crate::terrain_edits::selected_terrain(&self.state).is_some(),
                 terrain_tool: self.viewport.terrain.active,
                 ortho: self.viewport.camera.ortho,
+                night: (self.state.scene().palette.as_ref())
+                    .and_then(|p| p.alternate.as_ref())
+                    .map(|_| self.viewport.night),
             };
             if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing, view) {
                 actions.push(a);
@@ -200,7 +204,13 @@ impl EditorApp {
                                 .default_open(self.state.selection.is_none())
                                 .show(ui, |ui| inspector::settings(ui, &mut self.state))
                                 .body_returned;
-                            entity.and(settings.unwrap_or(Ok(())))
+                            let (palette, asked) = egui::CollapsingHeader::new("Palette")
+                                .default_open(self.state.selection.is_none())
+                                .show(ui, |ui| palette_section::show(ui, &mut self.state))
+                                .body_returned
+                                .unwrap_or((Ok(()), None));
+                            actions.extend(asked);
+                            entity.and(settings.unwrap_or(Ok(()))).and(palette)
                         })
                         .inner
                 })
@@ -340,6 +350,9 @@ impl EditorApp {
             if !typing && i.key_pressed(Key::Delete) {
                 out.push(Action::Delete);
             }
+            if !typing && i.modifiers.is_none() && i.key_pressed(Key::N) {
+                out.push(Action::ToggleNight);
+            }
         });
         if !typing {
             out.extend(self.selection_shortcuts(ctx));
@@ -359,6 +372,9 @@ impl EditorApp {
                 | Action::Paste(_)
                 | Action::ImportHeightmapPath(_)
                 | Action::ToggleTerrainTool
+                | Action::PickPalette(_)
+                | Action::PalettePath(..)
+                | Action::ClearPalette(_)
         );
         if edits && self.viewport.playing() {
             return;
@@ -439,6 +455,13 @@ impl EditorApp {
                     self.dialogs.error = Some(format!("cannot frame 1:1: {e}"));
                 }
             }
+            Action::PickPalette(slot) => self.ask(Purpose::Palette(slot)),
+            Action::PalettePath(slot, p) => self.pick_palette(slot, &p),
+            Action::ClearPalette(slot) => {
+                let cleared = self.state.clear_palette(slot);
+                self.report("take the palette off", cleared);
+            }
+            Action::ToggleNight => self.viewport.night = !self.viewport.night,
             Action::Quit => self.guard(Pending::Quit),
         }
         self.state.history.seal();

@@ -20,6 +20,8 @@ pub enum Purpose {
     ImportHeightmap,
     /// Export the selected terrain's heightmap.
     ExportHeightmap,
+    /// Pick the level's palette or its alternate.
+    Palette(crate::palette_edits::Slot),
 }
 
 /// A typed-path prompt.
@@ -100,6 +102,7 @@ impl Dialogs {
                 Purpose::Sprite => "Add sprite sheet (PNG path)",
                 Purpose::ImportHeightmap => "Import 16-bit heightmap (path)",
                 Purpose::ExportHeightmap => "Export 16-bit heightmap (path)",
+                Purpose::Palette(_) => "Palette file (.gpl, .hex or .pal path)",
             };
             egui::Window::new(title)
                 .collapsible(false)

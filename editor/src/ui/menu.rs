@@ -10,6 +10,7 @@ use texel_scene::{
     Transform,
 };
 
+use crate::palette_edits::Slot;
 use crate::ui::inspector::geometry_of_kind;
 use crate::viewport::debug::{DebugFlags, DebugView};
 
@@ -78,6 +79,14 @@ pub enum Action {
     FrameOneToOne,
     /// Switch the editor camera between perspective and orthographic.
     ToggleOrtho,
+    /// Pick a palette file for the level (or its alternate) with a dialog.
+    PickPalette(Slot),
+    /// Make this palette file the level's palette (or its alternate).
+    PalettePath(Slot, PathBuf),
+    /// Take the level's palette (with its alternate) or only its alternate off.
+    ClearPalette(Slot),
+    /// Map frames to the level's alternate palette (night) or back (key N).
+    ToggleNight,
     /// Quit.
     Quit,
 }
@@ -151,6 +160,9 @@ pub struct ViewChoice {
     pub terrain_tool: bool,
     /// Whether the editor camera is orthographic.
     pub ortho: bool,
+    /// Whether frames show the level's alternate palette (night); `None` when the level
+    /// has no alternate.
+    pub night: Option<bool>,
 }
 
 /// Draws the menu bar and returns what was chosen.
@@ -338,6 +350,15 @@ fn sculpt_and_play_buttons(ui: &mut Ui, playing: bool, view: ViewChoice, out: &m
         .clicked()
     {
         *out = Some(Action::ToggleTerrainTool);
+    }
+    let night = egui::Button::selectable(view.night == Some(true), "Night (N)");
+    if ui
+        .add_enabled(view.night.is_some(), night)
+        .on_hover_text("Show the level's alternate palette, in edit and in Play")
+        .on_disabled_hover_text("The level names no alternate palette")
+        .clicked()
+    {
+        *out = Some(Action::ToggleNight);
     }
     let play = if playing { "Stop (Esc)" } else { "Play (F5)" };
     if ui.button(play).clicked() {

@@ -6,6 +6,7 @@ pub mod hierarchy;
 pub mod inspector;
 pub mod menu;
 pub mod multi_edit;
+pub mod palette_section;
 pub mod pixel_section;
 pub mod sprite_section;
 pub mod widgets;

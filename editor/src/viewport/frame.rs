@@ -142,6 +142,7 @@ impl Viewport {
             eye_pixels: flags.eye_pixels,
             cube_faces: flags.cube_faces,
             playing,
+            night: self.night,
         };
         let doc = &state.document;
         let key = (doc.id(), doc.revision);
@@ -154,12 +155,14 @@ impl Viewport {
             let before = (self.sent_level).filter(|s| s.0 == key.0);
             let since = before.and_then(|s| doc.region_since(s.1).map(|r| (s.2, r)));
             let entities = before.and_then(|s| doc.entities_since(s.1).map(|e| (s.2, e)));
+            let palette = (before.filter(|s| doc.palette_only_since(s.1))).map(|s| s.2);
             self.sent_level = Some((key.0, key.1, number));
             LevelSnapshot {
                 number,
                 document: key,
                 since,
                 entities,
+                palette,
                 path: doc.level.path.clone(),
                 rows: doc.level.scene.to_level(),
                 assets: doc.level.assets.clone(),

@@ -17,6 +17,7 @@ use texel_render::input::{Camera, ProbeView, Schedule};
 use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
+use texel_runtime::frame_plan::level_palettes;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{DrawnFrame, EditUpdate, FrameRequest, Session, SessionError};
 
@@ -46,6 +47,9 @@ pub struct RenderReport {
     pub size: UVec2,
     /// Scene uploads after edits since the renderer started.
     pub uploads: u64,
+    /// Palette changes taken in by mapping colours again (no upload, nothing shaded again)
+    /// since the renderer started.
+    pub palette_updates: u64,
     /// How the last edit of entities was taken in ([`Session::update_entities`]; `None`
     /// before one, and after a rebuild or a terrain stroke's region update).
     pub last_edit: Option<EditUpdate>,
@@ -80,6 +84,10 @@ pub struct GpuView {
     /// The entities every change since the session's revision was confined to (a gizmo
     /// drag, an inspector change): the next render takes in those alone.
     entities: Option<Vec<usize>>,
+    /// Whether every change since the session's revision was the palette's alone.
+    palette: bool,
+    /// Whether frames map to the level's alternate palette (kept for a session made later).
+    night: bool,
     /// Cost of the last frame.
     pub report: RenderReport,
     /// The probes the last frame drew: eye, the camera cell's grid probe and the other stable one.
@@ -127,6 +135,8 @@ impl GpuView {
             target: None,
             region: None,
             entities: None,
+            palette: false,
+            night: false,
             report: RenderReport::default(),
             probes: None,
         })
@@ -154,6 +164,8 @@ impl GpuView {
             target: None,
             region: None,
             entities: None,
+            palette: false,
+            night: false,
             report: RenderReport::default(),
             probes: None,
         }
@@ -176,6 +188,22 @@ impl GpuView {
     /// ([`Session::update_entities`]) instead of rebuilding the session.
     pub fn use_entities(&mut self, entities: Option<Vec<usize>>) {
         self.entities = entities;
+    }
+
+    /// Tells the next render whether every change since [`GpuView::session_revision`] was
+    /// the level's palette alone, so it maps colours again ([`Session::set_palettes`])
+    /// instead of taking the level in.
+    pub fn use_palette(&mut self, only: bool) {
+        self.palette = only;
+    }
+
+    /// Maps frames to the level's alternate palette (`true`) or its own, from the next frame
+    /// on (nothing is shaded again); the setting holds for a session made later.
+    pub fn set_night(&mut self, on: bool) {
+        self.night = on;
+        if let Some((session, _)) = &mut self.session {
+            session.set_alternate_palette(on);
+        }
     }
 
     /// Renders `level` (at document `revision`) from `camera` at `size` into a texture
@@ -245,6 +273,11 @@ impl GpuView {
         let t = Instant::now();
         match &mut self.session {
             Some((_, r)) if *r == revision => {}
+            Some((session, r)) if std::mem::take(&mut self.palette) => {
+                session.set_palettes(level_palettes(level));
+                *r = revision;
+                self.report.palette_updates += 1;
+            }
             Some((session, r)) => {
                 let edit = match (self.entities.take(), self.region.take()) {
                     (Some(entities), _) => (session.update_entities(&self.ctx, level, &entities))
@@ -277,6 +310,7 @@ impl GpuView {
                     Session::new(&self.ctx, level, FORMAT, size, fov_y).map_err(err)?;
                 session.renderer_mut().set_lines(&self.ctx, &self.lines);
                 session.set_animation_paused(!self.animating);
+                session.set_alternate_palette(self.night);
                 if self.density_view {
                     session.set_texture_density_view(true).map_err(err)?;
                 }

@@ -104,6 +104,8 @@ pub struct Viewport {
     pub edit_stall_ms: f64,
     /// The terrain tool.
     pub terrain: TerrainTool,
+    /// Frames show the level's alternate palette (night: key N, in edit and in Play).
+    pub night: bool,
     /// The colliders and the player while playing.
     physics: Option<PlayPhysics>,
     /// Internal height of a still frame at the last draw: the face resolution a level's
@@ -153,6 +155,7 @@ impl Default for Viewport {
             rect: None,
             edit_stall_ms: 0.0,
             terrain: TerrainTool::default(),
+            night: false,
             physics: None,
             still_height: DEFAULT_STILL_HEIGHT,
             drag: None,

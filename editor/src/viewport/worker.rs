@@ -55,6 +55,10 @@ pub struct LevelSnapshot {
     /// since then touched alone (gizmo drags, inspector changes), so only they are taken in
     /// ([`GpuView::use_entities`]).
     pub entities: Option<(u64, Vec<usize>)>,
+    /// The number of the snapshot before it, when every change since then was the palette's
+    /// alone: the session then maps colours again ([`GpuView::use_palette`]) and nothing
+    /// is uploaded or shaded again.
+    pub palette: Option<u64>,
     /// Where the level resolves its files from.
     pub path: PathBuf,
     /// The rows and settings.
@@ -93,6 +97,8 @@ pub struct View {
     pub cube_faces: bool,
     /// Play: the animation clock follows [`Request::time`].
     pub playing: bool,
+    /// Frames map to the level's alternate palette (night).
+    pub night: bool,
 }
 
 /// One request of the UI.
@@ -567,12 +573,14 @@ impl Worker {
     fn take(&mut self, r: Request, number: u64) -> Result<(), String> {
         if let Some(snapshot) = r.level {
             let (since, entities) = (snapshot.since, snapshot.entities.clone());
+            let palette = snapshot.palette;
             let (level, number, document) = snapshot.loaded();
             let shown = self.gpu.session_revision();
             let region = (since.filter(|(base, _)| shown == Some(*base))).map(|(_, r)| r);
             self.gpu.use_region(region);
             let entities = (entities.filter(|(base, _)| shown == Some(*base))).map(|(_, e)| e);
             self.gpu.use_entities(entities);
+            self.gpu.use_palette(palette.is_some() && palette == shown);
             self.level = Some((level, number, document));
         }
         let v = r.view;
@@ -588,6 +596,7 @@ impl Worker {
         if self.gpu.texture_density_view() != v.density {
             self.gpu.set_texture_density_view(v.density)?;
         }
+        self.gpu.set_night(v.night);
         if self.playing != v.playing {
             self.gpu.set_animating(v.playing);
             self.playing = v.playing;
