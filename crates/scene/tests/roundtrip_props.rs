@@ -89,6 +89,9 @@ fn material() -> impl Strategy<Value = Material> {
         proptest::option::of("[a-z_/.]{1,20}\\.png"),
         proptest::option::of((0.0f32..=4.0, 1.0f32..=1024.0)),
     )
+        // Boxed: the tuple's strategy type is large enough to overflow a test thread's
+        // stack in a debug build when nested in the row's.
+        .boxed()
         .prop_map(
             |(albedo, emissive, casts_shadows, outlined, texture, normal_map, specular)| Material {
                 albedo,
@@ -414,6 +417,7 @@ fn settings() -> impl Strategy<Value = LevelSettings> {
         prop_oneof![Just(DEFAULT_REFERENCE_DISTANCE), positive()],
         prop::option::of((0.0f32..=1.0, 0.0f32..=4.0, 1u32..=16)),
     )
+        .boxed()
         .prop_map(
             |(sky, ambient, bands, pixel_scale, cell_size, haze, reference_distance, bloom)| {
                 LevelSettings {
