@@ -15,12 +15,14 @@ pub mod history;
 pub mod paint;
 pub mod pixel;
 pub mod selection;
+pub mod snap;
 pub mod state;
 pub mod stats_log;
 pub mod terrain;
 pub mod terrain_edits;
 pub mod ui;
 pub mod viewport;
+pub mod visibility;
 
 use std::path::PathBuf;
 

@@ -135,7 +135,10 @@ impl EditorApp {
             name: file
                 .file_stem()
                 .map(|s| Name(s.to_string_lossy().into_owned())),
-            transform: Some(Transform::default()),
+            // At the surface under the viewport's centre (or the ground there).
+            transform: Some(Transform::from_translation(
+                self.viewport.place_point(&self.state),
+            )),
             geometry: Some(Geometry::Mesh { path: rel }),
             material: Some(Material::default()),
             ..EntityRow::default()
@@ -153,12 +156,12 @@ impl EditorApp {
         }
     }
 
-    /// Adds a sprite of the sheet `file` standing at the view's focus
-    /// ([`crate::add_sprite::add_sprite`]); a file that is not an image is shown in the error
-    /// dialog, and nothing is added.
+    /// Adds a sprite of the sheet `file` standing where Add places things
+    /// ([`crate::viewport::Viewport::place_point`], [`crate::add_sprite::add_sprite`]); a file
+    /// that is not an image is shown in the error dialog, and nothing is added.
     pub fn add_sprite(&mut self, file: &Path) {
         self.viewport.stop();
-        let at = self.viewport.ground_focus();
+        let at = self.viewport.place_point(&self.state);
         if let Err(e) = crate::add_sprite::add_sprite(&mut self.state, file, at) {
             self.dialogs.error = Some(format!("cannot add the sprite: {e}"));
         }
