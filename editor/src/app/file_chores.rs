@@ -276,8 +276,10 @@ impl EditorApp {
     /// Autosaves a modified document every [`files::AUTOSAVE_EVERY`], or sooner after
     /// [`files::AUTOSAVE_AFTER_EDITS`] edits, on a thread of its own (the rows and images are
     /// taken now; formatting and writing them does not hold up the window). One write at a
-    /// time; each is atomic, so a crash mid-write leaves the previous autosave.
-    pub(super) fn autosave(&mut self) {
+    /// time; each is atomic, so a crash mid-write leaves the previous autosave. While changes
+    /// wait for their autosave, `ctx` is asked to repaint when it falls due, so an idle window
+    /// (no input, no frames) still writes it.
+    pub(super) fn autosave(&mut self, ctx: &egui::Context) {
         if self.autosaving.as_ref().is_some_and(|h| h.is_finished()) {
             self.finish_autosave();
         }
@@ -287,7 +289,12 @@ impl EditorApp {
         }
         let due = self.last_autosave.elapsed() >= files::AUTOSAVE_EVERY
             || self.edits_seen.1 >= files::AUTOSAVE_AFTER_EDITS;
-        if !(self.state.is_dirty() && id != self.autosaved_id && due && self.autosaving.is_none()) {
+        let waiting = self.state.is_dirty() && id != self.autosaved_id;
+        if waiting && !(due && self.autosaving.is_none()) {
+            let left = files::AUTOSAVE_EVERY.saturating_sub(self.last_autosave.elapsed());
+            ctx.request_repaint_after(left.max(std::time::Duration::from_millis(100)));
+        }
+        if !(waiting && due && self.autosaving.is_none()) {
             return;
         }
         self.last_autosave = Instant::now();

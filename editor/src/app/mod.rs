@@ -234,7 +234,7 @@ impl EditorApp {
         self.load_new_assets(&ctx);
         self.end_gesture(&ctx);
         self.close_request(&ctx);
-        self.autosave();
+        self.autosave(&ctx);
         // The UI thread's own time: eframe's measure of the last frame (the UI and its
         // painting) when there is one, else this update's.
         let own = started.elapsed().as_secs_f32();
