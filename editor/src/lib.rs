@@ -16,12 +16,14 @@ pub mod paint;
 pub mod palette_edits;
 pub mod pixel;
 pub mod selection;
+pub mod snap;
 pub mod state;
 pub mod stats_log;
 pub mod terrain;
 pub mod terrain_edits;
 pub mod ui;
 pub mod viewport;
+pub mod visibility;
 
 use std::path::PathBuf;
 

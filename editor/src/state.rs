@@ -28,6 +28,8 @@ pub struct EditorState {
     pub also_selected: BTreeSet<usize>,
     /// Undo and redo.
     pub history: History,
+    /// What is hidden and locked (editor-only, [`crate::visibility`]).
+    pub visibility: crate::visibility::Visibility,
     saved_id: u64,
 }
 
@@ -39,6 +41,7 @@ impl EditorState {
             selection: None,
             also_selected: BTreeSet::new(),
             history: History::default(),
+            visibility: Default::default(),
             saved_id: 0,
         }
     }

@@ -54,6 +54,7 @@ const APT_PACKAGES: &[&str] = &[
     "xvfb",
     "xauth",
     "chromium-common",
+    "xdotool",
 ];
 
 /// SwiftShader's Vulkan ICD manifest as Debian's `chromium-common` installs it: the second,
@@ -461,7 +462,7 @@ fn usage(topic: Option<Sub>) -> String {
              \n\
              Commands:\n\
              \x20 setup            Check the system packages (Vulkan loader, lavapipe,\n\
-             \x20                  SwiftShader, Xvfb, xauth) and install the missing ones\n\
+             \x20                  SwiftShader, Xvfb, xauth, xdotool) and install the missing ones\n\
              \x20                  with apt-get\n\
              \x20 run [-- ARGS]    Set up, then run the main job:\n\
              \x20                    {default_run}\n\
@@ -479,7 +480,7 @@ fn usage(topic: Option<Sub>) -> String {
              Usage: cargo xtask setup\n\
              \n\
              Checks for the Vulkan loader (libvulkan.so.1), Mesa's lavapipe Vulkan driver\n\
-             (lvp_icd*.json), SwiftShader ({SWIFTSHADER_ICD}), Xvfb and xauth.\n\
+             (lvp_icd*.json), SwiftShader ({SWIFTSHADER_ICD}), Xvfb, xauth and xdotool.\n\
              If any is missing and this runs as root or\n\
              with passwordless sudo, runs `apt-get update` and\n\
              \x20 apt-get install -y --no-install-recommends {}\n\

@@ -1,5 +1,5 @@
 //! System packages: what Texel needs on the machine (the Vulkan loader, Mesa lavapipe,
-//! Chromium's SwiftShader, Xvfb, xauth), how to tell whether it is there, and how to install
+//! Chromium's SwiftShader, Xvfb, xauth, xdotool), how to tell whether it is there, and how to install
 //! it or say how.
 
 #[allow(unused_imports)]
@@ -18,16 +18,20 @@ pub(crate) enum Requirement {
     Xauth,
     /// SwiftShader (from Chromium), a second Vulkan driver running on the CPU.
     SwiftShader,
+    /// `xdotool`, with which a test types into the editor's window (the kill-and-recover
+    /// test).
+    Xdotool,
 }
 
 impl Requirement {
     /// Every requirement, in the order they are reported.
-    pub(crate) const ALL: [Requirement; 5] = [
+    pub(crate) const ALL: [Requirement; 6] = [
         Requirement::VulkanLoader,
         Requirement::Lavapipe,
         Requirement::Xvfb,
         Requirement::Xauth,
         Requirement::SwiftShader,
+        Requirement::Xdotool,
     ];
 
     /// A short human description.
@@ -38,6 +42,7 @@ impl Requirement {
             Requirement::Xvfb => "Xvfb (virtual X server)",
             Requirement::Xauth => "xauth",
             Requirement::SwiftShader => "SwiftShader Vulkan driver (vk_swiftshader_icd.json)",
+            Requirement::Xdotool => "xdotool (types into a window in a test)",
         }
     }
 
@@ -49,6 +54,7 @@ impl Requirement {
             Requirement::Xvfb => find_in_path("Xvfb").is_some(),
             Requirement::Xauth => find_in_path("xauth").is_some(),
             Requirement::SwiftShader => Path::new(SWIFTSHADER_ICD).is_file(),
+            Requirement::Xdotool => find_in_path("xdotool").is_some(),
         }
     }
 }
@@ -156,7 +162,7 @@ pub(crate) fn manual_instructions(missing: &[Requirement], reason: ManualReason)
          \x20   driver and Xvfb (with xauth); e.g. Fedora: vulkan-loader mesa-vulkan-drivers\n\
          \x20   xorg-x11-server-Xvfb xorg-x11-xauth; Arch: vulkan-icd-loader vulkan-swrast\n\
          \x20   xorg-server-xvfb xorg-xauth; and Chromium's SwiftShader Vulkan driver with its\n\
-         \x20   manifest at {SWIFTSHADER_ICD} (the tests' second Vulkan)",
+         \x20   manifest at {SWIFTSHADER_ICD} (the tests' second Vulkan); and xdotool",
         list.join("\n"),
         APT_PACKAGES.join(" ")
     )
@@ -169,7 +175,7 @@ pub(crate) fn ensure_system() -> Result<(), Failure> {
     let missing = missing_requirements();
     if missing.is_empty() {
         println!(
-            "==> system packages: all present (Vulkan loader, lavapipe, SwiftShader, Xvfb, xauth)"
+            "==> system packages: all present (Vulkan loader, lavapipe, SwiftShader, Xvfb, xauth, xdotool)"
         );
         return Ok(());
     }

@@ -194,6 +194,7 @@ fn install_commands_update_then_install() {
             "xvfb",
             "xauth",
             "chromium-common",
+            "xdotool",
         ])
     );
     let sudo = install_commands(true);

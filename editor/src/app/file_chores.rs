@@ -137,7 +137,10 @@ impl EditorApp {
             name: file
                 .file_stem()
                 .map(|s| Name(s.to_string_lossy().into_owned())),
-            transform: Some(Transform::default()),
+            // At the surface under the viewport's centre (or the ground there).
+            transform: Some(Transform::from_translation(
+                self.viewport.place_point(&self.state),
+            )),
             geometry: Some(Geometry::Mesh { path: rel }),
             material: Some(Material::default()),
             ..EntityRow::default()
@@ -155,12 +158,12 @@ impl EditorApp {
         }
     }
 
-    /// Adds a sprite of the sheet `file` standing at the view's focus
-    /// ([`crate::add_sprite::add_sprite`]); a file that is not an image is shown in the error
-    /// dialog, and nothing is added.
+    /// Adds a sprite of the sheet `file` standing where Add places things
+    /// ([`crate::viewport::Viewport::place_point`], [`crate::add_sprite::add_sprite`]); a file
+    /// that is not an image is shown in the error dialog, and nothing is added.
     pub fn add_sprite(&mut self, file: &Path) {
         self.viewport.stop();
-        let at = self.viewport.ground_focus();
+        let at = self.viewport.place_point(&self.state);
         if let Err(e) = crate::add_sprite::add_sprite(&mut self.state, file, at) {
             self.dialogs.error = Some(format!("cannot add the sprite: {e}"));
         }
@@ -284,8 +287,10 @@ impl EditorApp {
     /// Autosaves a modified document every [`files::AUTOSAVE_EVERY`], or sooner after
     /// [`files::AUTOSAVE_AFTER_EDITS`] edits, on a thread of its own (the rows and images are
     /// taken now; formatting and writing them does not hold up the window). One write at a
-    /// time; each is atomic, so a crash mid-write leaves the previous autosave.
-    pub(super) fn autosave(&mut self) {
+    /// time; each is atomic, so a crash mid-write leaves the previous autosave. While changes
+    /// wait for their autosave, `ctx` is asked to repaint when it falls due, so an idle window
+    /// (no input, no frames) still writes it.
+    pub(super) fn autosave(&mut self, ctx: &egui::Context) {
         if self.autosaving.as_ref().is_some_and(|h| h.is_finished()) {
             self.finish_autosave();
         }
@@ -295,7 +300,12 @@ impl EditorApp {
         }
         let due = self.last_autosave.elapsed() >= files::AUTOSAVE_EVERY
             || self.edits_seen.1 >= files::AUTOSAVE_AFTER_EDITS;
-        if !(self.state.is_dirty() && id != self.autosaved_id && due && self.autosaving.is_none()) {
+        let waiting = self.state.is_dirty() && id != self.autosaved_id;
+        if waiting && !(due && self.autosaving.is_none()) {
+            let left = files::AUTOSAVE_EVERY.saturating_sub(self.last_autosave.elapsed());
+            ctx.request_repaint_after(left.max(std::time::Duration::from_millis(100)));
+        }
+        if !(waiting && due && self.autosaving.is_none()) {
             return;
         }
         self.last_autosave = Instant::now();

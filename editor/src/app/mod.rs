@@ -38,6 +38,8 @@ pub struct EditorApp {
     /// The inspector's sprite section between frames (its preview among it).
     pub sprite_panel: SpritePanel,
     rename: Option<(usize, String)>,
+    /// The outliner's filter (for the session).
+    pub outliner: hierarchy::OutlinerFilter,
     last_autosave: Instant,
     autosaved_id: u64,
     /// The history state last seen, and the edits seen since the last autosave.
@@ -79,6 +81,7 @@ impl EditorApp {
             recent,
             sprite_panel: SpritePanel::default(),
             rename: None,
+            outliner: Default::default(),
             last_autosave: Instant::now(),
             autosaved_id: 0,
             edits_seen: (0, 0),
@@ -174,7 +177,7 @@ impl EditorApp {
             .show(ui, |ui| {
                 // While playing the document is frozen: Esc returns to it unchanged.
                 ui.add_enabled_ui(!playing, |ui| {
-                    hierarchy::show(ui, &mut self.state, &mut self.rename)
+                    hierarchy::show(ui, &mut self.state, &mut self.rename, &mut self.outliner)
                 })
                 .inner
             })
@@ -241,7 +244,7 @@ impl EditorApp {
         self.load_new_assets(&ctx);
         self.end_gesture(&ctx);
         self.close_request(&ctx);
-        self.autosave();
+        self.autosave(&ctx);
         // The UI thread's own time: eframe's measure of the last frame (the UI and its
         // painting) when there is one, else this update's.
         let own = started.elapsed().as_secs_f32();
@@ -401,7 +404,10 @@ impl EditorApp {
             }
             Action::Add(row) => {
                 self.viewport.stop();
-                let added = self.state.add(*row);
+                // On the surface under the viewport's centre (or the ground there).
+                let at = self.viewport.place_point(&self.state);
+                let row = crate::viewport::place::placed_at(*row, at);
+                let added = self.state.add(row);
                 self.report("add", added);
             }
             Action::AddMesh => self.ask(Purpose::Mesh),

@@ -167,7 +167,8 @@ impl Dialogs {
                         path.display()
                     ));
                     ui.horizontal(|ui| {
-                        if ui.button("Recover").clicked() {
+                        let recover = ui.button("Recover").on_hover_text("Enter");
+                        if recover.clicked() {
                             done = Some(true);
                         }
                         if ui.button("Ignore").clicked() {
@@ -175,6 +176,10 @@ impl Dialogs {
                         }
                     });
                 });
+            // Enter recovers (the offer's default), unless a text field takes the key.
+            if !ctx.egui_wants_keyboard_input() && ctx.input(|i| i.key_pressed(egui::Key::Enter)) {
+                done = Some(true);
+            }
             match done {
                 Some(true) => {
                     out = Some(Answer::Recover(path.clone()));

@@ -66,7 +66,11 @@ impl Viewport {
         {
             self.picking = None;
             match answer {
-                Ok(id) => state.pick(id.and_then(texel_runtime::frame_plan::entity_index), how),
+                Ok(id) => {
+                    // A locked entity is not picked (a hidden one is not drawn).
+                    let hit = id.and_then(texel_runtime::frame_plan::entity_index);
+                    state.pick(hit.filter(|i| state.pickable(*i)), how);
+                }
                 Err(e) => self.pick_error = Some(e),
             }
         }
@@ -146,13 +150,16 @@ impl Viewport {
         };
         let doc = &state.document;
         let key = (doc.id(), doc.revision);
-        let new_level = self.sent_level.map(|s| (s.0, s.1)) != Some(key);
+        // Hiding or showing something sends the whole level again.
+        let same_hidden = self.sent_visibility == state.visibility_revision();
+        let new_level = self.sent_level.map(|s| (s.0, s.1)) != Some(key) || !same_hidden;
         if new_level && self.sent_level.is_some() && self.edit_seen.is_none() {
             self.edit_seen = Some((key, Instant::now()));
         }
         let level = (new_level && !worker.snapshot_waiting()).then(|| {
             let number = self.sent_level.map_or(0, |s| s.2) + 1;
-            let before = (self.sent_level).filter(|s| s.0 == key.0);
+            let before = (self.sent_level).filter(|s| s.0 == key.0 && same_hidden);
+            self.sent_visibility = state.visibility_revision();
             let since = before.and_then(|s| doc.region_since(s.1).map(|r| (s.2, r)));
             let entities = before.and_then(|s| doc.entities_since(s.1).map(|e| (s.2, e)));
             let palette = (before.filter(|s| doc.palette_only_since(s.1))).map(|s| s.2);
@@ -164,7 +171,7 @@ impl Viewport {
                 entities,
                 palette,
                 path: doc.level.path.clone(),
-                rows: doc.level.scene.to_level(),
+                rows: state.render_level(),
                 assets: doc.level.assets.clone(),
             }
         });

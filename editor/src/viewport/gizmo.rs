@@ -1,6 +1,7 @@
 //! A transform gizmo drawn with the egui painter: three axis handles that translate (W),
-//! rotate (E) or scale (R) the selection, with snapping while Ctrl is held. A drag is one
-//! undo step (its commands share a merge key until the pointer is released).
+//! rotate (E) or scale (R) the selection, snapping as [`crate::snap`] says (Ctrl turns it the
+//! other way). A drag is one undo step (its commands share a merge key until the pointer is
+//! released).
 
 use egui::{Color32, Painter, Pos2, Stroke};
 use glam::Vec3;
@@ -8,6 +9,7 @@ use texel_scene::{EntityRow, Transform};
 
 use super::drag::{AXIS_COLOURS, HandleDrag};
 use crate::camera::Projector;
+use crate::snap::{SCALE_STEP, SnapNow, to_step};
 
 /// Which transform the gizmo changes.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Default)]
@@ -33,12 +35,6 @@ pub fn mode_for(mode: Mode, row: &EntityRow) -> Mode {
     }
 }
 
-/// Snap steps while Ctrl is held.
-pub const SNAP_TRANSLATE: f32 = 0.25;
-/// Rotation snap, degrees.
-pub const SNAP_ROTATE: f32 = 15.0;
-/// Scale snap.
-pub const SNAP_SCALE: f32 = 0.1;
 const HANDLE_PX: f32 = 80.0;
 const PICK_PX: f32 = 8.0;
 const AXES: [Vec3; 3] = [Vec3::X, Vec3::Y, Vec3::Z];
@@ -95,8 +91,17 @@ fn distance_to_segment(p: Pos2, a: Pos2, b: Pos2) -> f32 {
 }
 
 /// The transform after dragging `drag.moved` pixels along the handle from `o` to `end`, for a
-/// handle `world_len` world units long.
-pub fn apply(drag: &Drag, mode: Mode, o: Pos2, end: Pos2, world_len: f32, snap: bool) -> Transform {
+/// handle `world_len` world units long. With grid snap the coordinate moved along lands on a
+/// multiple of the step (and a scale factor on a multiple of [`SCALE_STEP`]); with angle snap
+/// the angle turned lands on a multiple of the angle step.
+pub fn apply(
+    drag: &Drag,
+    mode: Mode,
+    o: Pos2,
+    end: Pos2,
+    world_len: f32,
+    snap: SnapNow,
+) -> Transform {
     let axis_px = end - o;
     let len_px = axis_px.length().max(1.0);
     let along = drag.moved.dot(axis_px / len_px);
@@ -104,23 +109,25 @@ pub fn apply(drag: &Drag, mode: Mode, o: Pos2, end: Pos2, world_len: f32, snap: 
     let k = drag.handle;
     match mode {
         Mode::Translate => {
-            let mut d = along / len_px * world_len;
-            if snap {
-                d = (d / SNAP_TRANSLATE).round() * SNAP_TRANSLATE;
+            let d = along / len_px * world_len;
+            let mut to = drag.start.translation[k] + d;
+            if let Some(step) = snap.grid {
+                to = to_step(to, step);
             }
-            t.translation += AXES[k] * d;
+            t.translation[k] = to;
         }
         Mode::Rotate => {
-            let mut deg = (drag.moved.x - drag.moved.y) * 0.5;
-            if snap {
-                deg = (deg / SNAP_ROTATE).round() * SNAP_ROTATE;
+            let deg = (drag.moved.x - drag.moved.y) * 0.5;
+            let mut to = drag.start.rotation[k] + deg;
+            if let Some(step) = snap.angle {
+                to = to_step(to, step);
             }
-            t.rotation[k] += deg;
+            t.rotation[k] = to;
         }
         Mode::Scale => {
             let mut f = (1.0 + along / len_px).max(0.01);
-            if snap {
-                f = ((f / SNAP_SCALE).round() * SNAP_SCALE).max(SNAP_SCALE);
+            if snap.grid.is_some() {
+                f = to_step(f, SCALE_STEP).max(SCALE_STEP);
             }
             t.scale[k] = (drag.start.scale[k] * f).max(0.001);
         }
@@ -158,16 +165,27 @@ mod tests {
             moved: egui::vec2(50.0, 0.0),
         };
         let (o, end) = (Pos2::new(0.0, 0.0), Pos2::new(100.0, 0.0));
-        let t = apply(&drag, Mode::Translate, o, end, 2.0, false);
+        let free = SnapNow::default();
+        let t = apply(&drag, Mode::Translate, o, end, 2.0, free);
         assert!((t.translation.x - 1.0).abs() < 1e-5);
+        // From x = 0.3, a drag of 0.6 lands on 1.0 (a multiple of 0.5), not on 0.3 + 0.5.
         let drag = Drag {
             moved: egui::vec2(30.0, 0.0),
+            start: Transform::from_translation(glam::Vec3::new(0.3, 0.0, 0.0)),
             ..drag
         };
-        let t = apply(&drag, Mode::Translate, o, end, 2.0, true);
-        assert!((t.translation.x - 0.5).abs() < 1e-5, "{}", t.translation.x);
-        let t = apply(&drag, Mode::Rotate, o, end, 2.0, true);
-        assert_eq!(t.rotation.x, 15.0);
+        let snap = SnapNow {
+            grid: Some(0.5),
+            angle: Some(15.0),
+        };
+        let t = apply(&drag, Mode::Translate, o, end, 2.0, snap);
+        assert_eq!(t.translation.x, 1.0);
+        let mut turned = drag;
+        turned.start.rotation.x = 10.0;
+        let t = apply(&turned, Mode::Rotate, o, end, 2.0, snap);
+        assert_eq!(t.rotation.x, 30.0, "10° + 15° lands on 30°");
+        let t = apply(&turned, Mode::Rotate, o, end, 2.0, free);
+        assert_eq!(t.rotation.x, 25.0);
     }
 
     #[test]

@@ -14,9 +14,6 @@ use crate::camera::Projector;
 const PICK_PX: f32 = 9.0;
 /// Smallest world extent a drag leaves along an axis.
 pub const MIN_EXTENT: f32 = 0.05;
-/// Snap step of a face drag while Ctrl is held, world units.
-pub const SNAP: f32 = 0.25;
-
 /// A face drag in progress: `handle` is the face index (axis `face / 2`, outward normal
 /// positive when `face` is even), `start` the transform and the volume when it began.
 pub type FaceDrag = HandleDrag<(Transform, ProbeGridOverride)>;
@@ -87,20 +84,21 @@ pub fn outward(proj: &Projector, drag: &FaceDrag) -> f32 {
 
 /// The transform and volume after moving `face` outward by `d` world units: the extent
 /// along the face's axis grows by `d` (never below [`MIN_EXTENT`]) and the centre moves
-/// half as far, so the opposite face keeps its place.
+/// half as far, so the opposite face keeps its place. With grid snap (`snap`: the step) the
+/// face moves by a multiple of the step.
 pub fn resize(
     t: &Transform,
     o: &ProbeGridOverride,
     face: usize,
     d: f32,
-    snap: bool,
+    snap: Option<f32>,
 ) -> (Transform, ProbeGridOverride) {
     let axis = face / 2 % 3;
     let scale = t.scale[axis];
     if !d.is_finite() || scale.abs() < 1e-6 {
         return (*t, *o);
     }
-    let d = if snap { (d / SNAP).round() * SNAP } else { d };
+    let d = snap.map_or(d, |step| crate::snap::to_step(d, step));
     let extent = (o.size[axis] * scale).abs();
     let grown = (extent + d).max(MIN_EXTENT);
     let (mut t2, mut o2) = (*t, *o);
@@ -132,7 +130,7 @@ mod tests {
         let (t, o) = volume();
         for face in 0..6 {
             let before = face_centres(&t, &o);
-            let (t2, o2) = resize(&t, &o, face, 1.5, false);
+            let (t2, o2) = resize(&t, &o, face, 1.5, None);
             let after = face_centres(&t2, &o2);
             let opposite = face ^ 1;
             assert!(
@@ -142,18 +140,18 @@ mod tests {
             assert!((after[face] - (before[face] + normal(face) * 1.5)).length() < 1e-5);
         }
         // X is scaled by 2: a world extent of 4 + 1.5 is a size of 2.75.
-        let (_, o2) = resize(&t, &o, 0, 1.5, false);
+        let (_, o2) = resize(&t, &o, 0, 1.5, None);
         assert!((o2.size.x - 2.75).abs() < 1e-5);
     }
 
     #[test]
     fn resizing_clamps_and_snaps() {
         let (t, o) = volume();
-        let (_, o2) = resize(&t, &o, 2, -100.0, false);
+        let (_, o2) = resize(&t, &o, 2, -100.0, None);
         assert!((o2.size.y - MIN_EXTENT).abs() < 1e-5);
-        let (t2, _) = resize(&t, &o, 4, 0.3, true);
-        assert!((t2.translation.z - (3.0 + SNAP * 0.5)).abs() < 1e-5);
-        assert_eq!(resize(&t, &o, 0, f32::NAN, false), (t, o));
+        let (t2, _) = resize(&t, &o, 4, 0.3, Some(0.25));
+        assert!((t2.translation.z - (3.0 + 0.25 * 0.5)).abs() < 1e-5);
+        assert_eq!(resize(&t, &o, 0, f32::NAN, None), (t, o));
     }
 
     #[test]

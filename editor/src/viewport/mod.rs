@@ -16,6 +16,7 @@ pub mod gpu;
 pub mod handles;
 pub mod overlay;
 pub mod picture;
+pub mod place;
 pub mod play;
 pub mod reproject;
 pub mod select;
@@ -74,6 +75,8 @@ pub struct Viewport {
     pub schedule: Schedule,
     /// Gizmo mode.
     pub gizmo: Mode,
+    /// Grid, angle and surface snapping, for the session.
+    pub snap: crate::snap::Snap,
     /// The thread drawing the level, when eframe runs on wgpu ([`worker`]).
     pub worker: Option<RenderWorker>,
     /// The last render or GPU error.
@@ -123,6 +126,8 @@ pub struct Viewport {
     /// revision and snapshot number.
     sent_view: Option<View>,
     sent_level: Option<(u64, u64, u64)>,
+    /// The visibility revision of the last snapshot ([`EditorState::visibility_revision`]).
+    sent_visibility: u64,
     /// The oldest edit no frame shows yet: document (id, revision), and when it was seen.
     edit_seen: Option<((u64, u64), Instant)>,
     /// The pick asked of the worker, if one is on its way (and what it does to the
@@ -142,6 +147,7 @@ impl Default for Viewport {
             mode: ViewMode::Edit,
             schedule: Schedule::Ours,
             gizmo: Mode::Translate,
+            snap: crate::snap::Snap::default(),
             worker: None,
             error: None,
             shown: None,
@@ -165,6 +171,7 @@ impl Default for Viewport {
             grab_lost: false,
             sent_view: None,
             sent_level: None,
+            sent_visibility: 0,
             edit_seen: None,
             picking: None,
             pick_error: None,
@@ -275,6 +282,10 @@ impl Viewport {
         // egui's frame time: the wall clock's under eframe, the harness's fixed step in tests,
         // so Play's physics and moving objects run alike in both.
         let dt = ui.input(|i| i.unstable_dt);
+        let playing = self.playing();
+        ui.add_enabled_ui(!playing, |ui| {
+            ui.horizontal(|ui| crate::snap::bar(ui, &mut self.snap))
+        });
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         self.rect = Some(rect);
         let typing = ui.ctx().egui_wants_keyboard_input();
@@ -318,7 +329,9 @@ impl Viewport {
                 Color32::WHITE,
             );
         }
-        overlay::markers(&painter, &proj, state.scene(), &state.selected());
+        let flags = state.hidden_and_locked();
+        let shown = |i: usize| flags.get(i).is_none_or(|f| !f.0);
+        overlay::markers(&painter, &proj, state.scene(), &state.selected(), shown);
         select::paint_selected(&painter, &proj, state);
         // The terrain tool on a selected terrain takes the primary button (no gizmo).
         let sculpting =
@@ -462,7 +475,7 @@ impl Viewport {
             self.face_drag = None;
             return Ok(false);
         };
-        let Some(volume) = row.probe_grid_override else {
+        let Some(volume) = row.probe_grid_override.filter(|_| state.pickable(index)) else {
             self.face_drag = None;
             return Ok(false);
         };
@@ -473,7 +486,8 @@ impl Viewport {
         let frame = drag::update(&mut self.face_drag, &pointer, hit, (t, volume));
         handles::draw(painter, &hs, frame.highlight);
         if let Some(d) = frame.dragged {
-            let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let ctrl = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let snap = self.snap.now(ctrl).grid;
             let (start, start_volume) = &d.start;
             let moved = handles::outward(proj, &d);
             let (t2, o2) = handles::resize(start, start_volume, d.handle, moved, snap);
@@ -495,7 +509,7 @@ impl Viewport {
         proj: &Projector,
         state: &mut EditorState,
     ) -> Result<bool, CommandError> {
-        let Some((index, row)) = state.selected_row() else {
+        let Some((index, row)) = state.selected_row().filter(|(i, _)| state.pickable(*i)) else {
             self.drag = None;
             return Ok(false);
         };
@@ -512,7 +526,8 @@ impl Viewport {
         gizmo::draw(painter, o, ends, mode, frame.highlight);
         if let Some(d) = frame.dragged {
             let world_len = gizmo::world_len(proj, d.start.translation);
-            let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let ctrl = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let snap = self.snap.now(ctrl);
             let (o0, ends0) = gizmo::handles(proj, d.start.translation).unwrap_or((o, ends));
             let next = gizmo::apply(&d, mode, o0, ends0[d.handle], world_len, snap);
             let mut row = row;

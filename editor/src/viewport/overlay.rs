@@ -61,9 +61,15 @@ pub fn wire_box(p: &Painter, proj: &Projector, min: Vec3, max: Vec3, stroke: Str
 
 /// Icons for lights and player starts, and boxes for probe-grid override volumes.
 /// The `selected` positions (ascending) are highlighted.
-pub fn markers(p: &Painter, proj: &Projector, scene: &Scene, selected: &[usize]) {
+pub fn markers(
+    p: &Painter,
+    proj: &Projector,
+    scene: &Scene,
+    selected: &[usize],
+    shown: impl Fn(usize) -> bool,
+) {
     let w = scene.world();
-    for (i, e) in scene.entities().enumerate() {
+    for (i, e) in scene.entities().enumerate().filter(|(i, _)| shown(*i)) {
         let t = w.get::<&Transform>(e).map(|t| *t).unwrap_or_default();
         let hot = selected.binary_search(&i).is_ok();
         let colour = if hot {

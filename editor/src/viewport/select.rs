@@ -112,7 +112,11 @@ fn local_box(row: &EntityRow) -> Option<Vec3> {
 /// Outlines every selected entity: its shape's box where it has one, else a ring at its
 /// origin; the active one stronger.
 pub fn paint_selected(p: &Painter, proj: &Projector, state: &EditorState) {
+    let flags = state.hidden_and_locked();
     for (i, row) in state.selected_rows() {
+        if flags.get(i).is_some_and(|f| f.0) {
+            continue;
+        }
         let Some(t) = row.transform else {
             continue;
         };
@@ -180,7 +184,9 @@ impl Viewport {
             painter.rect_stroke(area, 0.0, stroke, egui::StrokeKind::Inside);
         } else {
             self.box_drag = None;
-            let hits = in_box(proj, state.scene(), area);
+            let flags = state.hidden_and_locked();
+            let mut hits = in_box(proj, state.scene(), area);
+            hits.retain(|i| flags.get(*i).is_some_and(|f| !f.0 && !f.1));
             state.pick_many(&hits, b.how);
         }
     }
@@ -196,7 +202,10 @@ impl Viewport {
         proj: &Projector,
         state: &mut EditorState,
     ) -> Result<bool, CommandError> {
-        let rows = state.selected_rows();
+        // Locked and hidden entities stay put; the gizmo stands at the others' centre.
+        let flags = state.hidden_and_locked();
+        let mut rows = state.selected_rows();
+        rows.retain(|(i, _)| flags.get(*i).is_some_and(|f| !f.0 && !f.1));
         let Some(c) = centre(&rows) else {
             self.drag = None;
             return Ok(false);
@@ -225,7 +234,8 @@ impl Viewport {
         if let Some(d) = frame.dragged {
             let c0 = d.start.translation;
             let world_len = gizmo::world_len(proj, c0);
-            let snap = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let ctrl = ui.input(|i| i.modifiers.ctrl || i.modifiers.command);
+            let snap = self.snap.now(ctrl);
             let (o0, ends0) = gizmo::handles(proj, c0).unwrap_or((o, ends));
             let pivot = gizmo::apply(&d, mode, o0, ends0[d.handle], world_len, snap);
             let next: Vec<(usize, EntityRow)> = (self.drag_rows.iter())
