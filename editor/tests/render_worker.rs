@@ -334,3 +334,39 @@ fn a_ctrl_click_adds_and_takes_away_what_the_worker_picks() {
         "a plain click selects it alone"
     );
 }
+
+/// A pick whose answer comes after the selection changed otherwise (a click, then Ctrl+A
+/// before the worker answered) is dropped: the later choice stands.
+#[test]
+fn a_pick_answered_after_the_selection_changed_is_dropped() {
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    h.state_mut().state.selection = None;
+    // The worker is held, so the click's answer waits.
+    let hold = worker(&h).hold();
+    hold.wait_held().expect("the worker waits");
+    let rect = h.state().viewport.rect.expect("the viewport was drawn");
+    h.event(egui::Event::PointerMoved(rect.center()));
+    h.step();
+    for pressed in [true, false] {
+        h.event(egui::Event::PointerButton {
+            pos: rect.center(),
+            button: egui::PointerButton::Primary,
+            pressed,
+            modifiers: egui::Modifiers::NONE,
+        });
+        h.step();
+    }
+    let n = h.state().state.scene().len();
+    h.state_mut().state.select_all();
+    drop(hold);
+    worker(&h).wait_picked().expect("an answer");
+    h.step();
+    assert_eq!(h.state().state.selected().len(), n, "select all stands");
+}

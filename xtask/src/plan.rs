@@ -27,6 +27,11 @@ pub(crate) const SECOND_DRIVER_EXCEPTIONS: &[(&str, &str)] = &[
          4-bit sub-pixel precision and rounds depth its own way, so it differs by design",
     ),
     (
+        "a_killed_editor_offers_its_last_autosave_and_leaves_the_level_alone",
+        "starts the real texel-editor, whose window presents through the window system; the \
+         SwiftShader Chromium ships has no window-system surfaces",
+    ),
+    (
         "plays_five_frames_of_the_stone_circle_and_exits",
         "presents to a window; the SwiftShader Chromium ships has no window-system surfaces \
          (`texel-run play` says so, which its other tests check)",

@@ -61,11 +61,11 @@ impl Viewport {
         };
         let (frame, error) = worker.newest();
         if let Some((n, answer)) = worker.picked()
-            && let Some((asked, how)) = self.picking
-            && asked == n
+            && let Some((_, how, before)) = self.picking.take_if(|p| p.0 == n)
         {
-            self.picking = None;
             match answer {
+                // The selection changed while the answer was on its way: it is stale.
+                Ok(_) if state.selected() != before => {}
                 Ok(id) => {
                     // A locked entity is not picked (a hidden one is not drawn).
                     let hit = id.and_then(texel_runtime::frame_plan::entity_index);

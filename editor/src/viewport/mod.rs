@@ -132,7 +132,9 @@ pub struct Viewport {
     edit_seen: Option<((u64, u64), Instant)>,
     /// The pick asked of the worker, if one is on its way (and what it does to the
     /// selection), and the last pick's error.
-    picking: Option<(u64, crate::selection::Pick)>,
+    /// The pick asked, how it selects, and the selection when it was asked (an answer that
+    /// comes after the selection changed otherwise, by Ctrl+A say, is dropped).
+    picking: Option<(u64, crate::selection::Pick, Vec<usize>)>,
     pick_error: Option<String>,
     /// UI frames counted in the current second, and when it began.
     fps_count: (u32, Option<Instant>),
@@ -365,7 +367,7 @@ impl Viewport {
                 ui.input(|i| i.modifiers),
                 crate::selection::Pick::Add,
             );
-            self.select_at(&response, rect, how);
+            self.select_at(&response, rect, how, state.selected());
         }
         Ok(())
     }
@@ -544,12 +546,13 @@ impl Viewport {
         response: &egui::Response,
         rect: egui::Rect,
         how: crate::selection::Pick,
+        selected: Vec<usize>,
     ) {
         let (Some(worker), Some(pos)) = (&self.worker, response.interact_pointer_pos()) else {
             return;
         };
         let uv = (pos - rect.min) / rect.size();
-        self.picking = Some((worker.pick(Vec2::new(uv.x, uv.y)), how));
+        self.picking = Some((worker.pick(Vec2::new(uv.x, uv.y)), how, selected));
     }
 
     /// Starts the render worker drawing with `gpu` (`ctx` repaints when a frame is done); a
