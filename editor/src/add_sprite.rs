@@ -13,7 +13,6 @@ use texel_scene::texture::load_texture;
 use texel_scene::{EntityRow, Name, Transform};
 
 use crate::state::EditorState;
-use texel_scene::assets::relative_path;
 
 /// Frames per second of the animation Add → Sprite makes for a strip of frames.
 pub const DEFAULT_FPS: f32 = 8.0;
@@ -65,7 +64,7 @@ pub fn add_sprite(state: &mut EditorState, file: &Path, at: Vec3) -> Result<(), 
         );
     };
     let image = load_texture(file).map_err(|e| e.to_string())?;
-    let rel = relative_path(&level, file);
+    let rel = crate::assets::level_relative(&level, file);
     let name = file
         .file_stem()
         .map_or_else(|| "Sprite".to_owned(), |s| s.to_string_lossy().into_owned());

@@ -6,6 +6,7 @@
 
 pub mod add_sprite;
 pub mod app;
+pub mod assets;
 pub mod camera;
 pub mod clipboard;
 pub mod command;

@@ -8,7 +8,7 @@ use std::path::Path;
 use std::sync::Arc;
 
 use texel_scene::PaletteSetting;
-use texel_scene::assets::{AssetLibrary, relative_path};
+use texel_scene::assets::AssetLibrary;
 use texel_scene::palette::Palette;
 
 use crate::command::{Command, CommandError};
@@ -96,7 +96,7 @@ impl EditorState {
         let level = (self.document.path.clone())
             .ok_or("save the level first: palette paths are relative to the level file")?;
         let palette = Palette::load(file).map_err(|e| e.to_string())?;
-        let rel = relative_path(&level, file);
+        let rel = crate::assets::level_relative(&level, file);
         let mut state = self.palette_state();
         let setting = match (&mut state.setting, slot) {
             (Some(s), Slot::Main) => {

@@ -127,20 +127,25 @@ impl EditorApp {
     }
 
     pub(super) fn add_mesh(&mut self, file: &Path) {
+        // At the surface under the viewport's centre (or the ground there).
+        let at = self.viewport.place_point(&self.state);
+        self.add_mesh_at(file, at);
+    }
+
+    /// Adds the glTF mesh `file` with its origin at `at`, as one undo step; a mesh that does
+    /// not load is shown in the error dialog and taken out again.
+    pub(super) fn add_mesh_at(&mut self, file: &Path, at: glam::Vec3) {
         let Some(level) = self.state.document.path.clone() else {
             self.dialogs.error =
                 Some("save the level first: mesh paths are relative to the level file".into());
             return;
         };
-        let rel = texel_scene::assets::relative_path(&level, file);
+        let rel = crate::assets::level_relative(&level, file);
         let row = EntityRow {
             name: file
                 .file_stem()
                 .map(|s| Name(s.to_string_lossy().into_owned())),
-            // At the surface under the viewport's centre (or the ground there).
-            transform: Some(Transform::from_translation(
-                self.viewport.place_point(&self.state),
-            )),
+            transform: Some(Transform::from_translation(at)),
             geometry: Some(Geometry::Mesh { path: rel }),
             material: Some(Material::default()),
             ..EntityRow::default()

@@ -22,6 +22,7 @@ use crate::ui::{hierarchy, inspector};
 use crate::viewport::Viewport;
 use crate::viewport::gpu::GpuView;
 
+mod asset_chores;
 mod clipboard_chores;
 mod file_chores;
 
@@ -62,6 +63,8 @@ pub struct EditorApp {
     cpu_usage: Option<f32>,
     /// The text the last copy put on the clipboard.
     copied: Option<String>,
+    /// The asset panel (View → Asset panel).
+    pub assets: crate::assets::AssetPanel,
 }
 
 type PixelKey = (u64, Option<usize>, u32);
@@ -96,6 +99,7 @@ impl EditorApp {
             pixel_info: None,
             cpu_usage: None,
             copied: None,
+            assets: Default::default(),
         };
         match path {
             Some(p) => app.load(p),
@@ -166,12 +170,14 @@ impl EditorApp {
                 night: (self.state.scene().palette.as_ref())
                     .and_then(|p| p.alternate.as_ref())
                     .map(|_| self.viewport.night),
+                assets: self.assets.open,
             };
             if let Some(a) = menu::show(ui, &self.recent.files, u, r, playing, view) {
                 actions.push(a);
             }
         });
         egui::Panel::bottom("status").show(ui, |ui| self.status(ui));
+        actions.extend(self.asset_panel(ui, playing));
         let edited = egui::Panel::left("hierarchy")
             .default_size(230.0)
             .show(ui, |ui| {
@@ -229,6 +235,10 @@ impl EditorApp {
             .show(ui, |ui| self.viewport.show(ui, &mut self.state))
             .inner;
         self.report("edit", edited);
+        // An asset dropped on the viewport, at the point under the pointer.
+        if let Some((drag, at)) = self.viewport.dropped_asset.take() {
+            actions.push(Action::PlaceAsset(drag, Some(at)));
+        }
         // The renderer just failed (a GPU error, a lost device): the viewport says why, and a
         // modified document is autosaved at once rather than at the next minute.
         if !had_error && self.viewport.error.is_some() && self.state.is_dirty() {
@@ -378,6 +388,7 @@ impl EditorApp {
                 | Action::PickPalette(_)
                 | Action::PalettePath(..)
                 | Action::ClearPalette(_)
+                | Action::PlaceAsset(..)
         );
         if edits && self.viewport.playing() {
             return;
@@ -468,6 +479,8 @@ impl EditorApp {
                 self.report("take the palette off", cleared);
             }
             Action::ToggleNight => self.viewport.night = !self.viewport.night,
+            Action::ToggleAssetPanel => self.assets.open = !self.assets.open,
+            Action::PlaceAsset(drag, at) => self.place_asset(&drag, at),
             Action::Quit => self.guard(Pending::Quit),
         }
         self.state.history.seal();

@@ -87,6 +87,11 @@ pub enum Action {
     ClearPalette(Slot),
     /// Map frames to the level's alternate palette (night) or back (key N).
     ToggleNight,
+    /// Show or hide the asset panel.
+    ToggleAssetPanel,
+    /// Place this asset file at this point (a drop on the viewport), or where Add places
+    /// things (`None`: the view's centre).
+    PlaceAsset(crate::assets::AssetDrag, Option<Vec3>),
     /// Quit.
     Quit,
 }
@@ -163,6 +168,8 @@ pub struct ViewChoice {
     /// Whether frames show the level's alternate palette (night); `None` when the level
     /// has no alternate.
     pub night: Option<bool>,
+    /// Whether the asset panel is shown.
+    pub assets: bool,
 }
 
 /// Draws the menu bar and returns what was chosen.
@@ -321,6 +328,10 @@ fn view_menu(ui: &mut Ui, playing: bool, view: ViewChoice, out: &mut Option<Acti
         .clicked()
     {
         *out = Some(Action::ToggleOrtho);
+    }
+    let mut assets = view.assets;
+    if ui.checkbox(&mut assets, "Asset panel").clicked() {
+        *out = Some(Action::ToggleAssetPanel);
     }
     let frame = egui::Button::new("Frame 1:1 (selected texture)");
     if ui

@@ -109,6 +109,9 @@ pub struct Viewport {
     pub terrain: TerrainTool,
     /// Frames show the level's alternate palette (night: key N, in edit and in Play).
     pub night: bool,
+    /// An asset dropped on the viewport this frame, and the point under the pointer where
+    /// it lands ([`Viewport::point_under`]); the app places it.
+    pub dropped_asset: Option<(crate::assets::AssetDrag, Vec3)>,
     /// The colliders and the player while playing.
     physics: Option<PlayPhysics>,
     /// Internal height of a still frame at the last draw: the face resolution a level's
@@ -164,6 +167,7 @@ impl Default for Viewport {
             edit_stall_ms: 0.0,
             terrain: TerrainTool::default(),
             night: false,
+            dropped_asset: None,
             physics: None,
             still_height: DEFAULT_STILL_HEIGHT,
             drag: None,
@@ -290,6 +294,7 @@ impl Viewport {
         });
         let (rect, response) = ui.allocate_exact_size(ui.available_size(), Sense::click_and_drag());
         self.rect = Some(rect);
+        self.asset_drop(ui, &response, rect, state);
         let typing = ui.ctx().egui_wants_keyboard_input();
         self.handle_camera(ui, &response, dt, typing, state);
         self.update_grab(ui.ctx(), &response);

@@ -10,6 +10,8 @@ use texel_runtime::occluders::SceneRays;
 use texel_scene::{EntityRow, Scene};
 
 use super::Viewport;
+use crate::assets::AssetDrag;
+use crate::camera::Projector;
 use crate::state::EditorState;
 
 /// How far the placing ray looks, units.
@@ -49,5 +51,42 @@ impl Viewport {
             .then(|| surface_hit(state, camera.position, camera.forward, PLACE_RANGE))
             .flatten();
         hit.unwrap_or_else(|| self.ground_focus())
+    }
+
+    /// Where something dropped at screen position `pos` of the viewport drawn in `rect`
+    /// lands: with surface snap on, the surface under it (the ray through `pos`); else, or
+    /// over sky, where that ray meets the ground (y = 0) within the placing range; else the
+    /// point on it as far as the camera's focus.
+    pub fn point_under(&self, state: &EditorState, rect: egui::Rect, pos: egui::Pos2) -> Vec3 {
+        let (origin, dir) = Projector::new(&self.render_camera(), rect).ray(pos);
+        let hit = (self.snap.surface)
+            .then(|| surface_hit(state, origin, dir, PLACE_RANGE))
+            .flatten();
+        hit.or_else(|| {
+            let t = -origin.y / dir.y;
+            (dir.y < -1e-3 && (0.0..=PLACE_RANGE).contains(&t)).then(|| origin + dir * t)
+        })
+        .unwrap_or(origin + dir * self.camera.distance)
+    }
+
+    /// Takes an asset tile released over the viewport (`response`, drawn in `rect`) this
+    /// frame: it lands at [`Viewport::point_under`] the pointer (not in Play).
+    pub(super) fn asset_drop(
+        &mut self,
+        ui: &egui::Ui,
+        response: &egui::Response,
+        rect: egui::Rect,
+        state: &EditorState,
+    ) {
+        if self.playing() {
+            return;
+        }
+        let Some(drag) = response.dnd_release_payload::<AssetDrag>() else {
+            return;
+        };
+        let pos = ui
+            .input(|i| i.pointer.interact_pos())
+            .unwrap_or(rect.center());
+        self.dropped_asset = Some(((*drag).clone(), self.point_under(state, rect, pos)));
     }
 }
