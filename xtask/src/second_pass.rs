@@ -91,6 +91,61 @@ pub(crate) fn by_weight(mut suites: Vec<Suite>, weight: &BTreeMap<String, f64>) 
     suites
 }
 
+/// `suites` with each binary heavier than a lane's fair share (the total `weight` over
+/// `lanes`; `weight` holds each test's seconds on the first driver, by binary and name) cut
+/// into that many processes, its tests dealt heaviest first to the lightest part, so the pass
+/// is not as long as its heaviest binary alone. Each part pays for its own device.
+pub(crate) fn balanced(
+    suites: Vec<Suite>,
+    weight: &BTreeMap<(String, String), f64>,
+    lanes: usize,
+) -> Vec<Suite> {
+    let w = |s: &Suite, t: &String| weight.get(&(s.binary.clone(), t.clone())).copied();
+    let total: f64 = (suites.iter())
+        .flat_map(|s| s.tests.iter().map(move |t| w(s, t).unwrap_or(0.0)))
+        .sum();
+    let share = total / lanes.max(1) as f64;
+    let mut out = Vec::new();
+    for suite in suites {
+        let own: f64 = suite
+            .tests
+            .iter()
+            .map(|t| w(&suite, t).unwrap_or(0.0))
+            .sum();
+        let parts = if share > 0.0 {
+            ((own / share).ceil() as usize).clamp(1, suite.tests.len().max(1))
+        } else {
+            1
+        };
+        if parts <= 1 {
+            out.push(suite);
+            continue;
+        }
+        let mut tests = suite.tests.clone();
+        tests.sort_by(|a, b| {
+            let (wa, wb) = (w(&suite, a).unwrap_or(0.0), w(&suite, b).unwrap_or(0.0));
+            wb.total_cmp(&wa).then_with(|| a.cmp(b))
+        });
+        let mut bins: Vec<(f64, Vec<String>)> = vec![(0.0, Vec::new()); parts];
+        for t in tests {
+            let lightest = (0..parts)
+                .min_by(|&i, &j| bins[i].0.total_cmp(&bins[j].0))
+                .unwrap_or(0);
+            bins[lightest].0 += w(&suite, &t).unwrap_or(0.0);
+            bins[lightest].1.push(t);
+        }
+        for (_, mut part) in bins.into_iter().filter(|b| !b.1.is_empty()) {
+            // In the binary's own order within a part.
+            part.sort_by_key(|t| suite.tests.iter().position(|x| x == t));
+            out.push(Suite {
+                tests: part,
+                ..suite.clone()
+            });
+        }
+    }
+    out
+}
+
 /// What libtest says about one test.
 #[derive(Clone, Debug, PartialEq, Eq)]
 pub(crate) enum Event {
@@ -389,15 +444,31 @@ pub(crate) fn run_pass(session: &mut Session, step: &Step) -> Result<(), Failure
     let list = session.output(step)?;
     let suites = suites(&list, &second).map_err(Failure::new)?;
     let mut weight = std::collections::BTreeMap::new();
+    let mut per_test = std::collections::BTreeMap::new();
     if let Ok(xml) = fs::read_to_string(Driver::Lavapipe.junit()) {
         for t in plan::parse_junit(&xml) {
-            *weight.entry(t.test.binary).or_insert(0.0) += t.seconds;
+            *weight.entry(t.test.binary.clone()).or_insert(0.0) += t.seconds;
+            per_test.insert((t.test.binary, t.test.name), t.seconds);
         }
     }
-    let suites = by_weight(suites, &weight);
     let lanes = thread::available_parallelism().map_or(1, |n| n.get());
+    let binaries = suites.len();
+    let suites = balanced(suites, &per_test, lanes);
+    let mut parts = std::collections::BTreeMap::new();
+    for s in &suites {
+        *parts.entry(s.binary.clone()).or_insert(0.0) += 1.0;
+    }
+    // A part weighs its binary's weight over the parts (for the heaviest-first order).
+    let weight: BTreeMap<String, f64> = (weight.into_iter())
+        .map(|(b, w)| {
+            let n = parts.get(&b).copied().unwrap_or(1.0);
+            (b, w / n)
+        })
+        .collect();
+    let suites = by_weight(suites, &weight);
     println!(
-        "==> {} binaries, each in one process, {lanes} at a time (a test's budget: {} s)",
+        "==> {binaries} binaries in {} processes (the heaviest cut to a lane's share), {lanes} \
+         at a time (a test's budget: {} s)",
         suites.len(),
         BUDGET.as_secs()
     );

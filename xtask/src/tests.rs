@@ -484,3 +484,39 @@ fn the_second_pass_finds_each_binary_and_runs_the_dearest_first() {
     assert_eq!(times.len(), 1);
     assert_eq!(times[0].seconds, 1.5);
 }
+
+#[test]
+fn a_binary_heavier_than_a_lanes_share_is_cut_into_parts() {
+    let suite = |binary: &str, tests: &[&str]| second_pass::Suite {
+        binary: binary.to_owned(),
+        path: "/t/x".into(),
+        cwd: "/w".into(),
+        tests: tests.iter().map(|t| (*t).to_owned()).collect(),
+    };
+    let suites = vec![
+        suite("heavy", &["a", "b", "c", "d"]),
+        suite("light", &["e"]),
+    ];
+    let w = |b: &str, t: &str, s: f64| ((b.to_owned(), t.to_owned()), s);
+    let weight = [
+        w("heavy", "a", 40.0),
+        w("heavy", "b", 30.0),
+        w("heavy", "c", 20.0),
+        w("heavy", "d", 10.0),
+        w("light", "e", 10.0),
+    ]
+    .into();
+    // 110 s over 2 lanes: a share of 55 s; the heavy binary's 100 s go in two parts.
+    let parts = second_pass::balanced(suites.clone(), &weight, 2);
+    assert_eq!(parts.len(), 3);
+    let heavy: Vec<_> = parts.iter().filter(|s| s.binary == "heavy").collect();
+    assert_eq!(heavy[0].tests, ["a", "d"], "in the binary's order");
+    assert_eq!(heavy[1].tests, ["b", "c"]);
+    assert_eq!(parts[2].tests, ["e"]);
+    // One lane, or no times: nothing is cut.
+    assert_eq!(second_pass::balanced(suites.clone(), &weight, 1), suites);
+    assert_eq!(
+        second_pass::balanced(suites.clone(), &Default::default(), 2),
+        suites
+    );
+}
