@@ -51,32 +51,34 @@ fn clamped(p: vec2<i32>) -> vec2<i32> {
     return clamp(p, vec2(0), vec2<i32>(bloom.size) - vec2(1));
 }
 
-@fragment
-fn fs_h(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
-    let p = vec2<i32>(pos.xy);
+// The Gaussian-weighted mean along `step` around `p` of the light above the threshold
+// (`bright_light`: the frame's pixels) or of `src` as it is (the first pass's sums).
+fn blurred(p: vec2<i32>, step: vec2<i32>, bright_light: bool) -> vec3<f32> {
     let r = i32(bloom.radius);
     var sum = vec3(0.0);
     var total = 0.0;
     for (var i = -r; i <= r; i++) {
         let w = weight(i);
-        sum += w * bright(clamped(p + vec2(i, 0)));
+        let q = clamped(p + step * i);
+        if bright_light {
+            sum += w * bright(q);
+        } else {
+            sum += w * textureLoad(src, q, 0).rgb;
+        }
         total += w;
     }
-    return vec4(sum / total, 1.0);
+    return sum / total;
+}
+
+@fragment
+fn fs_h(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
+    return vec4(blurred(vec2<i32>(pos.xy), vec2(1, 0), true), 1.0);
 }
 
 @fragment
 fn fs_v(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let p = vec2<i32>(pos.xy);
-    let r = i32(bloom.radius);
-    var sum = vec3(0.0);
-    var total = 0.0;
-    for (var i = -r; i <= r; i++) {
-        let w = weight(i);
-        sum += w * textureLoad(src, clamped(p + vec2(0, i)), 0).rgb;
-        total += w;
-    }
     let base = textureLoad(frame, p, 0);
-    let lit = decoded(base.rgb) + bloom.strength * sum / total;
+    let lit = decoded(base.rgb) + bloom.strength * blurred(p, vec2(0, 1), false);
     return vec4(select(lit, linear_to_srgb(lit), bloom.encoded != 0u), base.a);
 }

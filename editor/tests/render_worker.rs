@@ -104,18 +104,7 @@ fn a_click_selects_what_the_worker_picks() {
     worker(&h).wait_drawn().expect("a first frame");
     h.step();
     h.state_mut().state.selection = None;
-    let rect = h.state().viewport.rect.expect("the viewport was drawn");
-    h.event(egui::Event::PointerMoved(rect.center()));
-    h.step();
-    for pressed in [true, false] {
-        h.event(egui::Event::PointerButton {
-            pos: rect.center(),
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: egui::Modifiers::NONE,
-        });
-        h.step();
-    }
+    press_centre(&mut h, egui::Modifiers::NONE);
     assert_eq!(
         h.state().state.selection,
         None,
@@ -281,6 +270,13 @@ fn an_edited_entity_is_taken_in_alone_by_the_worker() {
 
 /// Clicks the middle of the viewport with `modifiers` and waits for the worker's answer.
 fn click_centre(h: &mut Harness<'_, EditorApp>, modifiers: egui::Modifiers) {
+    press_centre(h, modifiers);
+    worker(h).wait_picked().expect("an answer");
+    h.step();
+}
+
+/// Clicks the middle of the viewport with `modifiers` (the pick is asked, not yet answered).
+fn press_centre(h: &mut Harness<'_, EditorApp>, modifiers: egui::Modifiers) {
     let rect = h.state().viewport.rect.expect("the viewport was drawn");
     h.event(egui::Event::PointerMoved(rect.center()));
     h.step();
@@ -296,8 +292,6 @@ fn click_centre(h: &mut Harness<'_, EditorApp>, modifiers: egui::Modifiers) {
         );
         h.step();
     }
-    worker(h).wait_picked().expect("an answer");
-    h.step();
 }
 
 #[test]
@@ -351,18 +345,7 @@ fn a_pick_answered_after_the_selection_changed_is_dropped() {
     // The worker is held, so the click's answer waits.
     let hold = worker(&h).hold();
     hold.wait_held().expect("the worker waits");
-    let rect = h.state().viewport.rect.expect("the viewport was drawn");
-    h.event(egui::Event::PointerMoved(rect.center()));
-    h.step();
-    for pressed in [true, false] {
-        h.event(egui::Event::PointerButton {
-            pos: rect.center(),
-            button: egui::PointerButton::Primary,
-            pressed,
-            modifiers: egui::Modifiers::NONE,
-        });
-        h.step();
-    }
+    press_centre(&mut h, egui::Modifiers::NONE);
     let n = h.state().state.scene().len();
     h.state_mut().state.select_all();
     drop(hold);

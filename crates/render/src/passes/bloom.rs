@@ -10,6 +10,7 @@ use bytemuck::{Pod, Zeroable};
 use super::{
     FLOAT, RenderSpec, bind_group, entry, render_pipeline, texture, uniform, uniform_buffer,
 };
+use crate::baselines::gbuffer::Target;
 use crate::context::GpuContext;
 use crate::passes::LazyRender;
 use crate::shader;
@@ -146,25 +147,7 @@ impl BloomPass {
         };
         queue.write_buffer(&self.uniform, 0, bytemuck::bytes_of(&u));
         if self.targets.as_ref().is_none_or(|t| t.0 != size) {
-            let make = |label, format| {
-                device
-                    .create_texture(&wgpu::TextureDescriptor {
-                        label: Some(label),
-                        size: wgpu::Extent3d {
-                            width: size.0,
-                            height: size.1,
-                            depth_or_array_layers: 1,
-                        },
-                        mip_level_count: 1,
-                        sample_count: 1,
-                        dimension: wgpu::TextureDimension::D2,
-                        format,
-                        usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                            | wgpu::TextureUsages::TEXTURE_BINDING,
-                        view_formats: &[],
-                    })
-                    .create_view(&Default::default())
-            };
+            let make = |label, format| Target::new(device, label, size.into(), format).view;
             let sums = make("bloom::sums", SUMS_FORMAT);
             let out = make("bloom::frame", self.format);
             self.targets = Some((size, sums, out));

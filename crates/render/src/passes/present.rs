@@ -8,6 +8,7 @@ use bytemuck::{Pod, Zeroable};
 use super::{
     FLOAT, RenderSpec, UINT, bind_group, entry, render_pipeline, texture, uniform, uniform_buffer,
 };
+use crate::baselines::gbuffer::Target;
 use crate::palette::{PALETTE_UNIFORM_SIZE, PaletteInput, uniform_bytes};
 use crate::shader;
 
@@ -49,6 +50,9 @@ pub struct PresentPass {
     sizes: wgpu::Buffer,
     palette_buffer: wgpu::Buffer,
     palette: Option<PaletteInput>,
+    /// The `max_n` the palette's uniform was last written for (`None`: not written since
+    /// the palette was set): the colours' OKLab is computed and uploaded only on a change.
+    palette_written: Option<u32>,
     /// The frame in its palette colours, at the internal size (made with the first mapped
     /// frame of a size).
     mapped: Option<((u32, u32), wgpu::TextureView)>,
@@ -98,6 +102,7 @@ impl PresentPass {
             sizes,
             palette_buffer,
             palette: None,
+            palette_written: None,
             mapped: None,
             internal_format,
         })
@@ -106,6 +111,7 @@ impl PresentPass {
     /// The palette frames are mapped to from the next one on (`None`: colours as drawn).
     pub fn set_palette(&mut self, palette: Option<PaletteInput>) {
         self.palette = palette.filter(|p| !p.colours.is_empty());
+        self.palette_written = None;
         if self.palette.is_none() {
             self.mapped = None;
         }
@@ -165,22 +171,13 @@ impl PresentPass {
             .as_ref()
             .is_none_or(|(size, _)| *size != internal)
         {
-            let texture = device.create_texture(&wgpu::TextureDescriptor {
-                label: Some("present::mapped"),
-                size: wgpu::Extent3d {
-                    width: internal.0,
-                    height: internal.1,
-                    depth_or_array_layers: 1,
-                },
-                mip_level_count: 1,
-                sample_count: 1,
-                dimension: wgpu::TextureDimension::D2,
-                format: self.internal_format,
-                usage: wgpu::TextureUsages::RENDER_ATTACHMENT
-                    | wgpu::TextureUsages::TEXTURE_BINDING,
-                view_formats: &[],
-            });
-            self.mapped = Some((internal, texture.create_view(&Default::default())));
+            let mapped = Target::new(
+                device,
+                "present::mapped",
+                internal.into(),
+                self.internal_format,
+            );
+            self.mapped = Some((internal, mapped.view));
         }
         let Some((_, mapped)) = &self.mapped else {
             return;
