@@ -74,8 +74,18 @@ const FIRST_XVFB_DISPLAY: u32 = 99;
 /// How many display numbers (from [`FIRST_XVFB_DISPLAY`]) are tried before giving up.
 const XVFB_DISPLAY_TRIES: u32 = 20;
 
-/// Arguments given to Xvfb after the display name.
-const XVFB_ARGS: &[&str] = &["-screen", "0", "1280x800x24", "-nolisten", "tcp"];
+/// Arguments given to Xvfb after the display name. `-noreset`: by default an X server
+/// resets when its last client leaves and refuses connections meanwhile, so a window test
+/// that kills its only client and starts another (the editor's SIGKILL test) could fail to
+/// connect on a loaded machine (2 of 100 quick reconnects under load, 0 with `-noreset`).
+const XVFB_ARGS: &[&str] = &[
+    "-screen",
+    "0",
+    "1280x800x24",
+    "-nolisten",
+    "tcp",
+    "-noreset",
+];
 
 /// How long to wait for Xvfb to create its socket.
 const XVFB_START_TIMEOUT: Duration = Duration::from_secs(10);
