@@ -1,5 +1,5 @@
 //! The command line: `texel-eval run`, `texel-eval suite`, `texel-eval survey`,
-//! `texel-eval compare` and `texel-eval chart`.
+//! `texel-eval compare`, `texel-eval chart` and `texel-eval scale` (`crate::scale_cli`).
 
 use std::path::{Path, PathBuf};
 use std::time::Instant;
@@ -76,6 +76,14 @@ enum Command {
         #[arg(long)]
         check: bool,
     },
+    /// Measures frame cost and memory against level size: generated towns of each count
+    /// (`texel-run gen`'s generator) walked down their street, each in a process of its
+    /// own, and a bundled level as the reference; writes scale.json, scale.md and a chart
+    /// (scale.png, scale.svg) into --out.
+    Scale(crate::scale_cli::ScaleArgs),
+    /// One measurement of `scale` (run by it in a process of its own).
+    #[command(hide = true)]
+    ScaleOne(crate::scale_cli::ScaleOneArgs),
     /// Redraws the charts (and table.md) of an existing report.
     Chart {
         /// The report.json to read.
@@ -149,6 +157,8 @@ pub fn main() -> Result<()> {
         Command::Compare(args) => compare(&args),
         Command::Survey(args) => survey(&args, command_line),
         Command::Tables { files, check } => tables(&files, check),
+        Command::Scale(args) => crate::scale_cli::scale(&args),
+        Command::ScaleOne(args) => crate::scale_cli::scale_one(&args),
         Command::Chart { report, out } => {
             let r = Report::load(&report)?;
             write_outputs(&r, &out, false)
@@ -564,7 +574,7 @@ fn parse_list(s: &str, flag: &str) -> Result<Vec<u32>> {
     Ok(v)
 }
 
-fn parse_size(s: &str) -> Result<UVec2> {
+pub(crate) fn parse_size(s: &str) -> Result<UVec2> {
     let (w, h) = s
         .split_once(['x', 'X'])
         .with_context(|| format!("--size must be WIDTHxHEIGHT, got `{s}`"))?;

@@ -9,7 +9,8 @@
 //! (levels × paths × methods × resolutions), [`report`] (`report.json` and its table),
 //! [`chart`] (the charts), [`tables`] (the docs' results tables, from reports), [`stamp`]
 //! (when, which commit, which machine), [`compare`] (the methods side by side as an animated GIF),
-//! [`survey`] (random walks through a level, for views nobody tuned for).
+//! [`survey`] (random walks through a level, for views nobody tuned for), [`scale`] and
+//! [`scale_chart`] (frame cost and memory against level size).
 
 pub mod chart;
 pub mod colour;
@@ -20,6 +21,8 @@ pub mod metrics;
 pub mod reference;
 pub mod report;
 pub mod runner;
+pub mod scale;
+pub mod scale_chart;
 pub use texel_runtime::stamp;
 pub mod suite;
 pub mod survey;

@@ -2,6 +2,7 @@
 //! `report.json` and charts. All the work is in the `texel_eval` library; see `cli`.
 
 mod cli;
+mod scale_cli;
 
 fn main() -> std::process::ExitCode {
     match cli::main() {
