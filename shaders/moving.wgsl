@@ -31,6 +31,9 @@ struct LightGlobals {
 @group(0) @binding(1) var<storage, read> objects: array<Object>;
 @group(1) @binding(0) var<uniform> globals: LightGlobals;
 @group(1) @binding(1) var<storage, read> points: array<PointLight>;
+fn point_record(i: u32) -> PointLight {
+    return points[i];
+}
 @group(1) @binding(2) var<storage, read> motions: array<Motion>;
 @group(2) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(2) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;

@@ -32,6 +32,9 @@ struct ScreenGlobals {
 @group(0) @binding(4) var lit_out: texture_storage_2d<rgba16float, write>;
 @group(0) @binding(5) var<storage, read> objects: array<Object>;
 @group(0) @binding(6) var<storage, read> points: array<PointLight>;
+fn point_record(i: u32) -> PointLight {
+    return points[i];
+}
 @group(1) @binding(0) var<storage, read> bvh_nodes: array<BvhNode>;
 @group(1) @binding(1) var<storage, read> bvh_triangles: array<BvhTriangle>;
 @group(1) @binding(2) var<storage, read> bvh_instances: array<BvhInstance>;

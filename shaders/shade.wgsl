@@ -47,7 +47,41 @@ var<private> sf: ShadeFace;
 @group(0) @binding(11) var shading_tex: texture_2d_array<u32>;
 @group(0) @binding(5) var lit_out: texture_storage_2d_array<rgba32float, write>;
 @group(0) @binding(6) var<storage, read> objects: array<Object>;
-@group(0) @binding(7) var<storage, read> points: array<PointLight>;
+// The point lights' records (8 words each), then the grid of which reach where
+// (`gpu_scene::light_grid`): a header, a (first, count) pair per cell, the cells' lists.
+@group(0) @binding(7) var<storage, read> light_words: array<u32>;
+fn point_record(i: u32) -> PointLight {
+    let w = 8u * i;
+    let f = array<f32, 8>(
+        bitcast<f32>(light_words[w]), bitcast<f32>(light_words[w + 1u]),
+        bitcast<f32>(light_words[w + 2u]), bitcast<f32>(light_words[w + 3u]),
+        bitcast<f32>(light_words[w + 4u]), bitcast<f32>(light_words[w + 5u]),
+        bitcast<f32>(light_words[w + 6u]), bitcast<f32>(light_words[w + 7u]),
+    );
+    return PointLight(vec3(f[0], f[1], f[2]), f[3], vec4(f[4], f[5], f[6], f[7]));
+}
+
+// The point lights that may reach `p`: the first word of their list and its length (none
+// outside the grid, where no light reaches, or for a point that is not a number).
+fn near_points(p: vec3<f32>) -> vec2<u32> {
+    let h = 8u * max(globals.point_count, 1u);
+    let size = vec2(light_words[h], light_words[h + 1u]);
+    let origin = vec2(bitcast<f32>(light_words[h + 2u]), bitcast<f32>(light_words[h + 3u]));
+    let c = floor((p.xz - origin) / bitcast<f32>(light_words[h + 4u]));
+    if !(all(c >= vec2(0.0)) && all(c < vec2<f32>(size))) {
+        return vec2(0u);
+    }
+    let at = h + 8u + 2u * (u32(c.y) * size.x + u32(c.x));
+    return vec2(light_words[at], light_words[at + 1u]);
+}
+
+// Light `k` of the suns and then the point lights `near` lists: its index among all lights.
+fn near_light(near: vec2<u32>, k: u32) -> u32 {
+    if k < globals.sun_count {
+        return k;
+    }
+    return globals.sun_count + light_words[near.x + k - globals.sun_count];
+}
 // Work of this frame's jobs: the texels lit (WORK_SHADED), each slot's queue length (from
 // WORK_COUNTS, per slot), and the queue of texels that need lighting (from WORK_QUEUE, each
 // slot's part at `globals.queue_base`; job | x << 6 | y << 19), gathered by `main` so that
@@ -614,7 +648,10 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
     // Highlights as the probe sees them: the view is the texel's ray from its origin, so
     // the shine is cached with the texel and changes only where the probe does.
     let spec = objects[x.me.id - 1u].specular;
-    let lights = out.lights;
+    // Only the lights that may reach it are traced (`near_points`); the rest would be out
+    // of reach, and the bits of the unshadowed lights keep their indices among all.
+    let near = near_points(x.p);
+    let lights = select(globals.sun_count + near.y, 0u, emissive);
     let hidden = sides.hidden;
     let search = globals.edges != 0u && sides.seek != 0u;
     var e = EdgeSearch(select(0u, sides.seek, search), 0u, 0.0, 1.0, 0.0, 0u, EDGES_UNKNOWN);
@@ -636,8 +673,10 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
         var r: LightRay;
         // The edge search's step on its side (from `lights` on).
         let step = select(0u, i - lights, i >= lights) % EDGE_STEPS;
+        var light = 0u;
         if i < lights {
-            r = light_ray(i, x.p);
+            light = near_light(near, i);
+            r = light_ray(light, x.p);
             if dot(lit_normal, r.dir) <= 0.0 || r.reach <= 0.0 {
                 continue;
             }
@@ -654,7 +693,7 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
                 out.light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;
                 out.shine += r.colour * (r.fall * r.fall * highlight(lit_normal, r.dir, -normalize(x.ray), spec));
             } else {
-                out.unshadowed &= ~(1u << i);
+                out.unshadowed &= ~(1u << light);
             }
         } else if i >= lights + side_rays {
             if !hit {

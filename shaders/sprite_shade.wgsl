@@ -19,6 +19,9 @@
 @group(0) @binding(2) var sprite_frames: texture_2d_array<f32>;
 @group(0) @binding(3) var<uniform> globals: SpriteGlobals;
 @group(0) @binding(4) var<storage, read> points: array<PointLight>;
+fn point_record(i: u32) -> PointLight {
+    return points[i];
+}
 @group(0) @binding(5) var<storage, read_write> lit: array<vec2<u32>>;
 // Per sprite and copy, what its texels were last lit for (crates/render/src/gpu_sprites.rs).
 @group(0) @binding(6) var<storage, read_write> lit_keys: array<vec4<u32>>;

@@ -44,6 +44,9 @@ const GROUP: u32 = 64u;
 @group(0) @binding(1) var<storage, read> objects: array<Object>;
 @group(0) @binding(7) var<uniform> globals: ShadeGlobals;
 @group(0) @binding(8) var<storage, read> points: array<PointLight>;
+fn point_record(i: u32) -> PointLight {
+    return points[i];
+}
 @group(0) @binding(9) var<storage, read> splats: array<Splat>;
 @group(0) @binding(10) var<storage, read> args: DrawArgs;
 // One record per splat of the list (at its index), then the cache: one per texel key

@@ -1,8 +1,9 @@
 // Lights as rays from a point: directional suns and point lights with (1 − d/r)² falloff,
 // without shadows (lib/lighting.wgsl traces those through the BVH; the terrain splats pass takes a
 // terrain texel's). The includer declares `globals` (with `sun_count`,
-// `suns: array<Sun, N>`, `point_count`) and `points: array<PointLight>`, and includes
-// lib/common.wgsl.
+// `suns: array<Sun, N>`, `point_count`) and `point_record(i) -> PointLight` (point light
+// `i` of its `points` buffer: the shade pass reads that buffer as words, for the grid of
+// which lights reach where that follows the records), and includes lib/common.wgsl.
 
 // The least distance, in world units, a shadow ray starts off its surface.
 const SHADOW_OFFSET: f32 = 0.02;
@@ -31,7 +32,7 @@ fn light_ray(i: u32, p: vec3<f32>) -> LightRay {
         let s = globals.suns[i];
         return LightRay(s.to_light.xyz, 1.0e4, s.colour.rgb, 1.0, false);
     }
-    let l = points[i - globals.sun_count];
+    let l = point_record(i - globals.sun_count);
     let to = l.position - p;
     let dist = length(to);
     if dist >= l.radius || dist < 1.0e-4 {

@@ -139,6 +139,8 @@ pub struct Renderer {
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
     runs_on: bool,
+    /// [`Renderer::set_light_grid`]'s choice (`None`: the environment's).
+    light_grid: Option<bool>,
     display: Display,
 }
 
@@ -196,6 +198,7 @@ impl Renderer {
             offscreen: None,
             queries,
             runs_on: true,
+            light_grid: None,
             display: Display::Splat,
         })
     }
@@ -207,10 +210,17 @@ impl Renderer {
 
     /// Uploads the scene (meshes, materials, textures, lights, shadow BVH), after checking
     /// that the device can hold it (else the scene in use stays). Shared meshes are
-    /// instanced unless `TEXEL_NO_INSTANCING` is set (to measure against).
+    /// instanced unless `TEXEL_NO_INSTANCING` is set, and the point lights are gridded
+    /// unless `TEXEL_NO_LIGHT_GRID` is (to measure against).
     pub fn set_scene(&mut self, ctx: &GpuContext, scene: &SceneInput) -> Result<(), RenderError> {
         let instancing = std::env::var_os("TEXEL_NO_INSTANCING").is_none();
         self.set_scene_with(ctx, scene, instancing)
+    }
+
+    /// Whether the next scenes' point lights are gridded (on by default, off under
+    /// `TEXEL_NO_LIGHT_GRID`): off, every texel tests every light (to compare against).
+    pub fn set_light_grid(&mut self, on: bool) {
+        self.light_grid = Some(on);
     }
 
     /// [`Renderer::set_scene`], meshes several objects share instanced only if `instancing`
@@ -222,7 +232,13 @@ impl Renderer {
         instancing: bool,
     ) -> Result<(), RenderError> {
         crate::validate::scene(&ctx.device.limits(), scene)?;
-        let uploaded = GpuScene::upload_with(ctx, scene, instancing)
+        let light_grid =
+            (self.light_grid).unwrap_or_else(|| std::env::var_os("TEXEL_NO_LIGHT_GRID").is_none());
+        let choices = crate::gpu_scene::Upload {
+            instancing,
+            light_grid,
+        };
+        let uploaded = GpuScene::upload_with(ctx, scene, choices)
             .map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
         self.scene = Some(uploaded);
         self.terrain_splat.forget();

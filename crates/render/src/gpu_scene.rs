@@ -12,6 +12,7 @@ use crate::bvh::BvhNode;
 use crate::textures::{AtlasError, GpuTextures};
 
 mod instances;
+pub mod light_grid;
 mod ranges;
 #[cfg(test)]
 mod tests;
@@ -25,6 +26,26 @@ pub use ranges::{
     RANGE_TRIANGLES, Run, chunk_lod, full_detail_runs, spans_a_texel, visible_runs,
     visible_runs_by_kind,
 };
+
+/// Choices of an upload that tests and measurements compare against ([`GpuScene::upload_with`]).
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Upload {
+    /// A mesh several still objects share is uploaded once and instanced (else every copy
+    /// is written out in world space).
+    pub instancing: bool,
+    /// The shade pass traces only the point lights near a texel ([`light_grid`]; else every
+    /// light, each found out of reach or not).
+    pub light_grid: bool,
+}
+
+impl Default for Upload {
+    fn default() -> Self {
+        Upload {
+            instancing: true,
+            light_grid: true,
+        }
+    }
+}
 
 /// Largest number of directional lights the shade pass reads.
 pub const MAX_SUNS: usize = 4;
@@ -332,9 +353,13 @@ pub struct GpuScene {
     pub instances: wgpu::Buffer,
     /// Objects drawn from a shared mesh, and the distinct meshes they share.
     pub instanced: (usize, usize),
+    /// Whether the point lights' grid lists the lights near each cell (else one cell lists
+    /// them all: [`Upload::light_grid`]).
+    pub light_grid: bool,
     /// Object records.
     pub objects: wgpu::Buffer,
-    /// Point lights (at least one record; `point_count` says how many are real).
+    /// Point lights (at least one record; `point_count` says how many are real), then the
+    /// grid of which reach where ([`light_grid`]).
     pub points: wgpu::Buffer,
     /// Number of point lights.
     pub point_count: u32,

@@ -173,6 +173,10 @@ impl GpuScene {
         if point_count != self.point_count {
             return not("point lights were added or removed");
         }
+        let light_words = super::light_grid::light_words(&points, point_count, self.light_grid);
+        if std::mem::size_of_val(light_words.as_slice()) as u64 > self.points.size() {
+            return not("the point lights' grid grew");
+        }
         let remade = (changed.iter())
             .map(|&i| self.remake(scene, i))
             .collect::<Result<Vec<Remade>, NotInPlace>>()?;
@@ -222,7 +226,7 @@ impl GpuScene {
             queue.write_buffer(&self.objects, offset, bytemuck::bytes_of(&r.record));
             cost.vertices += r.meshes.vertices.len();
         }
-        queue.write_buffer(&self.points, 0, bytemuck::cast_slice(&points));
+        queue.write_buffer(&self.points, 0, bytemuck::cast_slice(&light_words));
         self.suns = suns(scene);
         // Only moving casters and terrain pixels ask where a shadow may fall.
         if !self.animated.is_empty() || self.terrain_count > 0 {

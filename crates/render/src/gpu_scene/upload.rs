@@ -27,16 +27,19 @@ impl GpuScene {
     /// to world space; packs the textures and builds the shadow trees. Fails only when the
     /// textures do not fit the device's limits.
     pub fn upload(ctx: &GpuContext, scene: &SceneInput) -> Result<GpuScene, UploadError> {
-        Self::upload_with(ctx, scene, true)
+        Self::upload_with(ctx, scene, super::Upload::default())
     }
 
-    /// [`GpuScene::upload`], shared meshes instanced only if `instancing` (else every copy
-    /// is written out in world space, as tests compare).
+    /// [`GpuScene::upload`] with the choices tests and measurements compare against.
     pub fn upload_with(
         ctx: &GpuContext,
         scene: &SceneInput,
-        instancing: bool,
+        choices: super::Upload,
     ) -> Result<GpuScene, UploadError> {
+        let super::Upload {
+            instancing,
+            light_grid,
+        } = choices;
         let mut textures = TextureSet::default();
         let mut meshes = Meshes::new(scene);
         // Surfaces first, in object order (the atlas is laid out as they come), then which
@@ -118,12 +121,21 @@ impl GpuScene {
                 wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             ),
             instanced: (meshes.instances.len() - 1, shared.meshes()),
+            light_grid,
             objects: storage(
                 "scene::objects",
                 bytemuck::cast_slice(&meshes.objects),
                 writable,
             ),
-            points: storage("scene::points", bytemuck::cast_slice(&points), writable),
+            points: storage(
+                "scene::points",
+                bytemuck::cast_slice(&super::light_grid::light_words(
+                    &points,
+                    point_count,
+                    light_grid,
+                )),
+                writable,
+            ),
             point_count,
             suns,
             bvh_nodes,
