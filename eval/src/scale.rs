@@ -38,6 +38,8 @@ pub struct ScaleRow {
     pub point_lights: usize,
     /// Loading the file and opening a session on it (preparation, upload, plan), ms.
     pub load_ms: f64,
+    /// Of `load_ms`, reading the file and its assets, ms.
+    pub read_ms: f64,
     /// Median frame time over the walk, ms (`None`: refused, see `error`).
     pub frame_ms: Option<f64>,
     /// Median time of each pass over the walk, ms.
@@ -73,6 +75,7 @@ pub struct Walk {
 pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Result<ScaleRow> {
     let start = Instant::now();
     let mut loaded = load_level(level).with_context(|| format!("loading {}", level.display()))?;
+    let read_ms = start.elapsed().as_secs_f64() * 1e3;
     set_face_resolution(&mut loaded, walk.face_res).map_err(|e| anyhow!("--face-res: {e}"))?;
     let entities = loaded.scene.entities().count();
     let point_lights = (loaded.scene.world())
@@ -84,6 +87,7 @@ pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Resu
         entities,
         point_lights,
         load_ms: 0.0,
+        read_ms,
         frame_ms: None,
         passes: BTreeMap::new(),
         objects_per_face: 0.0,
@@ -195,7 +199,7 @@ impl ScaleReport {
             self.adapter,
             self.stamp
         );
-        s += "| level | entities | point lights | load | frame | capture | shade | cull | splat \
+        s += "| level | entities | point lights | load (read) | frame | capture | shade | cull | splat \
               | objects a face | texels lit | GPU | peak resident | ÷ reference |\n";
         s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         let reference = self.reference.as_ref().and_then(|r| r.frame_ms);
@@ -211,11 +215,12 @@ impl ScaleReport {
                 (None, None) => "—".into(),
             };
             s += &format!(
-                "| {} | {} | {} | {:.0} | {frame} | {} | {} | {} | {} | {:.0} | {} | {:.1} | {:.0} | {ratio} |\n",
+                "| {} | {} | {} | {:.0} ({:.0}) | {frame} | {} | {} | {} | {} | {:.0} | {} | {:.1} | {:.0} | {ratio} |\n",
                 r.label,
                 r.entities,
                 r.point_lights,
                 r.load_ms,
+                r.read_ms,
                 pass("capture"),
                 pass("shade"),
                 pass("cull"),
@@ -257,6 +262,7 @@ mod tests {
             entities,
             point_lights: 2,
             load_ms: 10.0,
+            read_ms: 4.0,
             frame_ms: frame,
             passes: [("capture".to_owned(), 4.0), ("shade".to_owned(), 6.0)].into(),
             objects_per_face: 12.0,
@@ -283,7 +289,7 @@ mod tests {
         };
         let t = report.table();
         assert!(t.contains(
-            "| town | 100 | 2 | 10 | 30 | 4 | 6 | — | — | 12 | 900 | 2.0 | 200 | 1.50× |"
+            "| town | 100 | 2 | 10 (4) | 30 | 4 | 6 | — | — | 12 | 900 | 2.0 | 200 | 1.50× |"
         ));
         assert!(t.contains("refused: too large / for this GPU"), "{t}");
         assert_eq!(t.lines().filter(|l| l.starts_with("| ")).count(), 4);

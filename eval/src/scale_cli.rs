@@ -50,10 +50,13 @@ pub(crate) struct ScaleArgs {
     /// Seed of the generated towns.
     #[arg(long, default_value_t = 1)]
     seed: u64,
-    /// Output directory: scale.json, scale.md, scale.png, scale.svg, and the generated
-    /// levels and walks under levels/.
+    /// Output directory: scale.json, scale.md, scale.png, scale.svg.
     #[arg(long)]
     out: PathBuf,
+    /// Keep the generated levels and their walks in this folder (by default they are
+    /// written to a temporary folder and removed: a town of 100,000 is a 37 MB file).
+    #[arg(long)]
+    levels: Option<PathBuf>,
 }
 
 /// One measurement, in this process (what `scale` starts for each level).
@@ -89,8 +92,43 @@ pub(crate) fn scale(args: &ScaleArgs) -> Result<()> {
         bail!("--speed: {} is not within 0..=100 m/s", args.speed);
     }
     let counts = parse_counts(&args.counts)?;
-    let levels = args.out.join("levels");
+    let temporary = std::env::temp_dir().join(format!("texel-scale-{}", std::process::id()));
+    let levels = args.levels.clone().unwrap_or_else(|| temporary.clone());
     std::fs::create_dir_all(&levels).with_context(|| format!("creating {}", levels.display()))?;
+    let result = measure_all(args, &counts, &levels);
+    if args.levels.is_none() {
+        let _ = std::fs::remove_dir_all(&temporary);
+    }
+    let (reference, towns) = result?;
+    let size = crate::cli::parse_size(&args.size)?;
+    let adapter = (reference.iter().chain(&towns))
+        .map(|r| r.adapter.clone())
+        .next()
+        .unwrap_or_default();
+    let args_line: Vec<String> = std::env::args().skip(1).collect();
+    let report = ScaleReport {
+        command: format!("texel-eval {}", args_line.join(" ")),
+        stamp: texel_eval::stamp::Stamp::now().line(),
+        adapter,
+        size: size.to_array(),
+        face_res: args.face_res,
+        frames: args.frames,
+        speed: args.speed,
+        reference,
+        towns,
+    };
+    write(&report, &args.out)?;
+    println!("{}", report.table());
+    println!("wrote {}", args.out.join("scale.md").display());
+    Ok(())
+}
+
+/// The reference's row (if any) and each town's, generated into `levels`.
+fn measure_all(
+    args: &ScaleArgs,
+    counts: &[usize],
+    levels: &Path,
+) -> Result<(Option<ScaleRow>, Vec<ScaleRow>)> {
     let meshes = match args.meshes.is_empty() {
         true => ["crate.glb", "arch.glb"]
             .map(|m| args.assets.join("meshes").join(m))
@@ -115,7 +153,7 @@ pub(crate) fn scale(args: &ScaleArgs) -> Result<()> {
         }
     };
     let mut towns = Vec::new();
-    for n in counts {
+    for &n in counts {
         let level = levels.join(format!("town_{n}.ron"));
         eprintln!("town of {n}: generating {}", level.display());
         let options = GenOptions {
@@ -147,27 +185,7 @@ pub(crate) fn scale(args: &ScaleArgs) -> Result<()> {
         }
         towns.push(row);
     }
-    let size = crate::cli::parse_size(&args.size)?;
-    let adapter = (reference.iter().chain(&towns))
-        .map(|r| r.adapter.clone())
-        .next()
-        .unwrap_or_default();
-    let args_line: Vec<String> = std::env::args().skip(1).collect();
-    let report = ScaleReport {
-        command: format!("texel-eval {}", args_line.join(" ")),
-        stamp: texel_eval::stamp::Stamp::now().line(),
-        adapter,
-        size: size.to_array(),
-        face_res: args.face_res,
-        frames: args.frames,
-        speed: args.speed,
-        reference,
-        towns,
-    };
-    write(&report, &args.out)?;
-    println!("{}", report.table());
-    println!("wrote {}", args.out.join("scale.md").display());
-    Ok(())
+    Ok((reference, towns))
 }
 
 /// Measures `level` along `path` in a new process of this program; its one line of JSON.
