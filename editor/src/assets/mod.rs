@@ -5,6 +5,7 @@
 
 use std::path::{Path, PathBuf};
 
+pub mod mesh_thumb;
 pub mod panel;
 pub mod scan;
 pub mod thumbs;

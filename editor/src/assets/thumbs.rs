@@ -1,6 +1,7 @@
 //! Thumbnails for the asset panel, made off the UI thread: a loader thread reads each image
 //! with the scene's bounded texture reader and shrinks it to at most [`THUMB_SIZE`] pixels,
-//! or reads a palette's colours, and hands the result back. The panel asks for a thumbnail
+//! draws a glTF mesh (read with the scene's bounded importer) in a three-quarter view
+//! ([`super::mesh_thumb`]), or reads a palette's colours, and hands the result back. The panel asks for a thumbnail
 //! when its tile is on screen, shows a placeholder until it is there, and keeps it by path
 //! and modification time (a changed file is read again). A file that cannot be read shows
 //! as broken, with the reason.
@@ -63,12 +64,9 @@ pub struct Thumbnails {
 
 impl Thumbnails {
     /// The thumbnail of `path` (a `kind` file): made, or asked of the loader now and
-    /// [`Thumb::Pending`] until it answers. Meshes have none (`None`: the panel draws an
-    /// icon).
+    /// [`Thumb::Pending`] until it answers (a mesh's is drawn from its triangles:
+    /// [`super::mesh_thumb`]).
     pub fn get(&mut self, ctx: &egui::Context, path: &Path, kind: AssetKind) -> Option<Thumb> {
-        if kind == AssetKind::Mesh {
-            return None;
-        }
         let modified = std::fs::metadata(path).and_then(|m| m.modified()).ok();
         if let Some((when, thumb)) = self.cache.get(path)
             && *when == modified
@@ -166,6 +164,13 @@ pub fn make(path: &Path, kind: AssetKind) -> Made {
             Ok(p) => Made::Swatches(p.colours),
             Err(e) => Made::Broken(e.to_string()),
         },
+        AssetKind::Mesh => match texel_scene::gltf_import::load_gltf(path) {
+            Ok(mesh) => match super::mesh_thumb::draw(&mesh, THUMB_SIZE) {
+                Some(pixels) => Made::Image(THUMB_SIZE, THUMB_SIZE, pixels),
+                None => Made::Broken("no triangles to show".into()),
+            },
+            Err(e) => Made::Broken(e.to_string()),
+        },
         _ => match load_texture(path) {
             Ok(image) => {
                 let (w, h, pixels) = shrink(&image, THUMB_SIZE);
@@ -228,6 +233,17 @@ mod tests {
         let bad = dir.path().join("bad.png");
         std::fs::write(&bad, b"not a png").unwrap();
         assert!(matches!(make(&bad, AssetKind::Texture), Made::Broken(_)));
+        let mesh = dir.path().join("bad.glb");
+        std::fs::write(&mesh, b"glTF not really").unwrap();
+        assert!(matches!(make(&mesh, AssetKind::Mesh), Made::Broken(_)));
+        let crate_glb = concat!(env!("CARGO_MANIFEST_DIR"), "/../assets/meshes/crate.glb");
+        match make(Path::new(crate_glb), AssetKind::Mesh) {
+            Made::Image(w, h, px) => {
+                assert_eq!((w, h), (THUMB_SIZE, THUMB_SIZE));
+                assert!(px.chunks(4).any(|p| p[3] == 255), "the crate shows");
+            }
+            other => panic!("a picture of the crate, not {other:?}"),
+        }
         let pal = dir.path().join("p.hex");
         std::fs::write(&pal, "ff0000\n00ff00\n").unwrap();
         assert_eq!(
