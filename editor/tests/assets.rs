@@ -43,7 +43,18 @@ fn editor(dir: &Path) -> Harness<'static, EditorApp> {
         .with_size([1200.0, 800.0])
         .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
     h.step();
+    wait_for_walk(&mut h);
     h
+}
+
+/// Runs frames until the walk of the project folder has answered (at most 30 s).
+fn wait_for_walk(h: &mut Harness<'_, EditorApp>) {
+    let start = Instant::now();
+    while h.state().assets.walking() {
+        assert!(start.elapsed() < Duration::from_secs(30), "the folder walk");
+        std::thread::sleep(Duration::from_millis(10));
+        h.step();
+    }
 }
 
 /// Lets the thumbnail loader go on and runs frames until no thumbnail is being made (at most 30 s).
@@ -275,4 +286,26 @@ fn a_clicked_tile_is_added_at_the_view_centre() {
     let at = row.transform.expect("transform").translation;
     let centre = h.state().viewport.place_point(&h.state().state);
     assert!((at - centre).length() < 0.05, "{at} vs {centre}");
+}
+
+/// The walk of the project folder runs on its own thread: held, the frames go on and the
+/// panel says it is looking; let go, the list comes.
+#[test]
+fn frames_go_on_while_the_project_folder_is_walked() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = support::bundled_copy(dir.path(), "stone_circle");
+    let app = EditorApp::with_recent(Some(&path), Recent::default());
+    app.assets.hold_walks(true);
+    let mut h = Harness::builder()
+        .with_size([1200.0, 800.0])
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
+    h.state_mut().assets.open = true;
+    for _ in 0..3 {
+        h.step();
+    }
+    assert!(h.state().assets.walking() && h.state().assets.scan.is_none());
+    h.get_by_label("Looking through the project's folders…");
+    h.state().assets.hold_walks(false);
+    wait_for_walk(&mut h);
+    assert!(shown(&h, AssetKind::Mesh).contains(&"meshes/crate.glb".to_owned()));
 }

@@ -24,8 +24,8 @@ impl EditorApp {
             return None;
         }
         let rescan = std::mem::take(&mut self.assets.rescan);
-        self.assets
-            .refresh(self.state.document.path.as_deref(), rescan);
+        let ctx = ui.ctx().clone();
+        (self.assets).refresh(&ctx, self.state.document.path.as_deref(), rescan);
         egui::Panel::bottom("assets")
             .resizable(true)
             .default_size(140.0)

@@ -22,7 +22,11 @@ pub fn show(ui: &mut Ui, panel: &mut AssetPanel, playing: bool) -> Option<Action
     panel.thumbs.collect(ui.ctx());
     header(ui, panel, playing, &mut out);
     let Some(scan) = &panel.scan else {
-        ui.weak("Save the level: its project's assets are listed from its folder.");
+        if panel.walking() {
+            ui.weak("Looking through the project's folders…");
+        } else {
+            ui.weak("Save the level: its project's assets are listed from its folder.");
+        }
         return out;
     };
     let files: Vec<&AssetFile> = (scan.files.iter())
