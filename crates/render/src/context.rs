@@ -180,6 +180,7 @@ impl GpuContext {
                 label: Some("texel::device"),
                 required_features: features,
                 required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+                memory_hints: memory_hints(),
                 ..Default::default()
             })
             .await
@@ -275,6 +276,18 @@ fn record_device_for_test_plan() {
             "warning: cannot record this GPU test in {}: {e}",
             path.to_string_lossy()
         );
+    }
+}
+
+/// How the device sizes its memory blocks: small ones (`MemoryUsage`: blocks of 8–64 MiB
+/// rather than 128–256), since the renderer holds a few large buffers whose sizes follow the
+/// level. With `Performance`, a town of 10,000's 53 MB vertex buffer took a 128 MiB block,
+/// and on a CPU driver every block is the process's own memory. `TEXEL_MEMORY_HINTS=performance`
+/// asks for wgpu's default instead (to compare).
+fn memory_hints() -> wgpu::MemoryHints {
+    match std::env::var("TEXEL_MEMORY_HINTS").as_deref() {
+        Ok("performance") => wgpu::MemoryHints::Performance,
+        _ => wgpu::MemoryHints::MemoryUsage,
     }
 }
 
