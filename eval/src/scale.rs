@@ -73,6 +73,8 @@ pub struct Walk {
 /// drawn (too large for the device) is a row with its error; one that does not load is an
 /// error.
 pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Result<ScaleRow> {
+    // The device first: opening it is not the level's load.
+    let ctx = GpuContext::headless()?;
     let start = Instant::now();
     let mut loaded = load_level(level).with_context(|| format!("loading {}", level.display()))?;
     let read_ms = start.elapsed().as_secs_f64() * 1e3;
@@ -97,7 +99,6 @@ pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Resu
         error: None,
         adapter: String::new(),
     };
-    let ctx = GpuContext::headless()?;
     row.adapter = ctx.describe();
     let session = Session::headless(&ctx, &loaded, walk.size, walk.fov_y);
     row.load_ms = start.elapsed().as_secs_f64() * 1e3;
