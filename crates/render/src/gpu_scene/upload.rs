@@ -36,10 +36,6 @@ impl GpuScene {
         scene: &SceneInput,
         choices: super::Upload,
     ) -> Result<GpuScene, UploadError> {
-        let super::Upload {
-            instancing,
-            light_grid,
-        } = choices;
         let mut textures = TextureSet::default();
         let mut meshes = Meshes::new(scene);
         // Surfaces first, in object order (the atlas is laid out as they come), then which
@@ -47,7 +43,7 @@ impl GpuScene {
         let surfaces: Vec<(u32, Vec<u32>)> = (scene.objects.iter())
             .map(|o| surfaces(o, &mut textures))
             .collect();
-        let mut shared = match instancing {
+        let mut shared = match choices.instancing {
             true => super::instances::SharedMeshes::new(scene, &meshes.animated_index, &surfaces),
             false => super::instances::SharedMeshes::new(&SceneInput::default(), &[], &[]),
         };
@@ -75,6 +71,7 @@ impl GpuScene {
         let vertex_count = meshes.vertices.len() as u32;
         meshes.pad();
         let (points, point_count) = point_lights(scene);
+        let lights = super::light_grid::light_words(&points, point_count, choices.light_grid);
         let suns = suns(scene);
         let (gpu_terrains, terrain_data) = terrain_records(scene, &mut textures);
         let textures = textures.upload(ctx)?;
@@ -121,21 +118,13 @@ impl GpuScene {
                 wgpu::BufferUsages::VERTEX | wgpu::BufferUsages::COPY_DST,
             ),
             instanced: (meshes.instances.len() - 1, shared.meshes()),
-            light_grid,
+            light_grid: choices.light_grid,
             objects: storage(
                 "scene::objects",
                 bytemuck::cast_slice(&meshes.objects),
                 writable,
             ),
-            points: storage(
-                "scene::points",
-                bytemuck::cast_slice(&super::light_grid::light_words(
-                    &points,
-                    point_count,
-                    light_grid,
-                )),
-                writable,
-            ),
+            points: storage("scene::points", bytemuck::cast_slice(&lights), writable),
             point_count,
             suns,
             bvh_nodes,
