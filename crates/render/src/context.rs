@@ -179,7 +179,7 @@ impl GpuContext {
             .request_device(&wgpu::DeviceDescriptor {
                 label: Some("texel::device"),
                 required_features: features,
-                required_limits: wgpu::Limits::default().using_resolution(adapter.limits()),
+                required_limits: required_limits(&adapter.limits()),
                 memory_hints: memory_hints(),
                 ..Default::default()
             })
@@ -277,6 +277,19 @@ fn record_device_for_test_plan() {
             path.to_string_lossy()
         );
     }
+}
+
+/// The limits asked of a device: wgpu's defaults, with the adapter's own texture sizes and
+/// buffer sizes where it offers more (a level's vertices live in one buffer: a generated town
+/// of 100,000 needs 602 MiB, against the default 256 MiB; lavapipe offers 2 GiB, SwiftShader
+/// 1 GiB). What a scene needs is checked against them before upload
+/// (`validate::scene`), with an error naming the limit.
+fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
+    let mut limits = wgpu::Limits::default().using_resolution(adapter.clone());
+    limits.max_buffer_size = limits.max_buffer_size.max(adapter.max_buffer_size);
+    limits.max_storage_buffer_binding_size = (limits.max_storage_buffer_binding_size)
+        .max(adapter.max_storage_buffer_binding_size);
+    limits
 }
 
 /// How the device sizes its memory blocks: small ones (`MemoryUsage`: blocks of 8–64 MiB
