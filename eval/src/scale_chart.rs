@@ -63,6 +63,58 @@ fn x_range(rows: &[&ScaleRow]) -> std::ops::Range<f64> {
     (lo.min(hi) / 1.5).max(1.0)..hi * 1.5
 }
 
+/// A chart over the entities (log) and `y_desc` (log, up to `y_hi`), captioned `caption`.
+type LogLog<'a, DB> = ChartContext<'a, DB, Cartesian2d<LogCoord<f64>, LogCoord<f64>>>;
+
+fn log_log<'a, DB: DrawingBackend>(
+    area: &'a DrawingArea<DB, Shift>,
+    caption: &str,
+    rows: &[&ScaleRow],
+    y_hi: f64,
+    y_desc: &str,
+) -> Result<LogLog<'a, DB>, DrawingAreaErrorKind<DB::ErrorType>> {
+    let mut chart = ChartBuilder::on(area)
+        .caption(caption, (FONT, 20))
+        .margin(12)
+        .x_label_area_size(40)
+        .y_label_area_size(60)
+        .build_cartesian_2d(x_range(rows).log_scale(), (0.1..y_hi).log_scale())?;
+    chart
+        .configure_mesh()
+        .x_desc("entities")
+        .x_label_formatter(&|x| format!("{x:.0}"))
+        .y_desc(y_desc)
+        .label_style((FONT, 13))
+        .draw()?;
+    Ok(chart)
+}
+
+/// A labelled line through `points`, a dot at each.
+fn line<'a, DB: DrawingBackend + 'a>(
+    chart: &mut LogLog<'a, DB>,
+    name: &str,
+    c: RGBColor,
+    points: Vec<(f64, f64)>,
+) -> DrawResult<DB> {
+    chart
+        .draw_series(LineSeries::new(points.clone(), c.stroke_width(2)))?
+        .label(name)
+        .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], c.stroke_width(2)));
+    chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
+    Ok(())
+}
+
+/// The legend, bottom right.
+fn legend<'a, DB: DrawingBackend + 'a>(chart: &mut LogLog<'a, DB>) -> DrawResult<DB> {
+    chart
+        .configure_series_labels()
+        .position(SeriesLabelPosition::LowerRight)
+        .background_style(WHITE.mix(0.8))
+        .border_style(BLACK)
+        .label_font((FONT, 13))
+        .draw()
+}
+
 fn times<DB: DrawingBackend>(
     area: &DrawingArea<DB, Shift>,
     r: &ScaleReport,
@@ -78,22 +130,8 @@ fn times<DB: DrawingBackend>(
         .chain(reference.map(|f| f * 1.5))
         .fold(1.0, f64::max)
         * 2.0;
-    let mut chart = ChartBuilder::on(area)
-        .caption(
-            format!("Median ms against entities ({}×{})", r.size[0], r.size[1]),
-            (FONT, 20),
-        )
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x_range(rows).log_scale(), (0.1..y_hi).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("entities")
-        .x_label_formatter(&|x| format!("{x:.0}"))
-        .y_desc("ms")
-        .label_style((FONT, 13))
-        .draw()?;
+    let caption = format!("Median ms against entities ({}×{})", r.size[0], r.size[1]);
+    let mut chart = log_log(area, &caption, rows, y_hi, "ms")?;
     for k in 0..=CHARTED_PASSES.len() {
         let name = if k == 0 {
             "frame"
@@ -103,34 +141,21 @@ fn times<DB: DrawingBackend>(
         let points: Vec<(f64, f64)> = (rows.iter())
             .filter_map(|t| Some((t.entities as f64, value(t, k)?.max(0.1))))
             .collect();
-        let c = COLOURS[k];
-        chart
-            .draw_series(LineSeries::new(points.clone(), c.stroke_width(2)))?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], c.stroke_width(2)));
-        chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
+        line(&mut chart, name, COLOURS[k], points)?;
     }
     if let Some(base) = reference {
         let x = x_range(rows);
         for (f, label) in [(1.0, "reference frame"), (1.5, "1.5× reference")] {
-            let line = DashedLineSeries::new(
-                [(x.start, base * f), (x.end, base * f)],
-                6,
-                4,
-                BLACK.mix(0.6).stroke_width(1),
-            );
-            chart.draw_series(line)?.label(label).legend(|(x, y)| {
-                PathElement::new([(x, y), (x + 16, y)], BLACK.mix(0.6).stroke_width(1))
-            });
+            let style = BLACK.mix(0.6).stroke_width(1);
+            let dashed =
+                DashedLineSeries::new([(x.start, base * f), (x.end, base * f)], 6, 4, style);
+            chart
+                .draw_series(dashed)?
+                .label(label)
+                .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], style));
         }
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font((FONT, 13))
-        .draw()
+    legend(&mut chart)
 }
 
 fn memory<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, towns: &[ScaleRow]) -> DrawResult<DB> {
@@ -140,19 +165,7 @@ fn memory<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, towns: &[ScaleRow])
         .map(|t| mb(t.peak_resident_bytes.max(t.gpu_bytes)))
         .fold(1.0, f64::max)
         * 2.0;
-    let mut chart = ChartBuilder::on(area)
-        .caption("Memory against entities (MB)", (FONT, 20))
-        .margin(12)
-        .x_label_area_size(40)
-        .y_label_area_size(60)
-        .build_cartesian_2d(x_range(&rows).log_scale(), (0.1..y_hi).log_scale())?;
-    chart
-        .configure_mesh()
-        .x_desc("entities")
-        .x_label_formatter(&|x| format!("{x:.0}"))
-        .y_desc("MB")
-        .label_style((FONT, 13))
-        .draw()?;
+    let mut chart = log_log(area, "Memory against entities (MB)", &rows, y_hi, "MB")?;
     let series: [Series; 2] = [
         ("peak resident", COLOURS[0], |t| t.peak_resident_bytes),
         ("GPU buffers", COLOURS[1], |t| t.gpu_bytes),
@@ -162,17 +175,7 @@ fn memory<DB: DrawingBackend>(area: &DrawingArea<DB, Shift>, towns: &[ScaleRow])
             .filter(|t| get(t) > 0)
             .map(|t| (t.entities as f64, mb(get(t))))
             .collect();
-        chart
-            .draw_series(LineSeries::new(points.clone(), c.stroke_width(2)))?
-            .label(name)
-            .legend(move |(x, y)| PathElement::new([(x, y), (x + 16, y)], c.stroke_width(2)));
-        chart.draw_series(points.iter().map(|&p| Circle::new(p, 4, c.filled())))?;
+        line(&mut chart, name, c, points)?;
     }
-    chart
-        .configure_series_labels()
-        .position(SeriesLabelPosition::LowerRight)
-        .background_style(WHITE.mix(0.8))
-        .border_style(BLACK)
-        .label_font((FONT, 13))
-        .draw()
+    legend(&mut chart)
 }

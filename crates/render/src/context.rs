@@ -287,8 +287,8 @@ fn record_device_for_test_plan() {
 fn required_limits(adapter: &wgpu::Limits) -> wgpu::Limits {
     let mut limits = wgpu::Limits::default().using_resolution(adapter.clone());
     limits.max_buffer_size = limits.max_buffer_size.max(adapter.max_buffer_size);
-    limits.max_storage_buffer_binding_size = (limits.max_storage_buffer_binding_size)
-        .max(adapter.max_storage_buffer_binding_size);
+    limits.max_storage_buffer_binding_size =
+        (limits.max_storage_buffer_binding_size).max(adapter.max_storage_buffer_binding_size);
     limits
 }
 
