@@ -4,9 +4,15 @@
 use std::process::Command;
 
 use texel_eval::scale::ScaleReport;
+use texel_render::context::test_context;
 
 #[test]
 fn scale_measures_each_town_and_the_reference_and_writes_table_and_chart() {
+    // The device here names this test in the test plan's record on every driver (the
+    // measurements run in processes of their own, which the second pass cannot name).
+    if test_context().is_none() {
+        return;
+    }
     let out = tempfile::tempdir().expect("tempdir");
     // The reference's walk, short: two frames into the circle.
     let walk = out.path().join("in.ron");
