@@ -1,0 +1,175 @@
+//! The scene's parent–child links ([`crate::hierarchy`]): who is whose parent, the local
+//! transforms a level file holds, and children following their parent.
+
+use hecs::Entity;
+
+use super::Scene;
+use crate::components::{Name, Transform};
+use crate::hierarchy::{self, Local, MAX_DEPTH, Parent};
+
+impl Scene {
+    /// `e`'s parent, if it has one that is alive.
+    pub fn parent(&self, e: Entity) -> Option<Entity> {
+        let p = self.world.get::<&Parent>(e).ok()?.0;
+        self.world.contains(p).then_some(p)
+    }
+
+    /// Whether any entity has a parent.
+    pub fn has_hierarchy(&self) -> bool {
+        self.world.query::<&Parent>().iter().next().is_some()
+    }
+
+    /// `e`'s children, in level order.
+    pub fn children(&self, e: Entity) -> Vec<Entity> {
+        let mut kids: Vec<Entity> = self
+            .world
+            .query::<(Entity, &Parent)>()
+            .iter()
+            .filter(|(_, p)| p.0 == e)
+            .map(|(c, _)| c)
+            .collect();
+        if kids.len() > 1 {
+            let at = |k: &Entity| self.order.iter().position(|o| o == k);
+            kids.sort_by_key(at);
+        }
+        kids
+    }
+
+    /// Every descendant of `e`, each after its parent (children in level order).
+    pub fn descendants(&self, e: Entity) -> Vec<Entity> {
+        if !self.has_hierarchy() {
+            return Vec::new();
+        }
+        let mut out = Vec::new();
+        let mut stack = vec![e];
+        while let Some(at) = stack.pop() {
+            let kids = self.children(at);
+            for k in kids.iter().rev() {
+                if *k != e && !out.contains(k) {
+                    stack.push(*k);
+                }
+            }
+            if at != e {
+                out.push(at);
+            }
+        }
+        out
+    }
+
+    /// Whether `a` is `e`'s parent, its parent's parent, ….
+    pub fn is_ancestor(&self, a: Entity, e: Entity) -> bool {
+        let mut at = self.parent(e);
+        for _ in 0..=MAX_DEPTH {
+            match at {
+                Some(p) if p == a => return true,
+                Some(p) => at = self.parent(p),
+                None => return false,
+            }
+        }
+        false
+    }
+
+    /// How many ancestors `e` has.
+    pub fn depth(&self, e: Entity) -> usize {
+        let mut n = 0;
+        let mut at = self.parent(e);
+        while let Some(p) = at {
+            n += 1;
+            if n > MAX_DEPTH {
+                break;
+            }
+            at = self.parent(p);
+        }
+        n
+    }
+
+    /// `e`'s transform relative to its parent (as a level file holds it): its world
+    /// transform for a root; `None` without a transform.
+    pub fn local_transform(&self, e: Entity) -> Option<Transform> {
+        let world = *self.world.get::<&Transform>(e).ok()?;
+        let Some(p) = self.parent(e) else {
+            return Some(world);
+        };
+        let parent_world = self.world_of(p);
+        if let Ok(l) = self.world.get::<&Local>(e)
+            && l.world == world
+            && l.parent_world == parent_world
+        {
+            return Some(l.local);
+        }
+        Some(hierarchy::relative(&parent_world, &world))
+    }
+
+    /// `e`'s world transform (identity without one).
+    fn world_of(&self, e: Entity) -> Transform {
+        self.world
+            .get::<&Transform>(e)
+            .map_or(Transform::default(), |t| *t)
+    }
+
+    /// Makes `parent` `child`'s parent; `local` is the child's transform relative to it,
+    /// when known exactly (read from a file).
+    pub(super) fn link(&mut self, child: Entity, parent: Entity, local: Option<Transform>) {
+        let _ = self.world.insert_one(child, Parent(parent));
+        if let (Some(local), Ok(world)) = (local, self.world.get::<&Transform>(child).map(|t| *t)) {
+            let parent_world = self.world_of(parent);
+            let cache = Local {
+                local,
+                world,
+                parent_world,
+            };
+            let _ = self.world.insert_one(child, cache);
+        }
+    }
+
+    /// Links `e` to the first entity named `name` (in level order), unless that is `e`, one
+    /// of its descendants, or would make a chain deeper than [`MAX_DEPTH`]: `e` is then a
+    /// root.
+    pub(super) fn set_parent_named(&mut self, e: Entity, name: Option<&Name>) {
+        let found = name.and_then(|name| {
+            self.order
+                .iter()
+                .copied()
+                .find(|&o| o != e && self.world.get::<&Name>(o).is_ok_and(|n| n.0 == name.0))
+        });
+        let new = found.filter(|&p| !self.is_ancestor(e, p) && self.depth(p) < MAX_DEPTH);
+        if new.is_some() && new == self.parent(e) {
+            // The same parent: the exact local transform stays while it is true.
+            return;
+        }
+        let _ = self.world.remove_one::<Parent>(e);
+        let _ = self.world.remove_one::<Local>(e);
+        if let Some(p) = new {
+            self.link(e, p, None);
+        }
+    }
+
+    /// The local transform of every descendant of `e`, parents first, before `e` changes.
+    pub(super) fn descendant_locals(&self, e: Entity) -> Vec<(Entity, Option<Transform>)> {
+        self.descendants(e)
+            .into_iter()
+            .map(|d| (d, self.local_transform(d)))
+            .collect()
+    }
+
+    /// Places each of `below` (parents first) at its local transform in its parent's
+    /// frame, as it is now.
+    pub(super) fn place_descendants(&mut self, below: Vec<(Entity, Option<Transform>)>) {
+        for (d, local) in below {
+            let (Some(local), Some(p)) = (local, self.parent(d)) else {
+                continue;
+            };
+            let parent_world = self.world_of(p);
+            let world = hierarchy::compose(&parent_world, &local);
+            if let Ok(mut t) = self.world.get::<&mut Transform>(d) {
+                *t = world;
+            }
+            let cache = Local {
+                local,
+                world,
+                parent_world,
+            };
+            let _ = self.world.insert_one(d, cache);
+        }
+    }
+}

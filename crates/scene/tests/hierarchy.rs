@@ -1,0 +1,187 @@
+//! Parent–child transforms in levels: round trips, refused parents, world transforms.
+
+use std::path::Path;
+
+use glam::Vec3;
+use texel_scene::{EntityRow, ErrorKind, Level, LevelError, Name, Scene, Transform};
+
+const STALL: &str = r#"(
+    version: 3,
+    entities: [
+        (
+            name: "lamp",
+            parent: "stall",
+            transform: (translation: (1.0, 2.0, 0.5), rotation: (0.0, 30.0, 0.0), scale: (0.5, 0.5, 0.5)),
+            geometry: Sphere(radius: 0.25),
+        ),
+        (
+            name: "stall",
+            transform: (translation: (10.0, 0.0, -4.0), rotation: (0.0, 90.0, 0.0), scale: (2.0, 2.0, 2.0)),
+        ),
+        (
+            name: "awning",
+            parent: "stall",
+            transform: (translation: (0.0, 1.5, 0.0), rotation: (10.0, 0.0, 0.0), scale: (1.0, 0.1, 1.0)),
+            geometry: Box(size: (2.0, 1.0, 1.0)),
+        ),
+        (
+            name: "cat",
+            parent: "awning",
+            transform: (translation: (0.3, 5.0, 0.0), rotation: (0.0, 0.0, 0.0), scale: (1.0, 1.0, 1.0)),
+        ),
+    ],
+)"#;
+
+fn path() -> &'static Path {
+    Path::new("market.ron")
+}
+
+fn world(scene: &Scene, name: &str) -> Transform {
+    let e = scene
+        .entities()
+        .find(|&e| scene.world().get::<&Name>(e).is_ok_and(|n| n.0 == name))
+        .expect(name);
+    *scene.world().get::<&Transform>(e).expect("transform")
+}
+
+fn close(a: Vec3, b: Vec3) -> bool {
+    (a - b).abs().max_element() < 1e-4
+}
+
+/// Saved, loaded and saved again, a hierarchy gives the same bytes; the children come
+/// before their parent in the file and stay so.
+#[test]
+fn a_hierarchy_round_trips_byte_identical() {
+    let level = Level::from_ron_str(STALL, path()).expect("parses");
+    assert_eq!(level.entities[0].parent, Some(Name("stall".into())));
+    let scene = Scene::from_level(&level);
+    assert_eq!(
+        scene.to_level(),
+        level,
+        "the scene gives the file's rows back"
+    );
+    let text = scene.to_level().to_ron_string(path()).expect("saves");
+    assert!(text.contains("parent: \"stall\""), "{text}");
+    let again = Scene::from_level(&Level::from_ron_str(&text, path()).expect("reloads"));
+    assert_eq!(again.to_level().to_ron_string(path()).expect("saves"), text);
+    // On disk too.
+    let dir = tempfile::tempdir().expect("tmp");
+    let file = dir.path().join("market.ron");
+    scene.save(&file).expect("save");
+    assert_eq!(Scene::load(&file).expect("load").to_level(), level);
+}
+
+/// The scene's transforms are world transforms: a rotated, scaled parent carries its
+/// children, and their children.
+#[test]
+fn world_transforms_compose_through_the_chain() {
+    let scene = Scene::from_level(&Level::from_ron_str(STALL, path()).expect("parses"));
+    let lamp = world(&scene, "lamp");
+    // Parent: at (10, 0, −4), turned 90° about Y (X goes to −Z), scale 2.
+    assert!(
+        close(lamp.translation, Vec3::new(11.0, 4.0, -6.0)),
+        "{lamp:?}"
+    );
+    assert!(close(lamp.rotation, Vec3::new(0.0, 120.0, 0.0)), "{lamp:?}");
+    assert!(close(lamp.scale, Vec3::splat(1.0)), "{lamp:?}");
+    // Every point agrees with the product of the chain's matrices.
+    let t = |s: &str| {
+        let l = Level::from_ron_str(STALL, path()).expect("parses");
+        let row = l.entities.iter().find(|r| r.name.as_ref().unwrap().0 == s);
+        row.and_then(|r| r.transform).expect("transform").matrix()
+    };
+    let chain = t("stall") * t("awning") * t("cat");
+    let cat = world(&scene, "cat");
+    for p in [Vec3::ZERO, Vec3::X, Vec3::new(0.2, -0.4, 0.9)] {
+        let d = cat.matrix().transform_point3(p) - chain.transform_point3(p);
+        assert!(d.length() < 1e-3, "{p}: {d}");
+    }
+}
+
+/// Moving a parent moves its children and grandchildren with it, their local transforms
+/// unchanged; a new parent keeps a child's world placement; the saved file is relative.
+#[test]
+fn children_follow_and_reparenting_keeps_the_world_placement() {
+    let mut scene = Scene::from_level(&Level::from_ron_str(STALL, path()).expect("parses"));
+    let before = scene.to_level();
+    let stall = scene.entities().nth(1).expect("stall");
+    let mut row = scene.row(stall).expect("row");
+    let cat_world = world(&scene, "cat");
+    row.transform.as_mut().expect("t").translation += Vec3::new(0.0, 3.0, 0.0);
+    scene.set_row(stall, row).expect("set");
+    assert!(close(
+        world(&scene, "cat").translation,
+        cat_world.translation + Vec3::Y * 3.0
+    ));
+    let after = scene.to_level();
+    for i in [0, 2, 3] {
+        assert_eq!(after.entities[i], before.entities[i], "row {i} unchanged");
+    }
+    // The cat goes to the lamp: same world place, a new local transform.
+    let cat = scene.entities().nth(3).expect("cat");
+    let cat_world = world(&scene, "cat");
+    let mut row = scene.row(cat).expect("row");
+    row.parent = Some(Name("lamp".into()));
+    scene.set_row(cat, row).expect("reparent");
+    assert_eq!(world(&scene, "cat"), cat_world);
+    assert_eq!(scene.parent(cat), scene.entities().next());
+    let saved = scene.to_level();
+    assert_eq!(saved.entities[3].parent, Some(Name("lamp".into())));
+    let reloaded = Scene::from_level(
+        &Level::from_ron_str(&saved.to_ron_string(path()).expect("save"), path()).expect("load"),
+    );
+    let w = world(&reloaded, "cat");
+    assert!(close(w.translation, cat_world.translation), "{w:?}");
+    // A row may not become its own descendant's child: it stays a root.
+    let stall_row = EntityRow {
+        parent: Some(Name("cat".into())),
+        ..scene.row(stall).expect("row")
+    };
+    scene.set_row(stall, stall_row).expect("set");
+    assert_eq!(scene.parent(stall), None);
+}
+
+fn error(text: &str) -> String {
+    let e = Level::from_ron_str(text, path()).expect_err("refused");
+    assert!(matches!(e, LevelError::Parent { .. }), "{e:?}");
+    assert_eq!(e.kind(), Some(ErrorKind::InvalidValue));
+    e.to_string()
+}
+
+#[test]
+fn missing_shared_cyclic_and_moving_parents_are_refused_by_name() {
+    let missing = STALL.replace("parent: \"awning\"", "parent: \"awnin\"");
+    let m = error(&missing);
+    assert_eq!(
+        m,
+        "market.ron: entity 3 (cat): parent: no entity is named \"awnin\""
+    );
+    let cycle = STALL.replace(
+        "name: \"stall\",",
+        "name: \"stall\",\n            parent: \"cat\",",
+    );
+    let m = error(&cycle);
+    assert!(
+        m.starts_with("market.ron: entity 0 (lamp): parent: a cycle"),
+        "{m}"
+    );
+    let shared = STALL.replace("name: \"lamp\"", "name: \"stall\"");
+    assert!(error(&shared).contains("2 entities are named \"stall\""));
+    let moving = STALL.replace(
+        "geometry: Box(size: (2.0, 1.0, 1.0)),",
+        "geometry: Box(size: (2.0, 1.0, 1.0)),\n            animator: (motion: Rotate(axis: (0.0, 1.0, 0.0), speed: 30.0)),",
+    );
+    assert!(error(&moving).contains("entity 3 (cat): parent: parent \"awning\" has an animator"));
+    // Saving a scene built in code checks the same.
+    let mut level = Level::from_ron_str(STALL, path()).expect("parses");
+    level.entities[1].name = Some(Name("booth".into()));
+    let e = level.to_ron_string(path()).expect_err("refused");
+    assert!(
+        e.to_string().contains("no entity is named \"stall\""),
+        "{e}"
+    );
+    // And a scene still builds from it, the orphans at the root.
+    let scene = Scene::from_level(&level);
+    assert_eq!(scene.len(), 4);
+    assert_eq!(scene.parent(scene.entities().next().expect("lamp")), None);
+}
