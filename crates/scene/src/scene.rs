@@ -132,6 +132,7 @@ impl Scene {
         let e = self.world.spawn(build(row).build());
         self.order.push(e);
         self.set_parent_named(e, parent.as_ref());
+        self.adopt_pending(e);
         e
     }
 
@@ -142,6 +143,7 @@ impl Scene {
         self.order.retain(|o| self.world.contains(*o));
         self.order.insert(index.min(self.order.len()), e);
         self.set_parent_named(e, parent.as_ref());
+        self.adopt_pending(e);
         e
     }
 
@@ -165,11 +167,7 @@ impl Scene {
         let r = self.world.entity(e).ok()?;
         Some(EntityRow {
             name: r.get::<&Name>().map(|c| (*c).clone()),
-            parent: self.parent(e).map(|p| {
-                self.world
-                    .get::<&Name>(p)
-                    .map_or(Name(String::new()), |n| (*n).clone())
-            }),
+            parent: self.parent_name(e),
             transform: r.get::<&Transform>().map(|c| *c),
             geometry: r.get::<&Geometry>().map(|c| (*c).clone()),
             material: r.get::<&Material>().map(|c| (*c).clone()),
@@ -200,12 +198,14 @@ impl Scene {
             .map_err(|_| hecs::NoSuchEntity)?;
         self.set_parent_named(e, parent.as_ref());
         self.place_descendants(below);
+        self.adopt_pending(e);
         Ok(())
     }
 }
 
 fn remove_each(world: &mut World, e: Entity) {
     let _ = world.remove_one::<Name>(e);
+    let _ = world.remove_one::<tree::Pending>(e);
     let _ = world.remove_one::<Transform>(e);
     let _ = world.remove_one::<Geometry>(e);
     let _ = world.remove_one::<Material>(e);

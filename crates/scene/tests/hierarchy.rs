@@ -185,3 +185,30 @@ fn missing_shared_cyclic_and_moving_parents_are_refused_by_name() {
     assert_eq!(scene.len(), 4);
     assert_eq!(scene.parent(scene.entities().next().expect("lamp")), None);
 }
+
+/// Rows given to the scene in any order link up: a child that names a parent not yet
+/// there waits for it (as when a deleted group and its children come back by undo).
+#[test]
+fn a_child_spawned_before_its_parent_waits_for_it() {
+    let level = Level::from_ron_str(STALL, path()).expect("parses");
+    let scene = Scene::from_level(&level);
+    let rows: Vec<EntityRow> = scene.entities().filter_map(|e| scene.row(e)).collect();
+    let mut again = Scene::new();
+    for r in rows.iter().rev() {
+        again.spawn(r.clone());
+    }
+    let cat = again.entities().next().expect("cat");
+    assert_eq!(
+        again.row(cat).and_then(|r| r.parent),
+        Some(Name("awning".into()))
+    );
+    assert!(again.parent(cat).is_some(), "linked when the awning came");
+    let mut saved = again.to_level();
+    saved.entities.reverse();
+    for (a, b) in saved.entities.iter().zip(&level.entities) {
+        assert_eq!(a.parent, b.parent);
+        let (ta, tb) = (a.transform.expect("t"), b.transform.expect("t"));
+        assert!(close(ta.translation, tb.translation), "{ta:?} {tb:?}");
+        assert!(close(ta.rotation, tb.rotation), "{ta:?} {tb:?}");
+    }
+}

@@ -7,6 +7,11 @@ use super::Scene;
 use crate::components::{Name, Transform};
 use crate::hierarchy::{self, Local, MAX_DEPTH, Parent};
 
+/// A parent named by a row, not yet in the scene: linked when an entity of that name comes
+/// ([`Scene::spawn`]), so rows may arrive in any order.
+#[derive(Debug, Clone, PartialEq, Eq)]
+pub(crate) struct Pending(pub Name);
+
 impl Scene {
     /// `e`'s parent, if it has one that is alive.
     pub fn parent(&self, e: Entity) -> Option<Entity> {
@@ -133,6 +138,7 @@ impl Scene {
                 .find(|&o| o != e && self.world.get::<&Name>(o).is_ok_and(|n| n.0 == name.0))
         });
         let new = found.filter(|&p| !self.is_ancestor(e, p) && self.depth(p) < MAX_DEPTH);
+        let _ = self.world.remove_one::<Pending>(e);
         if new.is_some() && new == self.parent(e) {
             // The same parent: the exact local transform stays while it is true.
             return;
@@ -141,7 +147,39 @@ impl Scene {
         let _ = self.world.remove_one::<Local>(e);
         if let Some(p) = new {
             self.link(e, p, None);
+        } else if let (Some(name), None) = (name, found) {
+            let _ = self.world.insert_one(e, Pending(name.clone()));
         }
+    }
+
+    /// Links to `e` the entities waiting for a parent of `e`'s name (spawned before it, as
+    /// when a delete of a group and its children is undone), where they are.
+    pub(super) fn adopt_pending(&mut self, e: Entity) {
+        let Ok(name) = self.world.get::<&Name>(e).map(|n| n.0.clone()) else {
+            return;
+        };
+        let waiting: Vec<Entity> = self
+            .world
+            .query::<(Entity, &Pending)>()
+            .iter()
+            .filter(|(c, p)| *c != e && p.0.0 == name)
+            .map(|(c, _)| c)
+            .collect();
+        for c in waiting {
+            let _ = self.world.remove_one::<Pending>(c);
+            if !self.is_ancestor(c, e) && c != e && self.depth(e) < MAX_DEPTH {
+                self.link(c, e, None);
+            }
+        }
+    }
+
+    /// The name of `e`'s parent, or of the parent it waits for.
+    pub(super) fn parent_name(&self, e: Entity) -> Option<Name> {
+        if let Some(p) = self.parent(e) {
+            let name = self.world.get::<&Name>(p).map(|n| (*n).clone());
+            return Some(name.unwrap_or(Name(String::new())));
+        }
+        self.world.get::<&Pending>(e).ok().map(|p| p.0.clone())
     }
 
     /// The local transform of every descendant of `e`, parents first, before `e` changes.
