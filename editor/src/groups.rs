@@ -92,8 +92,14 @@ impl EditorState {
     }
 
     /// The name the entity at `index` is known by as a parent: its own when no other entity
-    /// has it, else a new unique one, set by a step pushed onto `steps`.
-    fn parent_name(&self, index: usize, steps: &mut Vec<Command>) -> Result<Name, CommandError> {
+    /// has it, else a new unique one, set at once by a step pushed onto `steps` (so the rows
+    /// read after it, which name the parent, name it as the later steps find it; running
+    /// the step again with the batch changes nothing).
+    fn parent_name(
+        &mut self,
+        index: usize,
+        steps: &mut Vec<Command>,
+    ) -> Result<Name, CommandError> {
         let row = self.row_at(index).ok_or_else(|| no_entity(index))?;
         let base = row.name.as_ref().map_or("Group", |n| n.0.as_str()).trim();
         let base = if base.is_empty() { "Group" } else { base };
@@ -105,8 +111,33 @@ impl EditorState {
             name: Some(Name(name.clone())),
             ..row.clone()
         };
-        steps.push(set_row(index, row, after));
+        let rename = set_row(index, row, after);
+        let (scene, assets) = self.document.parts_mut();
+        rename.execute(scene, assets)?;
+        steps.push(rename);
         Ok(Name(name))
+    }
+
+    /// Applies `steps` as one undo step named `label`; when that fails, the renames
+    /// [`EditorState::parent_name`] already ran (the first of the steps) are taken back.
+    fn apply_steps(
+        &mut self,
+        label: &'static str,
+        steps: Vec<Command>,
+    ) -> Result<(), CommandError> {
+        let renames: Vec<Command> = steps
+            .iter()
+            .take_while(|c| matches!(c, Command::SetRow { before, after, .. } if before.name != after.name && before.parent == after.parent))
+            .cloned()
+            .collect();
+        let result = self.apply(Command::Batch { label, steps }, None);
+        if result.is_err() {
+            let (scene, assets) = self.document.parts_mut();
+            for r in renames.iter().rev() {
+                let _ = r.revert(scene, assets);
+            }
+        }
+        result
     }
 
     /// Makes the entity at `parent` (or the root, for `None`) the parent of the entities at
@@ -167,13 +198,7 @@ impl EditorState {
         if steps.is_empty() {
             return Ok(());
         }
-        self.apply(
-            Command::Batch {
-                label: "reparent",
-                steps,
-            },
-            None,
-        )?;
+        self.apply_steps("reparent", steps)?;
         self.select_many(moved.iter().copied(), self.selection);
         Ok(())
     }
@@ -240,13 +265,7 @@ impl EditorState {
             // The group went in at `first`, before every one of them.
             steps.push(set_row(i + 1, before, after));
         }
-        self.apply(
-            Command::Batch {
-                label: "group",
-                steps,
-            },
-            None,
-        )?;
+        self.apply_steps("group", steps)?;
         self.select_only(first);
         Ok(())
     }
@@ -304,13 +323,7 @@ impl EditorState {
                 row: Box::new(row),
             });
         }
-        self.apply(
-            Command::Batch {
-                label: "ungroup",
-                steps,
-            },
-            None,
-        )?;
+        self.apply_steps("ungroup", steps)?;
         let kept = moves
             .iter()
             .map(|&(c, _)| c - doomed.iter().filter(|&&g| g < c).count());
@@ -408,5 +421,110 @@ fn label(scene: &Scene, e: Entity) -> String {
     match scene.world().get::<&Name>(e) {
         Ok(n) => format!("\"{}\"", n.0),
         Err(_) => format!("entity {}", scene.index_of(e).unwrap_or(0)),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::document::Document;
+
+    fn at(name: &str, x: f32) -> EntityRow {
+        EntityRow {
+            name: Some(Name(name.into())),
+            transform: Some(Transform::from_translation(Vec3::new(x, 0.0, 0.0))),
+            ..EntityRow::default()
+        }
+    }
+
+    fn names(s: &EditorState) -> Vec<(String, Option<String>)> {
+        let level = s.scene().to_level();
+        (level.entities.iter())
+            .map(|r| {
+                let n = r.name.as_ref().map_or(String::new(), |n| n.0.clone());
+                (n, r.parent.as_ref().map(|p| p.0.clone()))
+            })
+            .collect()
+    }
+
+    /// A parent whose name another entity shares is renamed in the same undo step, and undo
+    /// and redo link each child to the right one.
+    #[test]
+    fn a_shared_name_is_made_unique_in_the_same_step() {
+        let mut s = EditorState::new(Document::new_empty());
+        for row in [at("Crate", 0.0), at("Crate", 5.0), at("Ball", 6.0)] {
+            s.add(row).expect("add");
+        }
+        let before = s.scene().to_level();
+        let n = s.history.undo_len();
+        s.reparent(&[2], Some(1)).expect("reparent");
+        assert_eq!(s.history.undo_len(), n + 1, "one step");
+        let want = vec![
+            ("Crate".to_owned(), None),
+            ("Crate 2".to_owned(), None),
+            ("Ball".to_owned(), Some("Crate 2".to_owned())),
+        ];
+        assert_eq!(names(&s), want);
+        let ball = s.scene().to_level().entities[2].transform.expect("t");
+        assert_eq!(ball.translation, Vec3::X, "relative to its crate");
+        s.undo().expect("undo");
+        assert_eq!(s.scene().to_level(), before);
+        s.redo().expect("redo");
+        assert_eq!(names(&s), want);
+        // Ungroup the second crate: the ball back at the root, where it was.
+        s.select_only(1);
+        s.ungroup_selection().expect("ungroup");
+        assert_eq!(
+            names(&s),
+            [("Crate".to_owned(), None), ("Ball".to_owned(), None)]
+        );
+        assert_eq!(
+            s.row_at(1).and_then(|r| r.transform),
+            Some(at("", 6.0).transform.expect("t"))
+        );
+        s.undo().expect("undo");
+        assert_eq!(names(&s), want);
+    }
+
+    /// Grouping members of a group puts the new group inside it; a moving entity cannot
+    /// take children.
+    #[test]
+    fn a_group_of_siblings_stays_in_their_parent_and_animated_parents_are_refused() {
+        let mut s = EditorState::new(Document::new_empty());
+        for row in [at("Shelf", 1.0), at("Jar", 2.0), at("Pot", 4.0)] {
+            s.add(row).expect("add");
+        }
+        s.reparent(&[1, 2], Some(0)).expect("reparent");
+        s.select_many([1, 2], None);
+        s.group_selection().expect("group");
+        assert_eq!(
+            names(&s),
+            [
+                ("Shelf".to_owned(), None),
+                ("Group".to_owned(), Some("Shelf".to_owned())),
+                ("Jar".to_owned(), Some("Group".to_owned())),
+                ("Pot".to_owned(), Some("Group".to_owned())),
+            ]
+        );
+        let group = s.row_at(1).and_then(|r| r.transform).expect("t");
+        assert_eq!(
+            group.translation,
+            Vec3::new(3.0, 0.0, 0.0),
+            "at their centre"
+        );
+        let mut shelf = s.row_at(0).expect("row");
+        shelf.animator = Some(texel_scene::animator::Animator {
+            motion: texel_scene::animator::Motion::Rotate {
+                axis: Vec3::Y,
+                speed: 10.0,
+            },
+            phase: 0.0,
+        });
+        s.add(at("Lid", 0.0)).expect("add");
+        s.set_row(0, shelf, None).expect("animate");
+        let steps = s.history.undo_len();
+        let e = s.reparent(&[4], Some(0)).expect_err("refused");
+        assert!(e.0.contains("animator"), "{e}");
+        assert_eq!(s.history.undo_len(), steps);
     }
 }

@@ -174,6 +174,12 @@ fn edit_row(
             row.name = (!name.is_empty()).then(|| Name(name.clone()));
         }
     });
+    // The parent is changed in the hierarchy (drag a row); here it is only shown.
+    match (&row.parent, mixed.has("parent")) {
+        (_, true) => drop(ui.weak("In group: \u{2014}")),
+        (Some(p), false) => drop(ui.label(format!("In group: {} (transform in the world)", p.0))),
+        (None, false) => {}
+    }
     let title = |t: &str, key: &str| format!("{t}{}", mixed.note(key));
     section_with(
         ui,
