@@ -31,13 +31,18 @@ impl EditorState {
         if !scene.has_hierarchy() {
             return indices.to_vec();
         }
+        let ents: Vec<Entity> = scene.entities().collect();
+        let roots: Vec<Entity> = indices
+            .iter()
+            .filter_map(|&i| ents.get(i).copied())
+            .collect();
+        let below = scene.descendants_of(&roots);
+        if below.is_empty() {
+            return indices.to_vec();
+        }
         let at = positions(scene);
         let mut out: BTreeSet<usize> = indices.iter().copied().collect();
-        for &i in indices {
-            if let Ok(e) = entity_at(scene, i) {
-                out.extend(scene.descendants(e).iter().filter_map(|d| at.get(d)));
-            }
-        }
+        out.extend(below.iter().filter_map(|d| at.get(d)));
         out.into_iter().collect()
     }
 

@@ -154,8 +154,8 @@ impl EditorState {
         let mut rows = rows;
         if self.scene().has_hierarchy() {
             let scene = self.scene();
-            let depth =
-                |i: usize| crate::command::entity_at(scene, i).map_or(0, |e| scene.depth(e));
+            let ents: Vec<hecs::Entity> = scene.entities().collect();
+            let depth = |i: usize| ents.get(i).map_or(0, |e| scene.depth(*e));
             rows.sort_by_cached_key(|(i, _)| depth(*i));
         }
         for (index, after) in rows {

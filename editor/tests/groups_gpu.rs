@@ -16,8 +16,15 @@ fn frame(level: &LoadedLevel) -> (UVec2, Vec<u8>) {
     let camera = support::camera().camera();
     let mut out = (UVec2::ZERO, Vec::new());
     for _ in 0..4 {
-        out = (gpu.render_pixels(level, 0, camera, UVec2::new(160, 120), Schedule::Ours, 0.016))
-            .expect("render");
+        out = (gpu.render_pixels(
+            level,
+            0,
+            camera,
+            UVec2::new(160, 120),
+            Schedule::Ours,
+            0.016,
+        ))
+        .expect("render");
     }
     out
 }
@@ -47,7 +54,11 @@ fn a_grouped_level_draws_as_its_flattened_twin() {
     let inner_world = texel_scene::hierarchy::compose(&ring, &inner);
     level.entities.insert(1, named("Ring", None, ring));
     level.entities.insert(2, named("Top", Some("Ring"), inner));
-    for (i, parent, frame) in [(3, "Ring", ring), (4, "Ring", ring), (5, "Top", inner_world)] {
+    for (i, parent, frame) in [
+        (3, "Ring", ring),
+        (4, "Ring", ring),
+        (5, "Top", inner_world),
+    ] {
         let row = &mut level.entities[i];
         let world = row.transform.expect("a stone has a transform");
         row.transform = Some(relative(&frame, &world));
@@ -74,7 +85,15 @@ fn a_grouped_level_draws_as_its_flattened_twin() {
     let b = frame(&with(Scene::from_level(&flat)));
     assert_eq!(a.0, b.0);
     let first = &a.1[..4];
-    assert!(a.1.chunks(4).any(|p| p != first), "the frame shows something");
-    let off = (a.1.chunks(4).zip(b.1.chunks(4))).filter(|(p, q)| p != q).count();
-    assert_eq!(off, 0, "{off} pixels differ between the grouped and the flat level");
+    assert!(
+        a.1.chunks(4).any(|p| p != first),
+        "the frame shows something"
+    );
+    let off = (a.1.chunks(4).zip(b.1.chunks(4)))
+        .filter(|(p, q)| p != q)
+        .count();
+    assert_eq!(
+        off, 0,
+        "{off} pixels differ between the grouped and the flat level"
+    );
 }

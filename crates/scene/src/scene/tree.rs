@@ -1,6 +1,8 @@
 //! The scene's parent–child links ([`crate::hierarchy`]): who is whose parent, the local
 //! transforms a level file holds, and children following their parent.
 
+use std::collections::{HashMap, HashSet};
+
 use hecs::Entity;
 
 use super::Scene;
@@ -42,20 +44,45 @@ impl Scene {
 
     /// Every descendant of `e`, each after its parent (children in level order).
     pub fn descendants(&self, e: Entity) -> Vec<Entity> {
-        if !self.has_hierarchy() {
+        self.descendants_of(&[e])
+    }
+
+    /// Every descendant of the entities `roots` (those not among them), each once, after
+    /// its parent: one pass over the links, however many roots.
+    pub fn descendants_of(&self, roots: &[Entity]) -> Vec<Entity> {
+        let links: Vec<(Entity, Entity)> = self
+            .world
+            .query::<(Entity, &Parent)>()
+            .iter()
+            .map(|(c, p)| (p.0, c))
+            .collect();
+        if links.is_empty() {
             return Vec::new();
         }
+        let pos: HashMap<Entity, usize> = self
+            .order
+            .iter()
+            .enumerate()
+            .map(|(i, e)| (*e, i))
+            .collect();
+        let mut kids: HashMap<Entity, Vec<Entity>> = HashMap::new();
+        for (p, c) in links {
+            kids.entry(p).or_default().push(c);
+        }
+        for v in kids.values_mut() {
+            v.sort_by_key(|k| pos.get(k).copied().unwrap_or(usize::MAX));
+        }
+        let mut seen: HashSet<Entity> = roots.iter().copied().collect();
         let mut out = Vec::new();
-        let mut stack = vec![e];
-        while let Some(at) = stack.pop() {
-            let kids = self.children(at);
-            for k in kids.iter().rev() {
-                if *k != e && !out.contains(k) {
-                    stack.push(*k);
+        for &r in roots {
+            let mut stack: Vec<Entity> =
+                kids.get(&r).into_iter().flatten().rev().copied().collect();
+            while let Some(at) = stack.pop() {
+                if !seen.insert(at) {
+                    continue;
                 }
-            }
-            if at != e {
                 out.push(at);
+                stack.extend(kids.get(&at).into_iter().flatten().rev().copied());
             }
         }
         out
