@@ -216,6 +216,12 @@ pub(crate) fn resolve(rows: &[EntityRow]) -> (Vec<Option<usize>>, Vec<Option<Tra
     (parents, world.into_iter().map(Option::flatten).collect())
 }
 
+/// Each row's world transform (its parents' composed with its own), resolved as
+/// [`crate::Scene::from_level`] does.
+pub fn world_transforms(rows: &[EntityRow]) -> Vec<Option<Transform>> {
+    resolve(rows).1
+}
+
 /// Parents by the first row of each name (for rows that name missing or shared parents).
 fn lenient_parents(rows: &[EntityRow]) -> Vec<Option<usize>> {
     let mut by_name: HashMap<&str, usize> = HashMap::new();
