@@ -46,6 +46,13 @@ impl EditorState {
         out.into_iter().collect()
     }
 
+    /// Whether the entity at `index` has children.
+    pub fn has_children(&self, index: usize) -> bool {
+        let scene = self.scene();
+        scene.has_hierarchy()
+            && entity_at(scene, index).is_ok_and(|e| !scene.children(e).is_empty())
+    }
+
     /// The position of the parent of the entity at `index`.
     pub fn parent_of(&self, index: usize) -> Option<usize> {
         let scene = self.scene();

@@ -325,6 +325,20 @@ fn delete_duplicate_copy_and_paste_carry_a_groups_children() {
 }
 
 #[test]
+fn a_group_cannot_be_given_an_animator() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor(dir.path());
+    group_stones(&mut h);
+    let n = steps(&h);
+    h.get_by_label("Add Animator").click();
+    h.run();
+    assert_eq!(steps(&h), n, "nothing changed");
+    assert!(level(&h).entities[10].animator.is_none());
+    let error = h.state().dialogs.error.clone().expect("the editor says why");
+    assert!(error.contains("children do not follow a moving parent"), "{error}");
+}
+
+#[test]
 fn the_filter_shows_a_matching_child_with_its_ancestors() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = editor(dir.path());
