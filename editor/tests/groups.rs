@@ -334,8 +334,16 @@ fn a_group_cannot_be_given_an_animator() {
     h.run();
     assert_eq!(steps(&h), n, "nothing changed");
     assert!(level(&h).entities[10].animator.is_none());
-    let error = h.state().dialogs.error.clone().expect("the editor says why");
-    assert!(error.contains("children do not follow a moving parent"), "{error}");
+    let error = h
+        .state()
+        .dialogs
+        .error
+        .clone()
+        .expect("the editor says why");
+    assert!(
+        error.contains("children do not follow a moving parent"),
+        "{error}"
+    );
 }
 
 #[test]

@@ -212,3 +212,82 @@ fn a_child_spawned_before_its_parent_waits_for_it() {
         assert!(close(ta.rotation, tb.rotation), "{ta:?} {tb:?}");
     }
 }
+
+/// Random trees (rows shuffled, parents before or after their children, uniform and
+/// uneven scales): a scene gives the file's rows back exactly, and with uniform scales each
+/// world transform is the product of its chain's matrices.
+#[test]
+fn random_trees_round_trip_and_compose() {
+    let mut seed = 0x2545_f491_4f6c_dd1d_u64;
+    let mut next = move || {
+        seed ^= seed << 13;
+        seed ^= seed >> 7;
+        seed ^= seed << 17;
+        (seed >> 11) as f32 / (1u64 << 53) as f32
+    };
+    for case in 0..40 {
+        let uneven = case % 2 == 1;
+        let n = 2 + (next() * 12.0) as usize;
+        let mut rows: Vec<EntityRow> = Vec::new();
+        for i in 0..n {
+            let parent = (i > 0 && next() < 0.8).then(|| (next() * i as f32) as usize);
+            let s = 0.5 + next() * 1.5;
+            let scale = if uneven {
+                Vec3::new(s, 0.5 + next(), 0.5 + next())
+            } else {
+                Vec3::splat(s)
+            };
+            let round = |v: f32| (v * 100.0).round() / 100.0;
+            rows.push(EntityRow {
+                name: Some(Name(format!("n{i}"))),
+                parent: parent.map(|p| Name(format!("n{p}"))),
+                transform: Some(Transform {
+                    translation: Vec3::new(next(), next(), next()).map(|v| round(v * 20.0 - 10.0)),
+                    rotation: Vec3::new(next(), next(), next()).map(|v| round(v * 360.0 - 180.0)),
+                    scale: scale.map(round),
+                }),
+                ..EntityRow::default()
+            });
+        }
+        let chain_matrix = |rows: &[EntityRow], mut i: usize| {
+            let mut m = glam::Mat4::IDENTITY;
+            loop {
+                m = rows[i].transform.expect("t").matrix() * m;
+                match &rows[i].parent {
+                    Some(p) => {
+                        i = rows
+                            .iter()
+                            .position(|r| r.name.as_ref() == Some(p))
+                            .expect("p")
+                    }
+                    None => return m,
+                }
+            }
+        };
+        let expected: Vec<glam::Mat4> = (0..n).map(|i| chain_matrix(&rows, i)).collect();
+        // Shuffle the rows: children may come first.
+        let mut order: Vec<usize> = (0..n).collect();
+        for i in (1..n).rev() {
+            order.swap(i, (next() * (i + 1) as f32) as usize % (i + 1));
+        }
+        let level = Level {
+            entities: order.iter().map(|&i| rows[i].clone()).collect(),
+            ..Level::default()
+        };
+        let text = level.to_ron_string(path()).expect("valid");
+        let level = Level::from_ron_str(&text, path()).expect("loads");
+        let scene = Scene::from_level(&level);
+        assert_eq!(scene.to_level(), level, "case {case}");
+        if uneven {
+            continue;
+        }
+        for (k, &i) in order.iter().enumerate() {
+            let e = scene.entities().nth(k).expect("entity");
+            let w = scene.world().get::<&Transform>(e).expect("t").matrix();
+            for p in [Vec3::ZERO, Vec3::X, Vec3::new(0.5, -1.0, 2.0)] {
+                let d = w.transform_point3(p) - expected[i].transform_point3(p);
+                assert!(d.length() < 1e-2, "case {case} row {i}: {d}");
+            }
+        }
+    }
+}
