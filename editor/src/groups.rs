@@ -14,6 +14,9 @@ use std::collections::{BTreeSet, HashMap, HashSet};
 
 use glam::Vec3;
 use hecs::Entity;
+use texel_scene::animator::Animator;
+use texel_scene::hierarchy::MAX_DEPTH;
+use texel_scene::terrain::Terrain;
 use texel_scene::{EntityRow, Level, Name, Scene, Transform};
 
 use crate::command::{Command, CommandError, entity_at};
@@ -46,11 +49,26 @@ impl EditorState {
         out.into_iter().collect()
     }
 
-    /// Whether the entity at `index` has children.
-    pub fn has_children(&self, index: usize) -> bool {
+    /// Why the entity at `index` cannot be given an animator: it is inside a moving entity
+    /// (it would move by two), or holds one with an animator or a terrain of its own.
+    pub fn why_no_animator(&self, index: usize) -> Option<&'static str> {
         let scene = self.scene();
-        scene.has_hierarchy()
-            && entity_at(scene, index).is_ok_and(|e| !scene.children(e).is_empty())
+        if !scene.has_hierarchy() {
+            return None;
+        }
+        let e = entity_at(scene, index).ok()?;
+        if scene.parent(e).is_some_and(|p| moves(scene, p)) {
+            return Some("it is inside a moving entity, which carries it");
+        }
+        let inside = scene.descendants(e);
+        let w = scene.world();
+        if inside.iter().any(|&d| w.get::<&Animator>(d).is_ok()) {
+            return Some("an entity inside it has an animator, and would move by two");
+        }
+        if inside.iter().any(|&d| w.get::<&Terrain>(d).is_ok()) {
+            return Some("it holds a terrain, and terrains do not move");
+        }
+        None
     }
 
     /// The position of the parent of the entity at `index`.
@@ -154,7 +172,9 @@ impl EditorState {
 
     /// Makes the entity at `parent` (or the root, for `None`) the parent of the entities at
     /// `moved`, each keeping its place in the world, as one undo step. Refused (nothing
-    /// changes) when the parent is one of them or their descendant, or has an animator.
+    /// changes) when the parent is one of them or their descendant, or moves (an animator,
+    /// its own or an ancestor's) while one of them, or a descendant, has an animator or a
+    /// terrain of its own.
     pub fn reparent(&mut self, moved: &[usize], parent: Option<usize>) -> Result<(), CommandError> {
         let scene = self.scene();
         // Only the outermost: a child moved with its parent stays in it.
@@ -171,7 +191,6 @@ impl EditorState {
         let moved = moved.as_slice();
         if let Some(p) = parent {
             let pe = entity_at(scene, p)?;
-            let prow = scene.row(pe).ok_or_else(|| no_entity(p))?;
             for &m in moved {
                 let me = entity_at(scene, m)?;
                 if me == pe || scene.is_ancestor(me, pe) {
@@ -181,14 +200,17 @@ impl EditorState {
                         label(scene, pe)
                     )));
                 }
+                if moves(scene, pe)
+                    && let Some(why) = moves_itself(scene, me)
+                {
+                    return Err(CommandError(format!(
+                        "{} cannot go into {}, which moves: {why}",
+                        label(scene, me),
+                        label(scene, pe)
+                    )));
+                }
             }
-            if prow.animator.is_some() {
-                return Err(CommandError(format!(
-                    "{} moves (it has an animator): children do not follow a moving parent",
-                    label(scene, pe)
-                )));
-            }
-            if scene.depth(pe) + 1 > texel_scene::hierarchy::MAX_DEPTH {
+            if scene.depth(pe) + 1 > MAX_DEPTH {
                 return Err(CommandError("groups nest 32 deep at most".into()));
             }
         }
@@ -416,6 +438,34 @@ pub fn copies(state: &EditorState, indices: &[usize]) -> Vec<EntityRow> {
     out
 }
 
+/// Whether an animator moves `e`: its own or an ancestor's.
+pub fn moves(scene: &Scene, e: Entity) -> bool {
+    let animated = |e: Entity| scene.world().get::<&Animator>(e).is_ok();
+    animated(e)
+        || (0..=MAX_DEPTH)
+            .scan(scene.parent(e), |at, _| {
+                let a = (*at)?;
+                *at = scene.parent(a);
+                Some(a)
+            })
+            .any(animated)
+}
+
+/// Why `e` cannot be carried by a moving parent: it, or a descendant, has an animator (it
+/// would move by two) or a terrain (terrains do not move).
+pub fn moves_itself(scene: &Scene, e: Entity) -> Option<&'static str> {
+    let mut all = vec![e];
+    all.extend(scene.descendants(e));
+    let w = scene.world();
+    if all.iter().any(|&d| w.get::<&Animator>(d).is_ok()) {
+        Some("an entity moves with one animator, and it (or one inside it) has its own")
+    } else if all.iter().any(|&d| w.get::<&Terrain>(d).is_ok()) {
+        Some("terrains do not move, and it is (or holds) a terrain")
+    } else {
+        None
+    }
+}
+
 fn set_row(index: usize, before: EntityRow, after: EntityRow) -> Command {
     Command::SetRow {
         index,
@@ -501,7 +551,7 @@ mod tests {
     /// Grouping members of a group puts the new group inside it; a moving entity cannot
     /// take children.
     #[test]
-    fn a_group_of_siblings_stays_in_their_parent_and_animated_parents_are_refused() {
+    fn a_group_of_siblings_stays_in_their_parent_and_a_moving_parent_takes_no_motion_inside() {
         let mut s = EditorState::new(Document::new_empty());
         for row in [at("Shelf", 1.0), at("Jar", 2.0), at("Pot", 4.0)] {
             s.add(row).expect("add");
@@ -524,19 +574,32 @@ mod tests {
             Vec3::new(3.0, 0.0, 0.0),
             "at their centre"
         );
-        let mut shelf = s.row_at(0).expect("row");
-        shelf.animator = Some(texel_scene::animator::Animator {
+        let spin = texel_scene::animator::Animator {
             motion: texel_scene::animator::Motion::Rotate {
                 axis: Vec3::Y,
                 speed: 10.0,
             },
             phase: 0.0,
-        });
-        s.add(at("Lid", 0.0)).expect("add");
+        };
+        // A moving shelf carries what is on it; a lid with a motion of its own may not go in.
+        let mut shelf = s.row_at(0).expect("row");
+        shelf.animator = Some(spin.clone());
         s.set_row(0, shelf, None).expect("animate");
+        let lid = EntityRow {
+            animator: Some(spin),
+            ..at("Lid", 0.0)
+        };
+        s.add(lid).expect("add");
+        s.add(at("Cup", 0.5)).expect("add");
+        s.reparent(&[5], Some(0)).expect("a still cup goes in");
         let steps = s.history.undo_len();
         let e = s.reparent(&[4], Some(0)).expect_err("refused");
-        assert!(e.0.contains("animator"), "{e}");
+        assert!(e.0.contains("which moves"), "{e}");
         assert_eq!(s.history.undo_len(), steps);
+        assert_eq!(
+            s.why_no_animator(5).map(|w| w.contains("inside")),
+            Some(true)
+        );
+        assert_eq!(s.why_no_animator(4), None, "a root");
     }
 }

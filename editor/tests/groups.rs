@@ -325,25 +325,33 @@ fn delete_duplicate_copy_and_paste_carry_a_groups_children() {
 }
 
 #[test]
-fn a_group_cannot_be_given_an_animator() {
+fn a_moving_group_carries_its_children_and_they_take_no_animator() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = editor(dir.path());
     group_stones(&mut h);
     let n = steps(&h);
     h.get_by_label("Add Animator").click();
     h.run();
-    assert_eq!(steps(&h), n, "nothing changed");
-    assert!(level(&h).entities[10].animator.is_none());
+    assert_eq!(steps(&h), n + 1, "the group moves");
+    assert!(level(&h).entities[10].animator.is_some());
+    let scene = h.state().state.scene();
+    let moving: Vec<usize> = (scene.animated_poses(0.5).iter())
+        .filter_map(|(e, _)| scene.index_of(*e))
+        .collect();
+    assert_eq!(moving, [10, 11, 12, 13], "the group and its stones");
+    // A stone in the moving group cannot move by itself too.
+    click_row(&mut h, 11, Modifiers::NONE);
+    h.get_by_label("Add Animator").click();
+    h.run();
+    assert_eq!(steps(&h), n + 1, "nothing changed");
+    assert!(level(&h).entities[11].animator.is_none());
     let error = h
         .state()
         .dialogs
         .error
         .clone()
         .expect("the editor says why");
-    assert!(
-        error.contains("children do not follow a moving parent"),
-        "{error}"
-    );
+    assert!(error.contains("inside a moving entity"), "{error}");
 }
 
 #[test]

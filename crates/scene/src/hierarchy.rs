@@ -4,8 +4,9 @@
 //! unique in the level; the row's `transform` is then relative to the parent's (local). A
 //! group is simply an entity with a name, a transform and children. Loading refuses a
 //! parent that names no entity or a name two entities share, a cycle, a chain deeper than
-//! [`MAX_DEPTH`], and a parent with an animator (children do not follow a moving parent);
-//! every error names the file, the entity and the `parent` field ([`check_rows`]).
+//! [`MAX_DEPTH`], and an animator or a terrain inside a moving (animated) entity; every
+//! error names the file, the entity and the `parent` field ([`check_rows`]). Children follow
+//! a moving parent: an animated entity carries its descendants ([`Carried`]).
 //!
 //! The [`crate::Scene`] resolves the hierarchy once, when the level becomes the hecs
 //! world: every entity's [`Transform`] component there is its *world* transform, so the
@@ -41,6 +42,30 @@ pub(crate) struct Local {
     pub local: Transform,
     pub world: Transform,
     pub parent_world: Transform,
+}
+
+/// What moves an entity: its own animator, or the animator of its nearest animated
+/// ancestor, which carries it along (the entity keeps its place relative to the ancestor).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Carried {
+    /// The animator that moves it.
+    pub animator: crate::animator::Animator,
+    /// The animated entity's world transform at rest (its own, or its ancestor's).
+    pub base: Transform,
+    /// The entity relative to the animated ancestor at rest; `None` when it is the
+    /// animated entity itself.
+    pub offset: Option<Transform>,
+}
+
+impl Carried {
+    /// The entity's world pose `t` seconds in.
+    pub fn pose_at(&self, t: f64) -> Transform {
+        let pose = self.animator.pose_at(&self.base, t);
+        match &self.offset {
+            Some(o) => compose(&pose, o),
+            None => pose,
+        }
+    }
 }
 
 /// `local` placed in `parent`'s frame: the world transform of a child.
@@ -124,21 +149,13 @@ fn parent_indices(rows: &[EntityRow]) -> Result<Vec<Option<usize>>, HierarchyErr
     Ok(out)
 }
 
-/// Checks the rows' parents: each names exactly one entity, which has no animator; no
-/// chain loops or is deeper than [`MAX_DEPTH`].
+/// Checks the rows' parents: each names exactly one entity; no chain loops or is deeper
+/// than [`MAX_DEPTH`]; no row inside a moving (animated) entity has an animator or a
+/// terrain of its own.
 pub fn check_rows(rows: &[EntityRow]) -> Result<(), HierarchyError> {
     let parents = parent_indices(rows)?;
     for (i, p) in parents.iter().enumerate() {
         let Some(p) = *p else { continue };
-        if rows[p].animator.is_some() {
-            return Err((
-                i,
-                format!(
-                    "parent \"{}\" has an animator: children do not follow a moving parent, so a moving entity cannot be a parent",
-                    name_of(&rows[p])
-                ),
-            ));
-        }
         let mut chain = vec![i];
         let mut at = Some(p);
         while let Some(a) = at {
@@ -165,6 +182,23 @@ pub fn check_rows(rows: &[EntityRow]) -> Result<(), HierarchyError> {
             }
             chain.push(a);
             at = parents[a];
+        }
+        // An animated ancestor carries the row: the row cannot move by itself too.
+        if let Some(&a) = chain[1..].iter().find(|&&a| rows[a].animator.is_some()) {
+            let what = if rows[i].animator.is_some() {
+                "an animator (an entity moves with one animator: its own or its group's)"
+            } else if rows[i].terrain.is_some() {
+                "a terrain (terrains do not move)"
+            } else {
+                continue;
+            };
+            return Err((
+                i,
+                format!(
+                    "it is inside \"{}\", which moves (has an animator), and has {what}",
+                    name_of(&rows[a])
+                ),
+            ));
         }
     }
     Ok(())
@@ -309,7 +343,14 @@ mod tests {
             },
             phase: 0.0,
         });
-        assert!(check_rows(&animated).unwrap_err().1.contains("animator"));
+        assert!(
+            check_rows(&animated).is_ok(),
+            "a moving parent carries its children"
+        );
+        animated[1].animator = animated[0].animator.clone();
+        let (i, m) = check_rows(&animated).unwrap_err();
+        assert_eq!(i, 1);
+        assert!(m.contains("inside \"a\", which moves"), "{m}");
         // Built in code anyway, they still resolve, as roots.
         let (p, w) = resolve(&cycle);
         assert!(p.iter().any(Option::is_none));

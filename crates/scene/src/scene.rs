@@ -280,21 +280,48 @@ pub struct KindCounts {
 }
 
 impl Scene {
-    /// Every animated entity of the scene (an [`Animator`] and a [`Transform`], no terrain) with
-    /// its pose at `t` seconds, in level order. The scene is not changed.
+    /// Every moving entity of the scene (one [`Scene::carried`] moves: an [`Animator`] and a
+    /// [`Transform`], or a descendant of such an entity; no terrain) with its pose at `t`
+    /// seconds, in level order. The scene is not changed.
     pub fn animated_poses(&self, t: f64) -> Vec<(Entity, Transform)> {
-        let world = self.world();
         self.entities()
-            .filter_map(|e| {
-                let r = world.entity(e).ok()?;
-                if r.has::<Terrain>() {
-                    return None;
-                }
-                let animator = r.get::<&Animator>()?;
-                let base = r.get::<&Transform>()?;
-                Some((e, animator.pose_at(&base, t)))
-            })
+            .filter_map(|e| Some((e, self.carried(e)?.pose_at(t))))
             .collect()
+    }
+
+    /// What moves `e`: its own animator, or its nearest animated ancestor's, which carries
+    /// it ([`crate::hierarchy::Carried`]); `None` for an entity nothing moves, one without a
+    /// transform, and a terrain.
+    pub fn carried(&self, e: Entity) -> Option<crate::hierarchy::Carried> {
+        let r = self.world.entity(e).ok()?;
+        if r.has::<Terrain>() {
+            return None;
+        }
+        let world = *r.get::<&Transform>()?;
+        if let Some(animator) = r.get::<&Animator>() {
+            return Some(crate::hierarchy::Carried {
+                animator: (*animator).clone(),
+                base: world,
+                offset: None,
+            });
+        }
+        let mut at = self.parent(e);
+        for _ in 0..=hierarchy::MAX_DEPTH {
+            let a = at?;
+            if let Ok(animator) = self.world.get::<&Animator>(a) {
+                let base = self
+                    .world
+                    .get::<&Transform>(a)
+                    .map_or(Transform::default(), |t| *t);
+                return Some(crate::hierarchy::Carried {
+                    animator: (*animator).clone(),
+                    base,
+                    offset: Some(hierarchy::relative(&base, &world)),
+                });
+            }
+            at = self.parent(a);
+        }
+        None
     }
 
     /// Counts entities by kind.

@@ -149,7 +149,7 @@ fn error(text: &str) -> String {
 }
 
 #[test]
-fn missing_shared_cyclic_and_moving_parents_are_refused_by_name() {
+fn missing_shared_and_cyclic_parents_and_motion_inside_motion_are_refused_by_name() {
     let missing = STALL.replace("parent: \"awning\"", "parent: \"awnin\"");
     let m = error(&missing);
     assert_eq!(
@@ -167,11 +167,26 @@ fn missing_shared_cyclic_and_moving_parents_are_refused_by_name() {
     );
     let shared = STALL.replace("name: \"lamp\"", "name: \"stall\"");
     assert!(error(&shared).contains("2 entities are named \"stall\""));
+    let spin = "animator: (motion: Rotate(axis: (0.0, 1.0, 0.0), speed: 30.0)),";
     let moving = STALL.replace(
         "geometry: Box(size: (2.0, 1.0, 1.0)),",
-        "geometry: Box(size: (2.0, 1.0, 1.0)),\n            animator: (motion: Rotate(axis: (0.0, 1.0, 0.0), speed: 30.0)),",
+        &format!("geometry: Box(size: (2.0, 1.0, 1.0)),\n            {spin}"),
     );
-    assert!(error(&moving).contains("entity 3 (cat): parent: parent \"awning\" has an animator"));
+    assert!(
+        Level::from_ron_str(&moving, path()).is_ok(),
+        "children follow"
+    );
+    let both = moving.replace(
+        "scale: (1.0, 1.0, 1.0)),\n        ),\n    ],",
+        &format!("scale: (1.0, 1.0, 1.0)),\n            {spin}\n        ),\n    ],"),
+    );
+    assert_ne!(both, moving);
+    assert_eq!(
+        error(&both),
+        "market.ron: entity 3 (cat): parent: it is inside \"awning\", which moves (has an \
+         animator), and has an animator (an entity moves with one animator: its own or its \
+         group's)"
+    );
     // Saving a scene built in code checks the same.
     let mut level = Level::from_ron_str(STALL, path()).expect("parses");
     level.entities[1].name = Some(Name("booth".into()));
@@ -290,4 +305,37 @@ fn random_trees_round_trip_and_compose() {
             }
         }
     }
+}
+
+/// A moving parent carries its children: their poses are the parent's pose composed with
+/// their place relative to it at rest.
+#[test]
+fn children_follow_a_moving_parent() {
+    let spin = "animator: (motion: Rotate(axis: (0.0, 1.0, 0.0), speed: 90.0)),";
+    let text = STALL.replace(
+        "geometry: Box(size: (2.0, 1.0, 1.0)),",
+        &format!("geometry: Box(size: (2.0, 1.0, 1.0)),\n            {spin}"),
+    );
+    let scene = Scene::from_level(&Level::from_ron_str(&text, path()).expect("loads"));
+    let at = |t: f64| -> Vec<(String, Transform)> {
+        (scene.animated_poses(t).into_iter())
+            .map(|(e, p)| (scene.world().get::<&Name>(e).expect("name").0.clone(), p))
+            .collect()
+    };
+    let names: Vec<String> = at(0.0).into_iter().map(|(n, _)| n).collect();
+    assert_eq!(
+        names,
+        ["awning", "cat"],
+        "the awning moves, and the cat with it"
+    );
+    let rest = world(&scene, "cat");
+    let cat0 = at(0.0)[1].1;
+    assert!(close(cat0.translation, rest.translation), "at rest at 0 s");
+    // A second later the awning has turned 90° about the world's Y through its origin:
+    // the cat has swung around it.
+    let awning = world(&scene, "awning").translation;
+    let cat1 = at(1.0)[1].1;
+    let before = rest.translation - awning;
+    let turned = glam::Quat::from_rotation_y(90f32.to_radians()) * before;
+    assert!(close(cat1.translation, awning + turned), "{cat1:?}");
 }

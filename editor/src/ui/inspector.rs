@@ -46,12 +46,11 @@ pub fn entity(
     };
     edit_row(ui, &mut row, &terrain, sprite, &mixed);
     crate::ui::sprite_section::keep_row_valid(ui.ctx(), &before, &mut row, sprites);
-    if before.animator.is_none() && row.animator.is_some() && state.has_children(index) {
-        return Err(CommandError(
-            "this entity has children, and children do not follow a moving parent: \
-             ungroup it (Ctrl+Shift+G) before adding an animator"
-                .into(),
-        ));
+    if before.animator.is_none()
+        && row.animator.is_some()
+        && let Some(why) = state.why_no_animator(index)
+    {
+        return Err(CommandError(format!("no animator here: {why}")));
     }
     let cleared = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_none());
     let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
