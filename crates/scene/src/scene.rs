@@ -285,8 +285,42 @@ impl Scene {
     /// seconds, in level order. The scene is not changed.
     pub fn animated_poses(&self, t: f64) -> Vec<(Entity, Transform)> {
         self.entities()
-            .filter_map(|e| Some((e, self.carried(e)?.pose_at(t))))
+            .filter_map(|e| Some((e, self.pose_at(e, t)?)))
             .collect()
+    }
+
+    /// `e`'s pose at `t` seconds when an animator moves it ([`Scene::carried`]'s pose,
+    /// without copying the animator).
+    pub fn pose_at(&self, e: Entity, t: f64) -> Option<Transform> {
+        let r = self.world.entity(e).ok()?;
+        if r.has::<Terrain>() {
+            return None;
+        }
+        let world = *r.get::<&Transform>()?;
+        if let Some(animator) = r.get::<&Animator>() {
+            return Some(animator.pose_at(&world, t));
+        }
+        let a = self.animated_ancestor(e)?;
+        let animator = self.world.get::<&Animator>(a).ok()?;
+        let base = (self.world.get::<&Transform>(a)).map_or(Transform::default(), |t| *t);
+        let pose = animator.pose_at(&base, t);
+        Some(hierarchy::compose(
+            &pose,
+            &hierarchy::relative(&base, &world),
+        ))
+    }
+
+    /// `e`'s nearest ancestor with an animator.
+    fn animated_ancestor(&self, e: Entity) -> Option<Entity> {
+        let mut at = self.parent(e);
+        for _ in 0..=hierarchy::MAX_DEPTH {
+            let a = at?;
+            if self.world.get::<&Animator>(a).is_ok() {
+                return Some(a);
+            }
+            at = self.parent(a);
+        }
+        None
     }
 
     /// What moves `e`: its own animator, or its nearest animated ancestor's, which carries
@@ -305,23 +339,14 @@ impl Scene {
                 offset: None,
             });
         }
-        let mut at = self.parent(e);
-        for _ in 0..=hierarchy::MAX_DEPTH {
-            let a = at?;
-            if let Ok(animator) = self.world.get::<&Animator>(a) {
-                let base = self
-                    .world
-                    .get::<&Transform>(a)
-                    .map_or(Transform::default(), |t| *t);
-                return Some(crate::hierarchy::Carried {
-                    animator: (*animator).clone(),
-                    base,
-                    offset: Some(hierarchy::relative(&base, &world)),
-                });
-            }
-            at = self.parent(a);
-        }
-        None
+        let a = self.animated_ancestor(e)?;
+        let animator = self.world.get::<&Animator>(a).ok()?;
+        let base = (self.world.get::<&Transform>(a)).map_or(Transform::default(), |t| *t);
+        Some(crate::hierarchy::Carried {
+            animator: (*animator).clone(),
+            base,
+            offset: Some(hierarchy::relative(&base, &world)),
+        })
     }
 
     /// Counts entities by kind.
