@@ -212,6 +212,12 @@ fn name_of(row: &EntityRow) -> &str {
 /// [`check_rows`] (a level built in code) still resolve: a missing parent, or the link that
 /// closes a cycle or passes [`MAX_DEPTH`], is left out (the row is a root).
 pub(crate) fn resolve(rows: &[EntityRow]) -> (Vec<Option<usize>>, Vec<Option<Transform>>) {
+    if rows.iter().all(|r| r.parent.is_none()) {
+        return (
+            vec![None; rows.len()],
+            rows.iter().map(|r| r.transform).collect(),
+        );
+    }
     let mut parents = match parent_indices(rows) {
         Ok(p) => p,
         Err(_) => lenient_parents(rows),
