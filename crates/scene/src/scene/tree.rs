@@ -211,6 +211,10 @@ impl Scene {
 
     /// The local transform of every descendant of `e`, parents first, before `e` changes.
     pub(super) fn descendant_locals(&self, e: Entity) -> Vec<(Entity, Option<Transform>)> {
+        // Most entities have no children: no maps built for them.
+        if !self.world.query::<&Parent>().iter().any(|p| p.0 == e) {
+            return Vec::new();
+        }
         self.descendants(e)
             .into_iter()
             .map(|d| (d, self.local_transform(d)))
