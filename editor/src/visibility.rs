@@ -95,8 +95,8 @@ impl EditorState {
     }
 
     /// The level as the viewport draws it: every row, a hidden one reduced to its name,
-    /// parent and transform (at its own position, so ids and positions stay the document's,
-    /// and its children stay where they are).
+    /// parent, transform and animator (at its own position, so ids and positions stay the
+    /// document's, and its children stay where they are and move as they do).
     pub fn render_level(&self) -> Level {
         let mut level = self.scene().to_level();
         if self.visibility.hidden.is_empty() {
@@ -108,6 +108,8 @@ impl EditorState {
                     name: row.name.take(),
                     parent: row.parent.take(),
                     transform: row.transform,
+                    // A hidden moving group still carries its children.
+                    animator: row.animator.take(),
                     ..EntityRow::default()
                 };
             }
