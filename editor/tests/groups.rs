@@ -224,6 +224,14 @@ fn dragging_a_row_onto_another_reparents_it_where_it_is() {
     undo(&mut h);
     undo(&mut h);
     assert_eq!(level(&h), before);
+    // A selected row dragged onto another selected row: the rest of the selection goes in.
+    click_row(&mut h, 10, Modifiers::NONE);
+    click_row(&mut h, 12, Modifiers::SHIFT);
+    drag_row(&mut h, 10, Some(12));
+    assert_eq!(parent(&h, STONES[0]).as_deref(), Some(STONES[2]));
+    assert_eq!(parent(&h, STONES[1]).as_deref(), Some(STONES[2]));
+    assert_eq!(parent(&h, STONES[2]), None);
+    assert!(h.state().dialogs.error.is_none());
 }
 
 fn projector(h: &Harness<'_, EditorApp>) -> Projector {

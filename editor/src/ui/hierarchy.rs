@@ -337,7 +337,10 @@ fn act(
         }
         // A selected row drags the whole selection along.
         Some(Action::Reparent(i, to)) if state.is_selected(i) => {
-            state.reparent(&state.selected(), to)?
+            // Onto a row of the selection: the others go into it.
+            let mut moved = state.selected();
+            moved.retain(|&m| Some(m) != to);
+            state.reparent(&moved, to)?
         }
         Some(Action::Reparent(i, to)) => state.reparent(&[i], to)?,
         // On a selected row: the whole selection.
