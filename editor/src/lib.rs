@@ -12,6 +12,7 @@ pub mod clipboard;
 pub mod command;
 pub mod document;
 pub mod files;
+pub mod groups;
 pub mod history;
 pub mod paint;
 pub mod palette_edits;

@@ -150,6 +150,14 @@ impl EditorState {
         }
         let mut steps = Vec::with_capacity(rows.len());
         let mut changed = false;
+        // Parents first: a parent's step moves its children, then theirs place them.
+        let mut rows = rows;
+        if self.scene().has_hierarchy() {
+            let scene = self.scene();
+            let ents: Vec<hecs::Entity> = scene.entities().collect();
+            let depth = |i: usize| ents.get(i).map_or(0, |e| scene.depth(*e));
+            rows.sort_by_cached_key(|(i, _)| depth(*i));
+        }
         for (index, after) in rows {
             let before = self.existing(index)?;
             changed |= before != after;
@@ -167,14 +175,18 @@ impl EditorState {
     }
 
     /// Duplicates every selected entity in place, each copy right after its original, as
-    /// one undo step; the copies become the selection.
+    /// one undo step; the copies become the selection. A parent's descendants are copied
+    /// with it, under its copy ([`crate::groups::copies`]).
     pub fn duplicate_selection(&mut self) -> Result<(), CommandError> {
+        self.duplicate_indices(&self.selected())
+    }
+
+    /// Duplicates the entities at `indices` and their descendants, as one undo step.
+    pub fn duplicate_indices(&mut self, indices: &[usize]) -> Result<(), CommandError> {
+        let all = self.with_descendants(indices);
+        let rows = crate::groups::copies(self, &all);
         let mut steps = Vec::new();
-        for (k, index) in self.selected().into_iter().enumerate() {
-            let mut row = self.existing(index)?;
-            if let Some(n) = &mut row.name {
-                n.0.push_str(" copy");
-            }
+        for (k, (index, row)) in all.into_iter().zip(rows).enumerate() {
             // The copies before this one pushed it `k` places on.
             let (index, row) = (index + k + 1, Box::new(row));
             steps.push(Command::Spawn { index, row });
@@ -182,18 +194,26 @@ impl EditorState {
         self.apply_batch("duplicate", steps)
     }
 
-    /// Deletes every selected entity as one undo step.
+    /// Deletes every selected entity, and their descendants, as one undo step.
     pub fn delete_selection(&mut self) -> Result<(), CommandError> {
+        self.delete_indices(&self.selected())
+    }
+
+    /// Deletes the entities at `indices` and their descendants, as one undo step.
+    pub fn delete_indices(&mut self, indices: &[usize]) -> Result<(), CommandError> {
         let mut steps = Vec::new();
-        for index in self.selected().into_iter().rev() {
+        for index in self.with_descendants(indices).into_iter().rev() {
             let row = Box::new(self.existing(index)?);
             steps.push(Command::Despawn { index, row });
         }
         self.apply_batch("delete", steps)
     }
 
-    /// Adds `rows` at the end of the level as one undo step; they become the selection.
+    /// Adds `rows` (as a level file holds them) at the end of the level as one undo step;
+    /// they become the selection. Pasted parents whose names are taken are renamed, their
+    /// children following ([`crate::groups::rows_to_paste`]).
     pub fn paste_rows(&mut self, rows: Vec<EntityRow>) -> Result<(), CommandError> {
+        let rows = crate::groups::rows_to_paste(self, rows);
         let start = self.scene().len();
         let steps = rows
             .into_iter()

@@ -104,13 +104,20 @@ impl EditorState {
         &mut self,
         command: &Command,
     ) -> (&mut Scene, &mut texel_scene::assets::AssetLibrary) {
-        match command {
-            Command::SetRow { index, .. } => self.document.entity_parts_mut(*index),
-            Command::SetPalette { .. } => self.document.palette_parts_mut(),
-            _ => match command.edited_rows() {
-                Some(rows) => self.document.entities_parts_mut(&rows),
-                None => self.document.parts_mut(),
-            },
+        let edited = match command {
+            Command::SetRow { index, .. } => Some(vec![*index]),
+            _ => command.edited_rows(),
+        };
+        match (command, edited) {
+            (Command::SetPalette { .. }, _) => self.document.palette_parts_mut(),
+            // A parent's children move with it: they are taken in too.
+            (_, Some(rows)) if self.scene().has_hierarchy() => {
+                let rows = self.with_descendants(&rows);
+                self.document.entities_parts_mut(&rows)
+            }
+            (Command::SetRow { index, .. }, _) => self.document.entity_parts_mut(*index),
+            (_, Some(rows)) => self.document.entities_parts_mut(&rows),
+            (_, None) => self.document.parts_mut(),
         }
     }
 
@@ -202,20 +209,17 @@ impl EditorState {
         self.apply(Command::Spawn { index, row }, None)
     }
 
-    /// Duplicates the entity at `index`, placing the copy right after it.
+    /// Duplicates the entity at `index` (and its descendants), placing the copy right after
+    /// it.
     pub fn duplicate(&mut self, index: usize) -> Result<(), CommandError> {
-        let mut row = self.existing_row(index)?;
-        if let Some(n) = &mut row.name {
-            n.0.push_str(" copy");
-        }
-        let (index, row) = (index + 1, Box::new(row));
-        self.apply(Command::Spawn { index, row }, None)
+        self.existing_row(index)?;
+        self.duplicate_indices(&[index])
     }
 
-    /// Deletes the entity at `index`.
+    /// Deletes the entity at `index` (and its descendants).
     pub fn delete(&mut self, index: usize) -> Result<(), CommandError> {
-        let row = Box::new(self.existing_row(index)?);
-        self.apply(Command::Despawn { index, row }, None)
+        self.existing_row(index)?;
+        self.delete_indices(&[index])
     }
 
     /// The components of the entity at `index`, or why there is none.

@@ -94,8 +94,9 @@ impl EditorState {
         self.visibility.revision
     }
 
-    /// The level as the viewport draws it: every row, a hidden one reduced to its name and
-    /// transform (at its own position, so ids and positions stay the document's).
+    /// The level as the viewport draws it: every row, a hidden one reduced to its name,
+    /// parent, transform and animator (at its own position, so ids and positions stay the
+    /// document's, and its children stay where they are and move as they do).
     pub fn render_level(&self) -> Level {
         let mut level = self.scene().to_level();
         if self.visibility.hidden.is_empty() {
@@ -105,7 +106,10 @@ impl EditorState {
             if self.visibility.hidden.contains(&e) {
                 *row = EntityRow {
                     name: row.name.take(),
+                    parent: row.parent.take(),
                     transform: row.transform,
+                    // A hidden moving group still carries its children.
+                    animator: row.animator.take(),
                     ..EntityRow::default()
                 };
             }

@@ -6,8 +6,8 @@
 use glam::{UVec2, Vec2};
 use texel_render::input::{SpriteBillboard, SpriteInput, SpriteState};
 use texel_scene::Transform;
-use texel_scene::animator::Animator;
 use texel_scene::assets::AssetLibrary;
+use texel_scene::hierarchy::Carried;
 use texel_scene::sprite::{Billboard, Sprite, SpriteSize};
 
 /// The renderer's view of `sprite` on an entity placed by `t`, `None` when its sheet is not
@@ -61,18 +61,19 @@ pub struct SpriteClock {
     sprite: Sprite,
     sheet: UVec2,
     base: Transform,
-    animator: Option<Animator>,
+    animator: Option<Carried>,
 }
 
 impl SpriteClock {
     /// The clock of sprite `index` (`input`, from `sprite` on an entity placed by `base`,
-    /// moved by `animator`), `None` when nothing about it changes.
+    /// moved by `animator`: its own or an animated ancestor's), `None` when nothing about it
+    /// changes.
     pub fn new(
         index: usize,
         sprite: &Sprite,
         input: &SpriteInput,
         base: Transform,
-        animator: Option<Animator>,
+        animator: Option<Carried>,
     ) -> Option<Self> {
         let plays = sprite
             .animations
@@ -91,7 +92,7 @@ impl SpriteClock {
     /// position.
     pub fn state(&self, t: f64) -> SpriteState {
         let position = match &self.animator {
-            Some(a) => a.pose_at(&self.base, t).translation,
+            Some(a) => a.pose_at(t).translation,
             None => self.base.translation,
         };
         SpriteState {

@@ -31,10 +31,16 @@ pub enum LoadError {
 /// entity's name (or `entity N`, its row) and
 /// [`unapplied_transform`](texel_scene::terrain::unapplied_transform)'s sentence.
 pub fn terrain_warnings(level: &Level) -> Vec<(String, String)> {
+    // A terrain in a group is placed by its world transform.
+    let world = if level.entities.iter().any(|r| r.parent.is_some()) {
+        texel_scene::hierarchy::world_transforms(&level.entities)
+    } else {
+        level.entities.iter().map(|r| r.transform).collect()
+    };
     let rows = level.entities.iter().enumerate();
     rows.filter(|(_, row)| row.terrain.is_some())
         .filter_map(|(i, row)| {
-            let message = texel_scene::terrain::unapplied_transform(row.transform.as_ref()?)?;
+            let message = texel_scene::terrain::unapplied_transform(world[i].as_ref()?)?;
             let name = row.name.as_ref().map(|n| n.0.clone());
             Some((name.unwrap_or_else(|| format!("entity {i}")), message))
         })
@@ -109,5 +115,11 @@ mod tests {
                 .1
                 .starts_with("scale [1.0, 3.0, 1.0] not applied")
         );
+        // In the turned box, the flat terrain is turned in the world: named too.
+        let grouped = text.replace("name: \"Flat\",", "name: \"Flat\", parent: \"Box\",");
+        let level = Level::from_ron_str(&grouped, Path::new("t.ron")).expect("the level parses");
+        let warnings = terrain_warnings(&level);
+        assert_eq!(warnings.len(), 3, "{warnings:?}");
+        assert_eq!(warnings[0].0, "Flat");
     }
 }

@@ -427,3 +427,41 @@ fn a_player_rides_the_animated_platform_of_moving_parts() -> anyhow::Result<()> 
     assert_eq!(p.ground_entity(), Some(platform));
     Ok(())
 }
+
+/// A step on the platform of moving_parts, its child in the file: the platform carries it,
+/// its collider moves as a kinematic body, and a player on it rides it.
+#[test]
+fn a_player_rides_a_child_of_the_animated_platform() -> anyhow::Result<()> {
+    let (scene, assets) = load_level("moving_parts")?;
+    let mut level = scene.to_level();
+    level.entities.push(EntityRow {
+        name: Some(Name("Step".into())),
+        parent: Some(Name("Moving platform".into())),
+        transform: Some(Transform::from_translation(Vec3::new(0.0, 0.25, 0.0))),
+        geometry: Some(Geometry::Box {
+            size: Vec3::new(1.0, 0.2, 1.0),
+        }),
+        ..EntityRow::default()
+    });
+    let scene = Scene::from_level(&level);
+    let step = scene.entities().last().expect("the step");
+    let mut w = PhysicsWorld::from_scene(&scene, &assets)?;
+    // On the step's top at t = 0: 0.2 + 0.25 + 0.1.
+    let mut p = Player::new(PlayerConfig::default(), Vec3::new(-3.4, 0.6, 2.2));
+    let frames = (3.0 / FRAME).round() as u32;
+    for i in 0..=frames {
+        let t = f64::from(i) * f64::from(FRAME);
+        w.set_kinematic_poses(&scene.animated_poses(t), FRAME)?;
+        p.step(&mut w, &idle(), FRAME);
+    }
+    assert!(w.is_kinematic(step), "the step is carried");
+    // At 3 s the platform is at (-3.4, 1.2, 1.5): the step's top at 1.55.
+    let top = Vec3::new(-3.4, 1.55, 1.5);
+    assert!(
+        (p.feet() - top).length() < 0.05,
+        "feet at {} on a step whose top is at {top}",
+        p.feet()
+    );
+    assert_eq!(p.ground_entity(), Some(step));
+    Ok(())
+}

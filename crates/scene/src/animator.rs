@@ -8,7 +8,8 @@
 //! seconds reduced modulo the motion's period before anything becomes `f32`, so the pose
 //! after an hour is as exact as in the first second. The entity's transform in the level is
 //! the animation's base (the rest pose the editor shows); `Scene::animated_poses` evaluates
-//! every animated entity of a scene without changing it.
+//! every animated entity of a scene without changing it, with the descendants an animated
+//! entity carries (`Scene::carried`, [`crate::hierarchy::Carried`]).
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::{Deserialize, Serialize};

@@ -64,7 +64,11 @@ pub struct EntityRow {
     /// Name shown in the editor.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub name: Option<Name>,
-    /// Placement.
+    /// The parent's name (unique in the level): the entity belongs to that group, and its
+    /// `transform` is relative to the parent's ([`crate::hierarchy`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub parent: Option<Name>,
+    /// Placement (relative to the parent's, if any).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub transform: Option<Transform>,
     /// Shape.
@@ -103,6 +107,7 @@ pub struct EntityRow {
 /// The names of the components an entity row may hold, in file order.
 pub const COMPONENT_NAMES: &[&str] = &[
     "name",
+    "parent",
     "transform",
     "geometry",
     "material",
@@ -164,6 +169,19 @@ pub enum LevelError {
         /// What is wrong, for people.
         message: String,
     },
+    /// An entity's `parent` names no entity (or a name two share), makes a cycle, a chain
+    /// deeper than [`crate::hierarchy::MAX_DEPTH`], or names an animated entity.
+    #[error("{}: entity {entity} ({name}): parent: {message}", path.display())]
+    Parent {
+        /// The file.
+        path: PathBuf,
+        /// Index of the entity row.
+        entity: usize,
+        /// The entity's name, or `unnamed`.
+        name: String,
+        /// What is wrong.
+        message: String,
+    },
     /// A level built in code holds a bad value (found before saving).
     #[error("{}: entity {entity} ({name}): {component}.{field}: {message}", path.display())]
     Invalid {
@@ -187,7 +205,7 @@ impl LevelError {
     pub fn kind(&self) -> Option<ErrorKind> {
         match self {
             LevelError::Parse { kind, .. } => Some(*kind),
-            LevelError::Invalid { .. } => Some(ErrorKind::InvalidValue),
+            LevelError::Invalid { .. } | LevelError::Parent { .. } => Some(ErrorKind::InvalidValue),
             LevelError::Io { .. } | LevelError::Read(_) => None,
         }
     }
@@ -256,7 +274,17 @@ impl Level {
             row.validate()
                 .map_err(|(c, e)| invalid(i.to_string(), name, c, e))?;
         }
-        Ok(())
+        self.check_parents(path)
+    }
+
+    /// Checks every row's `parent` ([`crate::hierarchy::check_rows`]).
+    pub fn check_parents(&self, path: &Path) -> Result<(), LevelError> {
+        crate::hierarchy::check_rows(&self.entities).map_err(|(i, message)| LevelError::Parent {
+            path: path.to_owned(),
+            entity: i,
+            name: self.entities[i].display_name().to_owned(),
+            message,
+        })
     }
 }
 

@@ -43,7 +43,9 @@ impl Level {
         if let Ok(level) = &first
             && level.version == CURRENT_VERSION
         {
-            return first.map_err(|e| spanned(path, e));
+            let level = first.map_err(|e| spanned(path, e))?;
+            level.check_parents(path)?;
+            return Ok(level);
         }
         let probe: VersionProbe = ron_options().from_str(text).map_err(|e| spanned(path, e))?;
         let level = match first {
@@ -51,6 +53,7 @@ impl Level {
             Err(e) if probe.version == CURRENT_VERSION => return Err(spanned(path, e)),
             _ => crate::migrate::from_old(text, probe.version).map_err(|e| spanned(path, e))?,
         };
+        level.check_parents(path)?;
         Ok(level)
     }
 

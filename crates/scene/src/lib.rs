@@ -9,6 +9,7 @@ pub mod assets;
 pub mod components;
 pub mod density;
 pub mod gltf_import;
+pub mod hierarchy;
 pub mod level;
 pub mod level_read;
 pub mod migrate;

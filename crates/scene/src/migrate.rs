@@ -13,6 +13,7 @@
 //! | 3 | (later, still 3) entities may hold a `terrain`; files without one are unchanged |
 //! | 3 | (later, still 3) entities may hold an `animator`; files without one are unchanged |
 //! | 3 | (later, still 3) entities may hold a `sprite`; files without one are unchanged |
+//! | 3 | (later, still 3) entities may name a `parent` (their transform is then relative to it); files without one are unchanged |
 
 use glam::{EulerRot, Quat, Vec3};
 use serde::Deserialize;
@@ -120,6 +121,7 @@ impl From<LevelV1> for Level {
                 .into_iter()
                 .map(|e| EntityRow {
                     name: e.name,
+                    parent: None,
                     transform: e.transform.map(Transform::from),
                     geometry: e.geometry,
                     material: e.material,

@@ -4,6 +4,8 @@
 //! scene only adds what a level file needs on top: the level settings and the order in which
 //! entities are written, so that saving never reshuffles rows.
 
+mod tree;
+
 use std::path::Path;
 
 use hecs::{Entity, EntityBuilder, World};
@@ -13,6 +15,7 @@ use crate::components::{
     DirectionalLight, Geometry, LevelSettings, Material, Name, PlayerStart, PointLight,
     ProbeGridOverride, Transform,
 };
+use crate::hierarchy;
 use crate::level::{EntityRow, Level, LevelError};
 use crate::sprite::Sprite;
 use crate::terrain::Terrain;
@@ -34,15 +37,29 @@ impl Scene {
         Self::default()
     }
 
-    /// Spawns every row of `level`, in order.
+    /// Spawns every row of `level`, in order. Here the level's parents are resolved
+    /// ([`crate::hierarchy`]): each entity's [`Transform`] in the world is its world
+    /// transform, and each child holds a [`Parent`].
     pub fn from_level(level: &Level) -> Self {
         let mut scene = Scene {
             settings: level.settings,
             palette: level.palette.clone(),
             ..Scene::default()
         };
-        for row in &level.entities {
-            scene.spawn(row.clone());
+        let (parents, worlds) = hierarchy::resolve(&level.entities);
+        for (row, world) in level.entities.iter().zip(&worlds) {
+            let row = EntityRow {
+                parent: None,
+                transform: *world,
+                ..row.clone()
+            };
+            let e = scene.world.spawn(build(row).build());
+            scene.order.push(e);
+        }
+        for (i, p) in parents.iter().enumerate() {
+            let Some(p) = *p else { continue };
+            let (child, parent) = (scene.order[i], scene.order[p]);
+            scene.link(child, parent, level.entities[i].transform);
         }
         scene
     }
@@ -57,12 +74,23 @@ impl Scene {
         self.to_level().save(path)
     }
 
-    /// The level this scene holds, rows in the scene's order.
+    /// The level this scene holds, rows in the scene's order, each child's transform
+    /// relative to its parent's.
     pub fn to_level(&self) -> Level {
+        let entities = self
+            .entities()
+            .filter_map(|e| {
+                let mut row = self.row(e)?;
+                if row.parent.is_some() {
+                    row.transform = self.local_transform(e);
+                }
+                Some(row)
+            })
+            .collect();
         Level {
             settings: self.settings,
             palette: self.palette.clone(),
-            entities: self.entities().filter_map(|e| self.row(e)).collect(),
+            entities,
             ..Level::default()
         }
     }
@@ -96,18 +124,26 @@ impl Scene {
         self.world.is_empty()
     }
 
-    /// Spawns an entity with `row`'s components at the end of the order.
+    /// Spawns an entity with `row`'s components at the end of the order. As with every
+    /// row the scene takes or gives, `row.transform` is the world transform and
+    /// `row.parent` names the parent ([`Scene::set_row`]).
     pub fn spawn(&mut self, row: EntityRow) -> Entity {
+        let parent = row.parent.clone();
         let e = self.world.spawn(build(row).build());
         self.order.push(e);
+        self.set_parent_named(e, parent.as_ref());
+        self.adopt_pending(e);
         e
     }
 
     /// Spawns an entity at `index` in the order (clamped), e.g. to undo a delete.
     pub fn spawn_at(&mut self, index: usize, row: EntityRow) -> Entity {
+        let parent = row.parent.clone();
         let e = self.world.spawn(build(row).build());
         self.order.retain(|o| self.world.contains(*o));
         self.order.insert(index.min(self.order.len()), e);
+        self.set_parent_named(e, parent.as_ref());
+        self.adopt_pending(e);
         e
     }
 
@@ -116,7 +152,8 @@ impl Scene {
         self.entities().position(|o| o == e)
     }
 
-    /// Removes an entity, returning its components.
+    /// Removes an entity, returning its components. Its children, if any stay, become roots
+    /// where they are.
     pub fn despawn(&mut self, e: Entity) -> Option<EntityRow> {
         let row = self.row(e)?;
         self.world.despawn(e).ok()?;
@@ -124,11 +161,13 @@ impl Scene {
         Some(row)
     }
 
-    /// A copy of every level component `e` has.
+    /// A copy of every level component `e` has: its world transform, and its parent's
+    /// name ([`Scene::to_level`] gives rows as files hold them, transforms relative).
     pub fn row(&self, e: Entity) -> Option<EntityRow> {
         let r = self.world.entity(e).ok()?;
         Some(EntityRow {
             name: r.get::<&Name>().map(|c| (*c).clone()),
+            parent: self.parent_name(e),
             transform: r.get::<&Transform>().map(|c| *c),
             geometry: r.get::<&Geometry>().map(|c| (*c).clone()),
             material: r.get::<&Material>().map(|c| (*c).clone()),
@@ -143,20 +182,30 @@ impl Scene {
     }
 
     /// Replaces every level component of `e` with `row`'s (components `row` lacks are
-    /// removed). Other components, not part of levels, are kept.
+    /// removed). Other components, not part of levels, are kept. `row.transform` is the
+    /// world transform; `row.parent` names the parent (the first entity of that name; one
+    /// that is missing, is `e` or one of its descendants leaves `e` a root). `e`'s
+    /// descendants keep their places relative to it, so they move with it.
     pub fn set_row(&mut self, e: Entity, row: EntityRow) -> Result<(), hecs::NoSuchEntity> {
         if !self.world.contains(e) {
             return Err(hecs::NoSuchEntity);
         }
+        let below = self.descendant_locals(e);
+        let parent = row.parent.clone();
         remove_each(&mut self.world, e);
         self.world
             .insert(e, build(row).build())
-            .map_err(|_| hecs::NoSuchEntity)
+            .map_err(|_| hecs::NoSuchEntity)?;
+        self.set_parent_named(e, parent.as_ref());
+        self.place_descendants(below);
+        self.adopt_pending(e);
+        Ok(())
     }
 }
 
 fn remove_each(world: &mut World, e: Entity) {
     let _ = world.remove_one::<Name>(e);
+    let _ = world.remove_one::<tree::Pending>(e);
     let _ = world.remove_one::<Transform>(e);
     let _ = world.remove_one::<Geometry>(e);
     let _ = world.remove_one::<Material>(e);
@@ -231,21 +280,73 @@ pub struct KindCounts {
 }
 
 impl Scene {
-    /// Every animated entity of the scene (an [`Animator`] and a [`Transform`], no terrain) with
-    /// its pose at `t` seconds, in level order. The scene is not changed.
+    /// Every moving entity of the scene (one [`Scene::carried`] moves: an [`Animator`] and a
+    /// [`Transform`], or a descendant of such an entity; no terrain) with its pose at `t`
+    /// seconds, in level order. The scene is not changed.
     pub fn animated_poses(&self, t: f64) -> Vec<(Entity, Transform)> {
-        let world = self.world();
         self.entities()
-            .filter_map(|e| {
-                let r = world.entity(e).ok()?;
-                if r.has::<Terrain>() {
-                    return None;
-                }
-                let animator = r.get::<&Animator>()?;
-                let base = r.get::<&Transform>()?;
-                Some((e, animator.pose_at(&base, t)))
-            })
+            .filter_map(|e| Some((e, self.pose_at(e, t)?)))
             .collect()
+    }
+
+    /// `e`'s pose at `t` seconds when an animator moves it ([`Scene::carried`]'s pose,
+    /// without copying the animator).
+    pub fn pose_at(&self, e: Entity, t: f64) -> Option<Transform> {
+        let r = self.world.entity(e).ok()?;
+        if r.has::<Terrain>() {
+            return None;
+        }
+        let world = *r.get::<&Transform>()?;
+        if let Some(animator) = r.get::<&Animator>() {
+            return Some(animator.pose_at(&world, t));
+        }
+        let a = self.animated_ancestor(e)?;
+        let animator = self.world.get::<&Animator>(a).ok()?;
+        let base = (self.world.get::<&Transform>(a)).map_or(Transform::default(), |t| *t);
+        let pose = animator.pose_at(&base, t);
+        Some(hierarchy::compose(
+            &pose,
+            &hierarchy::relative(&base, &world),
+        ))
+    }
+
+    /// `e`'s nearest ancestor with an animator.
+    fn animated_ancestor(&self, e: Entity) -> Option<Entity> {
+        let mut at = self.parent(e);
+        for _ in 0..=hierarchy::MAX_DEPTH {
+            let a = at?;
+            if self.world.get::<&Animator>(a).is_ok() {
+                return Some(a);
+            }
+            at = self.parent(a);
+        }
+        None
+    }
+
+    /// What moves `e`: its own animator, or its nearest animated ancestor's, which carries
+    /// it ([`crate::hierarchy::Carried`]); `None` for an entity nothing moves, one without a
+    /// transform, and a terrain.
+    pub fn carried(&self, e: Entity) -> Option<crate::hierarchy::Carried> {
+        let r = self.world.entity(e).ok()?;
+        if r.has::<Terrain>() {
+            return None;
+        }
+        let world = *r.get::<&Transform>()?;
+        if let Some(animator) = r.get::<&Animator>() {
+            return Some(crate::hierarchy::Carried {
+                animator: (*animator).clone(),
+                base: world,
+                offset: None,
+            });
+        }
+        let a = self.animated_ancestor(e)?;
+        let animator = self.world.get::<&Animator>(a).ok()?;
+        let base = (self.world.get::<&Transform>(a)).map_or(Transform::default(), |t| *t);
+        Some(crate::hierarchy::Carried {
+            animator: (*animator).clone(),
+            base,
+            offset: Some(hierarchy::relative(&base, &world)),
+        })
     }
 
     /// Counts entities by kind.

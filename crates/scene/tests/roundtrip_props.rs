@@ -183,6 +183,7 @@ fn row() -> impl Strategy<Value = EntityRow> {
                     .filter(|_| transform.is_some() && terrain.is_none() && geometry.is_none());
                 EntityRow {
                     name,
+                    parent: None,
                     transform,
                     geometry,
                     material,

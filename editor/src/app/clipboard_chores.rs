@@ -41,9 +41,8 @@ impl EditorApp {
     /// Puts the selected entities on the clipboard as RON (and deletes them, as one undo
     /// step, for a cut). Nothing selected: nothing happens.
     pub(super) fn copy(&mut self, cut: bool) {
-        let rows: Vec<_> = (self.state.selected_rows().into_iter())
-            .map(|(_, r)| r)
-            .collect();
+        // A parent's descendants go with it, relative to it, as in a level file.
+        let rows = self.state.rows_for_copy(&self.state.selected());
         if rows.is_empty() {
             return;
         }

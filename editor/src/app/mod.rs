@@ -357,6 +357,12 @@ impl EditorApp {
             if i.consume_shortcut(&KeyboardShortcut::new(cmd, Key::D)) {
                 out.push(Action::Duplicate);
             }
+            if i.consume_shortcut(&KeyboardShortcut::new(shift_cmd, Key::G)) {
+                out.push(Action::Ungroup);
+            }
+            if i.consume_shortcut(&KeyboardShortcut::new(cmd, Key::G)) {
+                out.push(Action::Group);
+            }
             if i.key_pressed(Key::F5) {
                 out.push(Action::TogglePlay);
             }
@@ -381,6 +387,8 @@ impl EditorApp {
                 | Action::Redo
                 | Action::Duplicate
                 | Action::Delete
+                | Action::Group
+                | Action::Ungroup
                 | Action::Cut
                 | Action::Paste(_)
                 | Action::ImportHeightmapPath(_)
@@ -446,6 +454,14 @@ impl EditorApp {
             Action::Delete => {
                 let deleted = self.state.delete_selection();
                 self.report("delete", deleted);
+            }
+            Action::Group => {
+                let grouped = self.state.group_selection();
+                self.report("group", grouped);
+            }
+            Action::Ungroup => {
+                let ungrouped = self.state.ungroup_selection();
+                self.report("ungroup", ungrouped);
             }
             Action::Copy => self.copy(false),
             Action::Cut => self.copy(true),

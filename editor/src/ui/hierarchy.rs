@@ -1,6 +1,9 @@
-//! The scene hierarchy: every entity with its kind icon and name; select (Ctrl-click
-//! toggles, Shift-click selects a range), rename, duplicate, delete; a filter by name and by
-//! component; each row's hide (H) and lock (L) toggles ([`crate::visibility`]).
+//! The scene hierarchy: every entity with its kind icon and name, as a tree of parents and
+//! children ([`crate::groups`]) whose parents fold (`-`, `+`); select (Ctrl-click toggles,
+//! Shift-click selects a range), rename, duplicate, delete; drag a row onto another to make
+//! it its child, onto the space below the rows to take it out of its parent; a filter by
+//! name and by component (a child that passes shows with its ancestors); each row's hide
+//! (H) and lock (L) toggles ([`crate::visibility`]).
 
 use egui::Ui;
 use texel_scene::{EntityRow, Name};
@@ -18,6 +21,8 @@ pub struct OutlinerFilter {
     pub text: String,
     /// The component asked for.
     pub kind: KindFilter,
+    /// The parents folded (their children not shown), by entity (`hecs::Entity::to_bits`).
+    pub folded: std::collections::BTreeSet<u64>,
 }
 
 /// The component filter of the outliner.
@@ -114,8 +119,79 @@ pub const HIDE: &str = "H";
 /// The lock toggle's label, highlighted while the entity is locked.
 pub const LOCK: &str = "L";
 
-/// Draws the list. `rename` holds the entity being renamed and its edited name; `filter`
-/// which rows show. A command that fails is returned, for the caller to show.
+/// What a row dragged in the outliner carries: its position.
+#[derive(Debug, Clone, Copy)]
+struct DragRow(usize);
+
+/// One line of the outliner: an entity, how deep in the tree, whether it has children.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub struct Line {
+    /// Position in the level order.
+    pub index: usize,
+    /// How many ancestors it has.
+    pub depth: usize,
+    /// Whether it has children (it gets a fold toggle).
+    pub parent: bool,
+}
+
+/// The lines the outliner shows, in tree order (each parent followed by its children, in
+/// level order): with a filter, the rows that pass and their ancestors, unfolded; without,
+/// every row but those inside a folded parent.
+pub fn lines(state: &EditorState, filter: &OutlinerFilter, rows: &[EntityRow]) -> Vec<Line> {
+    let scene = state.scene();
+    let ents: Vec<hecs::Entity> = scene.entities().collect();
+    let at: std::collections::HashMap<hecs::Entity, usize> =
+        ents.iter().enumerate().map(|(i, e)| (*e, i)).collect();
+    let parent: Vec<Option<usize>> = ents
+        .iter()
+        .map(|&e| scene.parent(e).and_then(|p| at.get(&p).copied()))
+        .collect();
+    let mut kids: Vec<Vec<usize>> = vec![Vec::new(); rows.len()];
+    for (i, p) in parent.iter().enumerate() {
+        if let Some(p) = *p {
+            kids[p].push(i);
+        }
+    }
+    let filtering = !filter.text.trim().is_empty() || filter.kind != KindFilter::Any;
+    let mut shown = vec![!filtering; rows.len()];
+    if filtering {
+        for (i, row) in rows.iter().enumerate() {
+            if filter.passes(&display_name(row, i), row) {
+                let mut at = Some(i);
+                while let Some(a) = at.filter(|&a| !shown[a]) {
+                    shown[a] = true;
+                    at = parent[a];
+                }
+            }
+        }
+    }
+    let mut out = Vec::new();
+    let mut stack: Vec<(usize, usize)> = (0..rows.len())
+        .rev()
+        .filter(|&i| parent[i].is_none())
+        .map(|i| (i, 0))
+        .collect();
+    while let Some((i, depth)) = stack.pop() {
+        if !shown[i] {
+            continue;
+        }
+        out.push(Line {
+            index: i,
+            depth,
+            parent: !kids[i].is_empty(),
+        });
+        let folded = !filtering && filter.folded.contains(&ents[i].to_bits().get());
+        if !folded {
+            stack.extend(kids[i].iter().rev().map(|&k| (k, depth + 1)));
+        }
+    }
+    out
+}
+
+/// Draws the tree. `rename` holds the entity being renamed and its edited name; `filter`
+/// which rows show and which parents are folded. A row dragged onto another becomes its
+/// child, onto the space below the rows a root ([`EditorState::reparent`]). A command that
+/// fails is returned, for the caller to show.
 pub fn show(
     ui: &mut Ui,
     state: &mut EditorState,
@@ -129,13 +205,13 @@ pub fn show(
         scene.entities().filter_map(|e| scene.row(e)).collect()
     };
     let flags = state.hidden_and_locked();
+    let lines = lines(state, filter, &rows);
     let mut action: Option<Action> = None;
     egui::ScrollArea::vertical().show(ui, |ui| {
-        for (i, row) in rows.iter().enumerate() {
+        for line in &lines {
+            let i = line.index;
+            let row = &rows[i];
             let name = display_name(row, i);
-            if !filter.passes(&name, row) {
-                continue;
-            }
             let (hidden, locked) = flags.get(i).copied().unwrap_or_default();
             if let Some((ri, text)) = rename.as_mut()
                 && *ri == i
@@ -172,9 +248,41 @@ pub fn show(
                     if lock.clicked() {
                         action = Some(Action::Lock(i, !locked));
                     }
+                    ui.add_space(line.depth as f32 * 12.0);
+                    if line.parent {
+                        let folded = filter.folded.contains(&entity_bits(state, i));
+                        let (mark, verb) = if folded {
+                            ("+", "Unfold")
+                        } else {
+                            ("-", "Fold")
+                        };
+                        if ui
+                            .small_button(mark)
+                            .accessible_name(format!("{verb} {name}"))
+                            .clicked()
+                        {
+                            action = Some(Action::Fold(i, !folded));
+                        }
+                    } else {
+                        ui.add_space(18.0);
+                    }
                     ui.selectable_label(selected, text)
+                        .interact(egui::Sense::drag())
                 })
                 .inner;
+            r.dnd_set_drag_payload(DragRow(i));
+            if let Some(dragged) = r.dnd_hover_payload::<DragRow>()
+                && dragged.0 != i
+            {
+                let stroke = ui.visuals().selection.stroke;
+                ui.painter()
+                    .rect_stroke(r.rect, 2.0, stroke, egui::StrokeKind::Outside);
+            }
+            if let Some(dragged) = r.dnd_release_payload::<DragRow>()
+                && dragged.0 != i
+            {
+                action = Some(Action::Reparent(dragged.0, Some(i)));
+            }
             if r.clicked() {
                 let how = Pick::from_modifiers(ui.input(|inp| inp.modifiers), Pick::Range);
                 action = Some(Action::Select(i, how));
@@ -194,11 +302,47 @@ pub fn show(
                 }
             });
         }
+        // Below the rows: a drop there takes the row out of its parent.
+        let size = egui::vec2(ui.available_width(), ui.available_height().max(24.0));
+        let rest = ui.allocate_response(size, egui::Sense::hover());
+        if let Some(dragged) = rest.dnd_release_payload::<DragRow>() {
+            action = Some(Action::Reparent(dragged.0, None));
+        }
     });
+    act(state, action, rename, filter)
+}
+
+fn entity_bits(state: &EditorState, index: usize) -> u64 {
+    crate::command::entity_at(state.scene(), index).map_or(0, |e| e.to_bits().get())
+}
+
+/// Carries out what the outliner was asked this frame.
+fn act(
+    state: &mut EditorState,
+    action: Option<Action>,
+    rename: &mut Option<(usize, String)>,
+    filter: &mut OutlinerFilter,
+) -> Result<(), CommandError> {
     match action {
         Some(Action::Select(i, how)) => state.pick(Some(i), how),
         Some(Action::Hide(i, on)) => state.set_hidden(i, on),
         Some(Action::Lock(i, on)) => state.set_locked(i, on),
+        Some(Action::Fold(i, fold)) => {
+            let bits = entity_bits(state, i);
+            if fold {
+                filter.folded.insert(bits);
+            } else {
+                filter.folded.remove(&bits);
+            }
+        }
+        // A selected row drags the whole selection along.
+        Some(Action::Reparent(i, to)) if state.is_selected(i) => {
+            // Onto a row of the selection: the others go into it.
+            let mut moved = state.selected();
+            moved.retain(|&m| Some(m) != to);
+            state.reparent(&moved, to)?
+        }
+        Some(Action::Reparent(i, to)) => state.reparent(&[i], to)?,
         // On a selected row: the whole selection.
         Some(Action::Duplicate(i)) if state.is_selected(i) => state.duplicate_selection()?,
         Some(Action::Delete(i)) if state.is_selected(i) => state.delete_selection()?,
@@ -218,6 +362,8 @@ pub fn show(
 
 enum Action {
     Select(usize, Pick),
+    Fold(usize, bool),
+    Reparent(usize, Option<usize>),
     Duplicate(usize),
     Delete(usize),
     Rename(usize, String),

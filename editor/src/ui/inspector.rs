@@ -46,6 +46,12 @@ pub fn entity(
     };
     edit_row(ui, &mut row, &terrain, sprite, &mixed);
     crate::ui::sprite_section::keep_row_valid(ui.ctx(), &before, &mut row, sprites);
+    if before.animator.is_none()
+        && row.animator.is_some()
+        && let Some(why) = state.why_no_animator(index)
+    {
+        return Err(CommandError(format!("no animator here: {why}")));
+    }
     let cleared = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_none());
     let painted = |r: &EntityRow| r.terrain.as_ref().is_some_and(|t| t.paint.is_some());
     if painted(&before) && cleared(&row) {
@@ -174,6 +180,12 @@ fn edit_row(
             row.name = (!name.is_empty()).then(|| Name(name.clone()));
         }
     });
+    // The parent is changed in the hierarchy (drag a row); here it is only shown.
+    match (&row.parent, mixed.has("parent")) {
+        (_, true) => drop(ui.weak("In group: \u{2014}")),
+        (Some(p), false) => drop(ui.label(format!("In group: {} (transform in the world)", p.0))),
+        (None, false) => {}
+    }
     let title = |t: &str, key: &str| format!("{t}{}", mixed.note(key));
     section_with(
         ui,

@@ -57,6 +57,11 @@ pub enum Action {
     Duplicate,
     /// Delete the selection.
     Delete,
+    /// Make the selection the children of a new group (Ctrl+G).
+    Group,
+    /// Put the selected groups' children in their place and delete the groups
+    /// (Ctrl+Shift+G).
+    Ungroup,
     /// Put the selection on the clipboard.
     Copy,
     /// Put the selection on the clipboard and delete it (one undo step).
@@ -245,6 +250,8 @@ fn edit_menu(ui: &mut Ui, undo: Option<&str>, redo: Option<&str>, out: &mut Opti
         ("Paste  (Ctrl+V)", Action::RequestPaste),
         ("Duplicate  (Ctrl+D)", Action::Duplicate),
         ("Delete  (Del)", Action::Delete),
+        ("Group  (Ctrl+G)", Action::Group),
+        ("Ungroup  (Ctrl+Shift+G)", Action::Ungroup),
     ] {
         if ui.button(label).clicked() {
             *out = Some(a);

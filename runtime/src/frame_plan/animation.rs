@@ -46,7 +46,7 @@ impl Animation {
         (self.objects.iter())
             .map(|a| texel_render::input::Pose {
                 object: a.object,
-                transform: a.animator.pose_at(&a.base, t).matrix(),
+                transform: a.carried.pose_at(t).matrix(),
             })
             .collect()
     }
@@ -70,21 +70,20 @@ impl Animation {
     }
 }
 
-/// An animated object: its animator and base transform, and its mesh's bounds.
+/// An animated object: what moves it (its animator, or an animated ancestor's), and its
+/// mesh's bounds.
 #[derive(Debug, Clone)]
 struct Animated {
     object: usize,
-    animator: texel_scene::animator::Animator,
-    base: Transform,
+    carried: texel_scene::hierarchy::Carried,
     local_min: Vec3,
     local_max: Vec3,
 }
 
 /// The animated objects of `scene` (extracted from `level` by
-/// [`scene_input`](super::scene_input)): entities with geometry and an animator, matched to
-/// their objects by entity id.
+/// [`scene_input`](super::scene_input)): entities with geometry that an animator moves (their
+/// own or an ancestor's), matched to their objects by entity id.
 fn animated_objects(level: &LoadedLevel, scene: &SceneInput) -> Vec<Animated> {
-    let w = level.scene.world();
     let entities: Vec<hecs::Entity> = level.scene.entities().collect();
     scene
         .animated
@@ -92,13 +91,11 @@ fn animated_objects(level: &LoadedLevel, scene: &SceneInput) -> Vec<Animated> {
         .filter_map(|&object| {
             let o = &scene.objects[object];
             let e = *entities.get(o.id.checked_sub(1)? as usize)?;
-            let animator = w.get::<&texel_scene::animator::Animator>(e).ok()?;
-            let base = w.get::<&Transform>(e).map(|t| *t).ok()?;
+            let carried = level.scene.carried(e)?;
             let (local_min, local_max) = o.mesh.bounds()?;
             Some(Animated {
                 object,
-                animator: (*animator).clone(),
-                base,
+                carried,
                 local_min,
                 local_max,
             })
@@ -117,9 +114,8 @@ fn sprite_clocks(
             let e = *entities.get(input.id.checked_sub(1)? as usize)?;
             let sprite = w.get::<&texel_scene::sprite::Sprite>(e).ok()?;
             let base = w.get::<&Transform>(e).map(|t| *t).ok()?;
-            let animator =
-                (w.get::<&texel_scene::animator::Animator>(e).ok()).map(|a| (*a).clone());
-            crate::level_sprites::SpriteClock::new(index, &sprite, input, base, animator)
+            let carried = level.scene.carried(e);
+            crate::level_sprites::SpriteClock::new(index, &sprite, input, base, carried)
         })
         .collect()
 }

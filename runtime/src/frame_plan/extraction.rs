@@ -178,7 +178,8 @@ pub(super) fn add_entity(level: &LoadedLevel, index: usize, e: hecs::Entity, out
                 .map(|m| (*m).clone())
                 .unwrap_or_default();
             if let Some(mesh) = mesh {
-                if w.get::<&texel_scene::animator::Animator>(e).is_ok() {
+                // Its own animator, or an animated ancestor's, moves it.
+                if level.scene.carried(e).is_some() {
                     out.animated.push(out.objects.len());
                 }
                 out.objects.push(ObjectInput {
