@@ -559,9 +559,8 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
     // run, the last's in a column run).
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     var colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
-    // A dithered palette's rank rides in the alpha byte, which the splat pass writes to the
-    // frame for present.wgsl `fs_map` (a run's texels share it: runs.wgsl joins one lit
-    // colour); else the byte stays 255.
+    // A dithered palette's rank (lib/common.wgsl `lit_dither`; a run's texels share it) in
+    // the alpha byte, which the splat pass writes to the frame for present.wgsl `fs_map`.
     let rank = lit_dither(lit.rgb);
     if rank != NO_DITHER {
         colour = (colour & 0xffffffu) | (dither_alpha(rank) << 24u);
