@@ -317,7 +317,7 @@ fn surface_dither_rank(p: vec3<f32>, n: vec3<f32>, ray: vec3<f32>, w: f32) -> u3
     let f1 = (t1 - r * (dot(n, t1) * along)) * w;
     let f2 = (t2 - r * (dot(n, t2) * along)) * w;
     let extent = vec2(abs(f1[axes.x]) + abs(f2[axes.x]), abs(f1[axes.y]) + abs(f2[axes.y]));
-    let cell = exp2(ceil(log2(clamp(extent, vec2(1e-6), vec2(2.0 * w)))));
+    let cell = exp2(ceil(log2(min(max(extent, vec2(1e-6)), vec2(max(2.0 * w, 1e-6))))));
     let c = vec2<i32>(floor(vec2(p[axes.x], p[axes.y]) / cell));
     return u32(bayer_threshold(vec2<u32>(c & vec2(3))) * 16.0);
 }
