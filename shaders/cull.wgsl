@@ -559,6 +559,12 @@ fn emit(slot: u32, face: u32, t: vec2<u32>, run: u32, outlines: bool) {
     // run, the last's in a column run).
     let key = texel_key(slot, face, t, view.max_n) + 1u;
     var colour = pack4x8unorm(vec4(linear_to_srgb(hazed(lit.rgb, length(p - view.camera.xyz))), 1.0));
+    // A dithered palette's rank (lib/common.wgsl `lit_dither`; a run's texels share it) in
+    // the alpha byte, which the splat pass writes to the frame for present.wgsl `fs_map`.
+    let rank = lit_dither(lit.rgb);
+    if rank != NO_DITHER {
+        colour = (colour & 0xffffffu) | (dither_alpha(rank) << 24u);
+    }
     var reach = pack2x16unorm(0.5 * vec2(start_half, end_half));
     // A one-texel quad of a terrain: the splat pass colours its pixels from the terrain
     // (terrain_splat.wgsl); a run keeps its texels' colour.
@@ -706,8 +712,9 @@ fn emit_outlined(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, last: vec2<
         light_reach = terrain_with_shift(reach, 1.0);
     } else {
         let dist = length(p - view.camera.xyz);
-        dark = pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(lit, view.bands, -1.0), dist)), 1.0));
-        light = pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(lit, view.bands, 1.0), dist)), 1.0));
+        let alpha = colour & 0xff000000u;
+        dark = (pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(lit, view.bands, -1.0), dist)), 1.0)) & 0xffffffu) | alpha;
+        light = (pack4x8unorm(vec4(linear_to_srgb(hazed(posterize(lit, view.bands, 1.0), dist)), 1.0)) & 0xffffffu) | alpha;
     }
     // Strip k's corners: two of the quad's and the two moved in from them.
     for (var k = 0u; k < 4u; k++) {

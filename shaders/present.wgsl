@@ -3,7 +3,8 @@
 // pixel under its centre. The internal frame holds sRGB-encoded bytes in a plain unorm
 // texture: `fs` copies them to a plain target, `fs_decode` decodes them for an sRGB one.
 // With a palette, `fs_map` first maps each internal pixel to its palette colour, dithered by
-// the texel its key names, into a texture of the internal size that `fs` then upscales.
+// its texel's surface (the rank its alpha carries) or the texel its key names, into a
+// texture of the internal size that `fs` then upscales.
 
 #include "lib/fullscreen.wgsl"
 #include "lib/common.wgsl"
@@ -50,6 +51,6 @@ fn fs_decode(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
 fn fs_map(@builtin(position) pos: vec4<f32>) -> @location(0) vec4<f32> {
     let src = min(vec2<u32>(pos.xy), sizes.internal - vec2(1u));
     let c = textureLoad(frame, src, 0);
-    let t = texel_threshold(textureLoad(keys, src, 0).r, src, palette.max_n);
-    return vec4(palette.srgb[palette_index(srgb_to_linear(c.rgb), t)].rgb, c.a);
+    let t = texel_threshold(textureLoad(keys, src, 0).r, src, palette.max_n, c.a);
+    return vec4(palette.srgb[palette_index(srgb_to_linear(c.rgb), t)].rgb, 1.0);
 }

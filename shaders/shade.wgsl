@@ -762,7 +762,12 @@ fn light_texel(t: vec2<u32>) {
     let object_flags = objects[me.id - 1u].flags;
     let sides = texel_sides(x, object_flags);
     let traced = trace_rays(x, sides, (flags & FLAG_EMISSIVE) != 0u);
-    let lit = texel_colour(x, alb.rgb, object_flags, sides, traced);
+    var lit = texel_colour(x, alb.rgb, object_flags, sides, traced);
+    // A dithered palette's rank, from the surface (lib/common.wgsl `surface_dither_rank`);
+    // a terrain's pixels take their screen pixel's (terrain_splat.wgsl draws them).
+    if globals.dither != 0u && (object_flags & FLAG_TERRAIN) == 0u {
+        lit = lit_with_dither(lit, surface_dither_rank(p, me.geo.xyz, ray, frame_texel_size(fr, d, n, ray)));
+    }
     textureStore(lit_out, t, sf.face, vec4(lit, f32(traced.similar)));
     // The cull pass draws exactly the eye texels lit this frame.
     if sf.view_cull != 0u {

@@ -19,7 +19,7 @@
 // Few varyings: a CPU rasterizer sets each one up per triangle.
 struct VsOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) @interpolate(flat) colour: vec3<f32>,
+    @location(0) @interpolate(flat) colour: vec4<f32>,
     @location(1) @interpolate(flat) key: u32,
     // The run: its texels − 1 (bits 0–7), down a column (bit 8), the role (bits 9–10).
     @location(2) @interpolate(flat) run: u32,
@@ -113,9 +113,12 @@ fn corner_clip(s: Splat, vi: u32, role: u32) -> vec4<f32> {
     return clip;
 }
 
-// The sRGB-encoded colour of splat `s` (stored packed), written to the target as it is.
-fn splat_colour(s: Splat) -> vec3<f32> {
-    return unpack4x8unorm(bitcast<u32>(s.c1.w)).rgb;
+// The sRGB-encoded colour of splat `s` (stored packed), written to the target as it is;
+// alpha 1, or a dithered palette's rank (lib/common.wgsl `dither_alpha`).
+fn splat_colour(s: Splat) -> vec4<f32> {
+    let packed = bitcast<u32>(s.c1.w);
+    let c = unpack4x8unorm(packed);
+    return select(c, vec4(c.rgb, 1.0), (packed >> 24u) == SPLAT_TERRAIN_ALPHA);
 }
 
 // What terrain quad `ii` (splat `s`) shows; zero cells for any other quad.
@@ -151,14 +154,15 @@ fn terrain_sides(t: TerrainSplat, world: vec3<f32>) -> vec2<f32> {
     return vec2(along_x, along_z);
 }
 
-// The sRGB-encoded colour of a pixel of a quad of `colour`; a terrain quad's (non-zero
-// `cells`) is the colour of the cell its view ray meets (`terrain_sides`).
-fn pixel_colour(colour: vec3<f32>, cells: vec4<u32>, sides: vec2<f32>) -> vec3<f32> {
+// The sRGB-encoded colour of a pixel of a quad of `colour` (with its alpha); a terrain
+// quad's (non-zero `cells`) is the colour of the cell its view ray meets
+// (`terrain_sides`), alpha 1.
+fn pixel_colour(colour: vec4<f32>, cells: vec4<u32>, sides: vec2<f32>) -> vec4<f32> {
     if cells.x == 0u {
         return colour;
     }
     let row = select(cells.xy, cells.zw, sides.y > 0.0);
-    return unpack4x8unorm(select(row.x, row.y, sides.x > 0.0)).rgb;
+    return vec4(unpack4x8unorm(select(row.x, row.y, sides.x > 0.0)).rgb, 1.0);
 }
 
 struct FsOut {
@@ -195,7 +199,7 @@ fn fade_depth(z: f32, handed_over: bool, misses: f32) -> f32 {
 // schedule, or runs off) sets up no interpolated varying at all.
 struct TexelIn {
     @builtin(position) clip: vec4<f32>,
-    @location(0) @interpolate(flat) colour: vec3<f32>,
+    @location(0) @interpolate(flat) colour: vec4<f32>,
     @location(1) @interpolate(flat) key: u32,
     @location(2) @interpolate(flat) run: u32,
     @location(3) @interpolate(flat) cells: vec4<u32>,
@@ -214,7 +218,7 @@ fn pixel_key(in: VsOut) -> u32 {
 // of the previous probe tells from it whether the grid probe has the face that would show it.
 struct FadeOut {
     @builtin(position) clip: vec4<f32>,
-    @location(0) @interpolate(flat) colour: vec3<f32>,
+    @location(0) @interpolate(flat) colour: vec4<f32>,
     @location(1) @interpolate(flat) key: u32,
     @location(2) @interpolate(flat) run: u32,
     @location(3) along: f32,
@@ -293,7 +297,7 @@ fn faded_out_partial(run: u32, pixel: vec2<f32>, p: vec3<f32>) -> bool {
 // Without a crossfade: no discard, so the depth test can run before the shader.
 @fragment
 fn fs(in: VsOut) -> FsOut {
-    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), pixel_key(in));
+    return FsOut(pixel_colour(in.colour, in.cells, in.sides), pixel_key(in));
 }
 
 // During a crossfade.
@@ -301,7 +305,7 @@ fn fs(in: VsOut) -> FsOut {
 fn fs_dither(in: FadeOut) -> FadeFsOut {
     let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
     let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.sides);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), pixel_key(v), z);
+    return FadeFsOut(pixel_colour(in.colour, in.cells, in.sides), pixel_key(v), z);
 }
 
 // During a crossfade toward a grid probe that misses faces.
@@ -310,20 +314,20 @@ fn fs_dither_partial(in: FadeOut) -> FadeFsOut {
     let handed = faded_out_partial(in.run, in.clip.xy, in.world);
     let z = fade_depth(in.clip.z, handed, in.owner_misses);
     let v = VsOut(in.clip, in.colour, in.key, in.run, in.along, in.cells, in.sides);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), pixel_key(v), z);
+    return FadeFsOut(pixel_colour(in.colour, in.cells, in.sides), pixel_key(v), z);
 }
 
 // One texel per quad, without a crossfade.
 @fragment
 fn fs_texel(in: TexelIn) -> FsOut {
-    return FsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), in.key);
+    return FsOut(pixel_colour(in.colour, in.cells, in.sides), in.key);
 }
 
 // One texel per quad, during a crossfade.
 @fragment
 fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
     let z = fade_depth(in.clip.z, faded_out(in.run, in.clip.xy), in.owner_misses);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), in.key, z);
+    return FadeFsOut(pixel_colour(in.colour, in.cells, in.sides), in.key, z);
 }
 
 // One texel per quad, during a crossfade toward a grid probe that misses faces.
@@ -331,5 +335,5 @@ fn fs_texel_dither(in: FadeOut) -> FadeFsOut {
 fn fs_texel_dither_partial(in: FadeOut) -> FadeFsOut {
     let handed = faded_out_partial(in.run, in.clip.xy, in.world);
     let z = fade_depth(in.clip.z, handed, in.owner_misses);
-    return FadeFsOut(vec4(pixel_colour(in.colour, in.cells, in.sides), 1.0), in.key, z);
+    return FadeFsOut(pixel_colour(in.colour, in.cells, in.sides), in.key, z);
 }

@@ -371,7 +371,7 @@ impl Document {
     /// editor goes on ([`AutosaveJob::write`]). A file terrain whose heights are not saved
     /// (sculpted, imported) is written beside `file` as `name.autosave.png`
     /// ([`files::autosave_heightmap`]), which the autosave names instead; so is a paint layer
-    /// that is not saved.
+    /// that is not saved, and a palette whose swatches were edited.
     pub fn autosave_job(&self, file: &Path) -> AutosaveJob {
         let mut level = self.level.scene.to_level();
         let mut images = Vec::new();
@@ -416,6 +416,7 @@ impl Document {
                 );
             }
         }
+        self.autosave_palettes(&mut level, file, &mut images);
         AutosaveJob {
             file: file.to_owned(),
             level,
@@ -423,9 +424,44 @@ impl Document {
         }
     }
 
+    /// For [`Document::autosave_job`]: each palette the level names whose colours are not
+    /// saved (a swatch edited) is written beside `file` as `name.autosave.hex` (in its own
+    /// format; [`files::autosave_palette`]), which the autosaved `level` names instead.
+    fn autosave_palettes(
+        &self,
+        level: &mut texel_scene::Level,
+        file: &Path,
+        images: &mut Vec<(PathBuf, AutosaveImage)>,
+    ) {
+        let Some(setting) = &mut level.palette else {
+            return;
+        };
+        for rel in std::iter::once(&mut setting.file).chain(setting.alternate.as_mut()) {
+            let Some(palette) = self.level.assets.palette(rel) else {
+                continue;
+            };
+            let saved = self.path.is_some()
+                && (self.palettes_on_disk.get(rel.as_str()))
+                    .is_some_and(|p| Arc::ptr_eq(p, palette))
+                && resolve(&self.level.path, rel).is_file();
+            if saved {
+                continue;
+            }
+            let auto = files::autosave_palette(rel);
+            let path = resolve(file, &auto);
+            if !images.iter().any(|(p, _)| *p == path) {
+                images.push((path, AutosaveImage::Palette(Arc::clone(palette))));
+            }
+            *rel = auto;
+        }
+    }
+
     /// After opening an autosave: terrains reading a `name.autosave.png` name `name.png`
-    /// again and keep the heights (or paint) read (written to `name.png` on the next save).
+    /// again and keep the heights (or paint) read (written to `name.png` on the next save),
+    /// and a palette read from `name.autosave.hex` is `name.hex` again, its colours kept (and
+    /// written there on the next save).
     pub fn adopt_autosaved_heights(&mut self) {
+        self.adopt_autosaved_palettes();
         let scene = &mut self.level.scene;
         let entities: Vec<_> = scene.entities().collect();
         for e in entities {
@@ -463,6 +499,22 @@ impl Document {
             }
         }
         self.touch();
+    }
+
+    fn adopt_autosaved_palettes(&mut self) {
+        let Some(setting) = &mut self.level.scene.palette else {
+            return;
+        };
+        for rel in std::iter::once(&mut setting.file).chain(setting.alternate.as_mut()) {
+            let Some(original) = files::autosaved_palette_of(rel) else {
+                continue;
+            };
+            if let Some(p) = self.level.assets.palette(rel).cloned() {
+                self.level.assets.insert_palette(&original, p);
+            }
+            self.palettes_on_disk.remove(rel.as_str());
+            *rel = original;
+        }
     }
 
     /// Whether a heightmap (or paint) file name (relative to the level) is used: named by a
@@ -707,13 +759,15 @@ mod region_tests {
     }
 }
 
-/// A heightmap or paint layer an autosave keeps beside it.
+/// A heightmap, paint layer or palette an autosave keeps beside it.
 #[derive(Debug, Clone)]
 pub enum AutosaveImage {
     /// A terrain's heights and the height its white stands for.
     Heights(Arc<Heightfield>, f32),
     /// A terrain's paint layer.
     Paint(Arc<Image>),
+    /// A palette's colours (edited swatches).
+    Palette(Arc<Palette>),
 }
 
 /// An autosave taken from the document ([`Document::autosave_job`]), to be written.
@@ -739,6 +793,7 @@ impl AutosaveJob {
                     crate::terrain::write_heightmap(&png, field, *max)?
                 }
                 AutosaveImage::Paint(image) => crate::paint::write_paint(&png, image)?,
+                AutosaveImage::Palette(p) => p.save(&png).map_err(|e| e.to_string())?,
             }
             written.push(png);
         }

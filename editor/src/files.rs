@@ -176,13 +176,41 @@ pub fn autosaved_heightmap_of(rel: &str) -> Option<String> {
 /// What autosaved heightmap names end with.
 pub const AUTOSAVE_HEIGHTMAP: &str = ".autosave.png";
 
-/// The heightmap and paint files the autosave `auto` names ([`autosave_heightmap`]); none
-/// when it is missing or unreadable.
+/// The palette file an autosave keeps a palette's unsaved colours in (swatch edits):
+/// `a/name.hex` → `a/name.autosave.hex`, in the palette's own format.
+pub fn autosave_palette(rel: &str) -> String {
+    let (stem, ext) = split_extension(rel);
+    format!("{stem}.autosave{ext}")
+}
+
+/// The palette an autosave's palette stands for (`name.autosave.hex` → `name.hex`); `None`
+/// for any other path.
+pub fn autosaved_palette_of(rel: &str) -> Option<String> {
+    let (stem, ext) = split_extension(rel);
+    let original = stem.strip_suffix(".autosave")?;
+    (!original.is_empty() && !original.ends_with('/')).then(|| format!("{original}{ext}"))
+}
+
+/// `rel` before and from the dot of its file name's extension ("" without one).
+fn split_extension(rel: &str) -> (&str, &str) {
+    let name_at = rel.rfind('/').map_or(0, |i| i + 1);
+    match rel[name_at..].rfind('.') {
+        Some(i) if i > 0 => rel.split_at(name_at + i),
+        _ => (rel, ""),
+    }
+}
+
+/// The heightmap, paint and palette files the autosave `auto` names and keeps
+/// ([`autosave_heightmap`], [`autosave_palette`]); none when it is missing or unreadable.
 pub fn autosave_heightmaps(auto: &Path) -> Vec<PathBuf> {
     let Ok(level) = texel_scene::Level::load(auto) else {
         return Vec::new();
     };
-    level
+    let palettes = (level.palette.iter())
+        .flat_map(|s| std::iter::once(&s.file).chain(&s.alternate))
+        .filter(|path| autosaved_palette_of(path).is_some())
+        .map(|path| texel_scene::assets::resolve(auto, path));
+    let images: Vec<PathBuf> = level
         .entities
         .iter()
         .filter_map(|r| r.terrain.as_ref())
@@ -195,7 +223,8 @@ pub fn autosave_heightmaps(auto: &Path) -> Vec<PathBuf> {
         })
         .filter(|path| autosaved_heightmap_of(path).is_some())
         .map(|path| texel_scene::assets::resolve(auto, path))
-        .collect()
+        .collect();
+    images.into_iter().chain(palettes).collect()
 }
 
 /// The recent-files list, most recent first, kept in the user's config directory.
@@ -273,6 +302,20 @@ mod tests {
             Some("a/hills_T.png")
         );
         assert_eq!(autosaved_heightmap_of("hills_T.png"), None);
+    }
+
+    #[test]
+    fn autosaved_palettes_name_their_palette_in_its_format() {
+        let rel = "../palettes/texel-night.gpl";
+        assert_eq!(
+            autosave_palette(rel),
+            "../palettes/texel-night.autosave.gpl"
+        );
+        assert_eq!(autosave_palette("a.b/odd"), "a.b/odd.autosave");
+        let back = autosaved_palette_of(&autosave_palette(rel));
+        assert_eq!(back.as_deref(), Some(rel));
+        assert_eq!(autosaved_palette_of(rel), None);
+        assert_eq!(autosaved_palette_of("a/.autosave.hex"), None);
     }
 
     #[test]

@@ -1,8 +1,9 @@
 //! The palette tools, driven through egui_kittest without a GPU: a palette picked (through
 //! the command path a file dialog ends in), its dither and alternate; swatches shown and a
 //! swatch edit as one undo step; saving writes the level and the edited palette file (in
-//! its own format, atomically) and a reload shows the edited colours; a bad palette file is
-//! an error dialog naming its line, and nothing changes; Night (N) toggles.
+//! its own format, atomically) and a reload shows the edited colours; an autosave keeps
+//! unsaved swatch edits and recovering it brings them back; a bad palette file is an error
+//! dialog naming its line, and nothing changes; Night (N) toggles.
 
 use std::path::{Path, PathBuf};
 
@@ -238,4 +239,79 @@ fn night_toggles_with_n_and_the_palette_comes_off_undoably() {
     h.state_mut().act(Action::Undo);
     h.run();
     assert_eq!(h.state().state.scene().palette, Some(setting));
+}
+
+/// Swatch edits not yet saved ride in the autosave as `name.autosave.gpl` beside the
+/// palette; recovering after a crash brings the colours back under the palette's own name,
+/// and saving writes them there and removes what the autosave kept.
+#[test]
+fn an_autosave_keeps_unsaved_swatch_edits_and_recovering_brings_them_back() {
+    let dir = tempfile::tempdir().expect("tempdir");
+    let path = level_and_palettes(dir.path());
+    let mut h = harness(&path);
+    pick_both(&mut h, dir.path());
+    h.key_press_modifiers(egui::Modifiers::COMMAND, Key::S);
+    h.run();
+    let rel = "../palettes/texel-night.gpl";
+    (h.state_mut().state.set_swatch(rel, 3, [250, 200, 5], None)).expect("swatch");
+    h.state_mut().autosave_now();
+    assert!(
+        h.state().dialogs.error.is_none(),
+        "{:?}",
+        h.state().dialogs.error
+    );
+    let auto = texel_editor::files::autosave_path(&path);
+    let kept = dir.path().join("palettes/texel-night.autosave.gpl");
+    let colours = Palette::load(&kept).expect("the autosave keeps the edited palette");
+    assert_eq!(colours.colours[3], [250, 200, 5]);
+    let autosaved = Scene::load(&auto).expect("autosave");
+    let setting = autosaved.palette.expect("a palette");
+    assert_eq!(
+        setting.alternate.as_deref(),
+        Some("../palettes/texel-night.autosave.gpl")
+    );
+    assert_eq!(
+        setting.file, "../palettes/texel-ember.pal",
+        "unedited: named as it is"
+    );
+    let file = dir.path().join("palettes/texel-night.gpl");
+    assert_ne!(
+        Palette::load(&file).expect("night").colours[3],
+        [250, 200, 5]
+    );
+
+    // A crash, then recovery: the colours come back, named as the level will save them.
+    drop(h);
+    let level_time = std::fs::metadata(&path)
+        .and_then(|m| m.modified())
+        .expect("time");
+    std::fs::File::options()
+        .write(true)
+        .open(&auto)
+        .and_then(|f| f.set_modified(level_time + std::time::Duration::from_secs(60)))
+        .expect("set time");
+    let mut h = harness(&path);
+    h.get_by_label("Recover").click();
+    h.run();
+    assert!(h.state().state.is_dirty());
+    let document = &h.state().state.document;
+    let setting = document.level.scene.palette.clone().expect("a palette");
+    assert_eq!(setting.alternate.as_deref(), Some(rel));
+    let back = document.level.assets.palette(rel).expect("loaded");
+    assert_eq!(back.colours[3], [250, 200, 5]);
+    assert!(document.palettes_edited(), "not saved yet");
+
+    // Saving writes the palette and forgets the autosave and what it kept.
+    h.key_press_modifiers(egui::Modifiers::COMMAND, Key::S);
+    h.run();
+    assert!(
+        h.state().dialogs.error.is_none(),
+        "{:?}",
+        h.state().dialogs.error
+    );
+    assert_eq!(
+        Palette::load(&file).expect("night").colours[3],
+        [250, 200, 5]
+    );
+    assert!(!auto.exists() && !kept.exists());
 }

@@ -111,6 +111,7 @@ impl Session {
     ) -> Result<Self, SessionError> {
         let level = Arc::new(PreparedLevel::new(level));
         renderer.set_scene(ctx, level.scene())?;
+        // A fresh driver follows: whatever the palette's dithering, nothing is lit yet.
         renderer.set_palette(level.palette(false));
         renderer.set_bloom(level.bloom);
         let driver = FrameDriver::prepared(level, size, fov_y)?;
@@ -136,9 +137,21 @@ impl Session {
 
     /// The level's palette (or its alternate, as swapped) and bloom, to the renderer.
     fn take_look(&mut self, level: &PreparedLevel) {
-        self.renderer
-            .set_palette(level.palette(self.alternate_palette));
+        self.take_palette(level.palette(self.alternate_palette));
         self.renderer.set_bloom(level.bloom);
+    }
+
+    /// Hands `palette` to the renderer. Where dithering turned on or off the probes are
+    /// lit afresh: lit texels carry their surface's dither rank only while frames dither
+    /// (`Renderer::set_palette`).
+    fn take_palette(&mut self, palette: Option<texel_render::palette::PaletteInput>) {
+        if self.renderer.set_palette(palette) {
+            // The level it already plans for: its scheduler was made once, so this is too.
+            let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
+            if let Ok(driver) = FrameDriver::prepared(self.driver.level().clone(), size, fov_y) {
+                self.replace_driver(driver);
+            }
+        }
     }
 
     /// Swaps between the level's palette and its alternate (day and night); returns whether
@@ -149,28 +162,27 @@ impl Session {
             return None;
         }
         self.alternate_palette = !self.alternate_palette;
-        self.renderer
-            .set_palette(level.palette(self.alternate_palette));
+        self.take_palette(level.palette(self.alternate_palette));
         Some(self.alternate_palette)
     }
 
     /// Replaces the level's palette and its alternate (an edit of the palette, its dither
     /// or its files): only the present pass maps frames differently from the next one on;
-    /// nothing is uploaded, captured or shaded again.
+    /// nothing is uploaded, captured or shaded again, unless dithering turned on or off.
     pub fn set_palettes(&mut self, palettes: Vec<texel_render::palette::PaletteInput>) {
         self.driver.level_mut().palettes = palettes;
         let level = self.driver.level().clone();
-        self.renderer
-            .set_palette(level.palette(self.alternate_palette));
+        self.take_palette(level.palette(self.alternate_palette));
     }
 
     /// Maps frames to the level's alternate palette (`true`: night) or its own; a level
-    /// without an alternate keeps its own. Nothing is shaded again.
+    /// without an alternate keeps its own. Nothing is shaded again, unless one dithers and
+    /// the other does not.
     pub fn set_alternate_palette(&mut self, on: bool) {
         if self.alternate_palette != on {
             self.alternate_palette = on;
             let level = self.driver.level().clone();
-            self.renderer.set_palette(level.palette(on));
+            self.take_palette(level.palette(on));
         }
     }
 

@@ -277,6 +277,70 @@ fn lit_terrain(c: vec3<f32>) -> u32 {
     return (bits.x & ((1u << TERRAIN_LIGHTS) - 1u)) | ((bits.y & 3u) << TERRAIN_LIGHTS);
 }
 
+// --- a texel's dither rank, anchored to the surface (shade.wgsl writes it, cull.wgsl
+// passes it on in its quad's alpha, present.wgsl `fs_map` dithers by it) ---
+
+// With a dithered palette, a texel's rank in the 4 × 4 Bayer matrix (0–15) rides in the
+// low mantissa bits of its lit colour's green, which half precision leaves zero and a
+// terrain texel uses only bits 0–1 of: bits DITHER_AT.. the rank, DITHER_MARK set. The
+// rank is the surface's, not the face's: the Bayer cell of the texel's centre on the
+// plane of its normal's dominant axis, each cell a power of two at least the texel's
+// footprint along that axis, so the next probe's texels over the same surface mostly
+// take the same ranks and a crossing does not redraw the pattern. A cell is capped at two
+// texels' width before the power of two: at a grazing angle the footprint's box along
+// both axes grows long, and uncapped cells drew streaks many texels wide (walk_cells,
+// 2026-12-07: shimmer 0.0089 uncapped, 0.0091 capped; one texel's width on every axis
+// instead skips ranks where texels stretch and scored 0.0111).
+const DITHER_AT: u32 = 2u;
+const DITHER_MARK: u32 = 0x40u;
+const NO_DITHER: u32 = 0xffffffffu;
+
+// The Bayer rank (0–15) of the surface of normal `n` at `p`, seen along `ray` (from the
+// probe) by a texel `w` wide across the ray.
+fn surface_dither_rank(p: vec3<f32>, n: vec3<f32>, ray: vec3<f32>, w: f32) -> u32 {
+    let a = abs(n);
+    // The plane's two axes: those other than the normal's dominant one.
+    var axes = vec2(0u, 1u);
+    if a.x >= a.y && a.x >= a.z {
+        axes = vec2(1u, 2u);
+    } else if a.y >= a.z {
+        axes = vec2(0u, 2u);
+    }
+    // The texel's footprint: two sides w long across the ray, carried along it onto the
+    // surface; its extent along each axis, so that every cell holds a texel's centre (all
+    // 16 ranks show: the dither keeps its tone).
+    let r = normalize(ray);
+    let t1 = normalize(cross(r, select(vec3(0.0, 1.0, 0.0), vec3(1.0, 0.0, 0.0), abs(r.y) > 0.9)));
+    let t2 = cross(r, t1);
+    let nr = dot(n, r);
+    let along = select(-1.0, 1.0, nr >= 0.0) / max(abs(nr), 0.05);
+    let f1 = (t1 - r * (dot(n, t1) * along)) * w;
+    let f2 = (t2 - r * (dot(n, t2) * along)) * w;
+    let extent = vec2(abs(f1[axes.x]) + abs(f2[axes.x]), abs(f1[axes.y]) + abs(f2[axes.y]));
+    let cell = exp2(ceil(log2(min(max(extent, vec2(1e-6)), vec2(max(2.0 * w, 1e-6))))));
+    let c = vec2<i32>(floor(vec2(p[axes.x], p[axes.y]) / cell));
+    return u32(bayer_threshold(vec2<u32>(c & vec2(3))) * 16.0);
+}
+
+// The alpha byte of a quad's packed colour (cull.wgsl) and so of its pixels in the frame
+// carrying dither rank `rank`: 16 rank + 8, below 255 (no rank) and SPLAT_TERRAIN_ALPHA.
+fn dither_alpha(rank: u32) -> u32 {
+    return (rank & 15u) * 16u + 8u;
+}
+
+// Half-precision colour `c` carrying dither rank `rank`; green is kept a normal float.
+fn lit_with_dither(c: vec3<f32>, rank: u32) -> vec3<f32> {
+    var bits = bitcast<vec3<u32>>(vec3(c.x, max(c.y, exp2(-14.0)), c.z));
+    bits.y |= DITHER_MARK | ((rank & 15u) << DITHER_AT);
+    return bitcast<vec3<f32>>(bits);
+}
+
+// The dither rank `lit_with_dither` put in lit colour `c`, NO_DITHER where none.
+fn lit_dither(c: vec3<f32>) -> u32 {
+    let g = bitcast<u32>(c.y);
+    return select(NO_DITHER, (g >> DITHER_AT) & 15u, (g & DITHER_MARK) != 0u);
+}
+
 // --- an outlined texel's sides (shade.wgsl writes them, cull.wgsl draws them) ---
 
 // An outline darkens (or lightens) one band of a texel, but the texel's quad runs from the

@@ -26,12 +26,19 @@ fn bayer4(p: vec2<u32>) -> f32 {
 }
 
 // The dither threshold of a pixel whose frame key is `key` (lib/common.wgsl `texel_key`
-// + 1): the Bayer cell of its texel on its face, so a texel keeps its choice however the
-// camera moves. The sky (key 0), moving objects and sprites (the top bit) take their
-// screen pixel's cell.
-fn texel_threshold(key: u32, pixel: vec2<u32>, max_n: u32) -> f32 {
+// + 1) and alpha `alpha`: the rank of its texel's surface where the alpha carries one
+// (lib/common.wgsl `dither_alpha`: the shade pass found it where the texel lies in the
+// world, so a texel keeps its choice however the camera moves, and the next probe's texels
+// over the same surface mostly share it), else the Bayer cell of its texel on its face (a
+// terrain's). The sky (key 0), moving objects and sprites (the top bit) take their screen
+// pixel's cell.
+fn texel_threshold(key: u32, pixel: vec2<u32>, max_n: u32, alpha: f32) -> f32 {
     if max_n == 0u || key == 0u || key >= 0x80000000u {
         return bayer4(pixel);
+    }
+    let a = u32(round(alpha * 255.0));
+    if a < 255u {
+        return (f32(a / 16u) + 0.5) / 16.0;
     }
     let k = key - 1u;
     return bayer4(vec2(k % max_n, (k / max_n) % max_n));

@@ -1,5 +1,5 @@
 // The shade pass's per-frame globals (crates/render/src/passes/shade.rs `ShadeGlobals`):
-// lights, ambient, sky, posterization bands. Read by the shade pass, and by the terrain
+// lights, ambient, sky, posterization bands, dithering. Read by the shade pass, and by the terrain
 // splats pass to colour terrain pixels (terrain_splat.wgsl).
 
 struct ShadeGlobals {
@@ -13,4 +13,10 @@ struct ShadeGlobals {
     edges: u32,
     // Where each slot's part of the light queue starts in `work` (after WORK_QUEUE).
     queue_base: vec4<u32>,
+    // 1: the frame is mapped to a dithered palette: lit texels carry their surface's
+    // dither rank (lib/common.wgsl `lit_with_dither`).
+    dither: u32,
+    _pad0: u32,
+    _pad1: u32,
+    _pad2: u32,
 }

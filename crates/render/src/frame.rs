@@ -346,9 +346,15 @@ impl Renderer {
         self.bloom.set(bloom);
     }
 
-    /// The palette frames are mapped to from the next one on (`None`: as drawn).
-    pub fn set_palette(&mut self, palette: Option<crate::palette::PaletteInput>) {
+    /// The palette frames are mapped to from the next one on (`None`: as drawn). Returns
+    /// whether dithering turned on or off: texels lit from then on carry (or drop) their
+    /// surface's dither rank, so the caller lights the probes afresh.
+    pub fn set_palette(&mut self, palette: Option<crate::palette::PaletteInput>) -> bool {
+        let dither = palette
+            .as_ref()
+            .is_some_and(|p| p.dither > 0.0 && !p.colours.is_empty());
         self.present.set_palette(palette);
+        std::mem::replace(&mut self.shade.dither, dither) != dither
     }
 
     /// The probe textures (for tests and debug views).

@@ -115,6 +115,9 @@ pub struct ShadeGlobals {
     /// 1: search silhouettes' edges ([`ShadeInputs::edges`]).
     edges: u32,
     queue_base: [u32; 4],
+    /// 1: lit texels carry their surface's dither rank ([`ShadePass::dither`]).
+    dither: u32,
+    _pad: [u32; 3],
 }
 
 /// The shade pass.
@@ -138,6 +141,10 @@ pub struct ShadePass {
     /// The globals last written, less what changes with the jobs (see
     /// [`ShadePass::globals_key`]).
     globals_key: ShadeGlobals,
+    /// Whether frames are mapped to a dithered palette: lit texels then carry their
+    /// surface's dither rank (`lib/common.wgsl` `surface_dither_rank`). Only texels lit from
+    /// then on change.
+    pub dither: bool,
 }
 
 /// Bytes of one slot's record in `job_args`: x, y, z workgroups and padding.
@@ -229,6 +236,7 @@ impl ShadePass {
             faces: buffer("shade::faces", UNIFORM_STRIDE * MAX_JOBS as u64),
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
             globals_key: ShadeGlobals::zeroed(),
+            dither: false,
         })
     }
 
@@ -311,6 +319,7 @@ impl ShadePass {
         encoder.clear_buffer(&self.work, 0, Some(4 * WORK_QUEUE));
         // Written every frame, jobs or not: the terrain splats pass lights with them too.
         let mut g = globals(scene, look);
+        g.dither = u32::from(self.dither);
         self.globals_key = g;
         g.queue_base = queue_base;
         g.edges = u32::from(edges);
@@ -479,6 +488,8 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         bands: look.bands.max(2),
         edges: 0,
         queue_base: [0; 4],
+        dither: 0,
+        _pad: [0; 3],
     }
 }
 
