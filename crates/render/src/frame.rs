@@ -13,7 +13,7 @@ use crate::gpu_scene::GpuScene;
 use crate::input::{Display, FrameInput, SceneInput, Schedule};
 use crate::passes::background::BackgroundPass;
 use crate::passes::bloom::BloomPass;
-use crate::passes::capture::{CaptureMode, CapturePass};
+use crate::passes::capture::CapturePass;
 use crate::passes::cull::{CullPass, DrawArgs, Visit};
 use crate::passes::lines::{LineVertex, LinesPass};
 use crate::passes::march::{COUNTERS_BYTES, MarchCounts, MarchPass};
@@ -35,6 +35,7 @@ use crate::view::ViewGlobals;
 use texel_probes::cube::FaceMask;
 
 mod jobs;
+mod switches;
 use jobs::{capture_rects, drawn_faces, runs_to_compute, settle_edges, shade_jobs};
 
 /// Screen-sized targets besides the colour target.
@@ -139,8 +140,8 @@ pub struct Renderer {
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
     runs_on: bool,
-    /// [`Renderer::set_light_grid`]'s choice (`None`: the environment's).
-    light_grid: Option<bool>,
+    /// Whether scenes grid their point lights ([`Renderer::set_light_grid`]).
+    light_grid: bool,
     display: Display,
 }
 
@@ -198,7 +199,7 @@ impl Renderer {
             offscreen: None,
             queries,
             runs_on: true,
-            light_grid: None,
+            light_grid: std::env::var_os("TEXEL_NO_LIGHT_GRID").is_none(),
             display: Display::Splat,
         })
     }
@@ -217,12 +218,6 @@ impl Renderer {
         self.set_scene_with(ctx, scene, instancing)
     }
 
-    /// Whether the next scenes' point lights are gridded (on by default, off under
-    /// `TEXEL_NO_LIGHT_GRID`): off, every texel tests every light (to compare against).
-    pub fn set_light_grid(&mut self, on: bool) {
-        self.light_grid = Some(on);
-    }
-
     /// [`Renderer::set_scene`], meshes several objects share instanced only if `instancing`
     /// (else every copy written out, to compare against).
     pub fn set_scene_with(
@@ -232,8 +227,7 @@ impl Renderer {
         instancing: bool,
     ) -> Result<(), RenderError> {
         crate::validate::scene(&ctx.device.limits(), scene)?;
-        let light_grid =
-            (self.light_grid).unwrap_or_else(|| std::env::var_os("TEXEL_NO_LIGHT_GRID").is_none());
+        let light_grid = self.light_grid;
         let choices = crate::gpu_scene::Upload {
             instancing,
             light_grid,
@@ -273,61 +267,11 @@ impl Renderer {
         }
     }
 
-    /// Caps the terrain splats' record cache at `slots` slots (at most
-    /// [`crate::passes::terrain_splat::CACHE_SLOTS_MAX`]), so that a test's small faces share
-    /// slots by hash as large faces' keys do; the next frame lays the cache out again, empty.
-    pub fn set_terrain_cache_slots(&mut self, slots: u64) {
-        self.terrain_splat.set_cache_slots_max(slots);
-    }
-
-    /// Forgets every terrain splat record and terrain pixel's shadow rays: the next frame
-    /// makes and casts them all again (what a new scene does; tests compare the cache with
-    /// it).
-    pub fn forget_terrain_records(&mut self) {
-        self.terrain_splat.forget();
-    }
-
-    /// Slots of the terrain splats' record cache as the last frame laid it out (0: none).
-    pub fn terrain_cache_slots(&self) -> u64 {
-        self.terrain_splat.cache_slots()
-    }
-
-    /// Whether our schedule draws each run of alike texels of a stable probe with one quad
-    /// (on by default; off draws one quad per texel, for comparison).
-    pub fn set_runs(&mut self, on: bool) {
-        self.runs_on = on;
-    }
-
     /// GPU bytes the renderer holds for its scene and probes.
     pub fn memory(&self) -> crate::memory::GpuMemory {
         let mut m = (self.scene.as_ref()).map_or_else(Default::default, |s| s.memory());
         m.probes = self.store.bytes();
         m
-    }
-
-    /// What captures leave out of each face ([`crate::gpu_scene::CaptureCull`]; by default
-    /// what a face cannot see or spans less than a texel). Only faces captured from now on
-    /// change.
-    pub fn set_capture_cull(&mut self, cull: crate::gpu_scene::CaptureCull) {
-        self.capture.cull = cull;
-    }
-
-    /// Whether captures store a texture-density colour instead of the albedo (a debug view:
-    /// green where one texture pixel is one probe texel, blue where textures are magnified,
-    /// red where minified, grey untextured). Only faces captured from now on change: start
-    /// a fresh frame driver (`texel_runtime::session::Session::set_texture_density_view`).
-    pub fn set_texture_density_view(&mut self, on: bool) {
-        self.capture.mode = if on {
-            CaptureMode::TextureDensity
-        } else {
-            CaptureMode::Surface
-        };
-    }
-
-    /// What sprites turn toward: the probes (the default, world-locked inside a cell) or
-    /// the camera (screen-space sprites, kept to compare against).
-    pub fn set_sprite_facing(&mut self, facing: crate::input::SpriteFacing) {
-        self.sprites.facing = facing;
     }
 
     /// Sets the world-space line segments drawn over every following frame (consecutive
