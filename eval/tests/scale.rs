@@ -18,7 +18,7 @@ fn scale_measures_each_town_and_the_reference_and_writes_table_and_chart() {
     let walk = out.path().join("in.ron");
     let keys = "(position: (0.0, 1.6, 6.0)), (position: (0.0, 1.6, 5.0))";
     std::fs::write(&walk, format!("(frames: 2, keyframes: [{keys}])")).expect("a path");
-    let status = Command::new(env!("CARGO_BIN_EXE_texel-eval"))
+    let run = Command::new(env!("CARGO_BIN_EXE_texel-eval"))
         .args(["scale", "--counts", "20,80", "--size", "64x36"])
         .args(["--face-res", "32", "--frames", "1", "--assets"])
         .arg(concat!(env!("CARGO_MANIFEST_DIR"), "/../assets"))
@@ -26,9 +26,16 @@ fn scale_measures_each_town_and_the_reference_and_writes_table_and_chart() {
         .arg(&walk)
         .arg("--out")
         .arg(out.path())
-        .status()
+        .output()
         .expect("texel-eval starts");
-    assert!(status.success(), "texel-eval scale: {status}");
+    // Its output is kept apart: printed into the test's own, it would break the lines the
+    // test plan's second pass reads from libtest.
+    assert!(
+        run.status.success(),
+        "texel-eval scale: {}\n{}",
+        run.status,
+        String::from_utf8_lossy(&run.stderr)
+    );
     let json = std::fs::read_to_string(out.path().join("scale.json")).expect("scale.json");
     let report: ScaleReport = serde_json::from_str(&json).expect("a report");
     let reference = report.reference.as_ref().expect("the reference row");
