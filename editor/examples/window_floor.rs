@@ -1,11 +1,11 @@
 //! The floor of the editor's UI frame on this machine: an eframe window of the editor's size
-//! and renderer with panels of text and a central picture, repainting as fast as it can and
-//! rendering nothing else. It prints the frames a second it reached over `SECONDS`, then
+//! and renderer with panels of text (and with `--fill`, a changing picture over the central
+//! panel), repainting as fast as it can and rendering nothing else. It prints the frames a second it reached over `SECONDS`, then
 //! closes. Under Xvfb on a CPU Vulkan (lavapipe) this is what the window alone costs: the
 //! editor's UI frames a second cannot exceed it, whatever the viewport does.
 //!
 //! ```sh
-//! cargo run -p texel_editor --example window_floor
+//! cargo run -p texel_editor --example window_floor -- [--fill] [--immediate]
 //! ```
 
 use std::time::{Duration, Instant};
@@ -16,6 +16,8 @@ const SECONDS: f64 = 6.0;
 struct Floor {
     start: Option<Instant>,
     frames: u32,
+    /// Paint a changing picture over the whole central panel (`--fill`).
+    fill: bool,
 }
 
 impl eframe::App for Floor {
@@ -39,8 +41,10 @@ impl eframe::App for Floor {
         egui::CentralPanel::default().show(ui, |ui| {
             let rect = ui.available_rect_before_wrap();
             let shade = (self.frames % 200) as u8;
-            ui.painter()
-                .rect_filled(rect, 0.0, egui::Color32::from_rgb(shade, 90, 140));
+            if self.fill {
+                ui.painter()
+                    .rect_filled(rect, 0.0, egui::Color32::from_rgb(shade, 90, 140));
+            }
         });
         let elapsed = start.elapsed().as_secs_f64();
         if elapsed >= SECONDS {
@@ -76,6 +80,7 @@ fn main() -> eframe::Result<()> {
             Ok(Box::new(Floor {
                 start: None,
                 frames: 0,
+                fill: std::env::args().any(|a| a == "--fill"),
             }))
         }),
     )
