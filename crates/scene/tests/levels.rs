@@ -879,3 +879,20 @@ fn bad_animators_are_refused_with_their_line() {
         "{e}"
     );
 }
+
+/// palette_night is the stone circle drawn in a palette, with a night palette to swap to
+/// (`texel-run play`'s N, the editor's Night): both files load, and they differ.
+#[test]
+fn palette_night_is_the_stone_circle_with_a_day_and_a_night_palette() {
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels");
+    let circle = Level::load(&dir.join("stone_circle.ron")).unwrap();
+    let level = Level::load(&dir.join("palette_night.ron")).unwrap();
+    assert_eq!(level.entities, circle.entities, "the stone circle's entities");
+    let setting = level.palette.as_ref().expect("a palette");
+    let alternate = setting.alternate.as_ref().expect("a night palette");
+    assert!(setting.dither > 0.0 && setting.dither <= 1.0);
+    let load = |file: &str| texel_scene::palette::Palette::load(&dir.join(file)).unwrap();
+    let (day, night) = (load(&setting.file), load(alternate));
+    assert!(day.colours.len() >= 8 && night.colours.len() >= 8);
+    assert_ne!(day.colours, night.colours, "night is another palette");
+}
