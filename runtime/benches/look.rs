@@ -28,7 +28,13 @@ fn repo() -> PathBuf {
 }
 
 /// The looks measured, by name.
-const LOOKS: [&str; 5] = ["plain", "palette", "palette, dither 0.4", "bloom", "highlight"];
+const LOOKS: [&str; 5] = [
+    "plain",
+    "palette",
+    "palette, dither 0.4",
+    "bloom",
+    "highlight",
+];
 
 /// `palette_night` dressed as `look` (its palette files are loaded with it either way).
 fn level(look: &str) -> LoadedLevel {

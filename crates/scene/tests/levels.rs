@@ -887,7 +887,10 @@ fn palette_night_is_the_stone_circle_with_a_day_and_a_night_palette() {
     let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("../../assets/levels");
     let circle = Level::load(&dir.join("stone_circle.ron")).unwrap();
     let level = Level::load(&dir.join("palette_night.ron")).unwrap();
-    assert_eq!(level.entities, circle.entities, "the stone circle's entities");
+    assert_eq!(
+        level.entities, circle.entities,
+        "the stone circle's entities"
+    );
     let setting = level.palette.as_ref().expect("a palette");
     let alternate = setting.alternate.as_ref().expect("a night palette");
     assert!(setting.dither > 0.0 && setting.dither <= 1.0);
