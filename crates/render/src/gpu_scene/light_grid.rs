@@ -46,19 +46,25 @@ pub(super) fn light_words(points: &[GpuPointLight], point_count: u32, grid: bool
     ]);
     let pairs = words.len();
     words.resize(pairs + 2 * cells, 0);
-    for row in 0..grid.rows {
-        for column in 0..grid.columns {
-            let first = words.len() as u32;
-            let (lo, hi) = grid.rect(column, row);
-            for (i, l) in real.iter().enumerate() {
+    // Each light is put in the cells its reach's square covers (not every cell tested against
+    // every light: an edit writes the grid again), in light order, so lists are ascending.
+    let mut lists: Vec<Vec<u32>> = vec![Vec::new(); cells];
+    for (i, l) in real.iter().enumerate() {
+        let (columns, rows) = grid.cells_under(l);
+        for row in rows {
+            for column in columns.clone() {
+                let (lo, hi) = grid.rect(column, row);
                 if grid.all || reaches(l, lo, hi) {
-                    words.push(i as u32);
+                    lists[(row * grid.columns + column) as usize].push(i as u32);
                 }
             }
-            let at = pairs + 2 * (row * grid.columns + column) as usize;
-            words[at] = first;
-            words[at + 1] = words.len() as u32 - first;
         }
+    }
+    for (cell, list) in lists.iter().enumerate() {
+        let first = words.len() as u32;
+        words.extend(list);
+        words[pairs + 2 * cell] = first;
+        words[pairs + 2 * cell + 1] = list.len() as u32;
     }
     debug_assert_eq!(header + HEADER_WORDS, pairs);
     words
@@ -115,6 +121,21 @@ impl Grid {
             cell,
             all: false,
         }
+    }
+
+    /// The columns and rows whose cells the square around `l`'s reach may touch (every cell
+    /// when the grid is one cell over everything).
+    fn cells_under(&self, l: &GpuPointLight) -> (std::ops::Range<u32>, std::ops::Range<u32>) {
+        if self.all {
+            return (0..self.columns, 0..self.rows);
+        }
+        let span = |k: usize, axis: usize, n: u32| {
+            let at = |v: f32| ((v - self.origin[k]) / self.cell).floor();
+            let lo = at(l.position[axis] - l.radius) - 1.0;
+            let hi = at(l.position[axis] + l.radius) + 2.0;
+            (lo.max(0.0) as u32).min(n)..(hi.max(0.0) as u32).min(n)
+        };
+        (span(0, 0, self.columns), span(1, 2, self.rows))
     }
 
     /// Cell (`column`, `row`)'s rectangle in X, Z, grown by a little for rounding (the
