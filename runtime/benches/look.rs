@@ -7,12 +7,14 @@
 //! has) and writes the table to `docs/results/benches/look.md`; `cargo test --benches` runs
 //! one small case of each once as a smoke test.
 
+#[path = "common/frames.rs"]
+mod frames;
 #[path = "common/results.rs"]
 mod results;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::UVec2;
@@ -101,21 +103,9 @@ fn looks(c: &mut Criterion) {
         }
         let quads = quads / u64::from(frames.max(1));
         eprintln!("{look}: {quads} quads per frame");
-        let mut i = 0;
-        let mut samples = results::Samples::default();
-        group.bench_function(look, |b| {
-            b.iter_custom(|iters| {
-                let t = Instant::now();
-                for _ in 0..iters {
-                    session.draw_offscreen(&ctx, &request(i)).expect("frame");
-                    i += 1;
-                }
-                let elapsed = t.elapsed();
-                samples.push(elapsed, iters);
-                elapsed
-            })
+        let ms = frames::median_frame_ms(&mut group, look, SAMPLES, |i| {
+            session.draw_offscreen(&ctx, &request(i)).expect("frame");
         });
-        let ms = samples.median_ms(SAMPLES);
         let _ = writeln!(table, "| {look} | {ms:.0} ms | {quads} |");
     }
     group.finish();

@@ -8,12 +8,14 @@
 //! machine has) and writes the table to `docs/results/benches/moving.md`; `cargo test
 //! --benches` runs one small case once as a smoke test.
 
+#[path = "common/frames.rs"]
+mod frames;
 #[path = "common/results.rs"]
 mod results;
 
 use std::fmt::Write as _;
 use std::path::PathBuf;
-use std::time::{Duration, Instant};
+use std::time::Duration;
 
 use criterion::{Criterion, criterion_group, criterion_main};
 use glam::{UVec2, Vec3};
@@ -112,21 +114,10 @@ fn walk(c: &mut Criterion) {
                 texels / frames,
                 quads / frames
             );
-            let mut i = 0;
-            let mut samples = results::Samples::default();
-            group.bench_function(&label, |b| {
-                b.iter_custom(|iters| {
-                    let t = Instant::now();
-                    for _ in 0..iters {
-                        session.draw_offscreen(&ctx, &request(i)).expect("frame");
-                        i += 1;
-                    }
-                    let elapsed = t.elapsed();
-                    samples.push(elapsed, iters);
-                    elapsed
-                })
+            let ms = frames::median_frame_ms(&mut group, &label, SAMPLES, |i| {
+                session.draw_offscreen(&ctx, &request(i)).expect("frame");
             });
-            row[usize::from(frozen)] = (samples.median_ms(SAMPLES), texels / frames);
+            row[usize::from(frozen)] = (ms, texels / frames);
         }
         let [(moving, lit_moving), (frozen, lit_frozen)] = row;
         let _ = writeln!(
