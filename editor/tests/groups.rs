@@ -10,34 +10,14 @@ use egui_kittest::kittest::Queryable;
 use glam::Vec3;
 use texel_editor::app::EditorApp;
 use texel_editor::camera::Projector;
-use texel_editor::files::Recent;
 use texel_editor::ui::hierarchy::{OutlinerFilter, lines};
-use texel_editor::ui::widgets::{display_name, kind_icon};
+use texel_editor::ui::widgets::display_name;
 use texel_editor::viewport::gizmo;
 use texel_scene::{Level, Name, Scene, Transform};
 
 mod support;
 
-fn editor(dir: &std::path::Path) -> Harness<'static, EditorApp> {
-    let path = support::bundled_copy(dir, "stone_circle");
-    let app = EditorApp::with_recent(Some(&path), Recent::default());
-    let mut h = Harness::builder()
-        .with_size([1200.0, 800.0])
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
-    h.run();
-    h
-}
-
-fn outliner_label(h: &Harness<'_, EditorApp>, i: usize) -> String {
-    let row = h.state().state.row_at(i).expect("an entity");
-    format!("{} {}", kind_icon(&row), display_name(&row, i))
-}
-
-fn click_row(h: &mut Harness<'_, EditorApp>, i: usize, modifiers: Modifiers) {
-    let label = outliner_label(h, i);
-    h.get_by_label(&label).click_modifiers(modifiers);
-    h.run();
-}
+use support::{click_row, editor, outliner_label};
 
 fn level(h: &Harness<'_, EditorApp>) -> Level {
     h.state().state.scene().to_level()

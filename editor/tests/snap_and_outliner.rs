@@ -7,26 +7,16 @@
 
 mod support;
 
+use support::{click_row, editor, outliner_label};
+
 use egui::{Event, Key, Modifiers, PointerButton, Pos2};
 use egui_kittest::Harness;
 use egui_kittest::kittest::Queryable;
 use glam::Vec3;
 use texel_editor::app::EditorApp;
 use texel_editor::camera::Projector;
-use texel_editor::files::Recent;
-use texel_editor::ui::widgets::{display_name, kind_icon};
+use texel_editor::ui::widgets::display_name;
 use texel_editor::viewport::gizmo;
-
-/// An editor on a copy of stone_circle in `dir`.
-fn editor(dir: &std::path::Path) -> Harness<'static, EditorApp> {
-    let path = support::bundled_copy(dir, "stone_circle");
-    let app = EditorApp::with_recent(Some(&path), Recent::default());
-    let mut h = Harness::builder()
-        .with_size([1200.0, 800.0])
-        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
-    h.run();
-    h
-}
 
 const STANDING_STONE_1: usize = 10;
 const ALTAR: usize = 20;
@@ -34,17 +24,6 @@ const ALTAR: usize = 20;
 fn name(h: &Harness<'_, EditorApp>, i: usize) -> String {
     let row = h.state().state.row_at(i).expect("an entity");
     display_name(&row, i)
-}
-
-fn outliner_label(h: &Harness<'_, EditorApp>, i: usize) -> String {
-    let row = h.state().state.row_at(i).expect("an entity");
-    format!("{} {}", kind_icon(&row), display_name(&row, i))
-}
-
-fn click_row(h: &mut Harness<'_, EditorApp>, i: usize) {
-    let label = outliner_label(h, i);
-    h.get_by_label(&label).click();
-    h.run();
 }
 
 fn transform(h: &Harness<'_, EditorApp>, i: usize) -> texel_scene::Transform {
@@ -102,7 +81,7 @@ fn grid_snap_lands_a_move_on_multiples_and_ctrl_drags_freely() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = editor(dir.path());
     let i = STANDING_STONE_1;
-    click_row(&mut h, i);
+    click_row(&mut h, i, Modifiers::NONE);
     let start = transform(&h, i).translation;
     assert!(!on_multiple(start.x, 0.5), "the stone starts off the grid");
     h.state_mut().viewport.snap.grid = true;
@@ -131,7 +110,7 @@ fn grid_snap_lands_the_centre_of_several_on_multiples() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = editor(dir.path());
     let stones = [10, 11, 12];
-    click_row(&mut h, stones[0]);
+    click_row(&mut h, stones[0], Modifiers::NONE);
     let label = outliner_label(&h, stones[2]);
     h.get_by_label(&label).click_modifiers(Modifiers::SHIFT);
     h.run();
@@ -158,7 +137,7 @@ fn angle_snap_turns_by_multiples_of_the_angle() {
     let dir = tempfile::tempdir().expect("tempdir");
     let mut h = editor(dir.path());
     // Trilithon 1 upright L: rotation (0, 20, 0).
-    click_row(&mut h, 1);
+    click_row(&mut h, 1, Modifiers::NONE);
     let start = transform(&h, 1);
     assert_eq!(start.rotation.y, 20.0);
     h.state_mut().viewport.snap.angle = true;
@@ -322,7 +301,7 @@ fn a_locked_entity_is_not_box_selected_nor_moved() {
     h.run();
     assert!(h.state().state.is_locked(i) && !h.state().state.pickable(i));
     // The outliner still selects it; the gizmo does not move it.
-    click_row(&mut h, i);
+    click_row(&mut h, i, Modifiers::NONE);
     assert_eq!(h.state().state.selected(), [i]);
     let start = transform(&h, i).translation;
     let n = steps(&h);

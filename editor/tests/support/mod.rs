@@ -7,9 +7,15 @@
 use std::path::Path;
 use std::sync::Arc;
 
+use egui::Modifiers;
 use egui::mutex::RwLock;
+use egui_kittest::Harness;
+use egui_kittest::kittest::Queryable;
 use glam::Vec3;
+use texel_editor::app::EditorApp;
 use texel_editor::camera::EditorCamera;
+use texel_editor::files::Recent;
+use texel_editor::ui::widgets::{display_name, kind_icon};
 use texel_editor::viewport::gpu::GpuView;
 use texel_render::context::GpuContext;
 use texel_runtime::load::{LoadedLevel, load_level};
@@ -64,4 +70,28 @@ pub fn camera() -> EditorCamera {
     let mut camera = EditorCamera::default();
     camera.focus(Vec3::new(1.206, 1.6, 5.946), 6.0);
     camera
+}
+
+/// An editor (kittest, no GPU) on a copy of stone_circle in `dir`, its first frames run.
+pub fn editor(dir: &Path) -> Harness<'static, EditorApp> {
+    let path = bundled_copy(dir, "stone_circle");
+    let app = EditorApp::with_recent(Some(&path), Recent::default());
+    let mut h = Harness::builder()
+        .with_size([1200.0, 800.0])
+        .build_ui_state(|ui, app: &mut EditorApp| app.ui(ui), app);
+    h.run();
+    h
+}
+
+/// The outliner's label of the entity at `i`.
+pub fn outliner_label(h: &Harness<'_, EditorApp>, i: usize) -> String {
+    let row = h.state().state.row_at(i).expect("an entity");
+    format!("{} {}", kind_icon(&row), display_name(&row, i))
+}
+
+/// Clicks the outliner's row of the entity at `i` with `modifiers` held.
+pub fn click_row(h: &mut Harness<'_, EditorApp>, i: usize, modifiers: Modifiers) {
+    let label = outliner_label(h, i);
+    h.get_by_label(&label).click_modifiers(modifiers);
+    h.run();
 }
