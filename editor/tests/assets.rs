@@ -6,7 +6,7 @@
 //! step); a palette tile sets the level's palette; a broken PNG shows as broken and dropping
 //! it changes nothing but the error dialog; a clicked tile is added at the view's centre.
 
-mod support;
+use crate::support;
 
 use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};

@@ -7,7 +7,7 @@ use texel_editor::viewport::debug::{DebugState, DebugView};
 use texel_render::context::test_context;
 use texel_render::input::Schedule;
 
-mod support;
+use crate::support;
 
 use support::{camera, gpu_view, stone_circle};
 

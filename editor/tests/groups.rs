@@ -15,7 +15,7 @@ use texel_editor::ui::widgets::display_name;
 use texel_editor::viewport::gizmo;
 use texel_scene::{Level, Name, Scene, Transform};
 
-mod support;
+use crate::support;
 
 use support::{click_row, editor, outliner_label};
 

@@ -8,7 +8,7 @@ use texel_runtime::load::LoadedLevel;
 use texel_scene::hierarchy::relative;
 use texel_scene::{EntityRow, Level, Name, Scene, Transform};
 
-mod support;
+use crate::support;
 
 fn frame(level: &LoadedLevel) -> (UVec2, Vec<u8>) {
     let ctx = test_context().expect("a device");

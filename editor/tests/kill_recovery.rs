@@ -10,7 +10,7 @@
 //! gives) and `xdotool`; without a display it fails, unless `TEXEL_ALLOW_NO_DISPLAY` is set;
 //! without xdotool it fails.
 
-mod support;
+use crate::support;
 
 use std::os::unix::process::ExitStatusExt;
 use std::path::{Path, PathBuf};

@@ -3,7 +3,7 @@
 //! inspector and the gizmo on three entities; duplicate, copy, cut, paste and delete, each one
 //! undo step; paste between two editors; text that is not entities refused.
 
-mod support;
+use crate::support;
 
 use support::{click_row, editor};
 

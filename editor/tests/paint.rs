@@ -19,7 +19,7 @@ use texel_scene::Scene;
 use texel_scene::terrain::{PaintLayer, Terrain};
 use texel_scene::texture::Image;
 
-mod flat_terrain;
+use crate::flat_terrain;
 use flat_terrain::{FLAT, flat_level, harness};
 
 /// The brush's colour.

@@ -9,7 +9,7 @@ use texel_editor::palette_edits::Slot;
 use texel_editor::viewport::worker::{Frame, RenderWorker};
 use texel_render::context::test_context;
 
-mod support;
+use crate::support;
 
 fn worker<'a>(h: &'a Harness<'_, EditorApp>) -> &'a RenderWorker {
     h.state().viewport.worker.as_ref().expect("a render worker")

@@ -11,7 +11,7 @@ use texel_editor::files::Recent;
 use texel_editor::viewport::ViewMode;
 use texel_render::context::test_context;
 
-mod support;
+use crate::support;
 
 const STEP: f32 = 1.0 / 60.0;
 

@@ -16,7 +16,7 @@ use texel_editor::viewport::debug::DebugView;
 use texel_editor::viewport::worker::RenderWorker;
 use texel_render::context::test_context;
 
-mod support;
+use crate::support;
 
 /// The editor on a copy of stone_circle in `dir` (its autosaves land there).
 fn harness(dir: &Path) -> Harness<'static, EditorApp> {

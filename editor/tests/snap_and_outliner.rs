@@ -5,7 +5,7 @@
 //! and by component; a hidden entity is left out of what the viewport draws but saved whole;
 //! a locked one is not box-selected nor moved.
 
-mod support;
+use crate::support;
 
 use support::{click_row, editor, outliner_label};
 

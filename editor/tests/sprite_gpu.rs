@@ -9,7 +9,7 @@ use texel_render::context::test_context;
 use texel_render::input::Schedule;
 use texel_runtime::load::load_level;
 
-mod support;
+use crate::support;
 
 #[test]
 fn picking_a_sprite_selects_it() {

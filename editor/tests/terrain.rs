@@ -23,7 +23,7 @@ use texel_scene::terrain::{HeightSource, Heightfield};
 use texel_scene::texture::{Image, encode_heightmap, encode_png};
 use texel_scene::{EntityRow, Scene};
 
-mod flat_terrain;
+use crate::flat_terrain;
 use flat_terrain::{FLAT, TOP, flat_level, harness};
 
 /// A level in `dir` holding only the default terrain (baked noise).

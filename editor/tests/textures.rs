@@ -21,7 +21,7 @@ use texel_scene::{
     EntityRow, Geometry, LevelSettings, Material, Name, PixelScale, Scene, TextureMap, Transform,
 };
 
-mod support;
+use crate::support;
 
 fn workspace() -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join("..")

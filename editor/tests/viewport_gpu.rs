@@ -12,7 +12,7 @@ use texel_render::input::Schedule;
 use texel_render::target::{FRAME_FORMAT, OffscreenTarget};
 use texel_scene::Transform;
 
-mod support;
+use crate::support;
 
 #[test]
 fn viewport_renders_and_picks_on_eframes_kind_of_device() {

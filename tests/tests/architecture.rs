@@ -75,20 +75,10 @@ fn package_name(dir: &std::path::Path) -> String {
 #[test]
 fn no_library_depends_on_an_app() {
     let root = repo_root();
-    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).expect("the workspace");
-    let members: Vec<&str> = manifest
-        .split("members = [")
-        .nth(1)
-        .and_then(|rest| rest.split(']').next())
-        .expect("a members list")
-        .split(',')
-        .map(|m| m.trim().trim_matches('"'))
-        .filter(|m| !m.is_empty())
-        .collect();
-    let apps: Vec<String> = members
+    let apps: Vec<String> = members()
         .iter()
-        .filter(|m| !m.starts_with("crates/"))
-        .map(|m| package_name(&root.join(m)))
+        .filter(|m| !m.starts_with(root.join("crates")))
+        .map(|m| package_name(m))
         .collect();
     for must in ["texel_runtime", "texel_eval", "texel_editor"] {
         assert!(
@@ -232,4 +222,82 @@ fn function_lengths_are_counted_from_signature_to_closing_brace() {
     let src = "fn a() {\n    let s = \"}\";\n    let c = '{';\n    // }\n}\npub fn b<'x>(v: &'x str) -> &'x str {\n    v\n}\nfn c();\n";
     let lines: Vec<&str> = src.lines().collect();
     assert_eq!(functions(&lines), vec![("a", 1, 5), ("b", 6, 3)]);
+}
+
+/// The workspace members' directories, from the root manifest's `members` list.
+fn members() -> Vec<std::path::PathBuf> {
+    let root = repo_root();
+    let manifest = std::fs::read_to_string(root.join("Cargo.toml")).expect("the workspace");
+    manifest
+        .split("members = [")
+        .nth(1)
+        .and_then(|rest| rest.split(']').next())
+        .expect("a members list")
+        .split(',')
+        .map(|m| m.trim().trim_matches('"'))
+        .filter(|m| !m.is_empty())
+        .map(|m| root.join(m))
+        .collect()
+}
+
+/// The files of `tests/` a package's test targets reach: each `[[test]]`'s `path`, and
+/// the `mod NAME;` lines of those files (as `tests/NAME.rs` or `tests/NAME/mod.rs`).
+fn reached_test_files(dir: &std::path::Path, manifest: &str) -> Vec<std::path::PathBuf> {
+    let targets: Vec<std::path::PathBuf> = manifest
+        .lines()
+        .filter_map(|l| l.trim().strip_prefix("path = \"tests/"))
+        .filter_map(|rest| rest.split('"').next())
+        .map(|file| dir.join("tests").join(file))
+        .collect();
+    let mut reached = targets.clone();
+    for target in &targets {
+        let text =
+            std::fs::read_to_string(target).unwrap_or_else(|e| panic!("{}: {e}", target.display()));
+        for name in text
+            .lines()
+            .filter_map(|l| l.trim().strip_prefix("mod "))
+            .filter_map(|rest| rest.strip_suffix(';'))
+        {
+            reached.push(dir.join("tests").join(format!("{name}.rs")));
+            reached.push(dir.join("tests").join(name).join("mod.rs"));
+        }
+    }
+    reached
+}
+
+/// A package that lists its test targets itself (`autotests = false`, so its files of
+/// `tests/` share one binary: `tests/integration.rs`) must reach every file there: a new
+/// test file nobody added to a target would never build, and its tests never run.
+#[test]
+fn every_test_file_belongs_to_a_test_target() {
+    let mut listed = 0;
+    for dir in members() {
+        let manifest = std::fs::read_to_string(dir.join("Cargo.toml")).expect("a manifest");
+        if !manifest.lines().any(|l| l.trim() == "autotests = false") {
+            continue;
+        }
+        listed += 1;
+        let reached = reached_test_files(&dir, &manifest);
+        let tests = dir.join("tests");
+        for entry in std::fs::read_dir(&tests).expect("tests/") {
+            let path = entry.expect("an entry").path();
+            let file = if path.is_dir() {
+                path.join("mod.rs")
+            } else {
+                path.clone()
+            };
+            if file.extension().is_some_and(|e| e == "rs") && file.is_file() {
+                assert!(
+                    reached.contains(&file),
+                    "{} is in no test target of {}: add `mod {};` to tests/integration.rs",
+                    file.display(),
+                    dir.display(),
+                    path.file_stem()
+                        .map(|s| s.to_string_lossy())
+                        .unwrap_or_default()
+                );
+            }
+        }
+    }
+    assert!(listed >= 5, "packages listing their test targets: {listed}");
 }

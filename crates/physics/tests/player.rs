@@ -1,7 +1,7 @@
 //! The player in hand-built scenes: ramps, steps, walls, falls, jumps, platforms, respawns
 //! and bad input. CPU only.
 
-mod support;
+use crate::support;
 
 use glam::{Vec2, Vec3};
 use support::*;

@@ -1,7 +1,7 @@
 //! Colliders from scenes: shapes under rotation and non-uniform scale, degenerate geometry,
 //! edits, heightfields, and the bundled levels.
 
-mod support;
+use crate::support;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! agrees with it and reprojects exactly, Naive is blocky at the art-pixel size, Snap under
 //! a whole-texel orthographic pan shifts by whole pixels, and the Cubemap agrees with Raster.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -6,7 +6,7 @@
 //! by the documented convention. The captured albedo must show each wall's colour at its face
 //! centre and each marker in its face's top-left quadrant, and nowhere else on that face.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, UVec2, Vec3};
 use texel_probes::cube::{Face, direction_from_face_uv};

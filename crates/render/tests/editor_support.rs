@@ -1,7 +1,7 @@
 //! What the editor reads from and draws through the renderer: a probe slot's lit faces as
 //! sRGB8 images, and world-space lines depth-tested against the splatted scene.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, UVec2, Vec3};
 use texel_probes::probe_set::Slot;

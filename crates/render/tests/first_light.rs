@@ -1,6 +1,6 @@
 //! A whole frame on the GPU: the boxes scene from one camera, in both schedules.
 
-mod common;
+use crate::common;
 
 use glam::{UVec2, Vec3};
 use texel_render::context::test_context;

@@ -2,7 +2,7 @@
 //! reported by `GpuContext::check` (and fails the next frame) instead of wgpu's default
 //! handler, which panics.
 
-mod common;
+use crate::common;
 
 use glam::{UVec2, Vec3};
 use texel_render::context::{GpuContext, GpuError, test_context};

@@ -3,7 +3,7 @@
 //! under a top level over the objects. The frames must equal those of the same scene with
 //! every copy written out in world space (`Renderer::set_scene_with(.., false)`).
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

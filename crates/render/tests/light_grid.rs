@@ -3,7 +3,7 @@
 //! away, draws the same frames, byte for byte, with the grid and with one cell listing every
 //! light (`Renderer::set_light_grid(false)`, as `TEXEL_NO_LIGHT_GRID` does).
 
-mod common;
+use crate::common;
 
 use glam::{UVec2, Vec3};
 use texel_render::context::test_context;

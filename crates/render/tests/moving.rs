@@ -1,7 +1,7 @@
 //! Animated objects through the moving pass: never captured into the probes, drawn where
 //! their pose puts them, and their pixels carried with them.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -2,7 +2,7 @@
 //! `emit_outlined`): a box seen from one camera through two grid probes whose texel grids
 //! lie differently on it shows its outlines over the same pixels.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, UVec2, Vec3};
 use texel_render::context::test_context;

@@ -3,7 +3,7 @@
 //! meeting geometry where the CPU says, refraction that leaves the background alone at index
 //! ratio 1 and inverts it through a sphere.
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -4,7 +4,7 @@
 //! the tree), must light the grid probe's texels alike and find the same silhouette edges
 //! (except where the field's terrain goes on, which is not searched).
 
-mod common;
+use crate::common;
 
 use std::sync::Arc;
 

@@ -1,0 +1,10 @@
+//! The package's integration tests, one module a file, in one test binary: one link
+//! instead of one a file, and on the second driver one process (and one compile of
+//! each pipeline) instead of one a file (`cargo xtask test`, xtask/src/plan.rs).
+//! `tests/tests/architecture.rs` checks that every file of `tests/` is reached.
+
+mod gltf_import;
+mod hierarchy;
+mod levels;
+mod roundtrip_props;
+mod sprites;
