@@ -139,6 +139,7 @@ pub fn main() -> Result<()> {
                 face_res: parse_list(&common.face_res, "--face-res")?,
                 size: parse_size(&common.size)?,
                 freeze,
+                first_frames: None,
             };
             execute(&[plan], &common, command_line).map(drop)
         }

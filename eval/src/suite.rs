@@ -62,6 +62,8 @@ pub struct RunPlan {
     /// Whether the level's animators are taken off first: its moving objects then stand at
     /// their transforms as still geometry (the still-world baseline of a path with motion).
     pub freeze: bool,
+    /// Fly only the path's first this many frames ([`CameraPath::first`]); `None`: all.
+    pub first_frames: Option<u32>,
 }
 
 /// Which paths the suite flies on which bundled level.
@@ -108,6 +110,7 @@ pub fn suite_plans(
             face_res: face_res.to_vec(),
             size,
             freeze: false,
+            first_frames: None,
         })
         .collect()
 }
@@ -124,7 +127,7 @@ fn with_facing(level: &str, methods: &[Method]) -> Vec<Method> {
 pub fn total_frames(plans: &[RunPlan]) -> Result<u64, EvalError> {
     let mut total = 0;
     for p in plans {
-        let path = load_path(&p.path)?;
+        let path = plan_path(p)?;
         let per_res = p.methods.iter().filter(|m| runs_on(**m, &path)).count();
         let raster = p.methods.contains(&Method::Raster) as usize;
         // A level with sprites has its references made for each face resolution.
@@ -146,6 +149,28 @@ pub fn load_path(file: &Path) -> Result<CameraPath, EvalError> {
     CameraPath::load(file).map_err(|e| EvalError::Input(e.to_string()))
 }
 
+/// The frames a test flies in its short form: the first half of `path`'s when the running
+/// test is one the test plan shortens on this driver ([`texel_render::context::short_form`]);
+/// `None` (every frame) otherwise.
+pub fn short_form_frames(path: &Path) -> Option<u32> {
+    if !texel_render::context::short_form() {
+        return None;
+    }
+    let frames = load_path(path).ok()?.frames;
+    let first = frames.div_ceil(2).max(2);
+    eprintln!("short form: the first {first} of {frames} frames");
+    Some(first)
+}
+
+/// The path `plan` flies: its file, cut to its first frames when the plan says so.
+fn plan_path(plan: &RunPlan) -> Result<CameraPath, EvalError> {
+    let path = load_path(&plan.path)?;
+    Ok(match plan.first_frames {
+        Some(k) => path.first(k),
+        None => path,
+    })
+}
+
 /// Runs one plan; `tick(label)` is called after every frame rendered (references included).
 pub fn run_plan(
     ctx: &GpuContext,
@@ -162,7 +187,7 @@ pub fn run_plan(
     if plan.freeze {
         freeze(&mut level);
     }
-    let path = load_path(&plan.path)?;
+    let path = plan_path(plan)?;
     let fov_y = path.fov_y(DEFAULT_FOV_DEG.to_radians());
     let scene = scene_input(&level);
     let animation = Animation::new(&level, &scene);
@@ -465,6 +490,7 @@ mod tests {
             face_res: vec![32, 64],
             size: UVec2::new(16, 9),
             freeze: false,
+            first_frames: None,
         };
         // yaw: reference + raster once + (cubemap, splat) × 2 = 6 passes over 30 frames.
         assert_eq!(

@@ -368,6 +368,7 @@ pub fn walk_plans(
             face_res: face_res.to_vec(),
             size,
             freeze: false,
+            first_frames: None,
         });
     }
     Ok((plans, walks))

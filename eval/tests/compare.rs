@@ -86,6 +86,7 @@ fn compare_writes_a_gif_of_every_frame_with_runs_numbers() {
             face_res: vec![32],
             size: UVec2::new(64, 36),
             freeze: false,
+            first_frames: None,
         },
         ReferenceKind::Gpu,
         &mut |_| {},

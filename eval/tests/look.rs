@@ -8,7 +8,7 @@ use std::path::{Path, PathBuf};
 use glam::UVec2;
 use texel_eval::report::RunRecord;
 use texel_eval::runner::Method;
-use texel_eval::suite::{ReferenceKind, RunPlan, run_plan};
+use texel_eval::suite::{ReferenceKind, RunPlan, run_plan, short_form_frames};
 use texel_render::context::test_context;
 use texel_scene::Level;
 use texel_scene::components::{Bloom, PaletteSetting, Specular};
@@ -63,9 +63,11 @@ fn strafe(level: PathBuf) -> Option<(RunRecord, RunRecord)> {
 /// Splat's and naive's records along `path` (a file of `assets/paths`) on `level`.
 fn walk(level: PathBuf, path: &str) -> Option<(RunRecord, RunRecord)> {
     let ctx = test_context()?;
+    let path = assets().join("paths").join(path);
     let plan = RunPlan {
         level,
-        path: assets().join("paths").join(path),
+        first_frames: short_form_frames(&path),
+        path,
         methods: vec![Method::Splat, Method::Naive],
         face_res: vec![32],
         size: SIZE,

@@ -7,7 +7,7 @@ use std::path::{Path, PathBuf};
 use glam::UVec2;
 use texel_eval::report::RunRecord;
 use texel_eval::runner::Method;
-use texel_eval::suite::{ReferenceKind, RunPlan, run_plan};
+use texel_eval::suite::{ReferenceKind, RunPlan, run_plan, short_form_frames};
 use texel_render::context::test_context;
 
 const SIZE: UVec2 = UVec2::new(160, 90);
@@ -56,6 +56,7 @@ fn run_files(
     let name = path.file_stem().map(|s| s.to_string_lossy().into_owned());
     let plan = RunPlan {
         level,
+        first_frames: short_form_frames(&path),
         path,
         methods: methods.to_vec(),
         face_res: vec![face_res],

@@ -177,12 +177,51 @@ impl CameraPath {
         }
     }
 
+    /// The path's first `frames` frames (all of them when it has fewer): a path of one
+    /// keyframe a frame, each the camera this path has at that frame, so the cameras are the
+    /// same to the bit. The second driver's pass flies some measurement-heavy tests this way
+    /// (`texel_render::context::short_form`).
+    pub fn first(&self, frames: u32) -> CameraPath {
+        let frames = frames.clamp(1, self.frames);
+        CameraPath {
+            frames,
+            dt: self.dt,
+            keyframes: (0..frames).map(|i| self.keyframe(i)).collect(),
+            interpolation: Interpolation::Linear,
+            projection: self.projection,
+        }
+    }
+
+    /// The keyframe the path interpolates at frame `i`.
+    fn keyframe(&self, i: u32) -> Keyframe {
+        let v = self.pose(i);
+        Keyframe {
+            position: (v[0], v[1], v[2]),
+            yaw: v[3],
+            pitch: v[4],
+        }
+    }
+
     /// The camera at frame `i` with vertical field of view `fov_y` (radians) unless the path
     /// sets its own projection.
     pub fn camera(&self, i: u32, fov_y: f32) -> Camera {
+        let v = self.pose(i);
+        let mut cam = Camera::from_yaw_pitch(Vec3::new(v[0], v[1], v[2]), v[3], v[4]);
+        cam.fov_y = self.fov_y(fov_y);
+        if let Some(Projection::Orthographic(h)) = self.projection {
+            cam.ortho_height = Some(h);
+        }
+        cam
+    }
+
+    /// Position, yaw and pitch at frame `i`, interpolated between the keyframes.
+    fn pose(&self, i: u32) -> [f32; 5] {
         let k = &self.keyframes;
         let t = if self.frames <= 1 || k.len() == 1 {
             0.0
+        } else if k.len() as u32 == self.frames {
+            // A keyframe a frame (what `first` writes): frame `i` is keyframe `i`, exactly.
+            i.min(self.frames - 1) as f32
         } else {
             i.min(self.frames - 1) as f32 / (self.frames - 1) as f32 * (k.len() - 1) as f32
         };
@@ -193,7 +232,7 @@ impl CameraPath {
             let k = &k[j];
             [k.position.0, k.position.1, k.position.2, k.yaw, k.pitch]
         };
-        let v = match self.interpolation {
+        match self.interpolation {
             Interpolation::Linear => {
                 let (ka, kb) = (key(a), key(b));
                 std::array::from_fn(|c| ka[c] + (kb[c] - ka[c]) * f)
@@ -203,13 +242,7 @@ impl CameraPath {
                 let p3 = key((b + 1).min(k.len() - 1));
                 catmull_rom(p0, key(a), key(b), p3, f)
             }
-        };
-        let mut cam = Camera::from_yaw_pitch(Vec3::new(v[0], v[1], v[2]), v[3], v[4]);
-        cam.fov_y = self.fov_y(fov_y);
-        if let Some(Projection::Orthographic(h)) = self.projection {
-            cam.ortho_height = Some(h);
         }
-        cam
     }
 }
 
@@ -228,6 +261,39 @@ fn catmull_rom(p0: [f32; 5], p1: [f32; 5], p2: [f32; 5], p3: [f32; 5], t: f32) -
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn the_first_frames_of_a_path_are_its_cameras_to_the_bit() {
+        let key = |x: f32, yaw: f32, pitch: f32| Keyframe {
+            position: (x, 1.0 + x * 0.1, -x),
+            yaw,
+            pitch,
+        };
+        for interpolation in [Interpolation::Linear, Interpolation::Smooth] {
+            let p = CameraPath {
+                frames: 37,
+                dt: 0.05,
+                keyframes: vec![
+                    key(0.0, 0.0, 0.0),
+                    key(3.3, 47.0, -9.0),
+                    key(5.1, 12.5, 4.0),
+                ],
+                interpolation,
+                projection: Some(Projection::Orthographic(6.0)),
+            };
+            let first = p.first(18);
+            assert_eq!((first.frames, first.dt), (18, p.dt));
+            assert_eq!(first.projection, p.projection);
+            for i in 0..18 {
+                let (a, b) = (p.camera(i, 1.0), first.camera(i, 1.0));
+                assert_eq!(a.position, b.position, "{interpolation:?} frame {i}");
+                assert_eq!(a.forward, b.forward, "{interpolation:?} frame {i}");
+                assert_eq!(a.ortho_height, b.ortho_height);
+            }
+            // More frames than the path has: all of them.
+            assert_eq!(p.first(100).frames, 37);
+        }
+    }
 
     #[test]
     fn interpolates_evenly_between_keyframes() {

@@ -517,6 +517,10 @@ fn usage(topic: Option<Sub>) -> String {
                 .iter()
                 .map(|(part, reason)| format!("  *{part}*: {reason}"))
                 .collect();
+            let short: Vec<String> = plan::SECOND_DRIVER_SHORT
+                .iter()
+                .map(|(part, reason)| format!("  *{part}*: {reason}"))
+                .collect();
             format!(
                 "cargo xtask test: set up, then run every check CI runs\n\
                  \n\
@@ -532,6 +536,9 @@ fn usage(topic: Option<Sub>) -> String {
                  is recorded ({}) and runs again on SwiftShader, each test binary's GPU tests\n\
                  in one process sharing one device (its pipelines compiled once), one binary\n\
                  per core at a time, {} s a test at most; except:\n\
+                 {}\n\
+                 and these run there in a short form, the first half of their path's\n\
+                 frames against the same bounds ({}):\n\
                  {}\n\
                  A GPU test that did not run on both fails the run by name. Each pass ends\n\
                  with its {} slowest tests. GPU and window tests fail without an adapter or\n\
@@ -551,6 +558,8 @@ fn usage(topic: Option<Sub>) -> String {
                 plan::DEVICE_LOG_VAR,
                 second_pass::BUDGET.as_secs(),
                 exceptions.join("\n"),
+                plan::SHORT_TESTS_VAR,
+                short.join("\n"),
                 plan::SLOWEST_SHOWN,
                 XVFB_ARGS.join(" ")
             )

@@ -38,6 +38,60 @@ pub(crate) const SECOND_DRIVER_EXCEPTIONS: &[(&str, &str)] = &[
     ),
 ];
 
+/// The variable naming the tests that run in their short form (a comma-separated list of
+/// parts of test names; `texel_render::context::short_form` reads it).
+pub(crate) const SHORT_TESTS_VAR: &str = "TEXEL_SHORT_TESTS";
+
+/// GPU tests the second driver runs in a short form: a part of the test's name, and why.
+/// Such a test flies the first half of its camera path's frames (`CameraPath::first`, the
+/// same cameras to the bit) with the same level, methods, size and face resolution, and
+/// checks the same bounds; its full form runs on lavapipe. Only measurement-heavy tests
+/// whose bound is a ratio or a mean over the path belong here: the second driver is there to
+/// catch a driver-dependent result, which shows on half a path as on all of it.
+pub(crate) const SECOND_DRIVER_SHORT: &[(&str, &str)] = &[
+    (
+        "junctions_and_edges_against_farther_walls_are_as_tight_as_low_resolution_rendering",
+        "splat's coverage error against naive's (a ratio) along the colonnade's occluder pass \
+         at 320x180, faces of 128: 40 s on SwiftShader in full",
+    ),
+    (
+        "sprites_stay_locked_to_the_world_inside_a_cell",
+        "sprite shimmer against the image's and camera-facing sprites' (ratios) on two paths \
+         at 320x180: 40 s on SwiftShader in full",
+    ),
+    (
+        "moving_objects_stay_locked_and_leave_the_world_as_stable",
+        "moving against still pixels, moving and frozen, against naive's (ratios), three \
+         runs of the moving parts' walk: 36 s on SwiftShader in full",
+    ),
+    (
+        "terrain_walk_stays_well_below_naive",
+        "splat's shimmer against naive's (a ratio) and the hole rate over the hills' walk: \
+         35 s on SwiftShader in full",
+    ),
+    (
+        "along_the_wall_at_faces_of_64_silhouettes_are_as_tight_as_naive",
+        "splat's coverage error against naive's (a ratio) along the colonnade's wall: 19 s \
+         on SwiftShader in full",
+    ),
+    (
+        "a_dithered_palette_and_a_bloom_keep_splat_far_below_naive",
+        "splat's shimmer against naive's (ratios) with a dithered palette and a bloom on \
+         three walks: 28 s on SwiftShader in full",
+    ),
+    (
+        "a_highlight_adds_no_more_shimmer_to_splat_than_to_naive",
+        "the shimmer a highlight adds to splat against what it adds to naive (a ratio) on \
+         two walks: 24 s on SwiftShader in full",
+    ),
+];
+
+/// [`SECOND_DRIVER_SHORT`]'s parts as [`SHORT_TESTS_VAR`]'s value.
+pub(crate) fn short_tests_value() -> String {
+    let parts: Vec<&str> = SECOND_DRIVER_SHORT.iter().map(|(part, _)| *part).collect();
+    parts.join(",")
+}
+
 /// How many of the slowest tests are printed per driver.
 pub(crate) const SLOWEST_SHOWN: usize = 15;
 

@@ -292,6 +292,10 @@ fn run_suite(
         .current_dir(&suite.cwd)
         .envs(env.iter().map(|(k, v)| (k, v)))
         .env(crate::plan::DEVICE_LOG_VAR, log)
+        .env(
+            crate::plan::SHORT_TESTS_VAR,
+            crate::plan::short_tests_value(),
+        )
         .env("CARGO_MANIFEST_DIR", &suite.cwd)
         .env_remove("TEXEL_ALLOW_NO_GPU")
         .stdout(Stdio::piped());

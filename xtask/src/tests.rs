@@ -329,10 +329,22 @@ fn the_second_driver_runs_every_gpu_test_but_the_named_exceptions() {
             id("texel_tests::splat_gpu", "splats_cover_the_view"),
         ]
     );
-    // Every exception says why.
+    // Every exception says why; so does every short form, and none is also an exception.
     for (part, reason) in plan::SECOND_DRIVER_EXCEPTIONS {
         assert!(!part.is_empty() && reason.len() > 40, "{part}: {reason}");
     }
+    for (part, reason) in plan::SECOND_DRIVER_SHORT {
+        assert!(
+            !part.is_empty() && !part.contains(',') && reason.len() > 40,
+            "{part}"
+        );
+        let test = id("texel_eval::stability", part);
+        assert_eq!(plan::second_driver_exception(&test), None, "{part}");
+    }
+    assert_eq!(
+        plan::short_tests_value().split(',').count(),
+        plan::SECOND_DRIVER_SHORT.len()
+    );
     assert_eq!(
         plan::filterset(&second).unwrap(),
         "(binary_id(=texel_eval::stability) & (test(=walk_is_stable))) | \

@@ -254,12 +254,7 @@ fn record_device_for_test_plan() {
         return;
     };
     let var = |key| std::env::var(key).unwrap_or_else(|_| "?".to_owned());
-    // Outside nextest, libtest runs each test on a thread named after it.
-    let test = std::env::var("NEXTEST_TEST_NAME").ok().or_else(|| {
-        (std::thread::current().name())
-            .filter(|name| *name != "main")
-            .map(str::to_owned)
-    });
+    let test = running_test();
     let line = format!(
         "{}\t{}\n",
         var("NEXTEST_BINARY_ID"),
@@ -315,6 +310,33 @@ pub fn new_instance() -> wgpu::Instance {
         desc.backends = wgpu::Backends::PRIMARY;
     }
     wgpu::Instance::new(desc)
+}
+
+/// The running test's name: cargo-nextest's `NEXTEST_TEST_NAME`, or outside nextest the
+/// name of the thread libtest runs each test on.
+fn running_test() -> Option<String> {
+    std::env::var("NEXTEST_TEST_NAME").ok().or_else(|| {
+        (std::thread::current().name())
+            .filter(|name| *name != "main")
+            .map(str::to_owned)
+    })
+}
+
+/// For the test plan: whether the running test is one `cargo xtask test` runs in a shorter
+/// form on this driver. The second driver's pass names those tests in `TEXEL_SHORT_TESTS`
+/// (comma-separated parts of test names: `SECOND_DRIVER_SHORT` in `xtask/src/plan.rs`, each
+/// with its reason); such a test flies fewer frames of the same path and checks the same
+/// kind of bound. Unset (every other run), false.
+pub fn short_form() -> bool {
+    let Ok(list) = std::env::var("TEXEL_SHORT_TESTS") else {
+        return false;
+    };
+    let Some(test) = running_test() else {
+        return false;
+    };
+    list.split(',')
+        .map(str::trim)
+        .any(|part| !part.is_empty() && test.contains(part))
 }
 
 /// For GPU tests: a headless context, one per process, shared by the tests of a test binary
