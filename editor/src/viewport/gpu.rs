@@ -125,13 +125,19 @@ impl GpuView {
             rs.device.clone(),
             rs.queue.clone(),
         );
-        Ok(GpuView {
+        Ok(Self::on_context(ctx, rs.renderer.clone()))
+    }
+
+    /// The renderer on `ctx`, showing its frames through `egui`'s renderer (which must draw
+    /// on `ctx`'s device). Views on one context share its compiled pipelines.
+    pub fn on_context(ctx: GpuContext, egui: Arc<RwLock<egui_wgpu::Renderer>>) -> Self {
+        GpuView {
             ctx,
             session: None,
             lines: Vec::new(),
             density_view: false,
             animating: false,
-            egui: Some(rs.renderer.clone()),
+            egui: Some(egui),
             target: None,
             region: None,
             entities: None,
@@ -139,7 +145,7 @@ impl GpuView {
             night: false,
             report: RenderReport::default(),
             probes: None,
-        })
+        }
     }
 
     /// A view rendering with a device of its own, opened on eframe's adapter: the render

@@ -20,7 +20,7 @@ use texel_editor::viewport::gpu::GpuView;
 use texel_render::context::GpuContext;
 use texel_runtime::load::{LoadedLevel, load_level};
 
-/// The viewport's renderer on `ctx`'s device, as eframe would hand it over.
+/// The viewport's renderer on `ctx` (eframe's device, as it would hand it over).
 pub fn gpu_view(ctx: &GpuContext) -> GpuView {
     gpu_view_and_egui(ctx).0
 }
@@ -31,16 +31,8 @@ pub fn gpu_view_and_egui(ctx: &GpuContext) -> (GpuView, Arc<RwLock<egui_wgpu::Re
     let target = texel_render::target::FRAME_FORMAT;
     let egui_renderer = egui_wgpu::Renderer::new(&ctx.device, target, Default::default());
     let renderer = Arc::new(RwLock::new(egui_renderer));
-    let rs = egui_wgpu::RenderState {
-        adapter: ctx.adapter.clone(),
-        available_adapters: vec![ctx.adapter.clone()],
-        instance: ctx.instance.clone(),
-        device: ctx.device.clone(),
-        queue: ctx.queue.clone(),
-        target_format: target,
-        renderer: renderer.clone(),
-    };
-    let view = GpuView::new(&rs).expect("renderer on the shared device");
+    // On the test's own context: every view of a test process shares its compiled pipelines.
+    let view = GpuView::on_context(ctx.clone(), renderer.clone());
     (view, renderer)
 }
 
