@@ -162,13 +162,19 @@ fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     sf = job_face;
     let t = gid.xy + sf.rect_min;
     if t.x < sf.n && t.y < sf.n && needs_light(t) {
-        let index = atomicAdd(&work[WORK_COUNTS + sf.slot], 1u);
-        if index % 64u == 0u {
-            atomicAdd(&job_args[sf.slot * 4u], 1u);
-        }
-        let at = WORK_QUEUE + globals.queue_base[sf.slot] + index;
-        atomicStore(&work[at], sf.job | (t.x << 6u) | (t.y << 19u));
+        queue_texel(t);
     }
+}
+
+// Appends texel `t` of the job's face to its slot's light queue, growing the indirect
+// dispatch by a workgroup every 64 texels.
+fn queue_texel(t: vec2<u32>) {
+    let index = atomicAdd(&work[WORK_COUNTS + sf.slot], 1u);
+    if index % 64u == 0u {
+        atomicAdd(&job_args[sf.slot * 4u], 1u);
+    }
+    let at = WORK_QUEUE + globals.queue_base[sf.slot] + index;
+    atomicStore(&work[at], sf.job | (t.x << 6u) | (t.y << 19u));
 }
 
 // Lights the texels `main` queued for the slot of `job_face`.
@@ -187,15 +193,15 @@ fn light(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocatio
     }
 }
 
-// Re-shades only the four edges of a face, after a neighbouring face was captured: the
-// texels whose outlines and neighbour bits look across that seam.
+// Queues only the four edges of a face for `light`, after a neighbouring face was captured:
+// the texels whose outlines and neighbour bits look across that seam. (Queued rather than
+// lit here, so the one big lighting pipeline is the only one that compiles `light_texel`.)
 @compute @workgroup_size(64)
-fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocation_index) li: u32) {
+fn border(@builtin(global_invocation_id) gid: vec3<u32>) {
     sf = job_face;
     let n = sf.n;
     let i = gid.x;
-    let lights_it = i < 4u * n;
-    if lights_it {
+    if i < 4u * n {
         let side = i / n;
         let k = i % n;
         var t: vec2<u32>;
@@ -206,13 +212,8 @@ fn border(@builtin(global_invocation_id) gid: vec3<u32>, @builtin(local_invocati
             default: { t = vec2(n - 1u, k); }
         }
         if needs_light(t) {
-            light_texel(t);
-            atomicAdd(&group_count, 1u);
+            queue_texel(t);
         }
-    }
-    workgroupBarrier();
-    if li == 0u {
-        atomicAdd(&work[WORK_SHADED], atomicLoad(&group_count));
     }
 }
 

@@ -202,7 +202,7 @@ impl ShadePass {
         let light_pipeline =
             compute_pipeline(device, "shade::light", &module, "light", &layouts[..3]);
         let border_pipeline =
-            compute_pipeline(device, "shade::border", &module, "border", &layouts[..3]);
+            compute_pipeline(device, "shade::border", &module, "border", &layouts);
         let buffer = |label, size| uniform_buffer(device, label, size);
         let no_view = device.create_buffer(&wgpu::BufferDescriptor {
             label: Some("shade::no_view"),
@@ -296,9 +296,10 @@ impl ShadePass {
         let jobs = &jobs[..jobs.len().min(MAX_JOBS)];
         // The light queue: each slot's part holds at most the texels its jobs dispatch over.
         let area = |j: &ShadeJob| {
-            let (w, h) = j.extent(store.slot(j.slot).n);
+            let n = store.slot(j.slot).n;
+            let (w, h) = j.extent(n);
             if j.border {
-                0
+                4 * u64::from(n)
             } else {
                 u64::from(w) * u64::from(h)
             }
@@ -371,8 +372,8 @@ impl ShadePass {
         let for_eye = self.stable_bind_group(device, store, [Slot::StableA, Slot::StableB], view);
         let for_stable = self.stable_bind_group(device, store, [Slot::Eye, Slot::Eye], view);
         // Stable slots first: eye texels may copy their colours in the same pass. Per slot:
-        // sort every job's texels into the queue, light the queue in one dispatch, then the
-        // edges of faces next to new ones.
+        // sort every job's texels into the queue, and the edges of faces next to new ones
+        // (border jobs), then light the queue in one dispatch.
         for slot in [Slot::StableA, Slot::StableB, Slot::Eye] {
             let mine: Vec<(usize, &ShadeJob)> = jobs
                 .iter()
@@ -404,16 +405,17 @@ impl ShadePass {
                 pass.set_bind_group(3, &job_args, &[]);
                 pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
             }
+            for &(i, _) in mine.iter().filter(|(_, j)| j.border) {
+                pass.set_bind_group(0, &bind, &[offset(i)]);
+                pass.set_pipeline(self.border_pipeline.get());
+                pass.set_bind_group(3, &job_args, &[]);
+                pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
+            }
             if mine.iter().any(|(_, j)| area(j) > 0) {
                 pass.set_bind_group(0, &bind, &[offset(first)]);
                 pass.set_pipeline(self.light_pipeline.get());
                 let args = slot.index() as u64 * JOB_ARGS_BYTES;
                 pass.dispatch_workgroups_indirect(&self.job_args, args);
-            }
-            for &(i, _) in mine.iter().filter(|(_, j)| j.border) {
-                pass.set_bind_group(0, &bind, &[offset(i)]);
-                pass.set_pipeline(self.border_pipeline.get());
-                pass.dispatch_workgroups((4 * n).div_ceil(64), 1, 1);
             }
         }
     }
