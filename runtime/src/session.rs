@@ -54,6 +54,9 @@ pub struct Session {
     driver: FrameDriver,
     /// Frames map to the level's alternate palette ([`Session::swap_palette`]).
     alternate_palette: bool,
+    /// The viewport height the level's pixel scale is measured on; the output's when `None`
+    /// ([`Session::set_face_height`]).
+    face_height: Option<u32>,
 }
 
 /// How [`Session::update_entities`] took an edit in.
@@ -119,7 +122,16 @@ impl Session {
             renderer,
             driver,
             alternate_palette: false,
+            face_height: None,
         })
+    }
+
+    /// Measures the level's pixel scale on a viewport `height` pixels tall instead of each
+    /// frame's output (`None`: the output's). The editor names its still view's height, so
+    /// the smaller frames it draws while the view moves come from the same probes, and
+    /// starting or ending a drag captures nothing anew.
+    pub fn set_face_height(&mut self, height: Option<u32>) {
+        self.face_height = height;
     }
 
     /// Replaces the level (after an edit): uploads its scene and plans afresh.
@@ -129,10 +141,15 @@ impl Session {
         // it was.
         self.renderer.set_scene(ctx, level.scene())?;
         self.take_look(&level);
-        let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-        let driver = FrameDriver::prepared(level, size, fov_y)?;
+        let driver = self.fresh_driver(level)?;
         self.replace_driver(driver);
         Ok(())
+    }
+
+    /// A driver planned afresh for `level` on the current driver's viewport.
+    fn fresh_driver(&self, level: Arc<PreparedLevel>) -> Result<FrameDriver, DriverError> {
+        let d = &self.driver;
+        FrameDriver::prepared_for(level, d.size(), d.face_height(), d.fov_y())
     }
 
     /// The level's palette (or its alternate, as swapped) and bloom, to the renderer.
@@ -147,8 +164,7 @@ impl Session {
     fn take_palette(&mut self, palette: Option<texel_render::palette::PaletteInput>) {
         if self.renderer.set_palette(palette) {
             // The level it already plans for: its scheduler was made once, so this is too.
-            let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-            if let Ok(driver) = FrameDriver::prepared(self.driver.level().clone(), size, fov_y) {
+            if let Ok(driver) = self.fresh_driver(self.driver.level().clone()) {
                 self.replace_driver(driver);
             }
         }
@@ -246,8 +262,7 @@ impl Session {
     /// Plans afresh for the same level and viewport (every probe captured again), keeping
     /// the animation clock.
     fn replan(&mut self) -> Result<(), SessionError> {
-        let (size, fov_y) = (self.driver.size(), self.driver.fov_y());
-        let driver = FrameDriver::prepared(self.driver.level().clone(), size, fov_y)?;
+        let driver = self.fresh_driver(self.driver.level().clone())?;
         self.replace_driver(driver);
         Ok(())
     }
@@ -295,14 +310,20 @@ impl Session {
         Ok(())
     }
 
-    /// Plans `request`: a new viewport (size or field of view) plans afresh, since the face
-    /// resolution may follow it.
+    /// Plans `request`. A new size keeps the probes where the face resolution and grid stay
+    /// as planned ([`FrameDriver::resize`]); a new field of view, or a size that changes the
+    /// face resolution, plans afresh.
     fn plan(&mut self, request: &FrameRequest) -> Result<FrameInput, SessionError> {
         let fov_y = request.camera.fov_y;
-        if (request.size, fov_y) != (self.driver.size(), self.driver.fov_y()) {
-            let level = self.driver.level().clone();
-            let driver = FrameDriver::prepared(level, request.size, fov_y)?;
-            self.replace_driver(driver);
+        let face_height = self.face_height.unwrap_or(request.size.y);
+        let d = &self.driver;
+        if (request.size, face_height, fov_y) != (d.size(), d.face_height(), d.fov_y()) {
+            let kept = fov_y == d.fov_y() && self.driver.resize(request.size, face_height);
+            if !kept {
+                let level = self.driver.level().clone();
+                let driver = FrameDriver::prepared_for(level, request.size, face_height, fov_y)?;
+                self.replace_driver(driver);
+            }
         }
         Ok((self.driver).frame(request.camera, request.dt, request.schedule)?)
     }

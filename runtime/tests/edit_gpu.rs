@@ -122,11 +122,21 @@ fn frames(
     session: &mut Session,
     n: usize,
 ) -> Result<(Vec<u8>, Vec<u32>), SessionError> {
+    frames_at(ctx, session, n, SIZE)
+}
+
+/// [`frames`] at output size `size`.
+fn frames_at(
+    ctx: &GpuContext,
+    session: &mut Session,
+    n: usize,
+    size: UVec2,
+) -> Result<(Vec<u8>, Vec<u32>), SessionError> {
     let request = FrameRequest {
         camera: camera(),
         dt: 1.0 / 30.0,
         schedule: Schedule::Ours,
-        size: SIZE,
+        size,
     };
     let (mut px, mut captured) = (Vec::new(), Vec::new());
     for _ in 0..n {
@@ -248,5 +258,53 @@ fn an_edit_far_from_the_camera_marks_no_visible_face() -> anyhow::Result<()> {
         x.abs() < 1e-6,
         "the session holds the reverted box: x = {x}"
     );
+    Ok(())
+}
+
+/// A new output size keeps the probes where the face resolution stays
+/// (`FrameDriver::resize`): on a level of fixed faces, and on a level of pixel size when the
+/// session measures it on one viewport's height (`Session::set_face_height`, as the
+/// editor's smaller frames while the view moves or a drag lands). Planned afresh instead,
+/// the smaller frame captures every face it draws from again.
+#[test]
+fn a_smaller_frame_from_the_same_probes_captures_nothing_anew() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let small = SIZE / 2;
+    let level = yard()?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    frames(&ctx, &mut session, 10)?;
+    let (before, settled) = frames(&ctx, &mut session, 1)?;
+    let (_, captured) = frames_at(&ctx, &mut session, 1, small)?;
+    assert_eq!(
+        captured, settled,
+        "fixed faces: only what a settled frame captures"
+    );
+    let (after, captured) = frames(&ctx, &mut session, 1)?;
+    assert_eq!(captured, settled);
+    assert!(after == before, "back at the first size, the same picture");
+    // Faces that follow the viewport's height: 64 and 32 pixels ask for different ones.
+    let mut level = yard()?;
+    level.scene.settings.pixel_scale = texel_scene::PixelScale::PixelSize(1.0);
+    for keep in [true, false] {
+        let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+        if keep {
+            session.set_face_height(Some(SIZE.y));
+        }
+        frames(&ctx, &mut session, 10)?;
+        let (_, settled) = frames(&ctx, &mut session, 1)?;
+        let (_, captured) = frames_at(&ctx, &mut session, 1, small)?;
+        match keep {
+            true => assert_eq!(
+                captured, settled,
+                "kept: only what a settled frame captures"
+            ),
+            false => assert!(
+                captured[0] > settled[0],
+                "planned afresh: {captured:?} against {settled:?}"
+            ),
+        }
+    }
     Ok(())
 }

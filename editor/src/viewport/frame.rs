@@ -147,6 +147,7 @@ impl Viewport {
             cube_faces: flags.cube_faces,
             playing,
             night: self.night,
+            face_height: (!playing).then_some(self.still_height),
         };
         let doc = &state.document;
         let key = (doc.id(), doc.revision);

@@ -92,6 +92,9 @@ pub struct GpuView {
     pub report: RenderReport,
     /// The probes the last frame drew: eye, the camera cell's grid probe and the other stable one.
     pub probes: Option<LastProbes>,
+    /// The viewport height the level's pixel scale is measured on (`None`: each frame's
+    /// own); see [`GpuView::set_face_height`].
+    face_height: Option<u32>,
 }
 
 /// The probes of the last frame, as its `FrameInput` named them.
@@ -145,6 +148,7 @@ impl GpuView {
             night: false,
             report: RenderReport::default(),
             probes: None,
+            face_height: None,
         }
     }
 
@@ -174,6 +178,7 @@ impl GpuView {
             night: false,
             report: RenderReport::default(),
             probes: None,
+            face_height: None,
         }
     }
 
@@ -314,6 +319,7 @@ impl GpuView {
                 let fov_y = camera.fov_y;
                 let mut session =
                     Session::new(&self.ctx, level, FORMAT, size, fov_y).map_err(err)?;
+                session.set_face_height(self.face_height);
                 session.renderer_mut().set_lines(&self.ctx, &self.lines);
                 session.set_animation_paused(!self.animating);
                 session.set_alternate_palette(self.night);
@@ -454,6 +460,15 @@ impl GpuView {
                 .map_err(|e| e.to_string())?;
         }
         Ok(())
+    }
+
+    /// Measures the level's pixel scale on a viewport `height` pixels tall (`None`: each
+    /// frame's own), for this session and any made later (`Session::set_face_height`).
+    pub fn set_face_height(&mut self, height: Option<u32>) {
+        self.face_height = height;
+        if let Some((session, _)) = &mut self.session {
+            session.set_face_height(height);
+        }
     }
 
     /// Starts the animation clock from 0 (`true`, entering Play) or stops it at 0 (leaving

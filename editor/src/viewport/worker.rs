@@ -99,6 +99,9 @@ pub struct View {
     pub playing: bool,
     /// Frames map to the level's alternate palette (night).
     pub night: bool,
+    /// The viewport height the level's pixel scale is measured on (the still view's, so a
+    /// moving frame, drawn smaller, keeps its probes); `None` (Play): the frame's own.
+    pub face_height: Option<u32>,
 }
 
 /// One request of the UI.
@@ -538,6 +541,7 @@ impl Worker {
         let time = self.gpu.animation_time().unwrap_or(0.0);
         let (level, revision, document) = self.level.as_ref().ok_or("no level yet")?;
         let document = *document;
+        self.gpu.set_face_height(view.face_height);
         let (size, mut pixels) =
             self.gpu
                 .render_pixels(level, *revision, view.camera, view.size, view.schedule, dt)?;

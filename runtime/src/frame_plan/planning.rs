@@ -78,6 +78,9 @@ pub struct FrameDriver {
     probes: Option<ProbeSet>,
     scheduler: Scheduler,
     size: UVec2,
+    /// The viewport height the pixel scale is measured on (the output's unless the caller
+    /// keeps another: [`FrameDriver::prepared_for`]).
+    face_height: u32,
     start: Camera,
     frame_index: u64,
     fade_frame: u64,
@@ -105,8 +108,20 @@ impl FrameDriver {
         size: UVec2,
         fov_y: f32,
     ) -> Result<Self, DriverError> {
+        Self::prepared_for(level, size, size.y, fov_y)
+    }
+
+    /// [`prepared`](Self::prepared), with the level's pixel scale measured on a viewport
+    /// `face_height` pixels tall instead of the output's height: the editor draws its moving
+    /// frames smaller than its still ones from the same probes.
+    pub fn prepared_for(
+        level: Arc<PreparedLevel>,
+        size: UVec2,
+        face_height: u32,
+        fov_y: f32,
+    ) -> Result<Self, DriverError> {
         let viewport = Viewport {
-            height: size.y,
+            height: face_height,
             fov_y,
         };
         let defaults = level.grid_defaults(viewport);
@@ -126,6 +141,7 @@ impl FrameDriver {
                 .with_stable_faces_per_frame(STABLE_FACES_PER_FRAME)
                 .with_crossing_faces(CROSSING_STABLE_FACES),
             size,
+            face_height,
             start,
             frame_index: 0,
             fade_frame: 0,
@@ -203,6 +219,29 @@ impl FrameDriver {
     /// Output size.
     pub fn size(&self) -> UVec2 {
         self.size
+    }
+
+    /// The viewport height the level's pixel scale is measured on (see
+    /// [`prepared_for`](Self::prepared_for)).
+    pub fn face_height(&self) -> u32 {
+        self.face_height
+    }
+
+    /// Takes a new output `size`, with the pixel scale measured on `face_height`, keeping
+    /// every probe and its captures, when that gives the grid and face resolution planned
+    /// for (always on a level of fixed face resolution); returns false, changing nothing,
+    /// when it does not, and the driver must be planned afresh.
+    pub fn resize(&mut self, size: UVec2, face_height: u32) -> bool {
+        let viewport = Viewport {
+            height: face_height,
+            fov_y: self.fov_y,
+        };
+        if self.level.grid_defaults(viewport) != self.defaults {
+            return false;
+        }
+        self.size = size;
+        self.face_height = face_height;
+        true
     }
 
     /// The grid probe a camera at `camera` draws from once any crossfade is over: its origin
