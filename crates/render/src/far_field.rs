@@ -71,6 +71,7 @@ struct Key {
 }
 
 /// The far faces: their textures and where each was captured.
+#[derive(Default)]
 pub(crate) struct FarField {
     textures: Option<FarTextures>,
     captured: [Option<(Vec3, Key)>; 6],
@@ -107,15 +108,6 @@ impl FarTextures {
     /// shading).
     pub(crate) fn targets(&self) -> [&LayeredTexture; 4] {
         [&self.geo, &self.ids, &self.albedo, &self.shading]
-    }
-}
-
-impl Default for FarField {
-    fn default() -> Self {
-        FarField {
-            textures: None,
-            captured: [None; 6],
-        }
     }
 }
 

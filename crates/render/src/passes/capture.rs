@@ -14,7 +14,7 @@ use super::{
 use texel_probes::visibility::TexelRect;
 
 use crate::far_field::{FarField, FarFieldInput};
-use crate::gpu_scene::{GpuScene, LodFrom};
+use crate::gpu_scene::{CaptureCull, GpuScene, LodFrom};
 use crate::input::CaptureInput;
 use crate::probe_store::{
     ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, LayeredTexture, ProbeStore, SHADING_FORMAT, SlotTextures,
@@ -296,7 +296,8 @@ impl CapturePass {
     }
 
     /// The far field's distances and the eye faces whose far face is captured this frame
-    /// (`None` without a far field or a perspective eye face).
+    /// (`None` without a far field or a perspective eye face, or when the faces cull
+    /// nothing: that draws everything into each face, to test the culls against).
     fn plan_far(
         &mut self,
         ctx: &GpuContext,
@@ -304,7 +305,7 @@ impl CapturePass {
         rects: &[Option<TexelRect>],
         store: &ProbeStore,
     ) -> Option<FarPlan> {
-        let input = self.far?;
+        let input = self.far.filter(|_| self.cull != CaptureCull::Nothing)?;
         let eye: Vec<(usize, &CaptureInput)> = (captures.iter().enumerate())
             .filter(|(_, c)| uses_far(c))
             .collect();
