@@ -248,7 +248,10 @@ impl CapturePass {
                 colour: targets(slot).map(|t| &t.layer_views[f]),
                 depth: &slot.depth.layer_views[f],
                 load: false,
-                keep_depth: false,
+                // With a far field an eye face's depth is kept, so wgpu never initializes a
+                // discarded layer of the texture the far faces' depth is copied into (its
+                // tracker asserted doing so, wgpu-core 30.0.1: `splat_gpu`'s closed room).
+                keep_depth: far_of(c).is_some(),
             };
             let drawn = rect_of(i).is_none_or(|r| r.area() > 0);
             if let (Some(far), Some(ft), true) = (far_of(c), far_textures, drawn) {
