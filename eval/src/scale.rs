@@ -44,8 +44,13 @@ pub struct ScaleRow {
     pub frame_ms: Option<f64>,
     /// Median time of each pass over the walk, ms.
     pub passes: BTreeMap<String, f64>,
-    /// Objects drawn into a captured face, on average over the walk.
+    /// Objects drawn into a captured face (the eye's far faces among them), on average over
+    /// the walk.
     pub objects_per_face: f64,
+    /// Objects the eye's faces drew a frame (their far faces aside), on average over the
+    /// walk.
+    #[serde(default)]
+    pub eye_objects_per_frame: f64,
     /// Probe texels lit a frame, median over the walk.
     pub texels_shaded: u64,
     /// GPU bytes of the scene, the shadow trees, textures and probes (last frame).
@@ -93,6 +98,7 @@ pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Resu
         frame_ms: None,
         passes: BTreeMap::new(),
         objects_per_face: 0.0,
+        eye_objects_per_frame: 0.0,
         texels_shaded: 0,
         gpu_bytes: 0,
         peak_resident_bytes: 0,
@@ -120,6 +126,7 @@ pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Resu
     let mut frames = Vec::new();
     let mut per_pass: BTreeMap<String, Vec<f64>> = BTreeMap::new();
     let (mut faces, mut objects, mut shaded) = (0u64, 0u64, Vec::new());
+    let mut eye_objects = 0u64;
     for i in 0..path.frames {
         let (frame, _) = session.draw_offscreen(&ctx, &request(i))?;
         let s = frame.stats;
@@ -127,8 +134,9 @@ pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Resu
         for p in &s.passes {
             per_pass.entry(p.pass.to_owned()).or_default().push(p.ms);
         }
-        faces += u64::from(s.counters.faces_captured);
+        faces += u64::from(s.counters.faces_captured) + u64::from(s.counters.far_faces_captured);
         objects += s.counters.objects_captured;
+        eye_objects += s.counters.eye_objects_captured;
         shaded.push(s.counters.texels_shaded as f64);
         let c = &s.counters;
         row.gpu_bytes = c.gpu_scene_bytes + c.gpu_bvh_bytes + c.gpu_probe_bytes + c.texture_bytes;
@@ -138,6 +146,7 @@ pub fn measure(level: &Path, path: &CameraPath, walk: Walk, label: &str) -> Resu
         .map(|(k, mut v)| (k, median(&mut v)))
         .collect();
     row.objects_per_face = objects as f64 / faces.max(1) as f64;
+    row.eye_objects_per_frame = eye_objects as f64 / f64::from(path.frames.max(1));
     row.texels_shaded = median(&mut shaded) as u64;
     row.peak_resident_bytes = texel_runtime::soak::peak_rss_bytes().unwrap_or(0);
     Ok(row)
@@ -201,8 +210,8 @@ impl ScaleReport {
             self.stamp
         );
         s += "| level | entities | point lights | load (read) | frame | capture | shade | cull | splat \
-              | objects a face | texels lit | GPU | peak resident | ÷ reference |\n";
-        s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
+              | objects a face | eye objects a frame | texels lit | GPU | peak resident | ÷ reference |\n";
+        s += "|---|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|---:|\n";
         let reference = self.reference.as_ref().and_then(|r| r.frame_ms);
         for r in self.reference.iter().chain(&self.towns) {
             let pass = |p: &str| r.passes.get(p).map_or("—".into(), |ms| format!("{ms:.0}"));
@@ -216,7 +225,7 @@ impl ScaleReport {
                 (None, None) => "—".into(),
             };
             s += &format!(
-                "| {} | {} | {} | {:.0} ({:.0}) | {frame} | {} | {} | {} | {} | {:.0} | {} | {:.1} | {:.0} | {ratio} |\n",
+                "| {} | {} | {} | {:.0} ({:.0}) | {frame} | {} | {} | {} | {} | {:.0} | {:.0} | {} | {:.1} | {:.0} | {ratio} |\n",
                 r.label,
                 r.entities,
                 r.point_lights,
@@ -227,6 +236,7 @@ impl ScaleReport {
                 pass("cull"),
                 pass("splat"),
                 r.objects_per_face,
+                r.eye_objects_per_frame,
                 r.texels_shaded,
                 r.gpu_bytes as f64 / 1e6,
                 r.peak_resident_bytes as f64 / 1e6,
@@ -267,6 +277,7 @@ mod tests {
             frame_ms: frame,
             passes: [("capture".to_owned(), 4.0), ("shade".to_owned(), 6.0)].into(),
             objects_per_face: 12.0,
+            eye_objects_per_frame: 30.0,
             texels_shaded: 900,
             gpu_bytes: 2_000_000,
             peak_resident_bytes: 200_000_000,
@@ -290,7 +301,7 @@ mod tests {
         };
         let t = report.table();
         assert!(t.contains(
-            "| town | 100 | 2 | 10 (4) | 30 | 4 | 6 | — | — | 12 | 900 | 2.0 | 200 | 1.50× |"
+            "| town | 100 | 2 | 10 (4) | 30 | 4 | 6 | — | — | 12 | 30 | 900 | 2.0 | 200 | 1.50× |"
         ));
         assert!(t.contains("refused: too large / for this GPU"), "{t}");
         assert_eq!(t.lines().filter(|l| l.starts_with("| ")).count(), 4);

@@ -142,6 +142,9 @@ pub struct Renderer {
     runs_on: bool,
     /// Whether scenes grid their point lights ([`Renderer::set_light_grid`]).
     light_grid: bool,
+    /// Whether the eye draws over far faces when a frame asks for them
+    /// ([`FrameInput::far_field`]; off with `TEXEL_NO_FAR_FIELD`, to compare).
+    far_field: bool,
     display: Display,
 }
 
@@ -200,6 +203,7 @@ impl Renderer {
             queries,
             runs_on: true,
             light_grid: std::env::var_os("TEXEL_NO_LIGHT_GRID").is_none(),
+            far_field: std::env::var_os("TEXEL_NO_FAR_FIELD").is_none(),
             display: Display::Splat,
         })
     }
@@ -236,6 +240,7 @@ impl Renderer {
             .map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
         self.scene = Some(uploaded);
         self.terrain_splat.forget();
+        self.capture.forget_far_field();
         Ok(())
     }
 
@@ -261,6 +266,7 @@ impl Renderer {
         match uploaded.update_objects(&ctx.queue, scene, changed) {
             Ok(edit) => {
                 self.terrain_splat.forget();
+                self.capture.forget_far_field();
                 Ok(Some(edit))
             }
             Err(_) => self.set_scene(ctx, scene).map(|()| None),
@@ -270,7 +276,7 @@ impl Renderer {
     /// GPU bytes the renderer holds for its scene and probes.
     pub fn memory(&self) -> crate::memory::GpuMemory {
         let mut m = (self.scene.as_ref()).map_or_else(Default::default, |s| s.memory());
-        m.probes = self.store.bytes();
+        m.probes = self.store.bytes() + self.capture.far_field_bytes();
         m
     }
 
@@ -432,6 +438,7 @@ impl Renderer {
         let mut captured = crate::passes::capture::CaptureWork::default();
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.cell_probe().origin;
+            self.capture.far = input.far_field.filter(|_| self.far_field);
             captured = (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         self.captured = captured;
@@ -620,7 +627,8 @@ impl Renderer {
         });
         let mut copies: Vec<(&wgpu::Buffer, u64)> =
             (shown.copies.iter()).map(|(b, n)| (b, *n)).collect();
-        copies.push((self.shade.texels_lit(), 4));
+        // The texels lit, then each slot's queue (the eye's first).
+        copies.push((self.shade.texels_lit(), 8));
         copies.push((&self.visible.bits, self.visible.bytes()));
         let timed = stages.finish(&copies)?;
         let (head, mut rest) = timed.readback.split_at(copies[0].1 as usize);
@@ -638,10 +646,10 @@ impl Renderer {
             terrain = TerrainCounts::from_bytes(counts);
             rest = after;
         }
-        let (shaded, bits) = rest.split_at(4);
-        let texels_shaded = u64::from(u32::from_le_bytes([
-            shaded[0], shaded[1], shaded[2], shaded[3],
-        ]));
+        let (shaded, bits) = rest.split_at(8);
+        let word =
+            |i: usize| u64::from(u32::from_le_bytes([0, 1, 2, 3].map(|k| shaded[4 * i + k])));
+        let (texels_shaded, eye_texels_shaded) = (word(0), word(1));
         let screen_visible_texels = (bits.chunks_exact(4))
             .map(|w| u64::from(u32::from_le_bytes([w[0], w[1], w[2], w[3]]).count_ones()))
             .sum();
@@ -657,7 +665,12 @@ impl Renderer {
                 faces_captured: input.captures.len() as u32,
                 objects_captured: self.captured.ranges,
                 triangles_captured: self.captured.triangles,
+                eye_faces_captured: self.captured.eye_faces,
+                far_faces_captured: self.captured.far_faces,
+                eye_objects_captured: self.captured.eye_ranges,
+                eye_triangles_captured: self.captured.eye_triangles,
                 texels_shaded,
+                eye_texels_shaded,
                 quads_splatted,
                 cull_entries,
                 screen_visible_texels,

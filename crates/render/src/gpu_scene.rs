@@ -24,7 +24,7 @@ pub use update::{InPlaceEdit, NotInPlace};
 pub use ranges::{
     CaptureCull, DRAW_MIN_TEXELS, DrawRange, EYE_LOD_SAMPLE_TEXELS, LOD_SAMPLE_TEXELS, LodFrom,
     RANGE_TRIANGLES, Run, chunk_lod, full_detail_runs, spans_a_texel, visible_runs,
-    visible_runs_by_kind,
+    visible_runs_by_kind, visible_runs_where,
 };
 
 /// Choices of an upload that tests and measurements compare against ([`GpuScene::upload_with`]).

@@ -423,6 +423,9 @@ pub struct FrameInput {
     pub partial: Vec<Relight>,
     /// Sprites that moved or changed frame since the last frame (the others keep theirs).
     pub sprites: Vec<SpriteState>,
+    /// The eye probe's far field (`crate::far_field`): `None` draws everything into the eye
+    /// every frame.
+    pub far_field: Option<crate::far_field::FarFieldInput>,
 }
 
 impl FrameInput {

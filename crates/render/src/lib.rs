@@ -15,6 +15,7 @@ pub mod baselines;
 pub mod bvh;
 pub mod context;
 pub mod error;
+pub mod far_field;
 pub mod frame;
 pub mod gpu_scene;
 pub mod gpu_sprites;

@@ -45,7 +45,8 @@ pub struct LayeredTexture {
 }
 
 impl LayeredTexture {
-    fn new(
+    /// A six-layer texture of `n × n` texels of `format`, labelled `label`.
+    pub(crate) fn new(
         ctx: &GpuContext,
         label: &str,
         n: u32,
@@ -133,7 +134,14 @@ impl SlotTextures {
                 gbuf | U::STORAGE_BINDING,
             ),
             shading: LayeredTexture::new(ctx, &name("shading"), n, SHADING_FORMAT, gbuf),
-            depth: LayeredTexture::new(ctx, &name("depth"), n, DEPTH_FORMAT, U::RENDER_ATTACHMENT),
+            // The eye's is copied from its far faces' (`far_field`).
+            depth: LayeredTexture::new(
+                ctx,
+                &name("depth"),
+                n,
+                DEPTH_FORMAT,
+                U::RENDER_ATTACHMENT | U::COPY_DST,
+            ),
             lit: LayeredTexture::new(
                 ctx,
                 &name("lit"),

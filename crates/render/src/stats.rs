@@ -12,8 +12,19 @@ pub struct Counters {
     pub objects_captured: u64,
     /// Their triangles, summed over the faces.
     pub triangles_captured: u64,
+    /// Of `faces_captured`, the eye probe's (captured every frame).
+    pub eye_faces_captured: u32,
+    /// The eye's far faces captured (`texel_render::far_field`; what they draw is counted in
+    /// `objects_captured` and `triangles_captured`, not in the eye's).
+    pub far_faces_captured: u32,
+    /// Of `objects_captured`, those the eye's faces drew (each frame; their far faces aside).
+    pub eye_objects_captured: u64,
+    /// Of `triangles_captured`, those the eye's faces drew.
+    pub eye_triangles_captured: u64,
     /// Texels lit by the shade pass.
     pub texels_shaded: u64,
+    /// Of `texels_shaded`, the eye probe's (those no stable probe shows, and silhouettes).
+    pub eye_texels_shaded: u64,
     /// Quads drawn by the splat pass.
     pub quads_splatted: u64,
     /// Texels and run heads the cull pass looked at to find them (every texel of a face it
@@ -33,7 +44,7 @@ pub struct Counters {
     pub gpu_scene_bytes: u64,
     /// GPU bytes of the shadow-ray trees.
     pub gpu_bvh_bytes: u64,
-    /// GPU bytes of the probe slots' faces and draw lists.
+    /// GPU bytes of the probe slots' faces and draw lists, and of the eye's far faces.
     pub gpu_probe_bytes: u64,
     /// GPU memory of the scene's texture atlas and sprite sheets, bytes (0 without them).
     pub texture_bytes: u64,

@@ -93,6 +93,11 @@ pub fn frame(input: &FrameInput) -> Result<(), RenderError> {
             "a frame filling ahead of a crossing draws the camera cell's probe as the previous one, at fade 0",
         );
     }
+    if let Some(f) = input.far_field
+        && !(f.cell.is_finite() && f.cell > 0.0)
+    {
+        return bad("far_field.cell must be finite and above 0");
+    }
     [input.eye.face_resolution, input.grid.face_resolution]
         .into_iter()
         .chain(input.previous.map(|p| p.face_resolution))
@@ -243,6 +248,7 @@ mod tests {
             relight: Vec::new(),
             partial: Vec::new(),
             sprites: Vec::new(),
+            far_field: None,
         };
         assert!(frame(&input).is_ok());
         assert_eq!(input.cell_probe().origin.z, 0.0);

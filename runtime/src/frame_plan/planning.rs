@@ -359,6 +359,10 @@ impl FrameDriver {
             self.find_near_faces(&plan, filler.as_ref(), cell_size);
         }
         let mut input = self.frame_input(camera, &plan, captures, filler, fade, schedule);
+        // The eye draws only what lies near it every frame; beyond, faces captured every
+        // half cell (`texel_render::far_field`).
+        input.far_field = (schedule == Schedule::Ours && ortho.is_none())
+            .then_some(texel_render::far_field::FarFieldInput { cell: cell_size });
         match schedule {
             Schedule::Ours => input.partial = self.edited.take(&input.captures, &input),
             _ => self.edited.forget(),
@@ -530,6 +534,7 @@ impl FrameDriver {
             relight: Vec::new(),
             partial: Vec::new(),
             sprites: Vec::new(),
+            far_field: None,
         }
     }
 

@@ -255,6 +255,7 @@ impl GBufferPass {
             depth: &targets.depth.view,
             // The sprites are drawn against it in a second pass.
             keep_depth: scene.sprites.is_some(),
+            load: false,
         };
         // Terrains at full detail, no culling (a G-buffer is one view, drawn once).
         // Animated objects too, where their motion records put them.

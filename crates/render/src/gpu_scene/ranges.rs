@@ -180,7 +180,16 @@ pub enum LodFrom {
 /// Measured on `terrain_hills` `terrain_walk` at 1280×720, faces of 128 (lavapipe):
 /// captures 50 → 33 ms a frame, the frame's median 94–97 → 73–76 ms.
 pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<Run> {
-    merge_runs(ranges_drawn(ranges, view_proj, lod, CaptureCull::Footprint).into_iter())
+    merge_runs(
+        ranges_drawn(
+            ranges,
+            view_proj,
+            lod,
+            CaptureCull::Footprint,
+            &|_: &DrawRange| true,
+        )
+        .into_iter(),
+    )
 }
 
 /// [`visible_runs`] split by [`DrawRange::terrain`]: the plain terrain's runs, then the rest
@@ -192,7 +201,19 @@ pub fn visible_runs_by_kind(
     lod: LodFrom,
     cull: CaptureCull,
 ) -> ([Vec<Run>; 2], usize) {
-    let visible = ranges_drawn(ranges, view_proj, lod, cull);
+    visible_runs_where(ranges, view_proj, lod, cull, &|_: &DrawRange| true)
+}
+
+/// [`visible_runs_by_kind`] of the ranges `keep` keeps (an eye's far face: those wholly
+/// beyond the eye's distance, `crate::far_field`).
+pub fn visible_runs_where(
+    ranges: &[DrawRange],
+    view_proj: &glam::Mat4,
+    lod: LodFrom,
+    cull: CaptureCull,
+    keep: &dyn Fn(&DrawRange) -> bool,
+) -> ([Vec<Run>; 2], usize) {
+    let visible = ranges_drawn(ranges, view_proj, lod, cull, keep);
     let count = visible.len();
     let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =
         visible.into_iter().partition(|r| r.terrain);
@@ -211,12 +232,13 @@ pub enum CaptureCull {
     Footprint,
 }
 
-/// The ranges a face draws under `cull`, in the order it draws them.
+/// The ranges a face draws under `cull` of those `keep` keeps, in the order it draws them.
 fn ranges_drawn<'a>(
     ranges: &'a [DrawRange],
     view_proj: &glam::Mat4,
     lod: LodFrom,
     cull: CaptureCull,
+    keep: &dyn Fn(&DrawRange) -> bool,
 ) -> Vec<&'a DrawRange> {
     let wanted = |r: &DrawRange| match lod {
         LodFrom::Full => r.lod == 0,
@@ -228,6 +250,7 @@ fn ranges_drawn<'a>(
         .iter()
         .filter(|r| {
             wanted(r)
+                && keep(r)
                 && (cull != CaptureCull::Footprint || spans_a_texel(r, lod))
                 && (cull == CaptureCull::Nothing || r.may_be_visible(view_proj))
         })

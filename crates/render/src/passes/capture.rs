@@ -13,12 +13,14 @@ use super::{
 };
 use texel_probes::visibility::TexelRect;
 
-use crate::gpu_scene::GpuScene;
+use crate::far_field::{FarField, FarFieldInput};
+use crate::gpu_scene::{CaptureCull, GpuScene, LodFrom};
 use crate::input::CaptureInput;
 use crate::probe_store::{
     ALBEDO_FORMAT, GEO_FORMAT, ID_FORMAT, LayeredTexture, ProbeStore, SHADING_FORMAT, SlotTextures,
 };
 use crate::shader;
+use texel_probes::cube::Face;
 use texel_probes::probe_set::Slot;
 
 /// The capture planes live with the input that defaults a camera's far plane to them
@@ -75,6 +77,9 @@ pub struct CapturePass {
     pub eye_band_origin: glam::Vec3,
     /// What each face leaves out (everything it cannot show, unless a test asks otherwise).
     pub cull: crate::gpu_scene::CaptureCull,
+    /// The eye's far field this frame (`None`: the eye draws everything every frame).
+    pub far: Option<FarFieldInput>,
+    far_field: FarField,
     pipeline: LazyRender,
     /// Plain terrain chunks (`vs_terrain`, `fs_terrain`): the point and object alone pass
     /// to the fragments, which read the surface from the heightmap.
@@ -113,6 +118,7 @@ impl CapturePass {
             ("vs_terrain", "fs_terrain"),
             &[GpuScene::point_vertex_layout()],
         );
+
         let c = wgpu::ShaderStages::COMPUTE;
         let d2 = wgpu::TextureViewDimension::D2;
         let drawn_layout = device.create_bind_group_layout(&wgpu::BindGroupLayoutDescriptor {
@@ -137,12 +143,14 @@ impl CapturePass {
         let faces = uniform_buffer(
             device,
             "capture::faces",
-            UNIFORM_STRIDE * MAX_CAPTURES as u64,
+            2 * UNIFORM_STRIDE * MAX_CAPTURES as u64,
         );
         Ok(CapturePass {
             mode: CaptureMode::Surface,
             eye_band_origin: glam::Vec3::ZERO,
             cull: crate::gpu_scene::CaptureCull::default(),
+            far: None,
+            far_field: FarField::default(),
             pipeline,
             terrain_raster,
             layout,
@@ -152,13 +160,25 @@ impl CapturePass {
         })
     }
 
+    /// Forgets the far faces (the scene changed).
+    pub fn forget_far_field(&mut self) {
+        self.far_field.forget();
+    }
+
+    /// GPU bytes of the far faces.
+    pub fn far_field_bytes(&self) -> u64 {
+        self.far_field.bytes()
+    }
+
     /// Records one render pass per capture (at most [`MAX_CAPTURES`]). `rects[i]`, when
     /// given, limits capture `i` to those texels: the rest of an eye face is cleared to sky,
     /// the rest of a stable face (an edit changed only the rectangle: `FrameInput::partial`)
-    /// keeps what it held, and only the ranges that may cover the rectangle are drawn.
+    /// keeps what it held, and only the ranges that may cover the rectangle are drawn. With
+    /// a far field ([`CapturePass::far`]) a perspective eye face draws only what reaches
+    /// within its distance, over its far face ([`crate::far_field`]), captured first when due.
     /// Returns what the faces draw.
     pub fn record(
-        &self,
+        &mut self,
         ctx: &GpuContext,
         encoder: &mut wgpu::CommandEncoder,
         captures: &[CaptureInput],
@@ -166,41 +186,29 @@ impl CapturePass {
         store: &ProbeStore,
         scene: &GpuScene,
     ) -> CaptureWork {
-        let mode = self.mode;
         let mut work = CaptureWork::default();
-        let (device, queue) = (&ctx.device, &ctx.queue);
+        let device = &ctx.device;
         let captures = &captures[..captures.len().min(MAX_CAPTURES)];
-        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * captures.len()];
-        for (i, c) in captures.iter().enumerate() {
-            let axis = |f: fn(&texel_probes::ortho::OrthoFrame) -> glam::Vec3| {
-                c.ortho.map_or([0.0; 4], |o| f(&o).extend(0.0).to_array())
-            };
-            let p = FaceParams {
-                view_proj: capture_view_projection(c).to_cols_array_2d(),
-                origin: c.origin.extend(1.0).to_array(),
-                face: c.face.index() as u32,
-                n: store.slot(c.slot).n,
-                mode: u32::from(mode == CaptureMode::TextureDensity),
-                half: c.ortho.map_or(0.0, |o| o.half),
-                band_origin: if c.slot == texel_probes::probe_set::Slot::Eye {
-                    self.eye_band_origin
-                } else {
-                    c.origin
-                }
-                .extend(1.0)
-                .to_array(),
-                right: axis(|o| o.right),
-                down: axis(|o| o.down),
-                forward: axis(|o| o.forward),
-                rect: drawn_rect(rects.get(i).copied().flatten(), store.slot(c.slot).n),
-            };
-            let at = i * UNIFORM_STRIDE as usize;
-            bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
-        }
-        if bytes.is_empty() {
+        if captures.is_empty() {
             return work;
         }
-        queue.write_buffer(&self.faces, 0, &bytes);
+        let rect_of = |i: usize| rects.get(i).copied().flatten();
+        let far = self.plan_far(ctx, captures, rects, store);
+        let far_of = |c: &CaptureInput| far.as_ref().filter(|_| uses_far(c));
+        // Each capture's record, then (at `captures.len() + i`) its far face's.
+        let mut bytes = vec![0u8; UNIFORM_STRIDE as usize * 2 * captures.len()];
+        for (i, c) in captures.iter().enumerate() {
+            let n = store.slot(c.slot).n;
+            let mut records = vec![(i, self.params(c, n, drawn_rect(rect_of(i), n)))];
+            if far_of(c).is_some() {
+                records.push((captures.len() + i, self.params(c, n, [0, 0, n, n])));
+            }
+            for (k, p) in records {
+                let at = k * UNIFORM_STRIDE as usize;
+                bytes[at..at + size_of::<FaceParams>()].copy_from_slice(bytemuck::bytes_of(&p));
+            }
+        }
+        ctx.queue.write_buffer(&self.faces, 0, &bytes);
         let face = wgpu::BindingResource::Buffer(wgpu::BufferBinding {
             buffer: &self.faces,
             offset: 0,
@@ -213,59 +221,224 @@ impl CapturePass {
         // A stable face captured in part keeps the rest: saved now, put back once drawn.
         let kept: Vec<Kept> = (captures.iter().enumerate())
             .filter_map(|(i, c)| {
-                let rect = rects.get(i).copied().flatten()?;
+                let rect = rect_of(i)?;
                 let slot = store.slot(c.slot);
                 (c.slot != Slot::Eye).then(|| Kept::save(device, encoder, slot, c, rect))
             })
             .collect();
+        let far_textures = far.as_ref().and_then(|_| self.far_field.drawn());
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
-            // Only the ranges this face may see (terrain chunks, objects); of a stable face
-            // captured in part, those that may cover its rectangle.
-            let view_proj = match rects.get(i).copied().flatten() {
-                Some(r) if c.slot != Slot::Eye => narrowed(capture_view_projection(c), r, slot.n),
-                _ => capture_view_projection(c),
-            };
-            let lod = match c.ortho {
-                Some(o) => crate::gpu_scene::LodFrom::Texel(o.texel(slot.n)),
-                None if c.slot == texel_probes::probe_set::Slot::Eye => {
-                    crate::gpu_scene::LodFrom::Eye(c.origin, slot.n)
-                }
-                None => crate::gpu_scene::LodFrom::Probe(c.origin, slot.n),
-            };
-            let ([terrain_runs, runs], count) =
-                crate::gpu_scene::visible_runs_by_kind(&scene.ranges, &view_proj, lod, self.cull);
-            work.ranges += count as u64;
-            work.triangles += (terrain_runs.iter().chain(&runs))
-                .map(|&(_, n, _)| u64::from(n / 3))
-                .sum::<u64>();
             let f = c.face.index();
-            let clear = wgpu::Color::TRANSPARENT;
-            let targets = RasterTargets {
-                colour: &[
-                    (&slot.geo.layer_views[f], raster::SKY_CLEAR),
-                    (&slot.ids.layer_views[f], clear),
-                    (&slot.albedo.layer_views[f], clear),
-                    (&slot.shading.layer_views[f], clear),
-                ],
-                depth: &slot.depth.layer_views[f],
-                keep_depth: false,
+            // Ranges this face may see (terrain chunks, objects): of a stable face captured in
+            // part, those that may cover its rectangle; of an eye face, those in its part of
+            // the view (the rest is scissored away), and with a far field, those reaching
+            // within its distance and overlap.
+            let whole = match far_of(c) {
+                Some(far) => face_view_projection(c.origin, c.face, CAPTURE_NEAR, far.near),
+                None => capture_view_projection(c),
             };
-            let draw = RasterDraw {
-                pipeline: self.pipeline.get(),
+            let mut d = FaceDraw {
+                cull: rect_of(i).map_or(whole, |r| narrowed(whole, r, slot.n)),
                 bind: &bind,
-                offsets: &[(i as u64 * UNIFORM_STRIDE) as u32],
-                scissor: rects.get(i).copied().flatten(),
-                runs: Some(&runs),
-                first: Some((self.terrain_raster.get(), &terrain_runs)),
+                offset: (i as u64 * UNIFORM_STRIDE) as u32,
+                scissor: rect_of(i),
+                beyond: None,
+                n: slot.n,
+                colour: targets(slot).map(|t| &t.layer_views[f]),
+                depth: &slot.depth.layer_views[f],
+                load: false,
+                // With a far field an eye face's depth is kept, so wgpu never initializes a
+                // discarded layer of the texture the far faces' depth is copied into (its
+                // tracker asserted doing so, wgpu-core 30.0.1: `splat_gpu`'s closed room).
+                keep_depth: far_of(c).is_some(),
             };
-            raster::record(encoder, "capture::face", &targets, scene, &draw);
-        }
-        if mode == CaptureMode::TextureDensity || scene.terrain_count == 0 {
-            for k in &kept {
-                k.restore(encoder, store.slot(k.slot));
+            let drawn = rect_of(i).is_none_or(|r| r.area() > 0);
+            if let (Some(far), Some(ft), true) = (far_of(c), far_textures, drawn) {
+                if far.due.contains(&c.face) {
+                    let far_face = FaceDraw {
+                        cull: capture_view_projection(c),
+                        offset: ((captures.len() + i) as u64 * UNIFORM_STRIDE) as u32,
+                        scissor: None,
+                        beyond: Some(far.beyond),
+                        colour: ft.targets().map(|t| &t.layer_views[f]),
+                        depth: &ft.depth.layer_views[f],
+                        keep_depth: true,
+                        ..d
+                    };
+                    self.draw(encoder, scene, c, &far_face, &mut work);
+                    work.far_faces += 1;
+                }
+                // The eye face cleared, its part of the view and the whole depth copied from
+                // the far face, then what is near drawn over it, depth-tested against it.
+                let clear = FaceDraw {
+                    scissor: Some(TexelRect {
+                        x0: 0,
+                        y0: 0,
+                        x1: 0,
+                        y1: 0,
+                    }),
+                    ..d
+                };
+                self.draw(encoder, scene, c, &clear, &mut work);
+                copy_rect(encoder, ft, slot, f as u32, drawn_rect(rect_of(i), slot.n));
+                d.load = true;
             }
-            return work;
+            let (ranges, triangles) = self.draw(encoder, scene, c, &d, &mut work);
+            if c.slot == Slot::Eye {
+                work.eye_faces += 1;
+                work.eye_ranges += ranges;
+                work.eye_triangles += triangles;
+            }
+        }
+        self.colour_terrain(ctx, encoder, (captures, rects), store, scene, &bind);
+        for k in &kept {
+            k.restore(encoder, store.slot(k.slot));
+        }
+        work
+    }
+
+    /// The far field's distances and the eye faces whose far face is captured this frame
+    /// (`None` without a far field or a perspective eye face, or when the faces cull
+    /// nothing: that draws everything into each face, to test the culls against).
+    fn plan_far(
+        &mut self,
+        ctx: &GpuContext,
+        captures: &[CaptureInput],
+        rects: &[Option<TexelRect>],
+        store: &ProbeStore,
+    ) -> Option<FarPlan> {
+        let input = self.far.filter(|_| self.cull != CaptureCull::Nothing)?;
+        let eye: Vec<(usize, &CaptureInput)> = (captures.iter().enumerate())
+            .filter(|(_, c)| uses_far(c))
+            .collect();
+        let origin = eye.first()?.1.origin;
+        let n = store.slot(Slot::Eye).n;
+        let faces: Vec<Face> = (eye.iter())
+            .filter(|(i, _)| {
+                rects
+                    .get(*i)
+                    .copied()
+                    .flatten()
+                    .is_none_or(|r| r.area() > 0)
+            })
+            .map(|(_, c)| c.face)
+            .collect();
+        self.far_field.textures(ctx, n);
+        let due = (self.far_field).plan(input, &faces, origin, (n, self.mode, self.cull));
+        Some(FarPlan {
+            near: input.distance(n) + input.overlap(),
+            beyond: input.distance(n),
+            due,
+        })
+    }
+
+    /// The uniform record of capture `c` on faces of `n` texels, drawing the texels `rect`.
+    fn params(&self, c: &CaptureInput, n: u32, rect: [u32; 4]) -> FaceParams {
+        let axis = |f: fn(&texel_probes::ortho::OrthoFrame) -> glam::Vec3| {
+            c.ortho.map_or([0.0; 4], |o| f(&o).extend(0.0).to_array())
+        };
+        FaceParams {
+            view_proj: capture_view_projection(c).to_cols_array_2d(),
+            origin: c.origin.extend(1.0).to_array(),
+            face: c.face.index() as u32,
+            n,
+            mode: u32::from(self.mode == CaptureMode::TextureDensity),
+            half: c.ortho.map_or(0.0, |o| o.half),
+            band_origin: if c.slot == Slot::Eye {
+                self.eye_band_origin
+            } else {
+                c.origin
+            }
+            .extend(1.0)
+            .to_array(),
+            right: axis(|o| o.right),
+            down: axis(|o| o.down),
+            forward: axis(|o| o.forward),
+            rect,
+        }
+    }
+
+    /// Records one face's render pass as `d` says (the ranges of the scene its `cull`
+    /// matrix may see, for capture `c`); adds them to `work` and returns the ranges and
+    /// triangles drawn.
+    fn draw(
+        &self,
+        encoder: &mut wgpu::CommandEncoder,
+        scene: &GpuScene,
+        c: &CaptureInput,
+        d: &FaceDraw<'_>,
+        work: &mut CaptureWork,
+    ) -> (u64, u64) {
+        let lod = match (c.ortho, c.slot) {
+            (Some(o), _) => LodFrom::Texel(o.texel(d.n)),
+            (None, Slot::Eye) => LodFrom::Eye(c.origin, d.n),
+            (None, _) => LodFrom::Probe(c.origin, d.n),
+        };
+        let axis = c.face.axis();
+        // Beyond `depth` along the face's axis: every corner of the range's bounds.
+        let beyond = |r: &crate::gpu_scene::DrawRange| {
+            d.beyond.is_none_or(|depth| {
+                (0..8).all(|i| {
+                    let corner = glam::Vec3::select(
+                        glam::BVec3::new(i & 1 != 0, i & 2 != 0, i & 4 != 0),
+                        r.max,
+                        r.min,
+                    );
+                    (corner - c.origin).dot(axis) > depth
+                })
+            })
+        };
+        let ([terrain_runs, runs], count) = match d.scissor.is_some_and(|r| r.area() == 0) {
+            true => ([Vec::new(), Vec::new()], 0),
+            false => {
+                let ranges = &scene.ranges;
+                crate::gpu_scene::visible_runs_where(ranges, &d.cull, lod, self.cull, &beyond)
+            }
+        };
+        let triangles = (terrain_runs.iter().chain(&runs))
+            .map(|&(_, n, _)| u64::from(n / 3))
+            .sum::<u64>();
+        work.ranges += count as u64;
+        work.triangles += triangles;
+        let clear = wgpu::Color::TRANSPARENT;
+        let [geo, ids, albedo, shading] = d.colour;
+        let targets = RasterTargets {
+            colour: &[
+                (geo, raster::SKY_CLEAR),
+                (ids, clear),
+                (albedo, clear),
+                (shading, clear),
+            ],
+            depth: d.depth,
+            keep_depth: d.keep_depth,
+            load: d.load,
+        };
+        let draw = RasterDraw {
+            pipeline: self.pipeline.get(),
+            bind: d.bind,
+            offsets: &[d.offset],
+            scissor: d.scissor,
+            runs: Some(&runs),
+            first: Some((self.terrain_raster.get(), &terrain_runs)),
+        };
+        raster::record(encoder, "capture::face", &targets, scene, &draw);
+        (count as u64, triangles)
+    }
+
+    /// Colours the terrain texels of the faces just drawn (`colour_terrain`), within their
+    /// rectangles; nothing in the texture-density view or without terrains.
+    fn colour_terrain(
+        &self,
+        ctx: &GpuContext,
+        encoder: &mut wgpu::CommandEncoder,
+        (captures, rects): (&[CaptureInput], &[Option<TexelRect>]),
+        store: &ProbeStore,
+        scene: &GpuScene,
+        bind: &wgpu::BindGroup,
+    ) {
+        if self.mode == CaptureMode::TextureDensity || scene.terrain_count == 0 {
+            return;
         }
         let mut pass = encoder.begin_compute_pass(&wgpu::ComputePassDescriptor {
             label: Some("capture::terrain"),
@@ -276,7 +449,7 @@ impl CapturePass {
             let slot = store.slot(c.slot);
             let f = c.face.index();
             let drawn = bind_group(
-                device,
+                &ctx.device,
                 "capture::drawn",
                 &self.drawn_layout,
                 &[
@@ -290,16 +463,79 @@ impl CapturePass {
             if w == 0 || h == 0 {
                 continue;
             }
-            pass.set_bind_group(0, &bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
+            pass.set_bind_group(0, bind, &[(i as u64 * UNIFORM_STRIDE) as u32]);
             pass.set_bind_group(1, &drawn, &[]);
             pass.dispatch_workgroups(w.div_ceil(8), h.div_ceil(8), 1);
         }
-        drop(pass);
-        for k in &kept {
-            k.restore(encoder, store.slot(k.slot));
-        }
-        work
     }
+}
+
+/// Whether capture `c` draws over a far face when the frame has a far field: a perspective
+/// eye face.
+fn uses_far(c: &CaptureInput) -> bool {
+    c.slot == Slot::Eye && c.ortho.is_none()
+}
+
+/// A frame's far field ([`CapturePass::plan_far`]).
+struct FarPlan {
+    /// The eye faces draw the ranges reaching within this depth.
+    near: f32,
+    /// The far faces draw the ranges wholly beyond this depth.
+    beyond: f32,
+    /// The faces whose far face is captured this frame.
+    due: Vec<Face>,
+}
+
+/// One face's render pass ([`CapturePass::draw`]).
+#[derive(Clone, Copy)]
+struct FaceDraw<'a> {
+    /// What decides the ranges drawn (a face's view-projection, perhaps narrowed).
+    cull: glam::Mat4,
+    bind: &'a wgpu::BindGroup,
+    /// Of the capture's uniform record.
+    offset: u32,
+    scissor: Option<TexelRect>,
+    /// Only the ranges wholly beyond this depth along the face's axis (a far face).
+    beyond: Option<f32>,
+    /// Texels per face edge.
+    n: u32,
+    /// Geo, ids, albedo and shading.
+    colour: [&'a wgpu::TextureView; 4],
+    depth: &'a wgpu::TextureView,
+    /// The targets (colours and depth) are loaded, not cleared.
+    load: bool,
+    /// The depth is stored (a far face's, which its eye face copies).
+    keep_depth: bool,
+}
+
+/// Copies the texels `rect` of face `face` of the far faces `far` into `slot`'s, and the
+/// face's whole depth (a depth texture is copied whole).
+fn copy_rect(
+    encoder: &mut wgpu::CommandEncoder,
+    far: &crate::far_field::FarTextures,
+    slot: &SlotTextures,
+    face: u32,
+    rect: [u32; 4],
+) {
+    let (w, h) = (
+        rect[2].saturating_sub(rect[0]),
+        rect[3].saturating_sub(rect[1]),
+    );
+    if w == 0 || h == 0 {
+        return;
+    }
+    for (from, to) in far.targets().iter().zip(targets(slot)) {
+        encoder.copy_texture_to_texture(
+            at(&from.texture, rect[0], rect[1], face),
+            at(&to.texture, rect[0], rect[1], face),
+            extent(w, h),
+        );
+    }
+    encoder.copy_texture_to_texture(
+        at(&far.depth.texture, 0, 0, face),
+        at(&slot.depth.texture, 0, 0, face),
+        extent(far.n, far.n),
+    );
 }
 
 /// `view_proj` narrowed to the texels `r` of an `n`-texel face: the clip-space box of those
@@ -425,6 +661,15 @@ pub struct CaptureWork {
     pub ranges: u64,
     /// Their triangles.
     pub triangles: u64,
+    /// Far faces captured ([`crate::far_field`]; their ranges and triangles are counted
+    /// above, not in the eye's).
+    pub far_faces: u32,
+    /// Of those, the eye probe's faces, ranges and triangles.
+    pub eye_faces: u32,
+    /// See `eye_faces`.
+    pub eye_ranges: u64,
+    /// See `eye_faces`.
+    pub eye_triangles: u64,
 }
 
 /// The texels a capture draws, `[x0, y0, x1, y1]`: its rectangle, or the whole face.

@@ -84,10 +84,13 @@ pub(crate) fn scene_layout_entries() -> [wgpu::BindGroupLayoutEntry; 6] {
 pub(crate) struct RasterTargets<'a> {
     /// Colour targets, location 0 first, each cleared to its colour.
     pub(crate) colour: &'a [(&'a wgpu::TextureView, wgpu::Color)],
-    /// Depth, cleared to 1 and discarded afterwards unless `keep_depth`.
+    /// Depth, cleared to 1 (unless `load`) and discarded afterwards unless `keep_depth`.
     pub(crate) depth: &'a wgpu::TextureView,
     /// Keep the depth for a later pass (the G-buffer's sprites); captures discard it.
     pub(crate) keep_depth: bool,
+    /// Load the targets (colours and depth) instead of clearing them (an eye face drawn
+    /// over its far face: `crate::far_field`).
+    pub(crate) load: bool,
 }
 
 /// How one scene raster draws: the pipeline, its group-0 bind group with dynamic offsets,
@@ -123,7 +126,11 @@ pub(crate) fn record(
                 depth_slice: None,
                 resolve_target: None,
                 ops: wgpu::Operations {
-                    load: wgpu::LoadOp::Clear(clear),
+                    load: if targets.load {
+                        wgpu::LoadOp::Load
+                    } else {
+                        wgpu::LoadOp::Clear(clear)
+                    },
                     store: wgpu::StoreOp::Store,
                 },
             })
@@ -135,7 +142,11 @@ pub(crate) fn record(
         depth_stencil_attachment: Some(wgpu::RenderPassDepthStencilAttachment {
             view: targets.depth,
             depth_ops: Some(wgpu::Operations {
-                load: wgpu::LoadOp::Clear(1.0),
+                load: if targets.load {
+                    wgpu::LoadOp::Load
+                } else {
+                    wgpu::LoadOp::Clear(1.0)
+                },
                 store: if targets.keep_depth {
                     wgpu::StoreOp::Store
                 } else {

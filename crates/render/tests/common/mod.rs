@@ -114,6 +114,7 @@ pub fn frame(camera: Camera, grid: Vec3, n: u32, size: UVec2, schedule: Schedule
         relight: Vec::new(),
         partial: Vec::new(),
         sprites: Vec::new(),
+        far_field: None,
     }
 }
 
