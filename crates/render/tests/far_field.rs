@@ -4,7 +4,7 @@
 //! holds nothing beyond the eye's distance draws the frames it drew without a far field,
 //! whether its far faces are fresh or not.
 
-mod common;
+use crate::common;
 
 use glam::{Mat4, UVec2, Vec3};
 use texel_probes::probe_set::Slot;
