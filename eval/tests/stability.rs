@@ -644,43 +644,46 @@ fn walking_toward_moving_parts_stays_ten_times_below_the_baselines() {
 }
 
 /// A diagonal run (5 units a second) across both rows of the colonnade's pillars. Measured
-/// (2026-12-07): splat 0.0161, naive 0.116, snap 0.124 (7.2×), worst frame 0.076. The
-/// target (10×) is not met.
+/// (2026-12-07, the eye's outlines as strips): splat 0.0156, naive 0.116, snap 0.124
+/// (7.5×), worst frame 0.077 (0.0161, 7.2× before). The target (10×) is not met.
 #[test]
 fn a_diagonal_run_between_pillars_stays_well_below_the_baselines() {
     let Some((mean, ratio, worst)) = class("colonnade", "colonnade_diagonal", false) else {
         return;
     };
     assert!(
-        mean < 0.02 && ratio > 5.8 && worst < 0.15,
+        mean < 0.019 && ratio > 6.5 && worst < 0.15,
         "{mean} {ratio}× {worst}"
     );
 }
 
-/// A low camera (eye 0.48) circling outside the ring of stones. Measured: splat 0.0117,
-/// naive 0.045 (3.8×), worst frame 0.034; a third of splat's flicker is eye pixels. The
-/// target (10×) is not met.
+/// A low camera (eye 0.48) circling outside the ring of stones. Measured (2026-12-07, the
+/// eye's outlines as strips fixed to the world): splat 0.0094, naive 0.045 (4.8×), worst
+/// frame 0.034 (0.0117, 3.8× with the eye's whole-texel outlines, which slid with the
+/// camera). The 10× target is not met: nine tenths of what is left is crossings
+/// (docs/stability-log.md, "The eye's outlines as strips").
 #[test]
 fn a_low_camera_outside_the_ring_stays_below_the_baselines() {
     let Some((mean, ratio, worst)) = class("stone_circle", "circle_low_outside", false) else {
         return;
     };
     assert!(
-        mean < 0.015 && ratio > 3.0 && worst < 0.15,
+        mean < 0.0115 && ratio > 4.0 && worst < 0.15,
         "{mean} {ratio}× {worst}"
     );
 }
 
 /// Walking 0.9 units in front of standing stones, each filling a quarter of the view as it
-/// passes. Measured: splat 0.0142, naive 0.046 (3.2×), worst frame 0.062. The target (10×)
-/// is not met.
+/// passes. Measured (2026-12-07, the eye's outlines as strips): splat 0.0100, naive 0.046
+/// (4.6×), worst frame 0.044 (0.0142, 3.2× and 0.062 with the eye's whole-texel outlines).
+/// The 10× target is not met: nine tenths of what is left is crossings.
 #[test]
 fn brushing_past_stones_stays_below_the_baselines() {
     let Some((mean, ratio, worst)) = class("stone_circle", "circle_brush_stone", false) else {
         return;
     };
     assert!(
-        mean < 0.018 && ratio > 2.5 && worst < 0.15,
+        mean < 0.012 && ratio > 3.8 && worst < 0.15,
         "{mean} {ratio}× {worst}"
     );
 }
