@@ -500,8 +500,10 @@ fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels(
     // `emit_outlined`): measured 1.069 with strips (2026-12-02), at most 1.0 before them;
     // 1.116 since the next cell's probe fills behind the grid probe near the cell's edge
     // (its quads where something hides a corner from the grid probe, most of them drawn
-    // behind the grid probe's: runtime `FrameDriver::frame`, 2026-12-05).
-    assert!(quads <= 1.15, "{quads} quads per screen-visible texel");
+    // behind the grid probe's: runtime `FrameDriver::frame`, 2026-12-05); 1.263 since the
+    // eye's outlined texels are drawn as body and strips too (2026-12-07; most are silhouette
+    // texels a stable probe also shows, lit for their edges and drawn behind its quads).
+    assert!(quads <= 1.3, "{quads} quads per screen-visible texel");
 }
 
 /// Terrain: a walk over the island's hills. Terrain pixels are coloured per world cell with
