@@ -726,11 +726,15 @@ fn texel_colour(x: Texel, albedo: vec3<f32>, object_flags: u32, sides: Sides, tr
     // A perspective probe's outline, the eye's included, is drawn as strips from its edges
     // (OUTLINE_MARK: cull.wgsl `emit_outlined`, and for the eye's fill background.wgsl
     // `strip_shift`), fixed to the world where a whole texel's shift ran to the texel grid,
-    // which for the eye slides with the camera. An orthographic probe's texels keep the
-    // whole-texel shift (they do not roll as the camera pans; with strips the eye filled 0.7 %
-    // of ortho_pan's pixels at faces of 32, against none: not looked into yet).
+    // which for the eye slides with the camera. An eye texel the drawing stable probes also
+    // show (a silhouette's, lit for its edges, its quad behind theirs) keeps the one-quad
+    // whole-texel shift: with strips there too the eye drew 4-15 % more quads over the
+    // suite's paths for the same shimmer (docs/stability-log.md, "The eye's outlines as
+    // strips"). An orthographic probe's texels keep the whole-texel shift (they do not roll
+    // as the camera pans; with strips the eye filled 0.7 % of ortho_pan's pixels at faces of
+    // 32, against none: not looked into yet).
     var outline = 0u;
-    if x.fr.half <= 0.0 && (sides.silhouettes | sides.creases) != 0u && !emissive {
+    if x.fr.half <= 0.0 && (sides.silhouettes | sides.creases) != 0u && !emissive && (sf.view_cull == 0u || covered_colour(x.p, x.me.id).a < 0.0) {
         darken = false;
         lighten = false;
         outline = OUTLINE_MARK | (sides.silhouettes << OUTLINE_SILHOUETTE_AT) | (sides.creases << OUTLINE_CREASE_AT) | (sides.lit_creases << OUTLINE_LIT_AT);
