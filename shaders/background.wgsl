@@ -69,6 +69,74 @@ fn past_edge(uv: vec2<f32>, n: u32, t: vec2<u32>, bits: u32) -> vec2<i32> {
     return step;
 }
 
+// The eye's outlined texels (shade.wgsl `texel_colour`) keep their colour and name their
+// outlined sides, like a stable probe's: a strip of `OUTLINE_STRIP` texels along each is a
+// band darker (a lit crease's lighter), measured from the silhouette edge the shade pass
+// found or from where the texel's plane meets its neighbour's, as the cull pass draws a
+// stable probe's (cull.wgsl `emit_outlined`). Those ends are fixed to the world, so the
+// strip lies on the same stretch of surface as the camera moves; a whole texel's shift
+// ran from the edge to the eye's texel grid, which slides with the camera.
+//
+// The shift of the pixel in direction `e` on eye texel `t` (outline `sides`, neighbour
+// `bits`): -1 on a dark strip, 1 on a lit crease's, 0 on the body.
+fn strip_shift(e: EyeRay, t: vec2<u32>, sides: u32, bits: u32) -> f32 {
+    let n = view.slots[view.eye_slot].n;
+    // Where the pixel lies from the texel's centre toward left, right, up and down, in texels.
+    let g = (e.uv * 0.5 + 0.5) * f32(n) - (vec2<f32>(t) + 0.5);
+    let toward = vec4(-g.x, g.x, -g.y, g.y);
+    let creases = (sides >> OUTLINE_CREASE_AT) & 15u;
+    let lit_sides = (sides >> OUTLINE_LIT_AT) & 15u;
+    let outlined = ((sides >> OUTLINE_SILHOUETTE_AT) & 15u) | creases;
+    // Each side's end, in texels from the centre.
+    var ends = vec4(0.5);
+    for (var k = 0u; k < 4u; k++) {
+        if (creases & (1u << k)) != 0u {
+            ends[k] = eye_crease_at(e.face, t, k);
+        } else if side_code(bits, k) >= 2u {
+            ends[k] = side_edge(bits, k);
+        }
+    }
+    var shift = 0.0;
+    for (var k = 0u; k < 4u; k++) {
+        if (outlined & (1u << k)) == 0u {
+            continue;
+        }
+        // A body narrower than half a strip across this axis is left out: the strips meet.
+        let o = k ^ 1u;
+        let width = ends[k] + ends[o] - OUTLINE_STRIP - select(0.0, OUTLINE_STRIP, (outlined & (1u << o)) != 0u);
+        if toward[k] > ends[k] - OUTLINE_STRIP || width < 0.5 * OUTLINE_STRIP {
+            if (lit_sides & (1u << k)) == 0u {
+                return -1.0;
+            }
+            shift = 1.0;
+        }
+    }
+    return shift;
+}
+
+// How far, in texels from eye texel `t`'s centre toward side `k`, its plane meets its
+// neighbour's there (cull.wgsl `crease_at`, in texels).
+fn eye_crease_at(face: u32, t: vec2<u32>, k: u32) -> f32 {
+    let s = view.slots[view.eye_slot];
+    let q = vec2<i32>(t) + NEIGHBOURS[k];
+    if any(q < vec2(0)) || any(q >= vec2(i32(s.n))) {
+        return 0.5;
+    }
+    let fr = slot_frame(s);
+    let ga = textureLoad(eye_geo, t, face, 0);
+    let gb = textureLoad(eye_geo, vec2<u32>(q), face, 0);
+    let uv0 = texel_center_uv(t, s.n);
+    let uv1 = texel_center_uv(vec2<u32>(q), s.n);
+    let pa = frame_point(fr, face, uv0, ga.w);
+    let pb = frame_point(fr, face, uv1, gb.w);
+    let f0 = plane_gap(fr, face, uv0, pa, ga.xyz, pb, gb.xyz);
+    let f1 = plane_gap(fr, face, uv1, pa, ga.xyz, pb, gb.xyz);
+    if f0 * f1 < 0.0 {
+        return clamp(f0 / (f0 - f1), 0.05, 1.0);
+    }
+    return 0.5;
+}
+
 @fragment
 fn fs(in: FullscreenOut) -> FsOut {
     let e = eye_ray(in.ndc);
@@ -89,6 +157,13 @@ fn fs(in: FullscreenOut) -> FsOut {
     }
     var key = 0u;
     var colour = lit.rgb;
+    let sides = lit_outline(lit.rgb);
+    if id != 0u && sides != 0u {
+        let shift = strip_shift(e, t, sides, u32(lit.a));
+        if shift != 0.0 {
+            colour = posterize(lit.rgb, view.bands, shift);
+        }
+    }
     var depth = NDC_FAR;
     let p = eye_point(e, textureLoad(eye_geo, t, e.face, 0).w);
     let clip = view.view_proj * vec4(p, 1.0);

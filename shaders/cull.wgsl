@@ -790,10 +790,3 @@ fn crease_at(slot: u32, face: u32, fr: ProbeFrame, t: vec2<u32>, k: u32, p: vec3
     }
     return s * h;
 }
-
-// Along the ray through uv: its distance to plane (pa, na) less its distance to (pb, nb).
-fn plane_gap(fr: ProbeFrame, face: u32, uv: vec2<f32>, pa: vec3<f32>, na: vec3<f32>, pb: vec3<f32>, nb: vec3<f32>) -> f32 {
-    let o = frame_ray_start(fr, uv);
-    let r = frame_ray(fr, face, uv);
-    return dot(na, pa - o) / dot(na, r) - dot(nb, pb - o) / dot(nb, r);
-}

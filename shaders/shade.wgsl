@@ -285,7 +285,9 @@ fn needs_light(t: vec2<u32>) -> bool {
         // background pass ends its pixels.
         let copied = covered_colour(p, me.id);
         if copied.a >= 0.0 && !on_silhouette(t, me.id) {
-            textureStore(lit_out, t, sf.face, copied);
+            // Without the stable texel's outline sides: they are not this texel's
+            // (background.wgsl draws an eye texel's strips from its own edges).
+            textureStore(lit_out, t, sf.face, vec4(without_outline(copied.rgb), copied.a));
             return false;
         }
     }
@@ -722,13 +724,18 @@ fn texel_colour(x: Texel, albedo: vec3<f32>, object_flags: u32, sides: Sides, tr
     var darken = sides.darken;
     var lighten = sides.lighten;
     var shift = 0.0;
-    // A grid or previous probe's outline is drawn as strips from its edges (OUTLINE_MARK);
-    // the eye's texels keep the whole-texel shift (its quads are exact, lie at the camera,
-    // and its colours are read directly where no stable quad covers a pixel), and so do an
-    // orthographic probe's (its texels do not roll as the camera pans; with strips the eye
-    // filled 0.7 % of ortho_pan's pixels at faces of 32, against none: not looked into yet).
+    // A perspective probe's outline, the eye's included, is drawn as strips from its edges
+    // (OUTLINE_MARK: cull.wgsl `emit_outlined`, and for the eye's fill background.wgsl
+    // `strip_shift`), fixed to the world where a whole texel's shift ran to the texel grid,
+    // which for the eye slides with the camera. An eye texel the drawing stable probes also
+    // show (a silhouette's, lit for its edges, its quad behind theirs) keeps the one-quad
+    // whole-texel shift: with strips there too the eye drew 4-15 % more quads over the
+    // suite's paths for the same shimmer (docs/stability-log.md, "The eye's outlines as
+    // strips"). An orthographic probe's texels keep the whole-texel shift (they do not roll
+    // as the camera pans; with strips the eye filled 0.7 % of ortho_pan's pixels at faces of
+    // 32, against none: not looked into yet).
     var outline = 0u;
-    if sf.view_cull == 0u && x.fr.half <= 0.0 && (sides.silhouettes | sides.creases) != 0u && !emissive {
+    if x.fr.half <= 0.0 && (sides.silhouettes | sides.creases) != 0u && !emissive && (sf.view_cull == 0u || covered_colour(x.p, x.me.id).a < 0.0) {
         darken = false;
         lighten = false;
         outline = OUTLINE_MARK | (sides.silhouettes << OUTLINE_SILHOUETTE_AT) | (sides.creases << OUTLINE_CREASE_AT) | (sides.lit_creases << OUTLINE_LIT_AT);

@@ -501,8 +501,10 @@ fn textured_strafing_inside_a_cell_stays_calm_with_fewer_quads_than_seen_texels(
     // `emit_outlined`): measured 1.069 with strips (2026-12-02), at most 1.0 before them;
     // 1.116 since the next cell's probe fills behind the grid probe near the cell's edge
     // (its quads where something hides a corner from the grid probe, most of them drawn
-    // behind the grid probe's: runtime `FrameDriver::frame`, 2026-12-05).
-    assert!(quads <= 1.15, "{quads} quads per screen-visible texel");
+    // behind the grid probe's: runtime `FrameDriver::frame`, 2026-12-05); 1.143 (SwiftShader
+    // 1.138) since the eye's outlined texels that no stable probe shows are drawn as body
+    // and strips too (2026-12-07; 1.263 with strips on every outlined eye texel).
+    assert!(quads <= 1.18, "{quads} quads per screen-visible texel");
 }
 
 /// Terrain: a walk over the island's hills. Terrain pixels are coloured per world cell with
@@ -645,43 +647,47 @@ fn walking_toward_moving_parts_stays_ten_times_below_the_baselines() {
 }
 
 /// A diagonal run (5 units a second) across both rows of the colonnade's pillars. Measured
-/// (2026-12-07): splat 0.0161, naive 0.116, snap 0.124 (7.2×), worst frame 0.076. The
-/// target (10×) is not met.
+/// (2026-12-07, the eye's outlines as strips): splat 0.0156, naive 0.116, snap 0.124
+/// (7.5×), worst frame 0.077 (0.0161, 7.2× before). The target (10×) is not met.
 #[test]
 fn a_diagonal_run_between_pillars_stays_well_below_the_baselines() {
     let Some((mean, ratio, worst)) = class("colonnade", "colonnade_diagonal", false) else {
         return;
     };
     assert!(
-        mean < 0.02 && ratio > 5.8 && worst < 0.15,
+        mean < 0.019 && ratio > 6.5 && worst < 0.15,
         "{mean} {ratio}× {worst}"
     );
 }
 
-/// A low camera (eye 0.48) circling outside the ring of stones. Measured: splat 0.0117,
-/// naive 0.045 (3.8×), worst frame 0.034; a third of splat's flicker is eye pixels. The
-/// target (10×) is not met.
+/// A low camera (eye 0.48) circling outside the ring of stones. Measured (2026-12-07, the
+/// eye's outlines as strips fixed to the world): splat 0.0095, naive 0.045 (4.7×), worst
+/// frame 0.034; SwiftShader 0.0105, 4.7× (0.0117, 3.8× with the eye's whole-texel outlines,
+/// which slid with the camera). The 10× target is not met: nine tenths of what is left is crossings
+/// (docs/stability-log.md, "The eye's outlines as strips").
 #[test]
 fn a_low_camera_outside_the_ring_stays_below_the_baselines() {
     let Some((mean, ratio, worst)) = class("stone_circle", "circle_low_outside", false) else {
         return;
     };
     assert!(
-        mean < 0.015 && ratio > 3.0 && worst < 0.15,
+        mean < 0.0115 && ratio > 4.0 && worst < 0.15,
         "{mean} {ratio}× {worst}"
     );
 }
 
 /// Walking 0.9 units in front of standing stones, each filling a quarter of the view as it
-/// passes. Measured: splat 0.0142, naive 0.046 (3.2×), worst frame 0.062. The target (10×)
-/// is not met.
+/// passes. Measured (2026-12-07, the eye's outlines as strips): splat 0.0100, naive 0.046
+/// (4.6×), worst frame 0.044; SwiftShader 0.0102, 4.6× (0.0142, 3.2× and 0.062 with the
+/// eye's whole-texel outlines).
+/// The 10× target is not met: nine tenths of what is left is crossings.
 #[test]
 fn brushing_past_stones_stays_below_the_baselines() {
     let Some((mean, ratio, worst)) = class("stone_circle", "circle_brush_stone", false) else {
         return;
     };
     assert!(
-        mean < 0.018 && ratio > 2.5 && worst < 0.15,
+        mean < 0.012 && ratio > 3.8 && worst < 0.15,
         "{mean} {ratio}× {worst}"
     );
 }

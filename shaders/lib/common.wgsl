@@ -373,6 +373,16 @@ fn lit_outline(c: vec3<f32>) -> u32 {
     return select(0u, sides, (sides & OUTLINE_MARK) != 0u);
 }
 
+// Lit colour `c` without the outline sides `lit_with_outline` put in it.
+fn without_outline(c: vec3<f32>) -> vec3<f32> {
+    if lit_outline(c) == 0u {
+        return c;
+    }
+    var bits = bitcast<vec3<u32>>(c);
+    bits.z &= ~OUTLINE_BITS;
+    return bitcast<vec3<f32>>(bits);
+}
+
 // Lit colour `c` with its outline (`lit_outline`) as a whole texel's shift of one band
 // (`bands`): darker where a side is a silhouette or a darkened crease, else lighter where one
 // is a lit crease. For readers that show a texel whole (march.wgsl), not as quads.

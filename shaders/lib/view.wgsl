@@ -252,3 +252,10 @@ fn sphere_in_view(p: vec3<f32>, radius: f32) -> bool {
     }
     return true;
 }
+
+// Along the ray through uv: its distance to plane (pa, na) less its distance to (pb, nb).
+fn plane_gap(fr: ProbeFrame, face: u32, uv: vec2<f32>, pa: vec3<f32>, na: vec3<f32>, pb: vec3<f32>, nb: vec3<f32>) -> f32 {
+    let o = frame_ray_start(fr, uv);
+    let r = frame_ray(fr, face, uv);
+    return dot(na, pa - o) / dot(na, r) - dot(nb, pb - o) / dot(nb, r);
+}
