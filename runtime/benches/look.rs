@@ -72,12 +72,8 @@ fn looks(c: &mut Criterion) {
     let Some(ctx) = test_context() else {
         return;
     };
-    let measuring = std::env::args().any(|a| a == "--bench");
-    let size = if measuring {
-        UVec2::new(1280, 720)
-    } else {
-        UVec2::new(96, 54)
-    };
+    let measuring = frames::measuring();
+    let size = frames::frame_size(UVec2::new(96, 54));
     let path = CameraPath::load(&repo().join("assets/paths/walk_cells.ron")).expect("bundled path");
     let fov = path.fov_y(60f32.to_radians());
     let mut group = c.benchmark_group("look_walk_1280x720");

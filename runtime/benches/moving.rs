@@ -70,12 +70,8 @@ fn walk(c: &mut Criterion) {
     };
     // `cargo test --benches` runs each case once to see it works: there the frames are
     // small, a few, and only one box.
-    let measuring = std::env::args().any(|a| a == "--bench");
-    let size = if measuring {
-        UVec2::new(1280, 720)
-    } else {
-        UVec2::new(160, 90)
-    };
+    let measuring = frames::measuring();
+    let size = frames::frame_size(UVec2::new(160, 90));
     let counts: &[usize] = if measuring { &[1, 10, 100] } else { &[1] };
     let path = CameraPath::load(&repo().join("assets/paths/walk_cells.ron")).expect("bundled path");
     let fov = path.fov_y(60f32.to_radians());

@@ -8,6 +8,21 @@ use criterion::measurement::WallTime;
 
 use super::results::Samples;
 
+/// Whether criterion measures (`cargo bench`), rather than running each case once to see it
+/// works (`cargo test --benches`).
+pub fn measuring() -> bool {
+    std::env::args().any(|a| a == "--bench")
+}
+
+/// The frame size of a bench: 1280×720 when measuring, `small` when only run once.
+pub fn frame_size(small: glam::UVec2) -> glam::UVec2 {
+    if measuring() {
+        glam::UVec2::new(1280, 720)
+    } else {
+        small
+    }
+}
+
 /// Benches `label` in `group` by calling `frame(i)` for i = 0, 1, …; returns the median
 /// milliseconds a frame over the last `samples` samples.
 pub fn median_frame_ms(
