@@ -23,6 +23,15 @@ struct Cli {
     command: Command,
 }
 
+/// The paths `texel-eval suite` flies.
+#[derive(clap::ValueEnum, Clone, Copy, Debug, PartialEq, Eq)]
+enum PathSet {
+    /// The bundled paths (`SUITE_PATHS`).
+    Bundled,
+    /// The paths of the weak classes of views (`CLASS_PATHS`).
+    Classes,
+}
+
 #[derive(Subcommand, Debug)]
 enum Command {
     /// Runs methods along one camera path on one level.
@@ -41,11 +50,16 @@ enum Command {
         common: Common,
     },
     /// Runs every bundled path on its level (stone_circle, colonnade, textured, terrain_hills,
-    /// moving_parts, sprites) with every method.
+    /// moving_parts, sprites), or the weak classes' paths (`--set classes`), with every method.
     Suite {
         /// The assets folder holding levels/ and paths/.
         #[arg(long, default_value = "assets")]
         assets: PathBuf,
+        /// Which paths: `bundled` (the suite's 22) or `classes` (the ten written for the weak
+        /// classes of views, `paths/classes/`; fly them with splat-paper too for the
+        /// `crossings` table).
+        #[arg(long, value_enum, default_value = "bundled")]
+        set: PathSet,
         /// Random walks per level flown besides the bundled paths (naive and splat, seed 1,
         /// written to DIR/paths/LEVEL_survey_NN.ron); table.md lists the worst. 0: none.
         #[arg(long, default_value_t = 3)]
@@ -64,7 +78,7 @@ enum Command {
     /// numbers as DIR/NAME.json.
     Compare(CompareArgs),
     /// Rewrites the results tables in Markdown files from the reports they name: each block
-    /// between `<!-- texel-eval table=shimmer|speed report=FILE [rows=level:path,...]
+    /// between `<!-- texel-eval table=shimmer|colour|speed|crossings report=FILE [rows=level:path,...]
     /// [methods=...] [passes=...] -->` and `<!-- /texel-eval -->` (FILE relative to the
     /// Markdown file's folder). Files are replaced atomically.
     Tables {
@@ -145,13 +159,18 @@ pub fn main() -> Result<()> {
         }
         Command::Suite {
             assets,
+            set,
             survey,
             common,
         } => {
             let methods = parse_methods(&common.methods)?;
             let face_res = parse_list(&common.face_res, "--face-res")?;
             let size = parse_size(&common.size)?;
-            let plans = suite_plans(&assets, &methods, &face_res, size);
+            let set = match set {
+                PathSet::Bundled => texel_eval::suite::SUITE_PATHS.as_slice(),
+                PathSet::Classes => texel_eval::suite::CLASS_PATHS.as_slice(),
+            };
+            let plans = suite_plans(&assets, set, &methods, (&face_res, size));
             let walks = suite_walks(&assets, survey, &common.out, (&methods, &face_res, size))?;
             execute_with_survey(&plans, &walks, &common, command_line).map(drop)
         }

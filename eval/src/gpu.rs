@@ -89,6 +89,7 @@ impl FrameSource for SplatSource<'_> {
             pixels,
             ids: ids.entity,
             from_eye: Some(ids.from_eye),
+            crossfading: frame.input.previous.is_some(),
         })
     }
 }
@@ -168,6 +169,7 @@ impl FrameSource for BaselineSource<'_> {
             pixels: f.pixels,
             ids: f.ids,
             from_eye: None,
+            crossfading: false,
         })
     }
 }

@@ -15,6 +15,7 @@
 pub mod chart;
 pub mod colour;
 pub mod compare;
+pub mod crossings;
 pub mod gpu;
 pub mod meter;
 pub mod metrics;

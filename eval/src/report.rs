@@ -35,7 +35,9 @@
 //!     "sprite_shimmer": number|null,    // mean flicker of sprites' pixels (levels with sprites)
 //!     "moving_shimmer": number|null,    // mean flicker of moving objects' pixels, followed
 //!                                       // with their objects (levels with animators)
-//!     "still_shimmer": number|null      // the same over the still world's pixels
+//!     "still_shimmer": number|null,     // the same over the still world's pixels
+//!     "crossings": {"crossing", "quiet": number, "crossing_frames", "quiet_frames":
+//!                   integer}|absent     // shimmer on splat's crossing and quiet frames
 //!   } ]
 //! }
 //! ```
@@ -128,6 +130,10 @@ pub struct RunRecord {
     /// Mean flicker fraction of sprites' pixels (levels with sprites).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub sprite_shimmer: Option<f64>,
+    /// Mean shimmer on splat's crossing frames and on its quiet frames (a run whose plan
+    /// had splat at its face resolution; [`crate::crossings`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub crossings: Option<crate::crossings::CrossingSplit>,
 }
 
 impl RunRecord {

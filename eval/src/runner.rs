@@ -111,6 +111,9 @@ pub struct RenderedFrame {
     pub ids: Vec<u32>,
     /// Per pixel, whether it came from the eye probe (splat methods only).
     pub from_eye: Option<Vec<bool>>,
+    /// Whether the frame crossfades from one stable probe to the next (splat methods; false
+    /// for the others, which have no probes to hand over).
+    pub crossfading: bool,
 }
 
 /// Something that renders a method frame by frame.
@@ -200,6 +203,8 @@ pub struct RunOutcome {
     pub scores: Scores,
     /// Per-frame cost and work.
     pub stats: Vec<FrameStats>,
+    /// Per frame, whether it crossfaded ([`RenderedFrame::crossfading`]).
+    pub fading: Vec<bool>,
 }
 
 /// Renders every frame of `path` with `method` and measures it against `references`
@@ -241,11 +246,13 @@ pub fn run_path_observed(
 ) -> Result<RunOutcome, EvalError> {
     let mut meter = PathMeter::new(params);
     let mut stats = Vec::with_capacity(path.frames as usize);
+    let mut fading = Vec::with_capacity(path.frames as usize);
     for (i, reference) in (0..path.frames).zip(&references.frames) {
         let camera = path.camera(i, fov_y);
         let frame = method.render(i, &camera, path.dt)?;
         observe(i, &frame);
         stats.push(frame.stats);
+        fading.push(frame.crossfading);
         let truth = match truth {
             TruthOf::None => None,
             TruthOf::Frames(t) => t.get(i as usize).map(|(colour, _)| colour.clone()),
@@ -263,6 +270,7 @@ pub fn run_path_observed(
     Ok(RunOutcome {
         scores: meter.scores(),
         stats,
+        fading,
     })
 }
 
@@ -348,6 +356,7 @@ mod tests {
                 pixels: [v, v, v, 255].repeat(n),
                 ids: vec![1; n],
                 from_eye: None,
+                crossfading: false,
             })
         }
     }

@@ -92,17 +92,32 @@ pub const SUITE_PATHS: [(&str, &str); 22] = [
     ("sprites", "strafe_in_cell"),
 ];
 
-/// The suite: every bundled path on its level, every method, at `face_res` and `size`. On
-/// the sprites level, `splat` brings `splat-facing` along (the same frames with the sprites
-/// turned toward the camera), so the chart shows what turning them toward the probes gains.
+/// The paths written for the weak classes of views (issue 60; `assets/paths/classes/`, whose
+/// README says what each flies), each on its level: `texel-eval suite --set classes`.
+pub const CLASS_PATHS: [(&str, &str); 10] = [
+    ("sprites", "classes/sprites_near_strafe"),
+    ("sprites", "classes/sprites_near_orbit"),
+    ("moving_parts", "classes/moving_toward_mill"),
+    ("moving_parts", "classes/moving_toward_platform"),
+    ("colonnade", "classes/colonnade_diagonal"),
+    ("stone_circle", "classes/circle_diagonal"),
+    ("stone_circle", "classes/circle_low_outside"),
+    ("colonnade", "classes/colonnade_low_outside"),
+    ("stone_circle", "classes/circle_brush_stone"),
+    ("colonnade", "classes/colonnade_brush_pillars"),
+];
+
+/// The suite: every path of `set` (`level`, `path` under `paths/`: [`SUITE_PATHS`] or
+/// [`CLASS_PATHS`]) on its level, every method, at `face_res` and `size`. On the sprites
+/// level, `splat` brings `splat-facing` along (the same frames with the sprites turned
+/// toward the camera), so the chart shows what turning them toward the probes gains.
 pub fn suite_plans(
     assets: &Path,
+    set: &[(&str, &str)],
     methods: &[Method],
-    face_res: &[u32],
-    size: UVec2,
+    (face_res, size): (&[u32], UVec2),
 ) -> Vec<RunPlan> {
-    SUITE_PATHS
-        .iter()
+    set.iter()
         .map(|(level, path)| RunPlan {
             level: assets.join("levels").join(format!("{level}.ron")),
             path: assets.join("paths").join(format!("{path}.ron")),
@@ -208,6 +223,7 @@ pub fn run_plan(
     let mut truth: Option<Truth> = None;
     for &n in &plan.face_res {
         set_face_res(&mut level, n)?;
+        let mut splat_fading = None;
         if refs.is_none() || per_res {
             refs = Some(path_references(
                 ctx,
@@ -296,7 +312,14 @@ pub fn run_plan(
                 sprite_shimmer: outcome.scores.sprite_shimmer,
                 steps_per_pixel,
                 fallback_fraction,
+                crossings: None,
             });
+            if method == Method::Splat {
+                splat_fading = Some(outcome.fading);
+            }
+        }
+        if let Some(fading) = splat_fading {
+            crate::crossings::split_runs(&mut records, n, &fading);
         }
     }
     Ok(records)
@@ -460,13 +483,30 @@ mod tests {
 
     #[test]
     fn every_suite_path_and_level_loads() {
-        let plans = suite_plans(&assets(), &[Method::Splat], &[32], UVec2::new(16, 9));
-        assert_eq!(plans.len(), SUITE_PATHS.len());
+        let plans = suite_plans(
+            &assets(),
+            &[SUITE_PATHS.as_slice(), CLASS_PATHS.as_slice()].concat(),
+            &[Method::Splat],
+            (&[32], UVec2::new(16, 9)),
+        );
+        assert_eq!(plans.len(), SUITE_PATHS.len() + CLASS_PATHS.len());
         for p in &plans {
             assert!(p.level.exists(), "{}", p.level.display());
             let path = load_path(&p.path).expect("path loads");
-            assert!((20..=60).contains(&path.frames), "{}", p.path.display());
+            assert!((20..=120).contains(&path.frames), "{}", p.path.display());
         }
+        // Every class path the folder holds is in the set.
+        let mut files: Vec<String> = std::fs::read_dir(assets().join("paths/classes"))
+            .unwrap()
+            .filter_map(|e| {
+                let name = e.unwrap().file_name().into_string().unwrap();
+                name.strip_suffix(".ron").map(|s| format!("classes/{s}"))
+            })
+            .collect();
+        files.sort();
+        let mut set: Vec<String> = CLASS_PATHS.iter().map(|(_, p)| p.to_string()).collect();
+        set.sort();
+        assert_eq!(files, set);
         // 12 paths × (1 method × 1 resolution + the reference) × their frames.
         let total = total_frames(&plans).expect("loads");
         assert!(total > 12 * 2 * 20, "{total}");

@@ -25,6 +25,9 @@
 //!   ([`crate::colour`]), for reports where the raster ran.
 //! - `speed`: a row per run, the median frame and pass times (`passes`, default capture,
 //!   shade, cull, splat) and the quads drawn and texels lit a frame.
+//! - `crossings`: a row per `level:path`, splat's shimmer on its quiet and crossing frames
+//!   against the baselines' and the paper schedule's, and whether issue 60's target holds
+//!   there ([`crate::crossings`]).
 
 use std::fmt::Write as _;
 use std::path::{Path, PathBuf};
@@ -57,6 +60,9 @@ pub enum TableKind {
     Colour,
     /// Frame and pass times per run.
     Speed,
+    /// Shimmer on crossing and quiet frames per path, against the target
+    /// ([`crate::crossings`]).
+    Crossings,
 }
 
 /// One block's request, parsed from its opening marker.
@@ -95,9 +101,10 @@ impl Block {
                         "shimmer" => TableKind::Shimmer,
                         "colour" => TableKind::Colour,
                         "speed" => TableKind::Speed,
+                        "crossings" => TableKind::Crossings,
                         other => {
                             return Err(format!(
-                                "unknown table `{other}` (shimmer, colour, speed)"
+                                "unknown table `{other}` (shimmer, colour, speed, crossings)"
                             ));
                         }
                     })
@@ -192,6 +199,7 @@ pub fn render(block: &Block, report: &Report) -> Result<String, String> {
         TableKind::Shimmer => per_path(block, report, &SHIMMER)?,
         TableKind::Colour => per_path(block, report, &COLOUR)?,
         TableKind::Speed => speed(block, report)?,
+        TableKind::Crossings => crate::crossings::table(block, report)?,
     };
     // The command line without the binary's own path (`target/debug/texel-eval`).
     let command =
@@ -207,7 +215,7 @@ pub fn render(block: &Block, report: &Report) -> Result<String, String> {
     Ok(out)
 }
 
-fn methods_of<'a>(block: &'a Block, report: &'a Report) -> Result<Vec<&'a str>, String> {
+pub(crate) fn methods_of<'a>(block: &'a Block, report: &'a Report) -> Result<Vec<&'a str>, String> {
     let mut all: Vec<&str> = Vec::new();
     for r in &report.runs {
         if !all.contains(&r.method.as_str()) {
@@ -228,7 +236,10 @@ fn methods_of<'a>(block: &'a Block, report: &'a Report) -> Result<Vec<&'a str>, 
     Ok(block.methods.iter().map(String::as_str).collect())
 }
 
-fn rows_of<'a>(block: &'a Block, report: &'a Report) -> Result<Vec<(&'a str, &'a str)>, String> {
+pub(crate) fn rows_of<'a>(
+    block: &'a Block,
+    report: &'a Report,
+) -> Result<Vec<(&'a str, &'a str)>, String> {
     let mut all: Vec<(&str, &str)> = Vec::new();
     for r in &report.runs {
         let key = (r.level_name(), r.path_name());
@@ -260,7 +271,7 @@ fn mean(v: impl Iterator<Item = f64>) -> Option<f64> {
 }
 
 /// `150×`, `16×`, `4.8×`.
-fn ratio(x: f64) -> String {
+pub(crate) fn ratio(x: f64) -> String {
     if x >= 9.95 {
         format!("{x:.0}×")
     } else {
