@@ -27,6 +27,13 @@ const GAP_DEPTH: f32 = 0.5;
 @group(0) @binding(1) var eye_ids: texture_2d_array<u32>;
 @group(0) @binding(2) var eye_lit: texture_2d_array<f32>;
 @group(0) @binding(3) var eye_geo: texture_2d_array<f32>;
+// Each eye texel's strips (`strip_ends`, which writes them through bindings 6 and 7 in a
+// layout of its own): where they start (`strip_starts`), and its colour's OKLab lightness a
+// band darker and lighter, then its a and b (`strip_lab`).
+@group(0) @binding(4) var eye_starts: texture_2d_array<f32>;
+@group(0) @binding(5) var eye_lab: texture_2d_array<f32>;
+@group(0) @binding(6) var starts_out: texture_storage_2d_array<rgba32float, write>;
+@group(0) @binding(7) var lab_out: texture_storage_2d_array<rgba32float, write>;
 
 @vertex
 fn vs(@builtin(vertex_index) vi: u32) -> FullscreenOut {
@@ -77,42 +84,57 @@ fn past_edge(uv: vec2<f32>, n: u32, t: vec2<u32>, bits: u32) -> vec2<i32> {
 // strip lies on the same stretch of surface as the camera moves; a whole texel's shift
 // ran from the edge to the eye's texel grid, which slides with the camera.
 //
-// The shift of the pixel in direction `e` on eye texel `t` (outline `sides`, neighbour
-// `bits`): -1 on a dark strip, 1 on a lit crease's, 0 on the body.
-fn strip_shift(e: EyeRay, t: vec2<u32>, sides: u32, bits: u32) -> f32 {
+// The shift of the pixel in direction `e` on eye texel `t` (outline `sides`): -1 on a dark
+// strip, 1 on a lit crease's, 0 on the body. The pixel lies on side k's strip where it lies
+// farther toward k than the threshold `strip_ends` worked out for the texel. Worked out here,
+// per pixel, the crease ends' neighbour loads and plane gaps cost every pixel of the frame
+// (lavapipe runs a fragment shader's branches for all the pixels it shades together): the
+// stone circle's walk_cells background 8.1 -> 11.7 ms at 1280×720.
+fn strip_shift(e: EyeRay, t: vec2<u32>, sides: u32) -> f32 {
     let n = view.slots[view.eye_slot].n;
     // Where the pixel lies from the texel's centre toward left, right, up and down, in texels.
     let g = (e.uv * 0.5 + 0.5) * f32(n) - (vec2<f32>(t) + 0.5);
     let toward = vec4(-g.x, g.x, -g.y, g.y);
-    let creases = (sides >> OUTLINE_CREASE_AT) & 15u;
+    let on = toward > textureLoad(eye_starts, t, e.face, 0);
     let lit_sides = (sides >> OUTLINE_LIT_AT) & 15u;
+    let lit = (vec4(lit_sides) & vec4(1u, 2u, 4u, 8u)) != vec4(0u);
+    if any(on & !lit) {
+        return -1.0;
+    }
+    return select(0.0, 1.0, any(on));
+}
+
+// Where each side's strip of eye texel `t` of `face` (outline `sides`, neighbour `bits`)
+// begins, in texels from its centre toward left, right, up and down (`strip_shift`): a strip
+// of `OUTLINE_STRIP` texels ending where a crease side's plane meets its neighbour's
+// (`eye_crease_at`), at a silhouette side's edge the shade pass found, else half a texel
+// out; the whole texel (-BIG) where the body across that axis is narrower than half a strip
+// (the strips meet); nowhere (BIG) on a side not outlined.
+fn strip_starts(face: u32, t: vec2<u32>, sides: u32, bits: u32) -> vec4<f32> {
+    let creases = (sides >> OUTLINE_CREASE_AT) & 15u;
     let outlined = ((sides >> OUTLINE_SILHOUETTE_AT) & 15u) | creases;
-    // Each side's end, in texels from the centre.
     var ends = vec4(0.5);
     for (var k = 0u; k < 4u; k++) {
         if (creases & (1u << k)) != 0u {
-            ends[k] = eye_crease_at(e.face, t, k);
+            ends[k] = eye_crease_at(face, t, k);
         } else if side_code(bits, k) >= 2u {
             ends[k] = side_edge(bits, k);
         }
     }
-    var shift = 0.0;
+    var starts = vec4(BIG);
     for (var k = 0u; k < 4u; k++) {
         if (outlined & (1u << k)) == 0u {
             continue;
         }
-        // A body narrower than half a strip across this axis is left out: the strips meet.
         let o = k ^ 1u;
         let width = ends[k] + ends[o] - OUTLINE_STRIP - select(0.0, OUTLINE_STRIP, (outlined & (1u << o)) != 0u);
-        if toward[k] > ends[k] - OUTLINE_STRIP || width < 0.5 * OUTLINE_STRIP {
-            if (lit_sides & (1u << k)) == 0u {
-                return -1.0;
-            }
-            shift = 1.0;
-        }
+        starts[k] = select(ends[k] - OUTLINE_STRIP, -BIG, width < 0.5 * OUTLINE_STRIP);
     }
-    return shift;
+    return starts;
 }
+
+// Farther than any pixel lies from its texel's centre, in texels.
+const BIG: f32 = 1.0e30;
 
 // How far, in texels from eye texel `t`'s centre toward side `k`, its plane meets its
 // neighbour's there (cull.wgsl `crease_at`, in texels).
@@ -137,6 +159,42 @@ fn eye_crease_at(face: u32, t: vec2<u32>, k: u32) -> f32 {
     return 0.5;
 }
 
+// Before the fullscreen draw, once per texel of the faces the eye draws (the `gid.z`-th of
+// its draw mask): the texel's strip ends (`texel_ends`) for `fs`, which reads them where the
+// texel is outlined (elsewhere they are never read). A few tens of thousands of texels
+// against the frame's hundreds of thousands of pixels.
+@compute @workgroup_size(8, 8, 1)
+fn strip_ends(@builtin(global_invocation_id) gid: vec3<u32>) {
+    let eye = view.slots[view.eye_slot];
+    var face = 6u;
+    var seen = 0u;
+    for (var f = 0u; f < 6u; f++) {
+        if (eye.draw_mask & (1u << f)) != 0u {
+            if seen == gid.z {
+                face = f;
+            }
+            seen++;
+        }
+    }
+    if face > 5u || gid.x >= eye.n || gid.y >= eye.n {
+        return;
+    }
+    let t = gid.xy;
+    let lit = textureLoad(eye_lit, t, face, 0);
+    let sides = lit_outline(lit.rgb);
+    textureStore(starts_out, t, face, strip_starts(face, t, sides, u32(lit.a)));
+    textureStore(lab_out, t, face, strip_lab(lit.rgb));
+}
+
+// Lit colour `c` in OKLab, its lightness posterized a band darker and a band lighter
+// (`posterize` with a shift of -1 and 1, which it finishes per pixel): (dark L, light L, a, b).
+fn strip_lab(c: vec3<f32>) -> vec4<f32> {
+    let lab = oklab_from_linear(max(c, vec3(0.0)));
+    let dark = posterized_lightness(lab.x, view.bands, -1.0);
+    let light = posterized_lightness(lab.x, view.bands, 1.0);
+    return vec4(dark, light, lab.yz);
+}
+
 @fragment
 fn fs(in: FullscreenOut) -> FsOut {
     let e = eye_ray(in.ndc);
@@ -159,9 +217,12 @@ fn fs(in: FullscreenOut) -> FsOut {
     var colour = lit.rgb;
     let sides = lit_outline(lit.rgb);
     if id != 0u && sides != 0u {
-        let shift = strip_shift(e, t, sides, u32(lit.a));
+        // `posterize(lit.rgb, view.bands, shift)`, from its start `strip_ends` worked out
+        // (its cube roots, for every pixel, were a fifth of the pass).
+        let shift = strip_shift(e, t, sides);
         if shift != 0.0 {
-            colour = posterize(lit.rgb, view.bands, shift);
+            let lab = textureLoad(eye_lab, t, e.face, 0);
+            colour = max(linear_from_oklab(vec3(select(lab.y, lab.x, shift < 0.0), lab.zw)), vec3(0.0));
         }
     }
     var depth = NDC_FAR;

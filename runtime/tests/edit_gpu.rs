@@ -214,6 +214,36 @@ fn frames_after_edits_in_place_equal_a_full_rebuild() -> anyhow::Result<()> {
     Ok(())
 }
 
+/// The box 90 units behind the camera brought into view, in place: the faces find it
+/// through the draw ranges' tree the edit refit (`texel_render::gpu_scene::RangeIndex`), so
+/// the picture is the one a session made afresh on the edited level draws, byte for byte.
+#[test]
+fn a_box_brought_into_view_in_place_draws_as_a_full_rebuild() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard()?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (before, _) = frames(&ctx, &mut session, 10)?;
+    edit(&mut level, FAR, |r| {
+        r.transform.as_mut().expect("transform").translation = Vec3::new(-1.0, 0.5, 2.0);
+    });
+    let update = session.update_entities(&ctx, &level, &[FAR])?;
+    assert!(
+        matches!(update, EditUpdate::InPlace { faces_marked } if faces_marked > 0),
+        "{update:?}"
+    );
+    let (after, _) = frames(&ctx, &mut session, 20)?;
+    assert!(after != before, "the box shows");
+    let mut fresh = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (rebuilt, _) = frames(&ctx, &mut fresh, 30)?;
+    let differ = (after.chunks_exact(4).zip(rebuilt.chunks_exact(4)))
+        .filter(|(a, b)| a != b)
+        .count();
+    assert_eq!(differ, 0, "pixels differing from a full rebuild's frame");
+    Ok(())
+}
+
 /// A box 90 units behind the camera, moved: no face the camera sees is marked, the next
 /// frame captures only what a settled frame does, and the picture holds still; the level
 /// read again as it was (`Session::reload`) takes in that row alone.

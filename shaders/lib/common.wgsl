@@ -183,9 +183,14 @@ fn sky_texel(sky: vec3<f32>, bands: u32) -> vec3<f32> {
 // Quantizes OKLab lightness to `bands` steps, after shifting it by `shift` bands.
 fn posterize(c: vec3<f32>, bands: u32, shift: f32) -> vec3<f32> {
     var lab = oklab_from_linear(max(c, vec3(0.0)));
-    let b = f32(bands);
-    lab.x = clamp(round(lab.x * b + shift) / b, 0.0, 1.0);
+    lab.x = posterized_lightness(lab.x, bands, shift);
     return max(linear_from_oklab(lab), vec3(0.0));
+}
+
+// OKLab lightness `l` shifted by `shift` bands and quantized to `bands` steps (`posterize`).
+fn posterized_lightness(l: f32, bands: u32, shift: f32) -> f32 {
+    let b = f32(bands);
+    return clamp(round(l * b + shift) / b, 0.0, 1.0);
 }
 
 // --- dither ---

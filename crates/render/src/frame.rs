@@ -276,7 +276,7 @@ impl Renderer {
     /// GPU bytes the renderer holds for its scene and probes.
     pub fn memory(&self) -> crate::memory::GpuMemory {
         let mut m = (self.scene.as_ref()).map_or_else(Default::default, |s| s.memory());
-        m.probes = self.store.bytes() + self.capture.far_field_bytes();
+        m.probes = self.store.bytes() + self.capture.far_field_bytes() + self.background.bytes();
         m
     }
 
@@ -535,6 +535,7 @@ impl Renderer {
             });
         }
         stages.run("background", |enc| {
+            (self.background).strip_ends(enc, &bg_bind, input.eye.draw.bits().count_ones());
             let mut pass = begin_draw(enc, draw_target, screen, false);
             self.background.draw(&mut pass, &bg_bind);
             self.lines.draw(ctx, &mut pass, &self.view);

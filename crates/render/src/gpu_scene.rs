@@ -13,6 +13,7 @@ use crate::textures::{AtlasError, GpuTextures};
 
 mod instances;
 pub mod light_grid;
+mod range_index;
 mod ranges;
 #[cfg(test)]
 mod tests;
@@ -21,6 +22,7 @@ mod upload;
 
 pub use update::{InPlaceEdit, NotInPlace};
 
+pub use range_index::RangeIndex;
 pub use ranges::{
     CaptureCull, DRAW_MIN_TEXELS, DrawRange, EYE_LOD_SAMPLE_TEXELS, LOD_SAMPLE_TEXELS, LodFrom,
     RANGE_TRIANGLES, Run, chunk_lod, full_detail_runs, spans_a_texel, visible_runs,

@@ -8,6 +8,7 @@ mod common;
 mod baselines;
 mod bvh_gpu;
 mod convention;
+mod culling;
 mod editor_support;
 mod far_field;
 mod first_light;

@@ -218,3 +218,51 @@ fn a_thin_pillar_keeps_no_body_sliver_between_its_strips() {
         "a body {shortest} pixels wide between two strips ({px_per_texel:.1} pixels per texel)"
     );
 }
+
+/// The eye's fill draws its strips from starts and colours worked out once per eye texel
+/// (background.wgsl `strip_ends`), kept in textures of the eye's face size: a renderer that
+/// drew faces of 32 and then draws faces of 64 draws what a fresh one does, and a frame with
+/// no stable face drawn (the eye's quads and fill show everything) shows strips.
+#[test]
+fn the_fill_strips_follow_the_eye_face_size() {
+    let Some(ctx) = test_context() else { return };
+    let size = UVec2::new(240, 180);
+    let eye = Vec3::new(1.3, 1.1, 1.8);
+    let cam = Camera::looking(eye, -eye);
+    let input = |n| {
+        let mut input = common::frame(cam, eye + Vec3::new(0.1, 0.2, 0.1), n, size, Schedule::Ours);
+        input.grid.draw = texel_probes::cube::FaceMask::EMPTY;
+        input
+    };
+    let renderer = || {
+        let mut r = Renderer::headless(&ctx).unwrap();
+        r.set_scene(&ctx, &lone_box()).expect("scene");
+        r
+    };
+    let (_, fresh) = renderer().render_offscreen(&ctx, &input(64)).unwrap();
+    let mut r = renderer();
+    let (_, small) = r.render_offscreen(&ctx, &input(32)).unwrap();
+    let (_, again) = r.render_offscreen(&ctx, &input(64)).unwrap();
+    assert_ne!(small, fresh, "faces of 32 and 64 draw differently");
+    assert!(
+        again == fresh,
+        "faces of 64 after 32 draw as a fresh renderer's"
+    );
+    // Outlines: pixels of the box in none of its three faces' colours.
+    let at = |i: usize| [fresh[4 * i], fresh[4 * i + 1], fresh[4 * i + 2]];
+    let sky = at(0);
+    let mut counts = std::collections::HashMap::<[u8; 3], usize>::new();
+    for i in 0..(size.x * size.y) as usize {
+        if at(i) != sky {
+            *counts.entry(at(i)).or_default() += 1;
+        }
+    }
+    let mut common_first: Vec<usize> = counts.values().copied().collect();
+    common_first.sort_unstable_by(|a, b| b.cmp(a));
+    let outline: usize = common_first.iter().skip(3).sum();
+    assert!(
+        outline > 50,
+        "outline pixels {outline} of {:?}",
+        common_first
+    );
+}

@@ -39,22 +39,29 @@ impl DrawRange {
     /// Whether any part of the box may be inside the clip volume of `view_proj` (depth 0..1):
     /// false only when all eight corners are beyond one clip plane.
     pub fn may_be_visible(&self, view_proj: &glam::Mat4) -> bool {
-        let corners: [glam::Vec4; 8] = std::array::from_fn(|i| {
-            let p = Vec3::new(
-                if i & 1 == 0 { self.min.x } else { self.max.x },
-                if i & 2 == 0 { self.min.y } else { self.max.y },
-                if i & 4 == 0 { self.min.z } else { self.max.z },
-            );
-            *view_proj * p.extend(1.0)
-        });
-        let outside = |f: &dyn Fn(&glam::Vec4) -> bool| corners.iter().all(f);
-        !(outside(&|c| c.x < -c.w)
-            || outside(&|c| c.x > c.w)
-            || outside(&|c| c.y < -c.w)
-            || outside(&|c| c.y > c.w)
-            || outside(&|c| c.z < 0.0)
-            || outside(&|c| c.z > c.w))
+        box_may_be_visible(self.min, self.max, view_proj)
     }
+}
+
+/// Whether any part of the box `min..max` may be inside the clip volume of `view_proj`
+/// ([`DrawRange::may_be_visible`]). A box wholly beyond one clip plane holds only boxes that
+/// are too (the plane is a half-space in world space): `RangeIndex` skips them.
+pub(super) fn box_may_be_visible(min: Vec3, max: Vec3, view_proj: &glam::Mat4) -> bool {
+    let corners: [glam::Vec4; 8] = std::array::from_fn(|i| {
+        let p = Vec3::new(
+            if i & 1 == 0 { min.x } else { max.x },
+            if i & 2 == 0 { min.y } else { max.y },
+            if i & 4 == 0 { min.z } else { max.z },
+        );
+        *view_proj * p.extend(1.0)
+    });
+    let outside = |f: &dyn Fn(&glam::Vec4) -> bool| corners.iter().all(f);
+    !(outside(&|c| c.x < -c.w)
+        || outside(&|c| c.x > c.w)
+        || outside(&|c| c.y < -c.w)
+        || outside(&|c| c.y > c.w)
+        || outside(&|c| c.z < 0.0)
+        || outside(&|c| c.z > c.w))
 }
 
 /// Every range at level 0 (terrains at full detail), neighbours merged.
@@ -181,8 +188,9 @@ pub enum LodFrom {
 /// captures 50 → 33 ms a frame, the frame's median 94–97 → 73–76 ms.
 pub fn visible_runs(ranges: &[DrawRange], view_proj: &glam::Mat4, lod: LodFrom) -> Vec<Run> {
     merge_runs(
-        ranges_drawn(
+        ranges_drawn_by(
             ranges,
+            None,
             view_proj,
             lod,
             CaptureCull::Footprint,
@@ -201,19 +209,21 @@ pub fn visible_runs_by_kind(
     lod: LodFrom,
     cull: CaptureCull,
 ) -> ([Vec<Run>; 2], usize) {
-    visible_runs_where(ranges, view_proj, lod, cull, &|_: &DrawRange| true)
+    visible_runs_where(ranges, None, view_proj, lod, cull, &|_: &DrawRange| true)
 }
 
 /// [`visible_runs_by_kind`] of the ranges `keep` keeps (an eye's far face: those wholly
-/// beyond the eye's distance, `crate::far_field`).
+/// beyond the eye's distance, `crate::far_field`); with `index` (the scene's
+/// [`RangeIndex`](super::RangeIndex) over `ranges`), only the ranges it leaves are tested.
 pub fn visible_runs_where(
     ranges: &[DrawRange],
+    index: Option<&super::RangeIndex>,
     view_proj: &glam::Mat4,
     lod: LodFrom,
     cull: CaptureCull,
     keep: &dyn Fn(&DrawRange) -> bool,
 ) -> ([Vec<Run>; 2], usize) {
-    let visible = ranges_drawn(ranges, view_proj, lod, cull, keep);
+    let visible = ranges_drawn_by(ranges, index, view_proj, lod, cull, keep);
     let count = visible.len();
     let (terrain, rest): (Vec<&DrawRange>, Vec<&DrawRange>) =
         visible.into_iter().partition(|r| r.terrain);
@@ -232,9 +242,11 @@ pub enum CaptureCull {
     Footprint,
 }
 
-/// The ranges a face draws under `cull` of those `keep` keeps, in the order it draws them.
-fn ranges_drawn<'a>(
+/// The ranges a face draws under `cull` of those `keep` keeps, in the order it draws them;
+/// with `index` (over `ranges`), only those it leaves are tested, the same ones drawn.
+pub(super) fn ranges_drawn_by<'a>(
     ranges: &'a [DrawRange],
+    index: Option<&super::RangeIndex>,
     view_proj: &glam::Mat4,
     lod: LodFrom,
     cull: CaptureCull,
@@ -246,15 +258,19 @@ fn ranges_drawn<'a>(
         LodFrom::Eye(origin, n) => r.lod == chunk_lod_within(r, origin, n, EYE_LOD_SAMPLE_TEXELS),
         LodFrom::Texel(size) => r.lod == lod_for_texel(r, size),
     };
-    let mut visible: Vec<&DrawRange> = ranges
-        .iter()
-        .filter(|r| {
-            wanted(r)
-                && keep(r)
-                && (cull != CaptureCull::Footprint || spans_a_texel(r, lod))
-                && (cull == CaptureCull::Nothing || r.may_be_visible(view_proj))
-        })
-        .collect();
+    let drawn = |r: &&DrawRange| {
+        wanted(r)
+            && keep(r)
+            && (cull != CaptureCull::Footprint || spans_a_texel(r, lod))
+            && (cull == CaptureCull::Nothing || r.may_be_visible(view_proj))
+    };
+    let mut visible: Vec<&DrawRange> = match index {
+        Some(index) => (index.candidates(view_proj, lod, cull).into_iter())
+            .map(|i| &ranges[i as usize])
+            .filter(drawn)
+            .collect(),
+        None => ranges.iter().filter(drawn).collect(),
+    };
     if let LodFrom::Probe(origin, _) | LodFrom::Eye(origin, _) = lod {
         let distance = |r: &DrawRange| (origin.clamp(r.min, r.max) - origin).length_squared();
         visible.sort_by(|a, b| {

@@ -109,6 +109,9 @@ pub(super) struct InPlace {
     top: Option<TopLevel>,
     records: Vec<GpuBvhInstance>,
     record_of: Vec<Option<u32>>,
+    /// The tree over `GpuScene::ranges`, built on the first cull
+    /// ([`GpuScene::range_index`]), refit by an edit.
+    range_index: std::sync::OnceLock<super::RangeIndex>,
 }
 
 impl InPlace {
@@ -122,6 +125,7 @@ impl InPlace {
             top: None,
             records: Vec::new(),
             record_of: Vec::new(),
+            range_index: std::sync::OnceLock::new(),
         }
     }
 
@@ -149,6 +153,12 @@ struct Remade {
 }
 
 impl GpuScene {
+    /// The tree over [`GpuScene::ranges`] a face's cull walks (built now if this is the
+    /// first cull since the upload).
+    pub fn range_index(&self) -> &super::RangeIndex {
+        (self.edits.range_index).get_or_init(|| super::RangeIndex::build(&self.ranges))
+    }
+
     /// Brings the uploaded scene up to `scene`, which differs from what was uploaded only in
     /// the objects `changed` (their transforms and materials) and in its lights, by
     /// rewriting what changed in place. [`NotInPlace`], with nothing written, when the edit
@@ -225,6 +235,9 @@ impl GpuScene {
             let offset = (r.index * size_of::<GpuObject>()) as u64;
             queue.write_buffer(&self.objects, offset, bytemuck::bytes_of(&r.record));
             cost.vertices += r.meshes.vertices.len();
+        }
+        if let Some(index) = self.edits.range_index.get_mut() {
+            index.refit(&self.ranges);
         }
         queue.write_buffer(&self.points, 0, bytemuck::cast_slice(&light_words));
         self.suns = suns(scene);

@@ -393,7 +393,10 @@ impl CapturePass {
             true => ([Vec::new(), Vec::new()], 0),
             false => {
                 let ranges = &scene.ranges;
-                crate::gpu_scene::visible_runs_where(ranges, &d.cull, lod, self.cull, &beyond)
+                let index = Some(scene.range_index());
+                crate::gpu_scene::visible_runs_where(
+                    ranges, index, &d.cull, lod, self.cull, &beyond,
+                )
             }
         };
         let triangles = (terrain_runs.iter().chain(&runs))
