@@ -111,8 +111,8 @@ fn mesh_hash(m: &TriMesh) -> u64 {
 impl Meshes {
     /// Adds object `index` of `scene`, which shares its mesh (group `g`), with surfaces
     /// `(own, parts)`: the mesh's vertices in object space the first time the group is met,
-    /// then the object's record, instance record, draw ranges and shadow casters. Returns
-    /// its instance record's index.
+    /// then the object's record, instance record and draw ranges (its shadows are its
+    /// shape's: `gpu_scene/shapes.rs`). Returns its instance record's index.
     pub(super) fn add_instance(
         &mut self,
         scene: &SceneInput,
@@ -142,11 +142,6 @@ impl Meshes {
                 });
                 self.ranges.truncate(ranges);
                 shared.first[g] = Some(first);
-                // Its shadow-casting triangles, for its own tree in object space.
-                self.shared_casters.resize(shared.meshes(), Vec::new());
-                self.shared_casters[g] = (o.mesh.indices.chunks_exact(3))
-                    .map(|t| [0, 1, 2].map(|c| o.mesh.positions[t[c] as usize]))
-                    .collect();
                 first
             }
         };
@@ -155,10 +150,6 @@ impl Meshes {
         self.instances
             .push(GpuInstance::new(o.transform, index as u32));
         self.add_instance_ranges(o, first, instance);
-        if o.material.casts_shadows {
-            self.casting_instances.push((g, o.transform));
-            self.casting_objects.push(index);
-        }
         instance
     }
 
