@@ -335,7 +335,7 @@ mod tests {
             objects,
             ..Default::default()
         };
-        let shapes = ShadowShapes::new(&scene, true);
+        let shapes = ShadowShapes::sharing(&scene, 0);
         // One shape per kind and tessellation, every object placed on one.
         assert_eq!((shapes.triangles().len(), shapes.instances()), (4, 120));
         let mut bvh = GpuBvh::empty();

@@ -23,6 +23,12 @@ use texel_geom::mesh::TriMesh;
 use super::upload::Meshes;
 use crate::input::{ObjectInput, SceneInput};
 
+/// Triangles a shape's objects hold in all from which every one of them casts through it:
+/// a ray pays a top-level walk and a change of space to meet an object of a shape, which a
+/// level of a few dozen boxes (the stone circle: 240 triangles) does not win back, while a
+/// town of 1,000 (8,000 triangles of boxes, 24,000 of balls) does. Below it only exact
+/// copies share it (as they share their vertices: `gpu_scene/instances.rs`).
+pub const SHARED_TRIANGLES: usize = 4096;
 /// How close (relative to the object's extent) a member's positions must be to its shape's.
 const SAME_SHAPE: f32 = 1e-6;
 /// Steps of a canonical coordinate in the hash that buckets candidates (checked after).
@@ -38,16 +44,19 @@ pub struct ShadowShapes {
 }
 
 impl ShadowShapes {
-    /// The shapes of `scene`'s still shadow casters (none when `on` is false: every caster
-    /// in the flat tree, as before shapes were shared).
+    /// The shapes of `scene`'s still shadow casters, each shared when its objects hold
+    /// [`SHARED_TRIANGLES`] or more triangles in all (else by its exact copies alone); none
+    /// when `on` is false: every caster in the flat tree.
     pub fn new(scene: &SceneInput, on: bool) -> Self {
-        let mut of = vec![None; scene.objects.len()];
-        if !on {
-            return ShadowShapes {
-                of,
-                triangles: Vec::new(),
-            };
+        match on {
+            true => Self::sharing(scene, SHARED_TRIANGLES),
+            false => Self::sharing(&SceneInput::default(), 0),
         }
+    }
+
+    /// [`ShadowShapes::new`] with shapes shared whole from `least` triangles in all on.
+    pub fn sharing(scene: &SceneInput, least: usize) -> Self {
+        let mut of = vec![None; scene.objects.len()];
         let animated: std::collections::HashSet<usize> = scene.animated.iter().copied().collect();
         // Candidates bucketed by a hash of their canonical positions; in a bucket, groups
         // of objects checked against the group's first.
@@ -71,6 +80,7 @@ impl ShadowShapes {
             }
         }
         let mut groups: Vec<Vec<(usize, Vec3)>> = (buckets.into_values().flatten())
+            .map(|g| few_keep_copies(g, least, |i| scene.objects[i].mesh.indices.len() / 3))
             .filter(|g| g.len() > 1)
             .collect();
         groups.sort_unstable_by_key(|g| g[0].0);
@@ -134,6 +144,25 @@ impl Meshes {
                 .extend((o.mesh.indices.chunks_exact(3)).map(|t| [p(t[0]), p(t[1]), p(t[2])]));
         }
     }
+}
+
+/// Group `g` (objects and extents) whole when its objects hold `least` triangles or more in
+/// all (`triangles` of an object), else only its objects whose extents another one has
+/// too (copies).
+fn few_keep_copies(
+    mut g: Vec<(usize, Vec3)>,
+    least: usize,
+    triangles: impl Fn(usize) -> usize,
+) -> Vec<(usize, Vec3)> {
+    if g.iter().map(|&(i, _)| triangles(i)).sum::<usize>() >= least {
+        return g;
+    }
+    let key = |e: Vec3| e.to_array().map(f32::to_bits);
+    let mut count: HashMap<[u32; 3], usize> = HashMap::new();
+    g.iter()
+        .for_each(|&(_, e)| *count.entry(key(e)).or_default() += 1);
+    g.retain(|&(_, e)| count[&key(e)] > 1);
+    g
 }
 
 /// Whether `o` may cast through a shape: a still caster's finite triangle mesh without
@@ -245,7 +274,7 @@ mod tests {
             animated: vec![5],
             ..Default::default()
         };
-        let shapes = ShadowShapes::new(&scene, true);
+        let shapes = ShadowShapes::sharing(&scene, 0);
         assert_eq!(shapes.triangles().len(), 1);
         assert_eq!(shapes.instances(), 3);
         assert!((0..3).all(|i| shapes.shared(i)) && !(3..6).any(|i| shapes.shared(i)));
@@ -265,5 +294,38 @@ mod tests {
             }
         }
         assert!(ShadowShapes::new(&scene, false).triangles().is_empty());
+        // 36 triangles in all: too few to share but between copies, and these differ.
+        assert_eq!(ShadowShapes::new(&scene, true).instances(), 0);
+    }
+
+    #[test]
+    fn a_shape_of_few_triangles_is_shared_by_exact_copies_alone() {
+        let size = Vec3::new(1.0, 2.0, 3.0);
+        let objects = |n: usize| -> Vec<ObjectInput> {
+            (0..n)
+                .map(|i| {
+                    let at = Mat4::from_translation(Vec3::X * i as f32);
+                    let size = if i < 2 { size } else { size * (1.0 + i as f32) };
+                    object(cuboid(size), at, true)
+                })
+                .collect()
+        };
+        let few = SceneInput {
+            objects: objects(4),
+            ..Default::default()
+        };
+        let shapes = ShadowShapes::new(&few, true);
+        assert_eq!(shapes.instances(), 2);
+        assert!(shapes.shared(0) && shapes.shared(1) && !shapes.shared(2));
+        // 342 boxes of 12 triangles reach SHARED_TRIANGLES: every one shares the shape.
+        let many = SceneInput {
+            objects: objects(SHARED_TRIANGLES.div_ceil(12)),
+            ..Default::default()
+        };
+        let shapes = ShadowShapes::new(&many, true);
+        assert_eq!(
+            (shapes.triangles().len(), shapes.instances()),
+            (1, many.objects.len())
+        );
     }
 }
