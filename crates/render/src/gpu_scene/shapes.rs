@@ -1,6 +1,6 @@
 //! Shadow shapes: still objects whose meshes are one mesh up to a scale along each axis (a
-//! level's boxes of every size, its spheres of every radius and tessellation alike, copies of
-//! one glTF mesh) cast their shadows through one tree in the shape's own space, each object
+//! level's boxes of every size, its spheres of every radius, one shape per tessellation,
+//! copies of one glTF mesh) cast their shadows through one tree in the shape's own space, each object
 //! a record under the still instances' top level (`bvh::instances`), placed by its transform
 //! times its scale. A ray is carried into the shape's space by an affine map, which keeps its
 //! parameter, so non-uniform scales are as exact as turns. What is drawn is not touched:
