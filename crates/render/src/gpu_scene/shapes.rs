@@ -11,9 +11,10 @@
 //! largest |coordinate|, 1 where it is 0); another object belongs to it when its mesh has the
 //! same indices and its positions are the shape's times its own extents to within 1e-6 of
 //! their size (primitive meshes are made as unit directions times sizes, so they differ from
-//! that product by rounding only). A shape of one object is no shape: it stays in the flat
-//! tree, as does an animated object, a terrain, a mesh with levels of detail, and an object
-//! casting no shadow.
+//! that product by rounding only). A shape is shared whole when its objects hold
+//! [`SHARED_TRIANGLES`] or more in all, else by its exact copies alone; a shape of one object
+//! is no shape: it stays in the flat tree, as does an animated object, a terrain, a mesh
+//! with levels of detail, and an object casting no shadow.
 
 use std::collections::HashMap;
 
