@@ -511,4 +511,35 @@ mod tests {
             assert!(e.to_string().contains(phrase), "{e}");
         }
     }
+
+    /// The largest town fits lavapipe's limits (a storage binding of 128 MiB, a buffer of
+    /// 2 GiB): its boxes and balls cast through one shape each (`gpu_scene::shapes`), where
+    /// their 3.1 M triangles in one flat tree needed a binding of 189 MiB. CPU only: the
+    /// scene check the renderer makes before uploading.
+    #[test]
+    fn the_largest_town_fits_lavapipes_limits() {
+        use texel_render::gpu_scene::shapes::ShadowShapes;
+        let level = generate(&GenOptions {
+            count: MAX_COUNT,
+            ..GenOptions::default()
+        })
+        .expect("generates");
+        let loaded = crate::load::LoadedLevel {
+            path: "town.ron".into(),
+            scene: texel_scene::Scene::from_level(&level),
+            assets: Default::default(),
+        };
+        let scene = crate::frame_plan::scene_input(&loaded);
+        let lavapipe = wgpu::Limits {
+            max_storage_buffer_binding_size: 128 << 20,
+            max_buffer_size: 2 << 30,
+            ..wgpu::Limits::default()
+        };
+        let shapes = ShadowShapes::new(&scene, true);
+        assert!(shapes.instances() > 90_000, "{}", shapes.instances());
+        texel_render::validate::scene_shaped(&lavapipe, &scene, &shapes).expect("fits");
+        let flat = ShadowShapes::new(&scene, false);
+        let e = texel_render::validate::scene_shaped(&lavapipe, &scene, &flat).unwrap_err();
+        assert!(e.to_string().contains("shadow BVH"), "{e}");
+    }
 }

@@ -222,21 +222,24 @@ impl Renderer {
         self.set_scene_with(ctx, scene, instancing)
     }
 
-    /// [`Renderer::set_scene`], meshes several objects share instanced only if `instancing`
-    /// (else every copy written out, to compare against).
+    /// [`Renderer::set_scene`], meshes several objects share instanced, and still casters
+    /// of one shape casting through its one tree (`gpu_scene::shapes`), only if
+    /// `instancing` (else every copy written out and every caster in the flat tree, to
+    /// compare against).
     pub fn set_scene_with(
         &mut self,
         ctx: &GpuContext,
         scene: &SceneInput,
         instancing: bool,
     ) -> Result<(), RenderError> {
-        crate::validate::scene(&ctx.device.limits(), scene)?;
+        let shapes = crate::gpu_scene::shapes::ShadowShapes::new(scene, instancing);
+        crate::validate::scene_shaped(&ctx.device.limits(), scene, &shapes)?;
         let light_grid = self.light_grid;
         let choices = crate::gpu_scene::Upload {
             instancing,
             light_grid,
         };
-        let uploaded = GpuScene::upload_with(ctx, scene, choices)
+        let uploaded = GpuScene::upload_shaped(ctx, scene, choices, shapes)
             .map_err(|e| RenderError::SceneTooLarge(e.to_string()))?;
         self.scene = Some(uploaded);
         self.terrain_splat.forget();

@@ -1,9 +1,12 @@
 //! The scene on the GPU: one vertex buffer of world-space triangles (meshes are static, so
 //! they are transformed once at upload), one record per object (material and entity id),
 //! the textures (`textures`: one atlas, a record per image, a record per distinct surface),
-//! the lights, and the shadow BVH over every shadow-casting triangle. The upload itself, one
-//! step per resource, is `gpu_scene/upload.rs`; the draw ranges, their culling and terrain
-//! levels of detail are `gpu_scene/ranges.rs`.
+//! the lights, and the shadow BVH: a flat tree over the shadow-casting triangles, and one
+//! tree per shape that many still casters share under a top level over them
+//! (`gpu_scene/shapes.rs`; a mesh several objects share is also drawn from one copy,
+//! `gpu_scene/instances.rs`). The upload itself, one step per resource, is
+//! `gpu_scene/upload.rs`; the draw ranges, their culling and terrain levels of detail are
+//! `gpu_scene/ranges.rs`.
 
 use bytemuck::{Pod, Zeroable};
 use glam::{Mat3, Vec3};
@@ -15,6 +18,7 @@ mod instances;
 pub mod light_grid;
 mod range_index;
 mod ranges;
+pub mod shapes;
 #[cfg(test)]
 mod tests;
 mod update;

@@ -10,6 +10,8 @@ use crate::input::{Camera, FrameInput, SceneInput};
 /// Largest output side, in pixels.
 pub const MAX_OUTPUT_SIDE: u32 = 8192;
 
+use crate::gpu_scene::shapes::ShadowShapes;
+
 fn bad<T>(message: impl Into<String>) -> Result<T, RenderError> {
     Err(RenderError::InvalidFrame(message.into()))
 }
@@ -111,24 +113,40 @@ pub fn frame(input: &FrameInput) -> Result<(), RenderError> {
 /// allowed, and names the entity with the most triangles when it holds a tenth of them or
 /// more (the one to split or simplify), or else how many entities make the total.
 pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderError> {
+    scene_shaped(limits, scene, &ShadowShapes::new(scene, true))
+}
+
+/// [`scene`], with the still casters' shadow shapes found already (`shapes`, of `scene`):
+/// an object casting through a shape puts a record and a top-level node in the trees, its
+/// shape's triangles are there once.
+pub fn scene_shaped(
+    limits: &wgpu::Limits,
+    scene: &SceneInput,
+    shapes: &ShadowShapes,
+) -> Result<(), RenderError> {
     let tris = |o: &crate::input::ObjectInput| (o.mesh.indices.len() / 3) as u64;
     let total: u64 = scene.objects.iter().map(tris).sum();
     // Terrains walked as heightfields put no triangles in the tree.
     let walked = crate::bvh::field::walked_terrains(&scene.terrains);
-    let casters: u64 = (scene.objects.iter())
-        .filter(|o| o.material.casts_shadows)
-        .filter(|o| {
+    let flat: u64 = (scene.objects.iter().enumerate())
+        .filter(|(i, o)| o.material.casts_shadows && !shapes.shared(*i))
+        .filter(|(_, o)| {
             o.material
                 .terrain
                 .is_none_or(|t| walked.get(t) != Some(&true))
         })
-        .map(tris)
+        .map(|(_, o)| tris(o))
         .sum();
+    let shaped: u64 = shapes.triangles().iter().map(|t| t.len() as u64).sum();
+    let casters = flat + shaped;
+    let records = (1 + shapes.instances() + scene.animated.len()) as u64;
     let largest = scene.objects.iter().max_by_key(|o| tris(o));
     let vertex_bytes = total * 3 * size_of::<crate::gpu_scene::Vertex>() as u64;
-    // A BVH over n triangles has at most 2n - 1 nodes.
+    // A BVH over n triangles has at most 2n - 1 nodes, a top level over n records fewer
+    // than 2n.
     let bvh_bytes = (casters * size_of::<crate::bvh::BvhTriangle>() as u64)
-        .max(2 * casters * size_of::<crate::bvh::BvhNode>() as u64);
+        .max(2 * (casters + records) * size_of::<crate::bvh::BvhNode>() as u64)
+        .max(records * size_of::<crate::gpu_scene::GpuBvhInstance>() as u64);
     let storage = limits.max_storage_buffer_binding_size;
     let terrain_bytes: u64 = (scene.terrains.iter())
         .map(|t| 4 * (t.heights.len() as u64 + 4 * t.gradient.len() as u64))
@@ -149,8 +167,9 @@ pub fn scene(limits: &wgpu::Limits, scene: &SceneInput) -> Result<(), RenderErro
         )
     } else if bvh_bytes > storage {
         format!(
-            "its {casters} shadow-casting triangles need {} MiB of shadow BVH in one binding; \
-             this GPU allows {} MiB",
+            "its {casters} shadow-casting triangles ({} objects placing shared shapes) need {} \
+             MiB of shadow BVH in one binding; this GPU allows {} MiB",
+            shapes.instances(),
             bvh_bytes >> 20,
             storage >> 20
         )

@@ -3,8 +3,10 @@
 //! bottom-level tree per mesh, built once in object space and appended to the scene's
 //! trees ([`GpuBvh::append`]). A ray meeting an instance's box is carried into object space
 //! by the record's inverse transform (an affine map keeps the ray parameter, so `t` and
-//! `t_max` mean the same points). Still objects sharing a mesh are such instances, built at
-//! upload and refit when one moves ([`TopLevel::refit`]); animated casters are too, under a
+//! `t_max` mean the same points, whatever the map's scales). Still objects casting through a
+//! shared shape (`gpu_scene/shapes.rs`: boxes of every size, say, placed by their transforms
+//! times their sizes) are such instances, built at upload and refit when one moves
+//! ([`TopLevel::refit`]); animated casters are too, under a
 //! top level rebuilt each frame (`GpuScene::set_poses`). `bvh_top_hit` in
 //! `shaders/lib/bvh.wgsl` is [`any_hit_instances_cpu`] on the GPU.
 
@@ -286,5 +288,94 @@ mod tests {
 
     fn flat_one(tris: &[[Vec3; 3]], m: Mat4) -> GpuBvh {
         flat(tris, &[m])
+    }
+
+    /// Boxes, spheres of two tessellations and cylinders of many sizes, each placed by a
+    /// turn, an uneven scale (a mirror for some) and another turn, so their maps shear: the
+    /// shapes' two levels answer every ray as the flat tree over each object's own
+    /// world-space triangles does.
+    #[test]
+    fn scaled_primitive_shapes_answer_as_the_flat_tree() {
+        use crate::gpu_scene::shapes::ShadowShapes;
+        use crate::input::{MaterialInput, ObjectInput, SceneInput};
+        use std::sync::Arc;
+        use texel_scene::primitives::{box_mesh, cylinder, sphere};
+        let mut rng = Rng(0x5ca1_e0f0_1234_5678);
+        let objects: Vec<ObjectInput> = (0..120)
+            .map(|i| {
+                let mut r = || rng.next();
+                let mesh = match i % 4 {
+                    0 => box_mesh(Vec3::new(0.2 + 3.0 * r(), 0.2 + 3.0 * r(), 0.2 + 3.0 * r())),
+                    1 => sphere(0.2 + 1.5 * r(), 12),
+                    2 => sphere(0.2 + 1.5 * r(), 8),
+                    _ => cylinder(0.1 + r(), 0.5 + 3.0 * r(), 8),
+                };
+                let turn = |r: &mut dyn FnMut() -> f32| {
+                    Quat::from_euler(glam::EulerRot::YXZ, r() * 6.3, r() - 0.5, r() - 0.5)
+                };
+                let (first, then) = (turn(&mut r), turn(&mut r));
+                let mirror = if i % 7 == 0 { -1.0 } else { 1.0 };
+                let scale = Vec3::new(mirror * (0.4 + r()), 0.4 + r(), 0.4 + r());
+                let at = Vec3::new(r(), r() * 0.3, r()) * 16.0;
+                ObjectInput {
+                    mesh: Arc::new(mesh),
+                    transform: Mat4::from_rotation_translation(then, at)
+                        * Mat4::from_scale(scale)
+                        * Mat4::from_quat(first),
+                    material: MaterialInput {
+                        albedo: Vec3::ONE,
+                        casts_shadows: true,
+                        ..Default::default()
+                    },
+                    id: i + 1,
+                }
+            })
+            .collect();
+        let scene = SceneInput {
+            objects,
+            ..Default::default()
+        };
+        let shapes = ShadowShapes::sharing(&scene, 0);
+        // One shape per kind and tessellation, every object placed on one.
+        assert_eq!((shapes.triangles().len(), shapes.instances()), (4, 120));
+        let mut bvh = GpuBvh::empty();
+        let roots: Vec<u32> = (shapes.triangles().iter())
+            .map(|t| bvh.append(&build_bvh(t)))
+            .collect();
+        let records: Vec<GpuBvhInstance> = (scene.objects.iter().enumerate())
+            .map(|(i, o)| {
+                let (s, model) = shapes.placement(i, o.transform).unwrap();
+                instance_record(&bvh, roots[s as usize], model)
+            })
+            .collect();
+        let bounds: Vec<(Vec3, Vec3)> = (records.iter())
+            .map(|r| (Vec3::from_slice(&r.min[..3]), Vec3::from_slice(&r.max[..3])))
+            .collect();
+        let top = TopLevel::build(&bounds, bvh.nodes.len() as u32, 0).unwrap();
+        bvh.nodes.extend_from_slice(&top.nodes);
+        let placed: Vec<GpuBvhInstance> = top.order.iter().map(|&k| records[k as usize]).collect();
+        let world: Vec<[Vec3; 3]> = (scene.objects.iter())
+            .flat_map(|o| {
+                let p = |i: u32| o.transform.transform_point3(o.mesh.positions[i as usize]);
+                (o.mesh.indices.chunks_exact(3)).map(move |t| [p(t[0]), p(t[1]), p(t[2])])
+            })
+            .collect();
+        let flat = build_bvh(&world);
+        let (mut hits, mut differ) = (0, 0);
+        for (o, d, t_max) in rays(&mut rng, 20_000) {
+            let a = any_hit_instances_cpu(&bvh, &placed, top.node_offset, o, d, t_max);
+            let b = any_hit_cpu(&flat, o, d, t_max);
+            hits += usize::from(b);
+            differ += usize::from(a != b);
+        }
+        assert!(hits > 2_000 && hits < 18_000, "{hits} hits");
+        assert_eq!(differ, 0, "{differ} of 20000 rays differ");
+        // The shapes hold a few hundred triangles where the flat tree holds every object's.
+        let shape_triangles: usize = shapes.triangles().iter().map(Vec::len).sum();
+        assert!(
+            shape_triangles * 20 < world.len(),
+            "{shape_triangles} {}",
+            world.len()
+        );
     }
 }

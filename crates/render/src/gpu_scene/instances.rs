@@ -8,7 +8,6 @@
 //! their vertices written in world space, drawn with the identity record 0.
 
 use std::collections::HashMap;
-use std::hash::{Hash, Hasher};
 
 use glam::Vec3;
 use texel_geom::mesh::TriMesh;
@@ -36,14 +35,16 @@ impl SharedMeshes {
         surfaces: &[(u32, Vec<u32>)],
     ) -> Self {
         let mut by_key: HashMap<(u64, u32, Vec<u32>), Vec<Vec<usize>>> = HashMap::new();
+        let mut hashes: HashMap<*const TriMesh, u64> = HashMap::new();
         for (i, o) in scene.objects.iter().enumerate() {
             if !instanceable(o) || animated_index.get(i).copied().flatten().is_some() {
                 continue;
             }
             let (own, parts) = &surfaces[i];
-            let lists = by_key
-                .entry((mesh_hash(&o.mesh), *own, parts.clone()))
-                .or_default();
+            let hash = *hashes
+                .entry(std::sync::Arc::as_ptr(&o.mesh))
+                .or_insert_with(|| mesh_hash(&o.mesh));
+            let lists = by_key.entry((hash, *own, parts.clone())).or_default();
             // Equal hashes, unequal meshes: a list of their own.
             let same = |l: &Vec<usize>| {
                 let m = &scene.objects[l[0]].mesh;
@@ -91,28 +92,35 @@ fn instanceable(o: &ObjectInput) -> bool {
         && is_similarity(o.transform)
 }
 
-/// A hash of everything the upload reads of `m`.
+/// A hash of everything the upload reads of `m`: its words mixed FNV-style (equal hashes
+/// are checked by comparing the meshes; a SipHash of every float took a tenth of a debug
+/// build's load of a town of 10,000).
 fn mesh_hash(m: &TriMesh) -> u64 {
-    let mut h = std::collections::hash_map::DefaultHasher::new();
-    let floats = |h: &mut std::collections::hash_map::DefaultHasher, v: &[f32]| {
-        v.iter().for_each(|f| f.to_bits().hash(h))
+    let mut h: u64 = 0xcbf2_9ce4_8422_2325;
+    let mut mix = |words: &[u32]| {
+        h = (h ^ words.len() as u64).wrapping_mul(0x0100_0000_01b3);
+        for &w in words {
+            h = (h ^ u64::from(w)).wrapping_mul(0x0100_0000_01b3);
+        }
     };
-    floats(&mut h, bytemuck::cast_slice(&m.positions));
-    floats(&mut h, bytemuck::cast_slice(&m.normals));
-    floats(&mut h, bytemuck::cast_slice(&m.uvs));
-    floats(&mut h, bytemuck::cast_slice(&m.colors));
-    m.indices.hash(&mut h);
-    for p in &m.parts {
-        p.first_triangle.hash(&mut h);
-    }
-    h.finish()
+    mix(bytemuck::cast_slice(&m.positions));
+    mix(bytemuck::cast_slice(&m.normals));
+    mix(bytemuck::cast_slice(&m.uvs));
+    mix(bytemuck::cast_slice(&m.colors));
+    mix(&m.indices);
+    mix(&m
+        .parts
+        .iter()
+        .map(|p| p.first_triangle)
+        .collect::<Vec<u32>>());
+    h
 }
 
 impl Meshes {
     /// Adds object `index` of `scene`, which shares its mesh (group `g`), with surfaces
     /// `(own, parts)`: the mesh's vertices in object space the first time the group is met,
-    /// then the object's record, instance record, draw ranges and shadow casters. Returns
-    /// its instance record's index.
+    /// then the object's record, instance record and draw ranges (its shadows are its
+    /// shape's: `gpu_scene/shapes.rs`). Returns its instance record's index.
     pub(super) fn add_instance(
         &mut self,
         scene: &SceneInput,
@@ -142,11 +150,6 @@ impl Meshes {
                 });
                 self.ranges.truncate(ranges);
                 shared.first[g] = Some(first);
-                // Its shadow-casting triangles, for its own tree in object space.
-                self.shared_casters.resize(shared.meshes(), Vec::new());
-                self.shared_casters[g] = (o.mesh.indices.chunks_exact(3))
-                    .map(|t| [0, 1, 2].map(|c| o.mesh.positions[t[c] as usize]))
-                    .collect();
                 first
             }
         };
@@ -155,10 +158,6 @@ impl Meshes {
         self.instances
             .push(GpuInstance::new(o.transform, index as u32));
         self.add_instance_ranges(o, first, instance);
-        if o.material.casts_shadows {
-            self.casting_instances.push((g, o.transform));
-            self.casting_objects.push(index);
-        }
         instance
     }
 

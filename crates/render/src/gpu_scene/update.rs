@@ -15,6 +15,7 @@ use texel_geom::mesh::TriMesh;
 use texel_geom::texture::SurfaceMaps;
 
 use super::GpuBvhInstance;
+use super::shapes::ShadowShapes;
 use super::upload::{Meshes, ObjectTriangles, object_record, point_lights, suns};
 use super::{GpuObject, GpuScene, Vertex};
 use crate::bvh::GpuBvh;
@@ -105,13 +106,14 @@ pub(super) struct InPlace {
     static_casters: usize,
     refit: Option<RefitIndex>,
     /// The still instances' top-level tree, the shadow instance records (all of them, as
-    /// uploaded) and each object's record, if it is such an instance.
+    /// uploaded) and each object's record, if it is such an instance, and their shapes.
     top: Option<TopLevel>,
     records: Vec<GpuBvhInstance>,
     record_of: Vec<Option<u32>>,
     /// The tree over `GpuScene::ranges`, built on the first cull
     /// ([`GpuScene::range_index`]), refit by an edit.
     range_index: std::sync::OnceLock<super::RangeIndex>,
+    shapes: ShadowShapes,
 }
 
 impl InPlace {
@@ -126,20 +128,23 @@ impl InPlace {
             records: Vec::new(),
             record_of: Vec::new(),
             range_index: std::sync::OnceLock::new(),
+            shapes: ShadowShapes::default(),
         }
     }
 
-    /// With the still instances' top level `top`, the instance records and each object's.
+    /// With the still instances' top level `top`, the instance records, each object's and
+    /// the shapes they place.
     pub(super) fn with_instances(
         self,
         top: Option<TopLevel>,
         records: Vec<GpuBvhInstance>,
-        record_of: Vec<Option<u32>>,
+        (record_of, shapes): (Vec<Option<u32>>, ShadowShapes),
     ) -> Self {
         InPlace {
             top,
             records,
             record_of,
+            shapes,
             ..self
         }
     }
@@ -260,11 +265,11 @@ impl GpuScene {
         let (Some(Some(k)), Some(top)) = (e.record_of.get(index).copied(), e.top.as_mut()) else {
             return 0;
         };
-        let record = instance_record(
-            &e.bvh,
-            e.records[k as usize].root,
-            scene.objects[index].transform,
-        );
+        let transform = scene.objects[index].transform;
+        let Some((_, model)) = e.shapes.placement(index, transform) else {
+            return 0;
+        };
+        let record = instance_record(&e.bvh, e.records[k as usize].root, model);
         e.records[k as usize] = record;
         let record_size = size_of::<GpuBvhInstance>() as u64;
         queue.write_buffer(
@@ -304,6 +309,12 @@ impl GpuScene {
         if slot.casts != o.material.casts_shadows {
             return not(format!("object {index} casts shadows or stops casting"));
         }
+        let shaped = self.edits.record_of.get(index).is_some_and(|r| r.is_some());
+        if shaped && !super::shapes::placeable(o.transform) {
+            return not(format!(
+                "object {index} is no longer placed by an invertible map"
+            ));
+        }
         let mut meshes = Meshes::one(slot.vertices.start);
         if let Some(k) = slot.instance {
             if !super::is_similarity(o.transform) {
@@ -323,7 +334,8 @@ impl GpuScene {
                 own: slot.own,
                 part_surfaces: &slot.parts,
                 plain_terrain: false,
-                casts: slot.casts,
+                // A shape's caster moves its record, not triangles.
+                casts: slot.casts && !shaped,
                 moving: false,
             });
         }

@@ -9,6 +9,7 @@ use texel_geom::mesh::LodPiece;
 use wgpu::util::DeviceExt;
 
 use super::ranges::{DrawRange, RANGE_TRIANGLES, merge_runs};
+use super::shapes::ShadowShapes;
 use super::update::{InPlace, ObjectSlot};
 use super::{
     AnimatedObject, FLAG_ANIMATED, FLAG_EMISSIVE, FLAG_IN_BVH, FLAG_OUTLINED, FLAG_TERRAIN,
@@ -36,6 +37,18 @@ impl GpuScene {
         scene: &SceneInput,
         choices: super::Upload,
     ) -> Result<GpuScene, UploadError> {
+        let shapes = ShadowShapes::new(scene, choices.instancing);
+        Self::upload_shaped(ctx, scene, choices, shapes)
+    }
+
+    /// [`GpuScene::upload_with`], the still casters' shapes found already (`shapes`, of
+    /// `scene`: [`ShadowShapes::new`]).
+    pub fn upload_shaped(
+        ctx: &GpuContext,
+        scene: &SceneInput,
+        choices: super::Upload,
+        shapes: ShadowShapes,
+    ) -> Result<GpuScene, UploadError> {
         let mut textures = TextureSet::default();
         let mut meshes = Meshes::new(scene);
         // Surfaces first, in object order (the atlas is laid out as they come), then which
@@ -54,10 +67,11 @@ impl GpuScene {
             let instance = match shared.group(index) {
                 Some(g) => Some(meshes.add_instance(scene, index, g, &mut shared, (own, &parts))),
                 None => {
-                    meshes.add_object(scene, index, (own, &parts));
+                    meshes.add_object(scene, index, (own, &parts), shapes.shared(index));
                     None
                 }
             };
+            meshes.add_shadow(o, index, instance.is_some(), &shapes);
             let fixed = meshes.animated_index[index].is_some() || o.material.terrain.is_some();
             slots.push(ObjectSlot::new(
                 o,
@@ -84,7 +98,7 @@ impl GpuScene {
         let trees = ShadowTrees::build(
             &meshes.casters,
             &meshes.animated_casters,
-            &meshes.shared_casters,
+            shapes.triangles(),
             &meshes.casting_instances,
         );
         let static_top = trees.static_top();
@@ -165,7 +179,7 @@ impl GpuScene {
             edits: InPlace::new(slots, trees.bvh, static_casters).with_instances(
                 trees.top,
                 trees.instances.clone(),
-                bvh_records,
+                (bvh_records, shapes),
             ),
         };
         // The casters at their base poses until a frame says otherwise.
@@ -194,9 +208,8 @@ pub(super) struct Meshes {
     pub(super) animated_index: Vec<Option<u32>>,
     /// The animated objects, in motion record order.
     animated: Vec<AnimatedObject>,
-    /// Each shared mesh's triangles in object space, by group (empty until met).
-    pub(super) shared_casters: Vec<Vec<[Vec3; 3]>>,
-    /// Each still instance casting shadows: its group and transform, and its object.
+    /// Each still object casting through a shape ([`ShadowShapes`]): its shape and
+    /// placement, and its object.
     pub(super) casting_instances: Vec<(usize, glam::Mat4)>,
     pub(super) casting_objects: Vec<usize>,
     /// Each animated caster's triangles in its base pose, by index into `animated`.
@@ -238,7 +251,6 @@ impl Meshes {
             casters: Vec::new(),
             animated_index,
             animated,
-            shared_casters: Vec::new(),
             casting_instances: Vec::new(),
             casting_objects: Vec::new(),
             animated_casters: Vec::new(),
@@ -259,7 +271,6 @@ impl Meshes {
             casters: Vec::new(),
             animated_index: Vec::new(),
             animated: Vec::new(),
-            shared_casters: Vec::new(),
             casting_instances: Vec::new(),
             casting_objects: Vec::new(),
             animated_casters: Vec::new(),
@@ -274,12 +285,14 @@ impl Meshes {
     }
 
     /// Adds object `index` of `scene` with its surfaces `(own, parts)`: its record, its
-    /// triangles and, for an animated object, its runs and bounds.
+    /// triangles (its shadow casters too, unless it casts through a shape: `shaped`) and,
+    /// for an animated object, its runs and bounds.
     fn add_object(
         &mut self,
         scene: &SceneInput,
         index: usize,
         (own, part_surfaces): (u32, &[u32]),
+        shaped: bool,
     ) {
         let o = &scene.objects[index];
         let m = &o.material;
@@ -300,7 +313,7 @@ impl Meshes {
             own,
             plain_terrain: terrain != 0 && own == 0 && part_surfaces.iter().all(|&s| s == 0),
             part_surfaces,
-            casts: m.casts_shadows && field.is_none(),
+            casts: m.casts_shadows && field.is_none() && !shaped,
             moving: moving.is_some(),
         });
         if let Some(i) = moving {
@@ -563,8 +576,8 @@ pub(super) fn suns(scene: &SceneInput) -> Vec<(Vec3, Vec3)> {
 }
 
 /// The shadow BVH: the static casters' tree, each animated caster's own tree after it, each
-/// shared mesh's tree (in object space), room for the animated casters' per-frame top-level
-/// tree, and the top-level tree over the still objects drawn from shared meshes.
+/// shadow shape's tree (in its own space), room for the animated casters' per-frame
+/// top-level tree, and the top-level tree over the still objects casting through shapes.
 struct ShadowTrees {
     /// Every tree's nodes and triangles.
     bvh: GpuBvh,
@@ -581,9 +594,9 @@ struct ShadowTrees {
 
 impl ShadowTrees {
     /// Builds the static tree over `casters`, then each animated caster's own, in its base
-    /// pose, then each shared mesh's tree (`shared`: each group's object-space triangles)
-    /// that a still instance casting shadows (`instances`: its group and transform) uses,
-    /// and the top level over those instances.
+    /// pose, then each shape's tree (`shared`: each shape's triangles) that a still object
+    /// casting through it (`instances`: its shape and placement) uses, and the top level
+    /// over those objects.
     fn build(
         casters: &[[Vec3; 3]],
         animated_casters: &[(usize, Vec<[Vec3; 3]>)],
