@@ -41,11 +41,7 @@ fn a_box_moved_into_view_in_place_is_drawn_as_after_a_fresh_upload() {
     assert!(edit.is_some_and(|e| e.objects == 1), "in place: {edit:?}");
     let (_, after) = r.render_offscreen(&ctx, &input).unwrap();
     assert!(after != before, "the moved box shows");
-    let mut fresh = Renderer::headless(&ctx).unwrap();
-    fresh.set_scene(&ctx, &scene).expect("scene");
-    let (_, rebuilt) = fresh.render_offscreen(&ctx, &input).unwrap();
-    let differ = (after.chunks(4).zip(rebuilt.chunks(4)))
-        .filter(|(a, b)| a != b)
-        .count();
+    let rebuilt = common::fresh_frame(&ctx, &scene, &input);
+    let differ = common::differing_pixels(&after, &rebuilt);
     assert_eq!(differ, 0, "pixels differing from a fresh upload's frame");
 }

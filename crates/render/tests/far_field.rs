@@ -64,10 +64,6 @@ fn walk(
         .collect()
 }
 
-fn differing(a: &[u8], b: &[u8]) -> usize {
-    a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count()
-}
-
 #[test]
 fn an_eye_over_far_faces_captured_where_it_stands_equals_an_eye_drawing_everything() {
     let Some(ctx) = test_context() else { return };
@@ -88,9 +84,17 @@ fn an_eye_over_far_faces_captured_where_it_stands_equals_an_eye_drawing_everythi
     for (k, ((pa, la, captured), (pb, lb, none))) in split.iter().zip(&whole).enumerate() {
         assert!(*captured > 0, "view {k}: its far faces were captured");
         assert_eq!(*none, 0);
-        assert_eq!(differing(pa, pb), 0, "view {k}: the frames differ");
+        assert_eq!(
+            common::differing_pixels(pa, pb),
+            0,
+            "view {k}: the frames differ"
+        );
         for (f, (a, b)) in la.iter().zip(lb).enumerate() {
-            assert_eq!(differing(a, b), 0, "view {k}: eye face {f} differs");
+            assert_eq!(
+                common::differing_pixels(a, b),
+                0,
+                "view {k}: eye face {f} differs"
+            );
         }
         let far_boxes = pa.chunks(4).filter(|p| p[..3] != pa[..3]).count();
         assert!(far_boxes > pa.len() / 8, "view {k} shows something");
@@ -118,9 +122,17 @@ fn a_scene_all_within_the_eyes_distance_draws_what_it_drew_without_a_far_field()
     let refreshed: Vec<bool> = split.iter().map(|s| s.2 > 0).collect();
     assert_eq!(refreshed, [true, false, false, false, true, true]);
     for (k, ((pa, la, _), (pb, lb, _))) in split.iter().zip(&whole).enumerate() {
-        assert_eq!(differing(pa, pb), 0, "frame {k}: the frames differ");
+        assert_eq!(
+            common::differing_pixels(pa, pb),
+            0,
+            "frame {k}: the frames differ"
+        );
         for (f, (a, b)) in la.iter().zip(lb).enumerate() {
-            assert_eq!(differing(a, b), 0, "frame {k}: eye face {f} differs");
+            assert_eq!(
+                common::differing_pixels(a, b),
+                0,
+                "frame {k}: eye face {f} differs"
+            );
         }
     }
 }

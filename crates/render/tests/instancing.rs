@@ -65,15 +65,18 @@ fn placements(n: usize, exact: bool) -> Vec<Mat4> {
         .collect()
 }
 
-/// Renders `scene` (instanced or written out) from two cameras; the frames and the GPU
-/// scene's bytes.
-fn render(scene: &SceneInput, instancing: bool) -> (Vec<Vec<u8>>, u64, (usize, usize)) {
+/// Renders `scene` with instancing and shapes (`shared`) or every object written out, from
+/// two cameras; the frames, the last frame's counters and how many objects were instanced.
+fn render(
+    scene: &SceneInput,
+    shared: bool,
+) -> (Vec<Vec<u8>>, texel_render::stats::Counters, (usize, usize)) {
     let ctx = test_context().expect("device");
     let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene_with(&ctx, scene, instancing).expect("scene");
+    r.set_scene_with(&ctx, scene, shared).expect("scene");
     let size = UVec2::new(240, 136);
     let mut frames = Vec::new();
-    let mut bytes = 0;
+    let mut counters = Default::default();
     for (eye, look) in [
         (Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0)),
         (Vec3::new(4.5, 3.0, -1.0), Vec3::new(-1.0, -0.5, -0.8)),
@@ -81,10 +84,10 @@ fn render(scene: &SceneInput, instancing: bool) -> (Vec<Vec<u8>>, u64, (usize, u
         let cam = Camera::looking(eye, look);
         let input = common::frame(cam, eye + Vec3::Y * 0.4, 64, size, Schedule::Ours);
         let (stats, px) = r.render_offscreen(&ctx, &input).unwrap();
-        bytes = stats.counters.gpu_scene_bytes;
+        counters = stats.counters;
         frames.push(px);
     }
-    (frames, bytes, r.instanced())
+    (frames, counters, r.instanced())
 }
 
 #[test]
@@ -94,8 +97,12 @@ fn instanced_and_copied_meshes_render_identically() {
     }
     for exact in [true, false] {
         let scene = copies_scene(&placements(12, exact));
-        let (shared, shared_bytes, counts) = render(&scene, true);
-        let (copied, copied_bytes, none) = render(&scene, false);
+        let (shared, shared_counters, counts) = render(&scene, true);
+        let (copied, copied_counters, none) = render(&scene, false);
+        let (shared_bytes, copied_bytes) = (
+            shared_counters.gpu_scene_bytes,
+            copied_counters.gpu_scene_bytes,
+        );
         // The 12 copies draw 2 meshes; the boxes scene's three boxes differ in size.
         assert_eq!(counts, (12, 2), "exact: {exact}");
         assert_eq!(none, (0, 0));
@@ -107,7 +114,7 @@ fn instanced_and_copied_meshes_render_identically() {
             let size = UVec2::new(240, 136);
             common::save_png(&format!("instancing_{exact}_{k}_shared.png"), a, size);
             common::save_png(&format!("instancing_{exact}_{k}_copied.png"), b, size);
-            let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();
+            let differ = common::differing_pixels(a, b);
             assert_eq!(
                 differ, 0,
                 "exact: {exact}, view {k}: {differ} pixels differ"
@@ -205,42 +212,21 @@ fn primitives_scene() -> SceneInput {
     scene
 }
 
-/// Renders `scene` with shapes and instancing or without, from the two cameras of
-/// [`render`]; the frames and the GPU shadow trees' bytes.
-fn render_shadows(scene: &SceneInput, shapes: bool) -> (Vec<Vec<u8>>, u64) {
-    let ctx = test_context().expect("device");
-    let mut r = Renderer::headless(&ctx).unwrap();
-    r.set_scene_with(&ctx, scene, shapes).expect("scene");
-    let size = UVec2::new(240, 136);
-    let mut frames = Vec::new();
-    let mut bytes = 0;
-    for (eye, look) in [
-        (Vec3::new(0.3, 1.6, 3.0), Vec3::new(0.0, -0.25, -1.0)),
-        (Vec3::new(4.5, 3.0, -1.0), Vec3::new(-1.0, -0.5, -0.8)),
-    ] {
-        let cam = Camera::looking(eye, look);
-        let input = common::frame(cam, eye + Vec3::Y * 0.4, 64, size, Schedule::Ours);
-        let (stats, px) = r.render_offscreen(&ctx, &input).unwrap();
-        bytes = stats.counters.gpu_bvh_bytes;
-        frames.push(px);
-    }
-    (frames, bytes)
-}
-
 #[test]
 fn primitives_casting_through_shapes_render_as_world_space_casters() {
     if test_context().is_none() {
         return;
     }
     let scene = primitives_scene();
-    let (shaped, shaped_bytes) = render_shadows(&scene, true);
-    let (flat, flat_bytes) = render_shadows(&scene, false);
+    let (shaped, shaped_counters, _) = render(&scene, true);
+    let (flat, flat_counters, _) = render(&scene, false);
+    let (shaped_bytes, flat_bytes) = (shaped_counters.gpu_bvh_bytes, flat_counters.gpu_bvh_bytes);
     assert!(shaped_bytes < flat_bytes, "{shaped_bytes} < {flat_bytes}");
     for (k, (a, b)) in shaped.iter().zip(&flat).enumerate() {
         let size = UVec2::new(240, 136);
         common::save_png(&format!("shapes_{k}_shaped.png"), a, size);
         common::save_png(&format!("shapes_{k}_flat.png"), b, size);
-        let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();
+        let differ = common::differing_pixels(a, b);
         // A shadow ray tested in a shape's space rounds otherwise than against world-space
         // triangles (about 1e-7 of the object's size), so one grazing an edge within that
         // may go either way; random rays agree (`bvh::instances`), but a texel's rays are
@@ -287,11 +273,7 @@ fn moving_a_shaped_caster_refits_the_top_level_only() {
     assert!(edit.top_nodes > 0 && edit.nodes == 0, "{edit:?}");
     let (_, after) = r.render_offscreen(&ctx, &input).unwrap();
     assert!(after != before, "the move shows");
-    let mut fresh = Renderer::headless(&ctx).unwrap();
-    fresh.set_scene(&ctx, &scene).expect("scene");
-    let (_, rebuilt) = fresh.render_offscreen(&ctx, &input).unwrap();
-    let differ = (after.chunks(4).zip(rebuilt.chunks(4)))
-        .filter(|(a, b)| a != b)
-        .count();
+    let rebuilt = common::fresh_frame(&ctx, &scene, &input);
+    let differ = common::differing_pixels(&after, &rebuilt);
     assert_eq!(differ, 0, "pixels differing from a fresh upload's frame");
 }

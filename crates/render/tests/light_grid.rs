@@ -54,7 +54,7 @@ fn frames_with_the_light_grid_equal_frames_tracing_every_light() {
     let grid = render(&scene, true);
     let every = render(&scene, false);
     for (k, (a, b)) in grid.iter().zip(&every).enumerate() {
-        let differ = a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count();
+        let differ = common::differing_pixels(a, b);
         assert_eq!(differ, 0, "view {k}: {differ} pixels differ");
         let lit = a.chunks(4).filter(|p| p[..3] != [0, 0, 0]).count();
         assert!(lit > a.len() / 8, "view {k} shows something: {lit} pixels");

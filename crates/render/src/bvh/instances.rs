@@ -215,6 +215,23 @@ mod tests {
         build_bvh(&world)
     }
 
+    /// Over `rays`: how many the flat tree answers as hit, and on how many the two levels
+    /// (`records` under the top level at `offset` in `bvh`) answer otherwise.
+    fn agreement(
+        (bvh, records, offset): (&GpuBvh, &[GpuBvhInstance], u32),
+        flat: &GpuBvh,
+        rays: &[(Vec3, Vec3, f32)],
+    ) -> (usize, usize) {
+        let (mut hits, mut differ) = (0, 0);
+        for &(o, d, t_max) in rays {
+            let a = any_hit_instances_cpu(bvh, records, offset, o, d, t_max);
+            let b = any_hit_cpu(flat, o, d, t_max);
+            hits += usize::from(b);
+            differ += usize::from(a != b);
+        }
+        (hits, differ)
+    }
+
     /// Random rays through the scene's box: some reach a light far away, some stop short.
     fn rays(rng: &mut Rng, n: usize) -> Vec<(Vec3, Vec3, f32)> {
         (0..n)
@@ -238,13 +255,8 @@ mod tests {
         let models = placements(&mut rng, 60);
         let (bvh, records, top) = two_level(&tris, &models);
         let flat = flat(&tris, &models);
-        let (mut hits, mut differ) = (0, 0);
-        for (o, d, t_max) in rays(&mut rng, 20_000) {
-            let a = any_hit_instances_cpu(&bvh, &records, top.node_offset, o, d, t_max);
-            let b = any_hit_cpu(&flat, o, d, t_max);
-            hits += usize::from(b);
-            differ += usize::from(a != b);
-        }
+        let two = (&bvh, records.as_slice(), top.node_offset);
+        let (hits, differ) = agreement(two, &flat, &rays(&mut rng, 20_000));
         // Rays meet the copies often and miss them often; the answers agree on every one
         // (object-space tests round differently, so a ray grazing an edge within ~1e-6
         // could differ: none of these do).
@@ -274,14 +286,12 @@ mod tests {
         assert_eq!(bvh.triangles, triangles);
         assert!(!changed.is_empty() && changed.len() < top.nodes.len() / 2);
         let flat = flat(&tris, &models);
-        let mut differ = 0;
-        let mut hits_moved = 0;
-        for (o, d, t_max) in rays(&mut rng, 10_000) {
-            let a = any_hit_instances_cpu(&bvh, &records, top.node_offset, o, d, t_max);
-            differ += usize::from(a != any_hit_cpu(&flat, o, d, t_max));
-            let single = flat_one(&tris, models[k]);
-            hits_moved += usize::from(any_hit_cpu(&single, o, d, t_max));
-        }
+        let rays = rays(&mut rng, 10_000);
+        let (_, differ) = agreement((&bvh, &records, top.node_offset), &flat, &rays);
+        let single = flat_one(&tris, models[k]);
+        let hits_moved = (rays.iter())
+            .filter(|&&(o, d, t_max)| any_hit_cpu(&single, o, d, t_max))
+            .count();
         assert!(hits_moved > 10, "the moved copy is met: {hits_moved}");
         assert_eq!(differ, 0);
     }
@@ -361,13 +371,8 @@ mod tests {
             })
             .collect();
         let flat = build_bvh(&world);
-        let (mut hits, mut differ) = (0, 0);
-        for (o, d, t_max) in rays(&mut rng, 20_000) {
-            let a = any_hit_instances_cpu(&bvh, &placed, top.node_offset, o, d, t_max);
-            let b = any_hit_cpu(&flat, o, d, t_max);
-            hits += usize::from(b);
-            differ += usize::from(a != b);
-        }
+        let two = (&bvh, placed.as_slice(), top.node_offset);
+        let (hits, differ) = agreement(two, &flat, &rays(&mut rng, 20_000));
         assert!(hits > 2_000 && hits < 18_000, "{hits} hits");
         assert_eq!(differ, 0, "{differ} of 20000 rays differ");
         // The shapes hold a few hundred triangles where the flat tree holds every object's.

@@ -130,3 +130,20 @@ pub fn save_png(name: &str, pixels: &[u8], size: UVec2) {
         image::ColorType::Rgba8,
     );
 }
+
+/// How many RGBA8 pixels of two frames differ.
+pub fn differing_pixels(a: &[u8], b: &[u8]) -> usize {
+    a.chunks(4).zip(b.chunks(4)).filter(|(p, q)| p != q).count()
+}
+
+/// `input`'s frame from a new renderer that took `scene` in whole: what an in-place edit's
+/// frame must equal.
+pub fn fresh_frame(
+    ctx: &texel_render::context::GpuContext,
+    scene: &SceneInput,
+    input: &FrameInput,
+) -> Vec<u8> {
+    let mut fresh = texel_render::frame::Renderer::headless(ctx).unwrap();
+    fresh.set_scene(ctx, scene).expect("scene");
+    fresh.render_offscreen(ctx, input).unwrap().1
+}
