@@ -10,6 +10,7 @@
 #include "lib/lists.wgsl"
 #include "lib/view.wgsl"
 #include "lib/shade_globals.wgsl"
+#include "lib/edit_filter.wgsl"
 
 struct ShadeFace {
     origin: vec3<f32>,
@@ -25,12 +26,25 @@ struct ShadeFace {
     _pad0: u32,
     // First texel of the dispatch (the eye's faces: only the part the view can see).
     rect_min: vec2<u32>,
+    // After an edit (`edit_wants`): the texels always lit again (where the edit's geometry
+    // may show), from `keep_min` to before `keep_max`.
+    keep_min: vec2<u32>,
+    keep_max: vec2<u32>,
+    // 0: every texel of the dispatch is lit; else 1 + the edit's boxes, box i from
+    // `box_corners[2i]` to `box_corners[2i + 1]`: a texel outside `keep` is lit again only
+    // when a ray from it toward a light that reaches it meets a box (the edited objects'
+    // bounds: a shadow came or went), or when it lies in a box of `lit_mask` (a changed
+    // light's reach).
+    boxes: u32,
+    lit_mask: u32,
+    _pad1: vec2<u32>,
+    box_corners: array<vec4<f32>, 8>,
 }
 
 // A job's record at its 256-byte uniform stride.
 struct JobRecord {
     f: ShadeFace,
-    _pad: array<vec4<u32>, 13>,
+    _pad: array<vec4<u32>, 3>,
 }
 
 // The job of this dispatch (dynamic offset); for `light`, any job of the slot it lights.
@@ -161,10 +175,11 @@ var<workgroup> group_count: atomic<u32>;
 fn main(@builtin(global_invocation_id) gid: vec3<u32>) {
     sf = job_face;
     let t = gid.xy + sf.rect_min;
-    if t.x < sf.n && t.y < sf.n && needs_light(t) {
+    if t.x < sf.n && t.y < sf.n && edit_wants(t) && needs_light(t) {
         queue_texel(t);
     }
 }
+
 
 // Appends texel `t` of the job's face to its slot's light queue, growing the indirect
 // dispatch by a workgroup every 64 texels.

@@ -12,7 +12,7 @@ use texel_render::stats::FrameStats;
 use texel_scene::PixelScale;
 use texel_scene::limits::{FACE_RESOLUTIONS, face_resolution_error};
 
-use crate::frame_plan::{DriverError, FrameDriver, PreparedLevel};
+use crate::frame_plan::{DriverError, EditArea, FrameDriver, PreparedLevel};
 use crate::load::LoadedLevel;
 
 /// Why a session could not draw.
@@ -221,15 +221,20 @@ impl Session {
         indices: &[usize],
     ) -> Result<EditUpdate, SessionError> {
         let mut changed = Vec::new();
-        let mut region: Option<(glam::Vec3, glam::Vec3)> = None;
+        let mut area: Option<EditArea> = None;
         let mut grid_changed = false;
         for &index in indices {
             match self.driver.level_mut().update_entity(level, index) {
                 Ok(edit) => {
                     changed.extend(edit.objects);
                     grid_changed |= edit.grid_changed;
-                    if let Some((lo, hi)) = edit.region {
-                        region = Some(region.map_or((lo, hi), |r| (r.0.min(lo), r.1.max(hi))));
+                    if let Some(region) = edit.region {
+                        let this = EditArea {
+                            region,
+                            changed: edit.changed,
+                            filter: edit.filter,
+                        };
+                        area = Some(area.map_or(this.clone(), |a| a.union(&this)));
                     }
                 }
                 Err(_) => {
@@ -240,11 +245,11 @@ impl Session {
         }
         let scene = self.driver.level().scene();
         let in_place = self.renderer.update_scene(ctx, scene, &changed)?.is_some();
-        let faces_marked = match region {
+        let faces_marked = match area {
             _ if grid_changed => None,
             None => Some(self.driver.level_edited(None)),
-            Some((lo, hi)) if lo.is_finite() && hi.is_finite() => {
-                Some(self.driver.level_edited(Some((lo, hi))))
+            Some(a) if a.region.0.is_finite() && a.region.1.is_finite() => {
+                Some(self.driver.level_edited(Some(a)))
             }
             Some(_) => None,
         };

@@ -208,6 +208,52 @@ fn frames_after_edits_in_place_equal_a_full_rebuild() -> anyhow::Result<()> {
     assert_full_rebuild_draws(&ctx, &level, &after)
 }
 
+/// The ball moved a little beside the lamp and under the sun: the stable faces that may
+/// see it or its shadows are captured again only where it shows, and of the rest only the
+/// texels whose rays toward a light meet its old or new bounds are lit again
+/// (`texel_render::input::LightFilter`): far fewer than its region projects to, and the
+/// picture is a full rebuild's, byte for byte.
+#[test]
+fn moving_one_object_relights_only_where_it_and_its_shadows_fall() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard()?;
+    // The lamp behind the ball, reaching far: the ball's shadows may fall toward the
+    // camera, over much of what the stable faces see.
+    edit(&mut level, LAMP, |r| {
+        r.transform.as_mut().expect("transform").translation = Vec3::new(0.3, 2.2, -4.5);
+        r.point_light.as_mut().expect("light").radius = 8.0;
+    });
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (before, _) = frames(&ctx, &mut session, 10)?;
+    edit(&mut level, BALL, |r| {
+        r.transform.as_mut().expect("transform").translation.x += 0.15;
+    });
+    let update = session.update_entities(&ctx, &level, &[BALL])?;
+    assert!(matches!(update, EditUpdate::InPlace { .. }), "{update:?}");
+    let request = FrameRequest {
+        camera: camera(),
+        dt: 1.0 / 30.0,
+        schedule: Schedule::Ours,
+        size: SIZE,
+    };
+    let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
+    let part = &drawn.input.partial;
+    assert!(!part.is_empty(), "stable faces captured in part");
+    let c = &drawn.stats.counters;
+    let lit = c.texels_shaded - c.eye_texels_shaded;
+    let light: u64 = part.iter().map(|p| p.light.area()).sum();
+    let shown: u64 = part.iter().map(|p| p.rect.area()).sum();
+    assert!(
+        lit < light / 4,
+        "{lit} stable texels lit, of {light} the region projects to ({shown} where the ball may show)"
+    );
+    let (after, _) = frames(&ctx, &mut session, 9)?;
+    assert!(after != before, "the ball moved");
+    assert_full_rebuild_draws(&ctx, &level, &after)
+}
+
 /// Asserts that a session made afresh on `level` draws `after` (an edited session's frame),
 /// byte for byte, once settled.
 fn assert_full_rebuild_draws(

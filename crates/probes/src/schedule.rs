@@ -38,17 +38,25 @@ use glam::Vec3;
 
 use crate::cube::{Face, FaceMask};
 use crate::probe_set::{Probe, ProbeSet, Readiness, Role, Slot};
-use crate::visibility::{Frustum, splat_extent, visible_faces};
+use crate::visibility::{Frustum, face_box_rect, splat_extent, visible_faces};
 
 /// Smallest accepted budget: six eye faces plus one stable face, so stable probes always
 /// make progress.
 pub const MIN_FACE_BUDGET: u32 = 7;
 
 /// Whether the cube face `face` of a probe at `origin` (capturing up to `far`, Chebyshev)
-/// may see any point of the box `min..max`: false only when every corner lies beyond one of
-/// the face pyramid's planes (behind the face, past one of its four sides, or farther than
-/// `far`).
+/// may see any point of the box `min..max`: false when every corner lies beyond one of the
+/// face pyramid's planes (behind the face, past one of its four sides, or farther than
+/// `far`), or when the box clipped to the pyramid is empty (a box beside the probe, past
+/// the face's plane on one side and outside its corner on another: [`face_box_rect`]).
 pub fn face_may_see_box(face: Face, origin: Vec3, min: Vec3, max: Vec3, far: f32) -> bool {
+    planes_may_see_box(face, origin, min, max, far)
+        && face_box_rect(face, origin, (min, max), 1, 0).is_some()
+}
+
+/// [`face_may_see_box`]'s first test: no plane of the face's pyramid has every corner
+/// beyond it.
+fn planes_may_see_box(face: Face, origin: Vec3, min: Vec3, max: Vec3, far: f32) -> bool {
     let (a, u, v) = (face.axis(), face.u_axis(), face.v_axis());
     let corners: [Vec3; 8] = std::array::from_fn(|i| {
         Vec3::new(

@@ -331,9 +331,11 @@ impl TexelRect {
 }
 
 /// The texels of `face` (`n` per edge) of a probe at `origin` through which the box
-/// `min..max` may be seen, grown by `margin` texels; `None` when none. Exact for a box in
-/// front of the face (the corners' projections bound the box's, which is convex); a box that
-/// reaches the face's plane through the origin gets the whole face.
+/// `min..max` may be seen, grown by `margin` texels; `None` when none. The box is clipped to
+/// the face's view pyramid first (each of its sides, a convex quad, against the pyramid's
+/// four planes), so the rectangle bounds exactly what the face can see of it: a box beside
+/// the probe that reaches past the face's plane covers only where it shows, not the whole
+/// face. A box around the origin gets the whole face.
 pub fn face_box_rect(
     face: Face,
     origin: Vec3,
@@ -350,33 +352,55 @@ pub fn face_box_rect(
         x1: n,
         y1: n,
     };
+    if origin.cmpge(min).all() && origin.cmple(max).all() {
+        return Some(whole);
+    }
     let (a, u, v) = (face.axis(), face.u_axis(), face.v_axis());
-    let (mut lo, mut hi) = (
-        glam::Vec2::splat(f32::INFINITY),
-        glam::Vec2::splat(f32::NEG_INFINITY),
-    );
-    let mut behind = 0;
-    for i in 0..8 {
+    // Corner i in the face's frame (u, v, depth): bit 0 the max x, bit 1 y, bit 2 z.
+    let corners: [Vec3; 8] = std::array::from_fn(|i| {
         let c = Vec3::new(
             if i & 1 == 0 { min.x } else { max.x },
             if i & 2 == 0 { min.y } else { max.y },
             if i & 4 == 0 { min.z } else { max.z },
         ) - origin;
-        let depth = c.dot(a);
-        if depth <= 1e-4 * c.length().max(1e-6) {
-            behind += 1;
-            continue;
+        Vec3::new(c.dot(u), c.dot(v), c.dot(a))
+    });
+    const SIDES: [[usize; 4]; 6] = [
+        [0, 2, 6, 4],
+        [1, 3, 7, 5],
+        [0, 1, 5, 4],
+        [2, 3, 7, 6],
+        [0, 1, 3, 2],
+        [4, 5, 7, 6],
+    ];
+    // Inside the pyramid: depth ≥ |u| and depth ≥ |v|.
+    let planes = [
+        Vec3::new(-1.0, 0.0, 1.0),
+        Vec3::new(1.0, 0.0, 1.0),
+        Vec3::new(0.0, -1.0, 1.0),
+        Vec3::new(0.0, 1.0, 1.0),
+    ];
+    let scale = (max - min).abs().max_element() + (min - origin).abs().max_element();
+    let (mut lo, mut hi) = (
+        glam::Vec2::splat(f32::INFINITY),
+        glam::Vec2::splat(f32::NEG_INFINITY),
+    );
+    for side in SIDES {
+        let mut poly: Vec<Vec3> = side.iter().map(|&i| corners[i]).collect();
+        for plane in planes {
+            poly = clip_polygon(&poly, plane);
         }
-        let p = glam::Vec2::new(c.dot(u), c.dot(v)) / depth;
-        lo = lo.min(p);
-        hi = hi.max(p);
+        for p in poly {
+            // On the pyramid's apex: the box touches the probe.
+            if p.z <= 1e-6 * scale.max(1e-6) {
+                return Some(whole);
+            }
+            let q = glam::Vec2::new(p.x, p.y) / p.z;
+            lo = lo.min(q);
+            hi = hi.max(q);
+        }
     }
-    match behind {
-        8 => return None,
-        0 => {}
-        _ => return Some(whole),
-    }
-    if lo.x > 1.0 || lo.y > 1.0 || hi.x < -1.0 || hi.y < -1.0 {
+    if lo.x > hi.x {
         return None;
     }
     let to_texel = |c: f32| ((c.clamp(-1.0, 1.0) + 1.0) * 0.5 * n as f32).floor() as i64;
@@ -388,6 +412,22 @@ pub fn face_box_rect(
         x1: clamp(to_texel(hi.x) + 1 + m),
         y1: clamp(to_texel(hi.y) + 1 + m),
     })
+}
+
+/// The part of the convex polygon `poly` where `plane · p >= 0` (Sutherland–Hodgman).
+fn clip_polygon(poly: &[Vec3], plane: Vec3) -> Vec<Vec3> {
+    let mut out = Vec::with_capacity(poly.len() + 1);
+    for (i, &p) in poly.iter().enumerate() {
+        let q = poly[(i + 1) % poly.len()];
+        let (dp, dq) = (plane.dot(p), plane.dot(q));
+        if dp >= 0.0 {
+            out.push(p);
+        }
+        if (dp >= 0.0) != (dq >= 0.0) {
+            out.push(p + (q - p) * (dp / (dp - dq)));
+        }
+    }
+    out
 }
 
 /// The texels of `face` (`n` per edge) whose directions can come within `margin` radians of
@@ -698,5 +738,41 @@ mod tests {
         // The margin grows the rectangle, within the face.
         let grown = face_box_rect(Face::PosZ, o, b, n, 2).expect("in view");
         assert_eq!((grown.x0, grown.x1), (r.x0 - 2, r.x1 + 2));
+    }
+
+    /// A wide box ahead on +Z that reaches past the probe on x and y: the side faces see
+    /// only the slivers of it their pyramids hold, or none, and every texel whose centre ray
+    /// meets it is inside the rectangle.
+    #[test]
+    fn a_box_beside_the_probe_covers_only_where_each_face_sees_it() {
+        use super::face_box_rect;
+        let n = 64;
+        let o = Vec3::ZERO;
+        let b = (Vec3::new(-3.0, -4.0, 3.75), Vec3::new(2.0, 1.0, 9.0));
+        assert_eq!(face_box_rect(Face::PosX, o, b, n, 0), None, "|x| < z");
+        let below = face_box_rect(Face::NegY, o, b, n, 0).expect("a sliver");
+        assert!(below.area() < 64 * 64 / 8, "{below:?}");
+        for face in Face::ALL {
+            let r = face_box_rect(face, o, b, n, 0);
+            for y in 0..n {
+                for x in 0..n {
+                    let d =
+                        crate::cube::texel_center_direction(crate::cube::Texel { face, x, y }, n)
+                            .normalize();
+                    // Does the centre ray meet the box? (slab test)
+                    let inv = d.recip();
+                    let (t0, t1) = ((b.0 - o) * inv, (b.1 - o) * inv);
+                    let near = t0.min(t1).max_element().max(0.0);
+                    let far = t0.max(t1).min_element();
+                    if near <= far {
+                        let r = r.unwrap_or_else(|| panic!("{face:?} ({x}, {y}) sees it"));
+                        assert!(
+                            x >= r.x0 && x < r.x1 && y >= r.y0 && y < r.y1,
+                            "{face:?} ({x}, {y}) outside {r:?}"
+                        );
+                    }
+                }
+            }
+        }
     }
 }

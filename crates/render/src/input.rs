@@ -416,11 +416,9 @@ pub struct FrameInput {
     /// are lit as the view needs them.
     pub relight: Vec<Relight>,
     /// Stable-probe faces captured this frame after a scene edit that can have changed
-    /// only these texels of them (what the edit's old and new bounds, their shadows and a
-    /// changed light's reach project to, with a margin for the neighbours a texel reads):
-    /// the face is captured whole, but lit only there, the rest keeping the light of its
-    /// last capture at the same origin, which it equals. Faces not captured are ignored.
-    pub partial: Vec<Relight>,
+    /// only part of them ([`PartialFace`]): the rest keeps what its last capture at the same
+    /// origin held and its light, which it equals. Faces not captured are ignored.
+    pub partial: Vec<PartialFace>,
     /// Sprites that moved or changed frame since the last frame (the others keep theirs).
     pub sprites: Vec<SpriteState>,
     /// The eye probe's far field (`crate::far_field`): `None` draws everything into the eye
@@ -441,7 +439,7 @@ impl FrameInput {
 }
 
 /// Texels of a stable probe's face to light again (see [`FrameInput::relight`]).
-#[derive(Debug, Clone, Copy, PartialEq)]
+#[derive(Debug, Clone, PartialEq)]
 pub struct Relight {
     /// The probe's slot.
     pub slot: Slot,
@@ -449,6 +447,83 @@ pub struct Relight {
     pub face: Face,
     /// The texels.
     pub rect: texel_probes::visibility::TexelRect,
+    /// Of those, only the texels whose light this says may have changed (`None`: all).
+    pub filter: Option<LightFilter>,
+}
+
+/// A stable face an edit changed in part ([`FrameInput::partial`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct PartialFace {
+    /// The probe's slot.
+    pub slot: Slot,
+    /// The face.
+    pub face: Face,
+    /// The texels captured again and lit whole: where the edit's old or new geometry may be
+    /// seen, with a margin for the neighbours a texel reads (empty when none).
+    pub rect: texel_probes::visibility::TexelRect,
+    /// The texels that may be lit again: `rect` and where the edit's shadows and a changed
+    /// light's reach project to.
+    pub light: texel_probes::visibility::TexelRect,
+    /// Which texels of `light` outside `rect` are lit again.
+    pub filter: LightFilter,
+}
+
+/// Where an edit can have changed the light on surfaces it did not move: a texel whose
+/// surface stayed is lit again when a ray from it toward a light that reaches it meets one
+/// of `casters` (the edited objects' old and new bounds: a shadow came or went), or when it
+/// lies in one of `lit` (a changed light's reach). At most [`LightFilter::MAX_BOXES`] boxes
+/// in all; more are joined.
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct LightFilter {
+    /// Boxes (min, max) whose shadows changed.
+    pub casters: Vec<(Vec3, Vec3)>,
+    /// Boxes (min, max) where the light itself changed.
+    pub lit: Vec<(Vec3, Vec3)>,
+}
+
+impl LightFilter {
+    /// The most boxes a shade job carries (its record's room).
+    pub const MAX_BOXES: usize = 4;
+
+    /// The filter of both `self` and `other`: their boxes, the nearest joined while there
+    /// are more than [`LightFilter::MAX_BOXES`].
+    pub fn union(&self, other: &LightFilter) -> LightFilter {
+        let mut out = LightFilter {
+            casters: [self.casters.clone(), other.casters.clone()].concat(),
+            lit: [self.lit.clone(), other.lit.clone()].concat(),
+        };
+        while out.casters.len() + out.lit.len() > Self::MAX_BOXES {
+            let list = if out.casters.len() >= out.lit.len() {
+                &mut out.casters
+            } else {
+                &mut out.lit
+            };
+            join_nearest(list);
+        }
+        out
+    }
+}
+
+/// Joins the two boxes of `list` whose joined box is the smallest.
+fn join_nearest(list: &mut Vec<(Vec3, Vec3)>) {
+    let volume = |a: (Vec3, Vec3), b: (Vec3, Vec3)| {
+        let (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
+        (hi - lo).max(Vec3::ZERO).element_product()
+    };
+    let mut best = (0, 1, f32::INFINITY);
+    for i in 0..list.len() {
+        for j in i + 1..list.len() {
+            let v = volume(list[i], list[j]);
+            if v < best.2 {
+                best = (i, j, v);
+            }
+        }
+    }
+    let (i, j, _) = best;
+    if j < list.len() {
+        let b = list.swap_remove(j);
+        list[i] = (list[i].0.min(b.0), list[i].1.max(b.1));
+    }
 }
 
 /// An animated object's transform this frame.

@@ -31,6 +31,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/shade_globals.wgsl"),
     ),
     (
+        "lib/edit_filter.wgsl",
+        include_str!("../../../shaders/lib/edit_filter.wgsl"),
+    ),
+    (
         "lib/texture.wgsl",
         include_str!("../../../shaders/lib/texture.wgsl"),
     ),

@@ -236,6 +236,7 @@ fn a_moving_objects_shadow_moves_on_the_cached_floor() {
                 x1: n,
                 y1: n,
             },
+            filter: None,
         })
         .to_vec();
     let (stats, _) = r.render_offscreen(&ctx, &input).unwrap();
@@ -246,6 +247,39 @@ fn a_moving_objects_shadow_moves_on_the_cached_floor() {
     let (left2, right2) = (lum(&after[3], -1.5), lum(&after[3], 1.5));
     assert_eq!(left2, right, "the old shadow is lit again");
     assert_eq!(right2, left, "the shadow fell where the box went");
+    // The same move, lit again only where a ray toward a light (or from the probe) meets
+    // the box's old or new bounds (`LightFilter`): the same faces, byte for byte, from a
+    // fraction of the texels.
+    let bounds = |x: f32| {
+        (
+            Vec3::new(x - 0.75, 1.0, -4.6),
+            Vec3::new(x + 0.75, 2.0, -3.4),
+        )
+    };
+    let mut f = Renderer::headless(&ctx).unwrap();
+    f.set_scene(&ctx, &scene).expect("scene");
+    let mut filtered = common::frame(cam, grid, 64, size, Schedule::Ours);
+    filtered.poses = at(-1.5);
+    f.render_offscreen(&ctx, &filtered).unwrap();
+    filtered.poses = at(1.5);
+    filtered.captures.clear();
+    let filter = texel_render::input::LightFilter {
+        casters: vec![bounds(-1.5), bounds(1.5)],
+        lit: Vec::new(),
+    };
+    filtered.relight = (input.relight.iter())
+        .map(|r| texel_render::input::Relight {
+            filter: Some(filter.clone()),
+            ..r.clone()
+        })
+        .collect();
+    let (few, _) = f.render_offscreen(&ctx, &filtered).unwrap();
+    let (_, lit) = f
+        .read_lit_faces(&ctx, texel_probes::probe_set::Slot::StableA)
+        .unwrap();
+    assert!(lit == after, "the filtered faces are the faces lit whole");
+    let (all, some) = (stats.counters.texels_shaded, few.counters.texels_shaded);
+    assert!(some * 4 < all, "{some} texels lit again, against {all}");
 }
 
 /// An animated object is lit like the same object standing still in the probes: the mean

@@ -5,7 +5,7 @@
 
 use glam::Vec3;
 use texel_probes::visibility::{TexelRect, face_box_rect};
-use texel_render::input::{FrameInput, SceneInput};
+use texel_render::input::{FrameInput, LightFilter, SceneInput};
 use texel_render::shadow_region::{bounds_under, point_shadow_bounds, sun_shadow_bounds};
 use texel_scene::Transform;
 
@@ -160,6 +160,9 @@ impl Clock {
         // and their shadows, along each sun to the ground and away from each point light
         // whose reach it is in, out to that reach.
         let mut regions: Vec<(Vec3, Vec3)> = Vec::new();
+        // Of what those regions project to, only the texels whose rays toward a light meet
+        // a moved object's old or new bounds are lit again.
+        let mut filter = LightFilter::default();
         for (k, pose) in poses.iter().enumerate() {
             let now = pose.transform;
             let before = self.last_poses.get(k).copied().unwrap_or(now);
@@ -168,6 +171,10 @@ impl Clock {
             }
             let (a, b) = (animation.bounds(k, before), animation.bounds(k, now));
             let (lo, hi) = (a.0.min(b.0), a.1.max(b.1));
+            filter = filter.union(&LightFilter {
+                casters: vec![a, b],
+                lit: Vec::new(),
+            });
             let (mut lo2, mut hi2) = sun_shadow_bounds(&scene.suns, floor, lo, hi);
             for p in &scene.points {
                 if let Some((plo, phi)) = point_shadow_bounds(p.position, p.radius, lo, hi) {
@@ -198,7 +205,12 @@ impl Clock {
                     });
                 if let Some(rect) = rect.filter(|r| r.area() > 0) {
                     let slot = p.slot;
-                    (input.relight).push(texel_render::input::Relight { slot, face, rect });
+                    (input.relight).push(texel_render::input::Relight {
+                        slot,
+                        face,
+                        rect,
+                        filter: Some(filter.clone()),
+                    });
                 }
             }
         }

@@ -6,7 +6,7 @@
 use std::sync::Arc;
 
 use glam::Vec3;
-use texel_render::input::{ObjectInput, PointLightInput, SceneInput, SunInput};
+use texel_render::input::{LightFilter, ObjectInput, PointLightInput, SceneInput, SunInput};
 use texel_render::shadow_region::{bounds_under, point_shadow_bounds, sun_shadow_bounds};
 use texel_scene::{DirectionalLight, PointLight, Transform};
 
@@ -33,6 +33,11 @@ pub struct EntityEdit {
     /// shadows may fall, and the reach of every light that changed; `None` when nothing
     /// that is drawn changed. A sun that changed is everywhere: `Some` of an infinite box.
     pub region: Option<(Vec3, Vec3)>,
+    /// The objects' old and new bounds together, when they changed.
+    pub changed: Option<(Vec3, Vec3)>,
+    /// Where in the region the light may have changed on surfaces that stayed: the
+    /// objects' old and new bounds as shadow casters, and every changed light's reach.
+    pub filter: LightFilter,
     /// The probe grid's override volumes changed: every probe may stand elsewhere.
     pub grid_changed: bool,
 }
@@ -86,14 +91,24 @@ impl PreparedLevel {
                 new.mesh = old.mesh.clone();
             }
         }
-        let mut region = changed_objects(old, &objects).map(|(lo, hi)| {
+        let changed = changed_objects(old, &objects);
+        let mut region = changed.map(|(lo, hi)| {
             let floor = self.floor.min(lo.y);
             shadow_region(&suns, &points, floor, lo, hi)
         });
+        let mut filter = LightFilter::default();
+        if changed.is_some() {
+            filter.casters.extend(bounds(old));
+            filter.casters.extend(bounds(&objects));
+        }
         for (a, b) in scene.points.iter().zip(&points) {
             if a != b {
                 region = union(region, light_reach(a));
                 region = union(region, light_reach(b));
+                filter = filter.union(&LightFilter {
+                    casters: Vec::new(),
+                    lit: vec![light_reach(a), light_reach(b)],
+                });
             }
         }
         if suns != scene.suns {
@@ -116,6 +131,8 @@ impl PreparedLevel {
         Ok(EntityEdit {
             objects: at..end,
             region,
+            changed,
+            filter,
             grid_changed,
         })
     }

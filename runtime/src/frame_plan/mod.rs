@@ -39,7 +39,7 @@ pub use extraction::{
 };
 pub use fade::{OUR_FADE_CELLS, OUR_FADE_SECONDS, OUR_MIN_FADE_FRAMES};
 pub use ortho::ORTHO_TURN_STEP_DEG;
-pub use partial::EDIT_MARGIN_TEXELS;
+pub use partial::{EDIT_MARGIN_TEXELS, EditArea};
 pub use planning::{
     CAPTURE_FAR, CROSSING_STABLE_FACES, DriverError, FACE_BUDGET, FrameDriver,
     PREFETCH_FACES_PER_FRAME, PREFETCH_LOOKAHEAD_S, STABLE_FACES_PER_FRAME,

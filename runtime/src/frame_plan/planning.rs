@@ -26,7 +26,7 @@ use super::animation::Clock;
 use super::extraction::PreparedLevel;
 use super::fade::fade_config;
 use super::ortho::{OrthoFrames, OrthoProbes, ortho_choice, ortho_probes, pixel_snapped};
-use super::partial::EditedFaces;
+use super::partial::{EditArea, EditedFaces};
 use crate::extract::Viewport;
 use crate::load::LoadedLevel;
 
@@ -179,25 +179,27 @@ impl FrameDriver {
         &self.level
     }
 
-    /// After an edit of the level in place ([`FrameDriver::level_mut`]) confined to the box
-    /// `region` (`None`: nothing drawn changed, a name, a player start): the grid overrides
-    /// and the player start read again and, as [`FrameDriver::replace_level`] does after
-    /// taking a new level, the faces that may see the box marked stale and the placements
-    /// near it found again; each marked face, once captured again, is lit only where the
-    /// box projects onto it ([`FrameInput::partial`]). Returns the faces marked.
-    pub fn level_edited(&mut self, region: Option<(Vec3, Vec3)>) -> u32 {
+    /// After an edit of the level in place ([`FrameDriver::level_mut`]) confined to `area`
+    /// (`None`: nothing drawn changed, a name, a player start): the grid overrides and the
+    /// player start read again and, as [`FrameDriver::replace_level`] does after taking a
+    /// new level, the faces that may see its region marked stale and the placements near it
+    /// found again; each marked face, once captured again, is captured and lit only where
+    /// the changed geometry projects onto it, and lit elsewhere only where the area's filter
+    /// says its light may have changed ([`FrameInput::partial`]). Returns the faces marked.
+    pub fn level_edited(&mut self, area: Option<EditArea>) -> u32 {
         self.overrides = self.level.overrides.clone();
         self.start = Camera {
             fov_y: self.fov_y,
             ..self.level.start
         };
-        let Some((min, max)) = region else {
+        let Some(area) = area else {
             return 0;
         };
+        let (min, max) = area.region;
         self.placements.forget_near(min, max);
         self.near_faces.clear();
         let marked = self.scheduler.invalidate_region_faces(min, max);
-        self.edited.mark(&marked, (min, max));
+        self.edited.mark(&marked, &area);
         marked.len() as u32
     }
 

@@ -430,6 +430,7 @@ impl BaselineRenderer {
                     border: false,
                     view_cull: false,
                     rect: None,
+                    filter: None,
                 })
                 .collect();
             let inputs = ShadeInputs {

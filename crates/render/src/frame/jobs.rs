@@ -6,9 +6,9 @@ use texel_probes::cube::{Face, FaceMask};
 use texel_probes::probe_set::Slot;
 use texel_probes::visibility::{TexelRect, face_cone_rect};
 
-use crate::input::{FrameInput, ProbeView, Schedule};
+use crate::input::{FrameInput, PartialFace, ProbeView, Schedule};
 use crate::passes::cull::Visit;
-use crate::passes::shade::ShadeJob;
+use crate::passes::shade::{JobFilter, ShadeJob};
 use crate::probe_store::ProbeStore;
 use crate::view::ViewGlobals;
 
@@ -64,13 +64,19 @@ pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec
             valid: valid_of(c.slot),
             border: false,
             view_cull: c.slot == Slot::Eye && input.schedule == Schedule::Ours,
-            // A stable face an edit changed in part is lit only there.
-            rect: rect.or_else(|| {
-                let partial = (input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
-                partial.filter(|_| c.slot != Slot::Eye).map(|r| r.rect)
-            }),
+            rect: *rect,
+            filter: None,
         })
         .collect();
+    // A stable face an edit changed in part is lit only where it may have changed: where
+    // its geometry may show, and where its shadows or a changed light reach, texel by
+    // texel (`LightFilter`).
+    for j in jobs.iter_mut() {
+        if let Some(p) = partial_of(input, j.slot, j.face) {
+            j.rect = Some(p.light);
+            j.filter = Some(JobFilter::new(p.rect, &p.filter));
+        }
+    }
     // Faces lit again for a moving object's shadow: whole, unless captured anyway (stable
     // slots only: the eye's texels are lit as the view needs them).
     for r in input.relight.iter().filter(|r| r.slot != Slot::Eye) {
@@ -93,6 +99,7 @@ pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec
             border: false,
             view_cull: false,
             rect: Some(r.rect),
+            filter: (r.filter.as_ref()).map(|f| JobFilter::new(EMPTY, f)),
         });
     }
     for p in &probes {
@@ -102,9 +109,25 @@ pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec
             .filter(|c| c.slot == p.slot)
             .map(|c| c.face)
             .collect();
+        // A face captured in part changed no texel at its edges unless its rectangle
+        // reaches one: its neighbours' seams read the same data.
+        let seams: Vec<Face> = (input.captures.iter())
+            .filter(|c| c.slot == p.slot)
+            .filter(|c| {
+                let part = partial_of(input, c.slot, c.face);
+                part.is_none_or(|part| reaches_edge(part.rect, c.face_resolution))
+            })
+            .map(|c| c.face)
+            .collect();
         for face in p.valid.iter() {
-            let touched = captured.iter().any(|c| *c != face && c.opposite() != face);
-            let relit = (input.relight.iter()).any(|r| r.slot == p.slot && r.face == face);
+            let touched = seams.iter().any(|c| *c != face && c.opposite() != face);
+            // Lit again whole for a moving shadow: its edges with it.
+            let relit = (input.relight.iter()).any(|r| {
+                r.slot == p.slot
+                    && r.face == face
+                    && r.filter.is_none()
+                    && r.rect.area() == u64::from(p.face_resolution).pow(2)
+            });
             if touched && !captured.contains(&face) && !relit {
                 jobs.push(ShadeJob {
                     slot: p.slot,
@@ -114,11 +137,34 @@ pub(super) fn shade_jobs(input: &FrameInput, rects: &[Option<TexelRect>]) -> Vec
                     border: true,
                     view_cull: false,
                     rect: None,
+                    filter: None,
                 });
             }
         }
     }
     jobs
+}
+
+/// The part of stable face `face` of `slot` an edit changed, when it is captured in part
+/// this frame (our schedule, a cube face).
+fn partial_of(input: &FrameInput, slot: Slot, face: Face) -> Option<&PartialFace> {
+    let captured = (input.captures.iter()).find(|c| c.slot == slot && c.face == face)?;
+    let ours = input.schedule == Schedule::Ours && captured.ortho.is_none();
+    (input.partial.iter()).find(|r| ours && slot != Slot::Eye && r.slot == slot && r.face == face)
+}
+
+/// No texels.
+const EMPTY: TexelRect = TexelRect {
+    x0: 0,
+    y0: 0,
+    x1: 0,
+    y1: 0,
+};
+
+/// Whether `rect` (on a face of `n` texels) reaches the face's edge, or covers nothing:
+/// `false` for an empty one.
+fn reaches_edge(rect: TexelRect, n: u32) -> bool {
+    rect.area() > 0 && (rect.x0 == 0 || rect.y0 == 0 || rect.x1 >= n || rect.y1 >= n)
 }
 
 /// Keeps `owed` (per slot, the stable faces lit without the silhouette edges' search) and,
@@ -157,6 +203,7 @@ pub(super) fn settle_edges(
                     border: false,
                     view_cull: false,
                     rect: None,
+                    filter: None,
                 });
             }
         }
@@ -187,11 +234,8 @@ pub(super) fn capture_rects(
         .map(|p| glam::Vec3::new(p[0], p[1], p[2]))
         .collect();
     let cone = input.camera.ortho_height.is_none() && input.schedule == Schedule::Ours;
-    let partial = |c: &crate::input::CaptureInput| {
-        let ours = input.schedule == Schedule::Ours && c.ortho.is_none();
-        let r = (input.partial.iter()).find(|r| r.slot == c.slot && r.face == c.face);
-        r.filter(|_| ours && c.slot != Slot::Eye).map(|r| r.rect)
-    };
+    let partial =
+        |c: &crate::input::CaptureInput| partial_of(input, c.slot, c.face).map(|r| r.rect);
     input
         .captures
         .iter()

@@ -10,7 +10,7 @@ use super::{
     storage_texture, texture, uniform, uniform_buffer,
 };
 use crate::gpu_scene::{GpuScene, MAX_SUNS};
-use crate::input::Look;
+use crate::input::{LightFilter, Look};
 use crate::passes::capture::MAX_CAPTURES;
 use crate::probe_store::{LIT_FORMAT, ProbeStore};
 use crate::shader;
@@ -33,6 +33,40 @@ struct ShadeFace {
     slot: u32,
     _pad: u32,
     rect_min: [u32; 2],
+    keep_min: [u32; 2],
+    keep_max: [u32; 2],
+    /// 0: every texel of the dispatch is lit; else 1 + the filter's boxes.
+    boxes: u32,
+    /// Bit i: box i holds texels lit again (a light's reach), not casters.
+    lit_mask: u32,
+    _pad2: [u32; 2],
+    /// Box i's min at 2i, its max at 2i + 1.
+    box_corners: [[f32; 4]; 2 * LightFilter::MAX_BOXES],
+}
+
+impl ShadeFace {
+    /// A record carrying `filter` (every texel when `None`), zero elsewhere.
+    fn filtered(filter: Option<JobFilter>) -> Self {
+        let f = filter.unwrap_or(JobFilter {
+            keep: TexelRect {
+                x0: 0,
+                y0: 0,
+                x1: 0,
+                y1: 0,
+            },
+            boxes: 0,
+            lit_mask: 0,
+            corners: [[0.0; 4]; 2 * LightFilter::MAX_BOXES],
+        });
+        ShadeFace {
+            keep_min: [f.keep.x0, f.keep.y0],
+            keep_max: [f.keep.x1, f.keep.y1],
+            boxes: if filter.is_some() { f.boxes + 1 } else { 0 },
+            lit_mask: f.lit_mask,
+            box_corners: f.corners,
+            ..Zeroable::zeroed()
+        }
+    }
 }
 
 /// Size of `ShadeFace` (WGSL `ShadeFace`).
@@ -55,6 +89,40 @@ pub struct ShadeJob {
     pub view_cull: bool,
     /// Only these texels (None: the whole face; ignored for borders).
     pub rect: Option<TexelRect>,
+    /// Of those, only the texels an edit may have changed (`None`: all).
+    pub filter: Option<JobFilter>,
+}
+
+/// The texels of a job an edit may have changed ([`crate::input::PartialFace`]): those of
+/// `keep`, and the others whose light the boxes of a [`LightFilter`] say may have changed.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct JobFilter {
+    keep: TexelRect,
+    boxes: u32,
+    lit_mask: u32,
+    corners: [[f32; 4]; 2 * LightFilter::MAX_BOXES],
+}
+
+impl JobFilter {
+    /// Every texel of `keep`, and those `filter` picks.
+    pub fn new(keep: TexelRect, filter: &LightFilter) -> Self {
+        let mut out = JobFilter {
+            keep,
+            boxes: 0,
+            lit_mask: 0,
+            corners: [[0.0; 4]; 2 * LightFilter::MAX_BOXES],
+        };
+        let boxes = (filter.casters.iter().map(|b| (b, false)))
+            .chain(filter.lit.iter().map(|b| (b, true)))
+            .take(LightFilter::MAX_BOXES);
+        for (i, ((lo, hi), lit)) in boxes.enumerate() {
+            out.corners[2 * i] = lo.extend(0.0).to_array();
+            out.corners[2 * i + 1] = hi.extend(0.0).to_array();
+            out.lit_mask |= u32::from(lit) << i;
+            out.boxes += 1;
+        }
+        out
+    }
 }
 
 impl ShadeJob {
@@ -351,6 +419,7 @@ impl ShadePass {
                 slot: j.slot.index() as u32,
                 _pad: 0,
                 rect_min: j.rect.map_or([0, 0], |r| [r.x0, r.y0]),
+                ..ShadeFace::filtered(j.filter)
             };
             let at = i * UNIFORM_STRIDE as usize;
             bytes[at..at + size_of::<ShadeFace>()].copy_from_slice(bytemuck::bytes_of(&f));
