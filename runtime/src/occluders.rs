@@ -79,6 +79,31 @@ impl SceneRays {
         }
     }
 
+    /// Gives objects other ids (`(index, id)` pairs): the tree stays.
+    pub fn set_ids(&mut self, ids: &[(usize, u32)]) {
+        for &(k, id) in ids {
+            self.scene.objects[k].id = id;
+        }
+    }
+
+    /// Appends `objects` after the last; the tree is dropped, to be built again on the next
+    /// query.
+    pub fn append_objects(&mut self, objects: Vec<ObjectInput>) {
+        if !objects.is_empty() {
+            self.scene.objects.extend(objects);
+            self.bvh = OnceLock::new();
+        }
+    }
+
+    /// Replaces the objects in `range` by `blank` (a removed entity's); the tree is dropped,
+    /// to be built again on the next query.
+    pub fn blank_objects(&mut self, range: std::ops::Range<usize>, blank: ObjectInput) {
+        if !range.is_empty() {
+            self.scene.objects[range].fill(blank);
+            self.bvh = OnceLock::new();
+        }
+    }
+
     fn bvh(&self) -> &GpuBvh {
         &self.bvh.get_or_init(|| build(&self.scene)).bvh
     }

@@ -28,6 +28,7 @@ mod fade;
 mod ortho;
 mod partial;
 mod planning;
+mod splice;
 #[cfg(test)]
 mod tests;
 
@@ -44,3 +45,4 @@ pub use planning::{
     CAPTURE_FAR, CROSSING_STABLE_FACES, DriverError, FACE_BUDGET, FrameDriver,
     PREFETCH_FACES_PER_FRAME, PREFETCH_LOOKAHEAD_S, STABLE_FACES_PER_FRAME,
 };
+pub use splice::{RowEdit, RowsEdit};
