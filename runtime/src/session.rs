@@ -221,7 +221,8 @@ impl Session {
     /// edited, added, removed: an editor command, a level file reloaded) at the cost of what
     /// changed: each entity touched is extracted alone ([`PreparedLevel::edit_rows`]); one
     /// edited in place has its vertices, record and shadow triangles rewritten on the GPU
-    /// with the lights, while one added, removed or given other geometry has the scene
+    /// with the lights, one removed has its objects blanked in place (nothing drawn or cast,
+    /// the later rows' ids rewritten), while one added or given more objects has the scene
     /// uploaded again with every other object where it was; either way only the probe faces
     /// that may see its old or new bounds, their shadows or a changed light's reach are
     /// captured again ([`EditUpdate`] says how it went). What cannot be taken so (a terrain,
@@ -245,16 +246,8 @@ impl Session {
             }
         };
         let scene = self.driver.level().scene();
-        let in_place = match edit.reshaped {
-            false => self
-                .renderer
-                .update_scene(ctx, scene, &edit.objects)?
-                .is_some(),
-            true => {
-                self.renderer.set_scene(ctx, scene)?;
-                false
-            }
-        };
+        let changed = [edit.objects, edit.blanked].concat();
+        let in_place = self.renderer.update_scene(ctx, scene, &changed)?.is_some();
         let faces_marked = match edit.region {
             _ if edit.grid_changed => None,
             None => Some(self.driver.level_edited(None)),

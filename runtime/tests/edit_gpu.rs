@@ -445,9 +445,10 @@ fn an_entity_added_draws_as_a_fresh_session() -> anyhow::Result<()> {
 }
 
 /// The crate deleted from the middle of a level of 207 (every later entity renumbered), its
-/// removal taken in alone: the frames are a fresh session's on the edited level, and a pick
-/// names the right row; the delete undone (the row inserted again) likewise; the lamp
-/// deleted (a point light removed) likewise.
+/// removal taken in alone and in place (its objects blanked, the later records' ids
+/// rewritten): the frames are a fresh session's on the edited level, and a pick names the
+/// right row; the delete undone (the row inserted again, the scene uploaded again) likewise;
+/// the lamp deleted (a point light removed: uploaded again) likewise.
 #[test]
 fn an_entity_deleted_and_restored_draws_as_a_fresh_session() -> anyhow::Result<()> {
     let Some(ctx) = test_context() else {
@@ -460,8 +461,8 @@ fn an_entity_deleted_and_restored_draws_as_a_fresh_session() -> anyhow::Result<(
     let row = level.scene.despawn(e).context("crate row")?;
     let update = session.edit_rows(&ctx, &level, &[RowEdit::Remove(CRATE)])?;
     assert!(
-        matches!(update, EditUpdate::Uploaded { faces_marked } if faces_marked > 0),
-        "{update:?}"
+        matches!(update, EditUpdate::InPlace { faces_marked } if faces_marked > 0),
+        "blanked in place: {update:?}"
     );
     // The pillar now stands where the crate stood in the level's order.
     let deleted = assert_fresh_draws_and_picks(&ctx, &mut session, &level, PILLAR - 1)?;

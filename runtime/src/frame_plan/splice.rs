@@ -50,6 +50,9 @@ pub struct RowsEdit {
     /// Objects (by index in the scene) rewritten with the same layout: the renderer may
     /// rewrite these in place.
     pub objects: Vec<usize>,
+    /// Objects blanked (by index in the scene): the renderer may stop drawing these in
+    /// place.
+    pub blanked: Vec<usize>,
     /// Whether objects were appended or blanked (the renderer's scene changed shape).
     pub reshaped: bool,
     /// Where the change can show (see [`super::EntityEdit::region`]).
@@ -81,6 +84,7 @@ impl PreparedLevel {
         let (suns, points) = lights(level);
         let mut out = RowsEdit {
             objects: Vec::new(),
+            blanked: Vec::new(),
             reshaped: false,
             region: None,
             grid_changed: false,
@@ -92,7 +96,11 @@ impl PreparedLevel {
                     self.renumber(i + 1);
                     self.append_row(level, i, f, &points)?
                 }
-                (RowEdit::Remove(i), _) => self.remove_row(i, &points)?,
+                (RowEdit::Remove(i), _) => {
+                    out.blanked
+                        .extend(self.rows.get(i).cloned().unwrap_or_default());
+                    self.remove_row(i, &points)?
+                }
                 _ => None,
             };
             out.reshaped |= !matches!(edit, RowEdit::Set(_));
@@ -121,6 +129,7 @@ impl PreparedLevel {
                     out.region = edit.region.map_or(out.region, |b| union(out.region, b));
                 }
                 Err(e) if e.why == "it gained or lost geometry" => {
+                    out.blanked.extend(self.rows[f].clone());
                     let old = self.remove_objects(f);
                     let new = self.append_row(level, f, f, &points)?;
                     out.reshaped = true;
