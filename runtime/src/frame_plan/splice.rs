@@ -401,7 +401,7 @@ mod tests {
         let mut row = lvl.scene.row(e).expect("row");
         row.geometry = None;
         lvl.scene.set_row(e, row).expect("set");
-        let e = lvl.scene.entities().nth(0).expect("entity");
+        let e = lvl.scene.entities().next().expect("entity");
         lvl.scene.despawn(e);
         let edits = [RowEdit::Set(0), RowEdit::Set(3), RowEdit::Remove(0)];
         let edit = p.edit_rows(&lvl, &edits).expect("alone");
