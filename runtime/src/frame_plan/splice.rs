@@ -32,6 +32,10 @@ use super::extraction::{PreparedLevel, add_entity, entity_id, level_look, start_
 use crate::extract::grid_overrides;
 use crate::load::LoadedLevel;
 
+/// Blanks (deleted entities' objects) the scene may hold, beyond a quarter of its objects,
+/// before an add or delete prepares the level again instead (which drops them).
+pub const MAX_BLANKS: usize = 1024;
+
 /// One change of the level's entities, by position in the level as it stood after the
 /// changes before it (an editor command's order).
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -72,6 +76,13 @@ impl PreparedLevel {
     ) -> Result<RowsEdit, NotAlone> {
         let finals = final_positions(edits)?;
         let structural = edits.iter().any(|e| !matches!(e, RowEdit::Set(_)));
+        let blanks = self.blank_objects();
+        if structural && blanks > MAX_BLANKS && blanks > self.scene().objects.len() / 4 {
+            return Err(NotAlone {
+                index: 0,
+                why: "the scene holds many blanks: prepared again, it holds none",
+            });
+        }
         let scene = self.scene();
         if structural && (!scene.sprites.is_empty() || !scene.animated.is_empty()) {
             let index = finals.iter().flatten().next().copied().unwrap_or(0);
