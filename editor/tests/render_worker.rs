@@ -268,23 +268,27 @@ fn an_edited_entity_is_taken_in_alone_by_the_worker() {
     );
 }
 
-/// Steps the editor, a frame at a time, until the shown frame's last edit satisfies `done`
-/// (at most 40 frames); returns the last edit seen.
+/// The edits the shown frame's renderer has taken in, and how it took the last one.
+fn edits_taken(h: &Harness<'_, EditorApp>) -> (u64, Option<texel_runtime::session::EditUpdate>) {
+    (h.state().viewport.shown.as_ref())
+        .map_or((0, None), |f| (f.report.uploads, f.report.last_edit))
+}
+
+/// Steps the editor, a frame at a time, until the shown frame's renderer has taken in an
+/// edit more than `before` (at most 40 frames); returns how it took the last one.
 fn wait_edit(
     h: &mut Harness<'_, EditorApp>,
-    done: impl Fn(&texel_runtime::session::EditUpdate) -> bool,
+    before: u64,
 ) -> Option<texel_runtime::session::EditUpdate> {
-    let mut last = None;
     for _ in 0..40 {
         h.step();
         worker(h).wait_drawn().expect("a frame");
         h.step();
-        last = (h.state().viewport.shown.as_ref()).and_then(|f| f.report.last_edit);
-        if last.as_ref().is_some_and(&done) {
+        if edits_taken(h).0 > before {
             break;
         }
     }
-    last
+    edits_taken(h).1
 }
 
 /// The name of the selected entity.
@@ -296,8 +300,8 @@ fn selected_name(h: &Harness<'_, EditorApp>) -> Option<String> {
 
 /// An entity deleted before the one in the middle of the view reaches the worker as that
 /// removal alone (blanked in place: `Session::edit_rows`), and a click picks the same
-/// entity at its new position; the delete undone reaches it as an insert (the scene
-/// uploaded again, nothing planned afresh), and the click picks it at its old position.
+/// entity at its new position; the delete undone reaches it as an insert (taking its blank
+/// again, in place), and the click picks it at its old position.
 #[test]
 fn a_deleted_entity_is_taken_in_alone_and_picks_stay_right() {
     use texel_runtime::session::EditUpdate;
@@ -314,14 +318,15 @@ fn a_deleted_entity_is_taken_in_alone_and_picks_stay_right() {
     let name = selected_name(&h).expect("a named entity");
     assert!(picked > 0, "an entity before it to delete");
     let gone = picked - 1;
-    let state = &mut h.state_mut().state;
-    let row = state.row_at(gone).expect("row");
+    let row = h.state().state.row_at(gone).expect("row");
     let command = texel_editor::command::Command::Despawn {
         index: gone,
         row: Box::new(row),
     };
+    let (taken, _) = edits_taken(&h);
+    let state = &mut h.state_mut().state;
     state.apply(command, None).expect("the delete applies");
-    let last = wait_edit(&mut h, |_| true);
+    let last = wait_edit(&mut h, taken);
     assert!(
         matches!(last, Some(EditUpdate::InPlace { .. })),
         "the worker took the delete in as {last:?}"
@@ -329,10 +334,11 @@ fn a_deleted_entity_is_taken_in_alone_and_picks_stay_right() {
     click_centre(&mut h, egui::Modifiers::NONE);
     assert_eq!(h.state().state.selection, Some(picked - 1));
     assert_eq!(selected_name(&h).as_deref(), Some(name.as_str()));
+    let (taken, _) = edits_taken(&h);
     assert_eq!(h.state_mut().state.undo(), Ok(true));
-    let last = wait_edit(&mut h, |e| matches!(e, EditUpdate::Uploaded { .. }));
+    let last = wait_edit(&mut h, taken);
     assert!(
-        matches!(last, Some(EditUpdate::Uploaded { .. })),
+        matches!(last, Some(EditUpdate::InPlace { .. })),
         "the worker took the undo in as {last:?}"
     );
     click_centre(&mut h, egui::Modifiers::NONE);

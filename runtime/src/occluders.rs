@@ -24,8 +24,9 @@ pub struct SceneRays {
 #[derive(Debug, Clone)]
 struct RayTree {
     bvh: GpuBvh,
-    /// Each object's triangles among the tree's inputs (`None`: animated, blanked, or before
-    /// the objects a small tree of appended ones starts at; not in the tree).
+    /// Each object's triangles among the tree's inputs (`None`: animated, or before the
+    /// objects a small tree of appended ones starts at; not in the tree). A blank's are
+    /// points.
     spans: Vec<Option<std::ops::Range<u32>>>,
     /// The tree's inputs.
     inputs: usize,
@@ -117,8 +118,9 @@ impl SceneRays {
         let mut moved = Vec::new();
         for (i, old) in range.zip(old) {
             match tree.spans.get_mut(i) {
+                // Kept: an object that takes the blank again is refit back.
                 Some(span) => {
-                    let span = span.take().unwrap_or_default();
+                    let span = span.clone().unwrap_or_default();
                     moved.extend(span.zip(old.into_iter().map(|t| [t[0]; 3])));
                 }
                 // Appended since the tree was built: in the small tree.

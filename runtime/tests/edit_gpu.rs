@@ -460,8 +460,8 @@ fn an_entity_added_draws_as_a_fresh_session() -> anyhow::Result<()> {
 /// The crate deleted from the middle of a level of 207 (every later entity renumbered), its
 /// removal taken in alone and in place (its objects blanked, the later records' ids
 /// rewritten): the frames are a fresh session's on the edited level, and a pick names the
-/// right row; the delete undone (the row inserted again, the scene uploaded again) likewise;
-/// the lamp deleted (a point light removed: uploaded again) likewise.
+/// right row; the delete undone (the row inserted again, taking its blank again in place)
+/// likewise; the lamp deleted (a point light removed: uploaded again) likewise.
 #[test]
 fn an_entity_deleted_and_restored_draws_as_a_fresh_session() -> anyhow::Result<()> {
     let Some(ctx) = test_context() else {
@@ -482,7 +482,10 @@ fn an_entity_deleted_and_restored_draws_as_a_fresh_session() -> anyhow::Result<(
     assert!(deleted != before, "the crate is gone");
     level.scene.spawn_at(CRATE, row);
     let update = session.edit_rows(&ctx, &level, &[RowEdit::Insert(CRATE)])?;
-    assert!(matches!(update, EditUpdate::Uploaded { .. }), "{update:?}");
+    assert!(
+        matches!(update, EditUpdate::InPlace { .. }),
+        "the crate takes its blank again: {update:?}"
+    );
     assert_fresh_draws_and_picks(&ctx, &mut session, &level, CRATE)?;
     let e = level.scene.entities().nth(LAMP).context("lamp")?;
     level.scene.despawn(e).context("lamp row")?;

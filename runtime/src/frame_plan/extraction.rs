@@ -49,6 +49,9 @@ pub struct PreparedLevel {
     /// given other geometry since has its objects at the end, one removed leaves blanks
     /// (`splice`).
     pub(super) rows: Vec<std::ops::Range<usize>>,
+    /// The blanks left by deleted entities (in the order deleted) and the objects they
+    /// held, which an entity added with the same objects takes again (`splice`).
+    pub(super) graves: Vec<(std::ops::Range<usize>, Vec<ObjectInput>)>,
 }
 
 impl PreparedLevel {
@@ -60,6 +63,7 @@ impl PreparedLevel {
         let rows = object_rows(&scene, level.scene.len());
         PreparedLevel {
             rows,
+            graves: Vec::new(),
             animation,
             floor: scene_floor(&scene),
             rays: SceneRays::new(scene),

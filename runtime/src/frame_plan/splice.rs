@@ -9,8 +9,10 @@
 //! - an entity removed leaves its objects as blanks (an empty mesh that draws, casts and
 //!   captures nothing, id 0) where they were, and every later entity's objects take the
 //!   id of its new position;
-//! - an entity added (or extracted again with more or fewer objects) has its objects
-//!   appended after the last; its old ones, if any, become blanks;
+//! - an entity added (or extracted again with more or fewer objects) takes the blanks of
+//!   an entity deleted before whose objects had the same meshes, maps and shadow casting
+//!   (a delete undone, a copy of something deleted), which the renderer fills in place;
+//!   else its objects are appended after the last; its old ones, if any, become blanks;
 //! - [`PreparedLevel::rows`] maps each entity's position to where its objects lie.
 //!
 //! Every other object keeps its index, so the probe faces captured before the edit still
@@ -22,6 +24,7 @@
 //! drops the blanks and restores level order. What shifts object indices or entity ids the
 //! GPU keeps otherwise (sprites, animated objects, terrains) is [`NotAlone`].
 
+use std::ops::Range;
 use std::sync::{Arc, OnceLock};
 
 use glam::Vec3;
@@ -35,6 +38,9 @@ use crate::load::LoadedLevel;
 /// Blanks (deleted entities' objects) the scene may hold, beyond a quarter of its objects,
 /// before an add or delete prepares the level again instead (which drops them).
 pub const MAX_BLANKS: usize = 1024;
+
+/// How many of the latest deleted entities an added one may take the blanks of.
+pub const REUSE_SEARCH: usize = 64;
 
 /// One change of the level's entities, by position in the level as it stood after the
 /// changes before it (an editor command's order).
@@ -105,16 +111,16 @@ impl PreparedLevel {
                 (RowEdit::Insert(i), Some(f)) => {
                     self.rows.insert(i, 0..0);
                     self.renumber(i + 1);
-                    self.append_row(level, i, f, &points)?
+                    self.append_row(level, (i, f), &points, &mut out)?
                 }
                 (RowEdit::Remove(i), _) => {
                     out.blanked
                         .extend(self.rows.get(i).cloned().unwrap_or_default());
+                    out.reshaped = true;
                     self.remove_row(i, &points)?
                 }
                 _ => None,
             };
-            out.reshaped |= !matches!(edit, RowEdit::Set(_));
             out.region = grown.map_or(out.region, |b| union(out.region, b));
         }
         if self.rows.len() != level.scene.len() {
@@ -141,9 +147,9 @@ impl PreparedLevel {
                 }
                 Err(e) if e.why == "it gained or lost geometry" => {
                     out.blanked.extend(self.rows[f].clone());
-                    let old = self.remove_objects(f);
-                    let new = self.append_row(level, f, f, &points)?;
                     out.reshaped = true;
+                    let old = self.remove_objects(f);
+                    let new = self.append_row(level, (f, f), &points, &mut out)?;
                     for b in [old, new].into_iter().flatten() {
                         out.region = union(out.region, b);
                     }
@@ -186,15 +192,17 @@ impl PreparedLevel {
         self.rays.set_ids(&renumbered);
     }
 
-    /// Appends the objects of the entity at `final_index` of `level` as the entity at
-    /// position `index` of the prepared level (which holds no objects for it yet). Returns
-    /// where they may show.
+    /// Gives the entity at `final_index` of `level` objects as the entity at position
+    /// `index` of the prepared level (which holds none for it yet): the blanks of an entity
+    /// deleted before with the same meshes, maps and shadow casting when there are (a
+    /// delete undone: listed in `out.objects`, the renderer fills them in place), else
+    /// appended (`out.reshaped`). Returns where they may show.
     fn append_row(
         &mut self,
         level: &LoadedLevel,
-        index: usize,
-        final_index: usize,
+        (index, final_index): (usize, usize),
         points: &[PointLightInput],
+        out: &mut RowsEdit,
     ) -> Result<Option<(Vec3, Vec3)>, NotAlone> {
         let not = |why| Err(NotAlone { index, why });
         let Some(e) = level.scene.entities().nth(final_index) else {
@@ -211,14 +219,46 @@ impl PreparedLevel {
         if !one.animated.is_empty() {
             return not("it is animated");
         }
-        let at = self.scene().objects.len();
-        self.rows[index] = at..at + one.objects.len();
         let region = self.shadowed(&one.objects, points);
         if let Some((lo, _)) = bounds(&one.objects) {
             self.floor = self.floor.min(lo.y);
         }
+        if let Some(range) = self.reuse_blanks(&mut one.objects) {
+            self.rows[index] = range.clone();
+            out.objects.extend(range.clone());
+            self.rays.replace_objects(range.start, one.objects);
+            return Ok(region);
+        }
+        let at = self.scene().objects.len();
+        self.rows[index] = at..at + one.objects.len();
+        out.reshaped = true;
         self.rays.append_objects(one.objects);
         Ok(region)
+    }
+
+    /// The blanks, among the latest [`REUSE_SEARCH`] entities deleted, whose objects had the
+    /// meshes, maps and shadow casting of `objects` (then given those very meshes, so the
+    /// renderer sees the meshes it uploaded), taken off the list; `None` when there are none.
+    fn reuse_blanks(&mut self, objects: &mut [ObjectInput]) -> Option<Range<usize>> {
+        let fits = |old: &ObjectInput, new: &ObjectInput| {
+            (Arc::ptr_eq(&old.mesh, &new.mesh) || old.mesh == new.mesh)
+                && old.material.maps == new.material.maps
+                && old.material.casts_shadows == new.material.casts_shadows
+                && old.material.terrain.is_none()
+                && new.material.terrain.is_none()
+        };
+        let first = self.graves.len().saturating_sub(REUSE_SEARCH);
+        let k = (first..self.graves.len()).rev().find(|&k| {
+            let old = &self.graves[k].1;
+            !objects.is_empty()
+                && old.len() == objects.len()
+                && old.iter().zip(objects.iter()).all(|(a, b)| fits(a, b))
+        })?;
+        let (range, old) = self.graves.remove(k);
+        for (new, old) in objects.iter_mut().zip(old) {
+            new.mesh = old.mesh;
+        }
+        Some(range)
     }
 
     /// Removes the entity at `index`: its objects blanked, its position dropped, the later
@@ -258,7 +298,10 @@ impl PreparedLevel {
         let old = self.scene().objects[range.clone()].to_vec();
         let points = self.scene().points.clone();
         let region = self.shadowed(&old, &points);
-        self.rays.blank_objects(range, blank());
+        self.rays.blank_objects(range.clone(), blank());
+        if !range.is_empty() {
+            self.graves.push((range, old));
+        }
         region
     }
 
@@ -289,8 +332,7 @@ impl PreparedLevel {
 
     /// How many of the scene's objects are blanks left by removed entities.
     pub fn blank_objects(&self) -> usize {
-        let drawn: usize = self.rows.iter().map(|r| r.len()).sum();
-        self.scene().objects.len() - drawn
+        self.graves.iter().map(|g| g.0.len()).sum()
     }
 }
 
@@ -380,9 +422,9 @@ mod tests {
     }
 
     /// A box removed from the middle leaves a blank where its object was, and the later
-    /// entities keep their objects under the ids of their new positions; a box inserted is
-    /// appended; an entity that loses its geometry is blanked; what the positions name
-    /// matches a level prepared afresh.
+    /// entities keep their objects under the ids of their new positions; a box inserted
+    /// takes the blank, a ball is appended; an entity that loses its geometry is blanked;
+    /// what the positions name matches a level prepared afresh.
     #[test]
     fn rows_added_and_removed_keep_every_other_object_where_it_was() {
         let mut lvl = level(&[0.0, 3.0, 6.0, 9.0]);
@@ -398,11 +440,21 @@ mod tests {
         assert_eq!(p.scene().objects[1].id, 0);
         assert_eq!(p.blank_objects(), 1);
 
+        // A box of the deleted one's shape takes its blank; a ball is appended.
         lvl.scene.spawn_at(0, boxed(-3.0));
         let edit = p.edit_rows(&lvl, &[RowEdit::Insert(0)]).expect("alone");
-        assert!(edit.reshaped);
+        assert!(!edit.reshaped && edit.objects == [1], "{edit:?}");
         let ids: Vec<u32> = p.scene().objects.iter().map(|o| o.id).collect();
-        assert_eq!(ids, [2, 0, 3, 4, 1], "appended, the others renumbered");
+        assert_eq!(ids, [2, 1, 3, 4], "the blank taken, the others renumbered");
+        let mut ball = boxed(12.0);
+        ball.geometry = Some(Geometry::Sphere {
+            radius: 0.5,
+            segments: 8,
+        });
+        lvl.scene.spawn_at(4, ball);
+        let edit = p.edit_rows(&lvl, &[RowEdit::Insert(4)]).expect("alone");
+        assert!(edit.reshaped && edit.objects.is_empty());
+        assert_eq!(p.scene().objects[4].id, 5, "appended");
         let fresh = PreparedLevel::new(&lvl);
         assert_eq!(shown(&p), shown(&fresh));
 
@@ -418,7 +470,7 @@ mod tests {
         let edit = p.edit_rows(&lvl, &edits).expect("alone");
         assert!(edit.reshaped);
         assert_eq!(shown(&p), shown(&PreparedLevel::new(&lvl)));
-        assert_eq!(p.blank_objects(), 3);
+        assert_eq!(p.blank_objects(), 2);
 
         // An entity added and removed again cannot be taken alone.
         let not = p.edit_rows(&lvl, &[RowEdit::Insert(1), RowEdit::Remove(1)]);

@@ -5,8 +5,9 @@
 //! shadow tree and the boxes above them refit ([`crate::bvh::refit`]), the point lights
 //! rewritten. An object blanked (a deleted entity's: its mesh now empty) keeps its slot:
 //! its draw ranges are emptied, its shadow triangles shrink to points (no ray hits them) and
-//! its shadow instance casts nothing; objects whose entity id changed (the rows after a
-//! deleted one) have the id rewritten in their records. What changes the size or the layout
+//! its shadow instance casts nothing; an object of the same mesh, maps and shadow casting
+//! may take the slot again (a delete undone), made as any edited object is; objects whose
+//! entity id changed (the rows after a deleted one) have the id rewritten in their records. What changes the size or the layout
 //! of a buffer (an object more, another mesh, other textures, shadows turned on or off, an
 //! animated object, a terrain, sprites, a light more or less) is [`NotInPlace`]: the caller
 //! uploads the scene again.
@@ -71,6 +72,9 @@ pub(super) struct ObjectSlot {
     casts: bool,
     /// An animated object or a terrain: never edited in place.
     fixed: bool,
+    /// Blanked (its entity deleted): drawn and cast by nothing until an object of the same
+    /// mesh, maps and shadow casting takes the slot again (a delete undone).
+    blank: bool,
     /// Its instance record, when it draws a shared mesh (its vertices are the mesh's).
     instance: Option<u32>,
 }
@@ -100,6 +104,7 @@ impl ObjectSlot {
             maps: o.material.maps.clone(),
             casts: o.material.casts_shadows,
             fixed,
+            blank: false,
             instance,
         }
     }
@@ -262,8 +267,7 @@ impl GpuScene {
             for r in &mut self.ranges[slot.ranges.start as usize..slot.ranges.end as usize] {
                 r.count = 0;
             }
-            // Drawn and cast by nothing: never edited again.
-            slot.fixed = true;
+            slot.blank = true;
             cost.blanked += 1;
         }
         for r in remade {
@@ -285,6 +289,8 @@ impl GpuScene {
             if let Some(record) = self.edits.records_cpu.get_mut(r.index) {
                 *record = r.record;
             }
+            // A blank taken again: drawn and cast as the object it now is.
+            self.edits.objects[r.index].blank = false;
             cost.vertices += r.meshes.vertices.len();
         }
         cost.renumbered = self.renumber(queue, scene);
@@ -307,7 +313,7 @@ impl GpuScene {
         else {
             return false;
         };
-        o.mesh.indices.is_empty() && !slot.mesh.indices.is_empty()
+        o.mesh.indices.is_empty() && !slot.mesh.indices.is_empty() && !slot.blank
     }
 
     /// Gives every object the entity id `scene` gives it: in [`GpuScene::object_ids`] and in
@@ -348,23 +354,25 @@ impl GpuScene {
             return 0;
         };
         let old = e.records[k as usize];
-        let record = match scene {
-            Some(scene) => {
-                let transform = scene.objects[index].transform;
-                let Some((_, model)) = e.shapes.placement(index, transform) else {
-                    return 0;
-                };
-                instance_record(&e.bvh, old.root, model)
-            }
-            // No tree, its box a point where it stood.
-            None => GpuBvhInstance {
-                min: old.min,
-                max: old.min,
-                ..GpuBvhInstance::NONE
-            },
-        };
-        e.records[k as usize] = record;
         let record_size = size_of::<GpuBvhInstance>() as u64;
+        let Some(scene) = scene else {
+            // Blanked: the GPU's record names no tree (the CPU's keeps its tree and box, for
+            // an object that takes the slot again; the top level's boxes stay).
+            let none = GpuBvhInstance {
+                min: old.min,
+                max: old.max,
+                ..GpuBvhInstance::NONE
+            };
+            let at = u64::from(k) * record_size;
+            queue.write_buffer(&self.bvh_instances, at, bytemuck::bytes_of(&none));
+            return 0;
+        };
+        let transform = scene.objects[index].transform;
+        let Some((_, model)) = e.shapes.placement(index, transform) else {
+            return 0;
+        };
+        let record = instance_record(&e.bvh, old.root, model);
+        e.records[k as usize] = record;
         queue.write_buffer(
             &self.bvh_instances,
             u64::from(k) * record_size,
