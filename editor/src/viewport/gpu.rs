@@ -50,7 +50,7 @@ pub struct RenderReport {
     /// Palette changes taken in by mapping colours again (no upload, nothing shaded again)
     /// since the renderer started.
     pub palette_updates: u64,
-    /// How the last edit of entities was taken in ([`Session::update_entities`]; `None`
+    /// How the last edit of entities was taken in ([`Session::edit_rows`]; `None`
     /// before one, and after a rebuild or a terrain stroke's region update).
     pub last_edit: Option<EditUpdate>,
 }
