@@ -4,6 +4,8 @@
 //! then the frame that refines it at the still resolution. The same on a generated town
 //! (`texel-run gen`'s generator) of 10,000 entities, a box beside its street moved (issue 58's
 //! target: a drag step to the next finished frame within 100 ms at the moving resolution).
+//! On both, the first frame after that entity is deleted or the delete undone, in turn
+//! (`Session::edit_rows`: a delete blanked in place, its undo an upload).
 //!
 //! `cargo bench -p texel_editor --bench edit_stall` measures; `cargo test --benches` runs each
 //! benchmark once as a smoke test. Without a GPU adapter it fails like the GPU tests, unless
@@ -21,6 +23,7 @@ use texel_editor::viewport::gpu::GpuView;
 use texel_editor::viewport::{SCALE_MOVING, SCALE_STILL};
 use texel_render::context::{GpuContext, test_context};
 use texel_render::input::Schedule;
+use texel_runtime::frame_plan::RowEdit;
 use texel_runtime::generate::{GenOptions, STREET_HALF_WIDTH, generate, side};
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_scene::components::Geometry;
@@ -37,6 +40,8 @@ struct Bench {
     /// The row the edits move, and where the camera looks.
     row: usize,
     camera: EditorCamera,
+    /// The row deleted, while it is ([`Bench::delete_or_restore`]).
+    deleted: Option<texel_scene::EntityRow>,
 }
 
 impl Bench {
@@ -55,6 +60,25 @@ impl Bench {
         };
         row.transform = Some(t);
         scene.set_row(e, row).expect("set row");
+    }
+
+    /// Deletes the edited entity, or puts it back when it is deleted (an undo): a new
+    /// document revision, that row's removal or insertion alone.
+    fn delete_or_restore(&mut self) {
+        self.revision += 1;
+        let scene = &mut self.level.scene;
+        let edit = match self.deleted.take() {
+            Some(row) => {
+                scene.spawn_at(self.row, row);
+                RowEdit::Insert(self.row)
+            }
+            None => {
+                let e = scene.entities().nth(self.row).expect("the deleted entity");
+                self.deleted = scene.despawn(e);
+                RowEdit::Remove(self.row)
+            }
+        };
+        self.gpu.use_rows(Some(vec![edit]));
     }
 
     /// Renders the current revision at `size` and waits for the GPU.
@@ -90,6 +114,7 @@ fn edit_stall(c: &mut Criterion) {
         revision: 0,
         row: 1,
         camera: support::camera(),
+        deleted: None,
     };
     stall_cases(c, "edit_stall", &mut b);
     // A town of 10,000 when measuring; of 100 when each case only runs once.
@@ -163,6 +188,16 @@ fn stall_cases(c: &mut Criterion, group: &str, b: &mut Bench) {
             b.render(moving);
         })
     });
+    group.bench_function("first frame after a delete or its undo, moving", |bench| {
+        bench.iter(|| {
+            b.delete_or_restore();
+            b.render(moving);
+        })
+    });
+    if b.deleted.is_some() {
+        b.delete_or_restore();
+        b.render(moving);
+    }
     // The viewport renders an edit's first frame at the moving resolution, then refines.
     group.bench_function("refine at still after a moving first frame", |bench| {
         bench.iter_custom(|iters| {

@@ -6,6 +6,7 @@
 
 use std::sync::Arc;
 
+use texel_runtime::frame_plan::RowEdit;
 use texel_scene::assets::AssetLibrary;
 use texel_scene::terrain::{HeightSource, Heightfield, Terrain};
 use texel_scene::{EntityRow, LevelSettings, Scene};
@@ -368,6 +369,33 @@ impl Command {
             (self, other),
             (Command::SetRow { index: a, .. }, Command::SetRow { index: b, .. }) if a == b
         )
+    }
+
+    /// The changes of the level's entities the command makes when executed (`forward`) or
+    /// reverted, in order, when it only sets, adds or removes entities (the viewport then
+    /// takes in those entities alone).
+    pub fn row_edits(&self, forward: bool) -> Option<Vec<RowEdit>> {
+        match (self, forward) {
+            (Command::SetRow { index, .. }, _) => Some(vec![RowEdit::Set(*index)]),
+            (Command::Spawn { index, .. }, true) | (Command::Despawn { index, .. }, false) => {
+                Some(vec![RowEdit::Insert(*index)])
+            }
+            (Command::Despawn { index, .. }, true) | (Command::Spawn { index, .. }, false) => {
+                Some(vec![RowEdit::Remove(*index)])
+            }
+            (Command::Batch { steps, .. }, _) => {
+                let mut edits = Vec::new();
+                let order: Vec<&Command> = match forward {
+                    true => steps.iter().collect(),
+                    false => steps.iter().rev().collect(),
+                };
+                for step in order {
+                    edits.extend(step.row_edits(forward)?);
+                }
+                Some(edits)
+            }
+            _ => None,
+        }
     }
 
     /// The positions of the entities a batch of [`Command::SetRow`]s edits, when it is one

@@ -7,6 +7,7 @@ use std::collections::{BTreeMap, BTreeSet};
 use std::path::{Path, PathBuf};
 use std::sync::Arc;
 
+use texel_runtime::frame_plan::RowEdit;
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_scene::assets::{AssetLibrary, load_assets, resolve, texture_paths};
 use texel_scene::palette::Palette;
@@ -46,8 +47,9 @@ pub struct Document {
     full_revision: u64,
     /// Revisions that only changed terrain heights, with the world box they changed.
     regions: Vec<(u64, glam::Vec3, glam::Vec3)>,
-    /// Revisions that only changed one entity's components, with its position.
-    entities: Vec<(u64, usize)>,
+    /// Revisions that only changed one entity's components, added one or removed one, with
+    /// its position.
+    entities: Vec<(u64, RowEdit)>,
     /// The colours each palette file (by level-relative path) held when it was last read or
     /// written: a palette whose colours are still these is not written again on save.
     palettes_on_disk: BTreeMap<String, Arc<Palette>>,
@@ -147,13 +149,32 @@ impl Document {
     /// the entity at `index` (a gizmo drag step, an inspector change): views take in that
     /// entity alone ([`Document::entities_since`]).
     pub fn entity_parts_mut(&mut self, index: usize) -> (&mut Scene, &mut AssetLibrary) {
+        self.row_parts_mut(RowEdit::Set(index))
+    }
+
+    /// The scene and the asset library, for a command that makes one change of the level's
+    /// entities (`edit`: one set, added or removed): views take in that entity alone
+    /// ([`Document::entities_since`]).
+    pub fn row_parts_mut(&mut self, edit: RowEdit) -> (&mut Scene, &mut AssetLibrary) {
         self.revision += 1;
         // Bounded: a view older than the changes let go of rebuilds instead.
         if self.entities.len() >= MAX_ENTITY_CHANGES {
-            let old: Vec<(u64, usize)> = self.entities.drain(..MAX_ENTITY_CHANGES / 2).collect();
+            let old: Vec<(u64, RowEdit)> = self.entities.drain(..MAX_ENTITY_CHANGES / 2).collect();
             self.full_revision = (old.last()).map_or(self.full_revision, |e| e.0);
         }
-        self.entities.push((self.revision, index));
+        self.entities.push((self.revision, edit));
+        (&mut self.level.scene, &mut self.level.assets)
+    }
+
+    /// [`Document::row_parts_mut`] for a command that makes the changes `edits`, in order
+    /// (a paste, a delete of the selection, their undo).
+    pub fn rows_parts_mut(&mut self, edits: &[RowEdit]) -> (&mut Scene, &mut AssetLibrary) {
+        if edits.len() >= MAX_ENTITY_CHANGES / 2 {
+            return self.parts_mut();
+        }
+        for &e in edits {
+            self.row_parts_mut(e);
+        }
         (&mut self.level.scene, &mut self.level.assets)
     }
 
@@ -223,20 +244,23 @@ impl Document {
             .reduce(|a, b| (a.0.min(b.0), a.1.max(b.1)))
     }
 
-    /// The positions of the entities changed since `revision`, in the order of their first
-    /// change, when every change since was an entity's alone
-    /// ([`Document::entity_parts_mut`]); `None` when something else changed (or nothing).
-    pub fn entities_since(&self, revision: u64) -> Option<Vec<usize>> {
+    /// The changes of entities since `revision`, when every change since was an entity's
+    /// alone ([`Document::row_parts_mut`]): in order, an entity set again listed once (at
+    /// its first change) while no entity was added or removed; `None` when something else
+    /// changed (or nothing).
+    pub fn entities_since(&self, revision: u64) -> Option<Vec<RowEdit>> {
         if self.full_revision > revision
             || self.regions.iter().any(|r| r.0 > revision)
             || self.palette_changed_since(revision)
         {
             return None;
         }
-        let mut out: Vec<usize> = Vec::new();
-        for &(_, i) in self.entities.iter().filter(|e| e.0 > revision) {
-            if !out.contains(&i) {
-                out.push(i);
+        let mut out: Vec<RowEdit> = Vec::new();
+        let mut only_sets = true;
+        for &(_, e) in self.entities.iter().filter(|e| e.0 > revision) {
+            only_sets &= matches!(e, RowEdit::Set(_));
+            if !(only_sets && out.contains(&e)) {
+                out.push(e);
             }
         }
         (!out.is_empty()).then_some(out)
@@ -722,7 +746,7 @@ mod region_tests {
         assert!(!d.palette_only_since(r1));
         assert!(!d.palette_only_since(r0));
         assert_eq!(d.entities_since(r0), None, "a palette change in between");
-        assert_eq!(d.entities_since(r1), Some(vec![0]));
+        assert_eq!(d.entities_since(r1), Some(vec![RowEdit::Set(0)]));
         d.touch();
         assert!(!d.palette_only_since(r0), "a full change");
     }
@@ -738,7 +762,18 @@ mod region_tests {
         d.entity_parts_mut(3);
         d.entity_parts_mut(1);
         d.entity_parts_mut(3);
-        assert_eq!(d.entities_since(r0), Some(vec![3, 1]));
+        assert_eq!(
+            d.entities_since(r0),
+            Some(vec![RowEdit::Set(3), RowEdit::Set(1)])
+        );
+        // An entity added: every change since kept, in order.
+        let r_add = d.revision;
+        d.row_parts_mut(RowEdit::Insert(2));
+        d.entity_parts_mut(2);
+        d.entity_parts_mut(2);
+        d.row_parts_mut(RowEdit::Remove(0));
+        let (set, add, remove) = (RowEdit::Set(2), RowEdit::Insert(2), RowEdit::Remove(0));
+        assert_eq!(d.entities_since(r_add), Some(vec![add, set, set, remove]));
         assert_eq!(d.region_since(r0), None, "an entity changed, not a region");
         let r1 = d.revision;
         d.touch_region(Vec3::ZERO, Vec3::ONE);

@@ -53,7 +53,7 @@ impl EditorState {
 
     /// Executes `command` and records it (folded into the open step with the same `merge`).
     pub fn apply(&mut self, command: Command, merge: Option<MergeKey>) -> Result<(), CommandError> {
-        let (scene, assets) = self.parts_for(&command);
+        let (scene, assets) = self.parts_for(&command, true);
         let focus = command.execute(scene, assets)?;
         self.focus(focus);
         self.history.push(command, merge);
@@ -66,7 +66,7 @@ impl EditorState {
         let Some(cmd) = self.history.pop_undo().cloned() else {
             return Ok(false);
         };
-        let (scene, assets) = self.parts_for(&cmd);
+        let (scene, assets) = self.parts_for(&cmd, false);
         match cmd.revert(scene, assets) {
             Ok(f) => {
                 self.focus(f);
@@ -85,7 +85,7 @@ impl EditorState {
         let Some(cmd) = self.history.pop_redo().cloned() else {
             return Ok(false);
         };
-        let (scene, assets) = self.parts_for(&cmd);
+        let (scene, assets) = self.parts_for(&cmd, true);
         match cmd.execute(scene, assets) {
             Ok(f) => {
                 self.focus(f);
@@ -98,11 +98,13 @@ impl EditorState {
         }
     }
 
-    /// The scene and assets for `command` to change: marked as one entity's change when it
-    /// replaces one entity's components, so the viewport takes in that entity alone.
+    /// The scene and assets for `command` to change, executed (`forward`) or reverted:
+    /// marked as entities' changes when it replaces, adds or removes entities, so the
+    /// viewport takes in those entities alone.
     fn parts_for(
         &mut self,
         command: &Command,
+        forward: bool,
     ) -> (&mut Scene, &mut texel_scene::assets::AssetLibrary) {
         let edited = match command {
             Command::SetRow { index, .. } => Some(vec![*index]),
@@ -117,7 +119,13 @@ impl EditorState {
             }
             (Command::SetRow { index, .. }, _) => self.document.entity_parts_mut(*index),
             (_, Some(rows)) => self.document.entities_parts_mut(&rows),
-            (_, None) => self.document.parts_mut(),
+            // Entities added or removed: taken in alone too.
+            (_, None) => match command.row_edits(forward) {
+                Some(edits) if !self.scene().has_hierarchy() => {
+                    self.document.rows_parts_mut(&edits)
+                }
+                _ => self.document.parts_mut(),
+            },
         }
     }
 
@@ -240,6 +248,35 @@ mod tests {
             transform: Some(Transform::default()),
             ..EntityRow::default()
         }
+    }
+
+    /// Adding, duplicating and deleting entities (and undoing them) are marked as those
+    /// changes of rows, in order, so the viewport takes them in alone.
+    #[test]
+    fn adds_and_deletes_are_marked_as_row_changes() {
+        use texel_runtime::frame_plan::RowEdit::{Insert, Remove};
+        let mut s = EditorState::new(Document::new_empty());
+        let r0 = s.document.revision;
+        s.add(boxed("a")).expect("add");
+        s.add(boxed("b")).expect("add");
+        s.duplicate(0).expect("duplicate");
+        assert_eq!(
+            s.document.entities_since(r0),
+            Some(vec![Insert(0), Insert(1), Insert(1)])
+        );
+        let r1 = s.document.revision;
+        s.delete_indices(&[0, 2]).expect("delete");
+        assert_eq!(
+            s.document.entities_since(r1),
+            Some(vec![Remove(2), Remove(0)])
+        );
+        let r2 = s.document.revision;
+        assert_eq!(s.undo(), Ok(true));
+        assert_eq!(
+            s.document.entities_since(r2),
+            Some(vec![Insert(0), Insert(2)])
+        );
+        assert_eq!(s.scene().len(), 3);
     }
 
     #[test]

@@ -268,6 +268,84 @@ fn an_edited_entity_is_taken_in_alone_by_the_worker() {
     );
 }
 
+/// The edits the shown frame's renderer has taken in, and how it took the last one.
+fn edits_taken(h: &Harness<'_, EditorApp>) -> (u64, Option<texel_runtime::session::EditUpdate>) {
+    (h.state().viewport.shown.as_ref())
+        .map_or((0, None), |f| (f.report.uploads, f.report.last_edit))
+}
+
+/// Steps the editor, a frame at a time, until the shown frame's renderer has taken in an
+/// edit more than `before` (at most 40 frames); returns how it took the last one.
+fn wait_edit(
+    h: &mut Harness<'_, EditorApp>,
+    before: u64,
+) -> Option<texel_runtime::session::EditUpdate> {
+    for _ in 0..40 {
+        h.step();
+        worker(h).wait_drawn().expect("a frame");
+        h.step();
+        if edits_taken(h).0 > before {
+            break;
+        }
+    }
+    edits_taken(h).1
+}
+
+/// The name of the selected entity.
+fn selected_name(h: &Harness<'_, EditorApp>) -> Option<String> {
+    let state = &h.state().state;
+    let row = state.row_at(state.selection?)?;
+    row.name.map(|n| n.0)
+}
+
+/// An entity deleted before the one in the middle of the view reaches the worker as that
+/// removal alone (blanked in place: `Session::edit_rows`), and a click picks the same
+/// entity at its new position; the delete undone reaches it as an insert (taking its blank
+/// again, in place), and the click picks it at its old position.
+#[test]
+fn a_deleted_entity_is_taken_in_alone_and_picks_stay_right() {
+    use texel_runtime::session::EditUpdate;
+    let Some(ctx) = test_context() else {
+        return;
+    };
+    let dir = tempfile::tempdir().expect("tempdir");
+    let mut h = editor_on(&ctx, dir.path());
+    h.step();
+    worker(&h).wait_drawn().expect("a first frame");
+    h.step();
+    click_centre(&mut h, egui::Modifiers::NONE);
+    let picked = h.state().state.selection.expect("an entity in the middle");
+    let name = selected_name(&h).expect("a named entity");
+    assert!(picked > 0, "an entity before it to delete");
+    let gone = picked - 1;
+    let row = h.state().state.row_at(gone).expect("row");
+    let command = texel_editor::command::Command::Despawn {
+        index: gone,
+        row: Box::new(row),
+    };
+    let (taken, _) = edits_taken(&h);
+    let state = &mut h.state_mut().state;
+    state.apply(command, None).expect("the delete applies");
+    let last = wait_edit(&mut h, taken);
+    assert!(
+        matches!(last, Some(EditUpdate::InPlace { .. })),
+        "the worker took the delete in as {last:?}"
+    );
+    click_centre(&mut h, egui::Modifiers::NONE);
+    assert_eq!(h.state().state.selection, Some(picked - 1));
+    assert_eq!(selected_name(&h).as_deref(), Some(name.as_str()));
+    let (taken, _) = edits_taken(&h);
+    assert_eq!(h.state_mut().state.undo(), Ok(true));
+    let last = wait_edit(&mut h, taken);
+    assert!(
+        matches!(last, Some(EditUpdate::InPlace { .. })),
+        "the worker took the undo in as {last:?}"
+    );
+    click_centre(&mut h, egui::Modifiers::NONE);
+    assert_eq!(h.state().state.selection, Some(picked));
+    assert_eq!(selected_name(&h).as_deref(), Some(name.as_str()));
+}
+
 /// Clicks the middle of the viewport with `modifiers` and waits for the worker's answer.
 fn click_centre(h: &mut Harness<'_, EditorApp>, modifiers: egui::Modifiers) {
     press_centre(h, modifiers);

@@ -14,7 +14,9 @@
 //! fall anywhere; by default it stands outside every light's reach),
 //! `--region` (the edit goes through `Session::update_level_region`: the level prepared
 //! and uploaded again, the faces that may see it marked; the editor's path before
-//! `Session::update_entities`), `--full` (through `Session::set_level`).
+//! `Session::update_entities`), `--full` (through `Session::set_level`), `--add-delete`
+//! (the entity deleted on even steps and put back on odd ones, as an editor's delete and
+//! its undo: `Session::edit_rows`, or `Session::set_level` with `--full`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -23,6 +25,7 @@ use anyhow::{Context, Result, anyhow, bail};
 use glam::{UVec2, Vec3};
 use texel_render::context::GpuContext;
 use texel_render::input::Schedule;
+use texel_runtime::frame_plan::RowEdit;
 use texel_runtime::load::{LoadedLevel, load_level};
 use texel_runtime::session::{FrameRequest, Session};
 use texel_scene::{Geometry, Material, PointLight, Transform};
@@ -33,6 +36,8 @@ struct Options {
     steps: u32,
     mode: Mode,
     lit: bool,
+    /// Deletes and puts back the entity instead of moving and recolouring it.
+    add_delete: bool,
 }
 
 /// How the edit reaches the session.
@@ -55,6 +60,7 @@ fn options() -> Result<Options> {
         steps: 5,
         mode: Mode::Entity,
         lit: false,
+        add_delete: false,
     };
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -67,12 +73,15 @@ fn options() -> Result<Options> {
             "--full" => o.mode = Mode::Full,
             "--region" => o.mode = Mode::Region,
             "--lit" => o.lit = true,
+            "--add-delete" => o.add_delete = true,
             _ if a.starts_with("--") => bail!("unknown option {a}"),
             _ => o.level = PathBuf::from(a),
         }
     }
     if o.level.as_os_str().is_empty() {
-        bail!("usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit]");
+        bail!(
+            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete]"
+        );
     }
     Ok(o)
 }
@@ -167,8 +176,18 @@ fn main() -> Result<()> {
     drop(gpu);
     let (mut edits, mut settled) = (Vec::new(), Vec::new());
     let (mut edit_passes, mut settled_passes) = (Vec::new(), Vec::new());
+    let mut removed = None;
     for step in 0..o.steps {
-        let (edit, stats) = edit_step(&ctx, &mut session, &mut level, &o, index, step, &request)?;
+        let at = (index, step);
+        let (edit, stats) = edit_step(
+            &ctx,
+            &mut session,
+            &mut level,
+            &o,
+            at,
+            &request,
+            &mut removed,
+        )?;
         edits.push(edit);
         edit_passes.push(stats);
         // Settle again, then time a frame with nothing to catch up on.
@@ -198,21 +217,25 @@ fn main() -> Result<()> {
     Ok(())
 }
 
-/// Edit `step` of the entity at `index` (a move on even steps, a colour on odd ones), taken
-/// in as `o.mode` says, and the frame after it; returns the wall time from the edit to the
-/// finished frame, ms, and the frame's stats.
-fn edit_step(
-    ctx: &GpuContext,
-    session: &mut Session,
+/// Changes the entity at `index` for `step`: moved on even steps and recoloured on odd
+/// ones, or (`o.add_delete`) deleted into `removed` on even steps and put back on odd ones.
+fn change(
     level: &mut LoadedLevel,
     o: &Options,
-    index: usize,
-    step: u32,
-    request: &FrameRequest,
-) -> Result<(f64, texel_render::stats::FrameStats)> {
+    (index, step): (usize, u32),
+    removed: &mut Option<texel_scene::EntityRow>,
+) -> Result<RowEdit> {
+    if o.add_delete {
+        if let Some(row) = removed.take() {
+            level.scene.spawn_at(index, row);
+            return Ok(RowEdit::Insert(index));
+        }
+        let entity = level.scene.entities().nth(index).context("entity")?;
+        *removed = Some(level.scene.despawn(entity).context("row")?);
+        return Ok(RowEdit::Remove(index));
+    }
     let entity = level.scene.entities().nth(index).context("entity")?;
     let mut row = level.scene.row(entity).context("row")?;
-    let before = bounds(session, index);
     if step.is_multiple_of(2) {
         let tr = row.transform.get_or_insert_with(Transform::default);
         tr.translation.x += 0.25;
@@ -224,6 +247,28 @@ fn edit_step(
         .scene
         .set_row(entity, row)
         .map_err(|e| anyhow!("{e}"))?;
+    Ok(RowEdit::Set(index))
+}
+
+/// Edit `step` of the entity at `index` ([`change`]), taken in as `o.mode` says, and the
+/// frame after it; returns the wall time from the edit to the finished frame, ms, and the
+/// frame's stats.
+fn edit_step(
+    ctx: &GpuContext,
+    session: &mut Session,
+    level: &mut LoadedLevel,
+    o: &Options,
+    (index, step): (usize, u32),
+    request: &FrameRequest,
+    removed: &mut Option<texel_scene::EntityRow>,
+) -> Result<(f64, texel_render::stats::FrameStats)> {
+    let mut before = bounds(session, index);
+    let edit = change(level, o, (index, step), removed)?;
+    if removed.is_none() {
+        // Put back: where it now stands.
+        let (lo, hi) = bounds_in(texel_runtime::frame_plan::scene_input(level), index);
+        before = (before.0.min(lo), before.1.max(hi));
+    }
     let t = Instant::now();
     let how = match o.mode {
         Mode::Full => {
@@ -236,7 +281,7 @@ fn edit_step(
             let marked = session.update_level_region(ctx, level, lo, hi)?;
             format!("update_level_region, {marked} faces marked")
         }
-        Mode::Entity => format!("{:?}", session.update_entities(ctx, level, &[index])?),
+        Mode::Entity => format!("{:?}", session.edit_rows(ctx, level, &[edit])?),
     };
     let update = ms(t);
     let t2 = Instant::now();
@@ -263,10 +308,11 @@ fn edit_step(
     println!("  stable faces captured: {}", stable.join(", "));
     println!(
         "edit {step} ({}, {how}): update {update:.1} ms, frame {frame:.1} ms, edit to frame {edit_to_frame:.1} ms, faces captured {}",
-        if step.is_multiple_of(2) {
-            "move"
-        } else {
-            "colour"
+        match edit {
+            RowEdit::Insert(_) => "put back",
+            RowEdit::Remove(_) => "delete",
+            _ if step.is_multiple_of(2) => "move",
+            _ => "colour",
         },
         drawn.stats.counters.faces_captured,
     );
@@ -281,10 +327,15 @@ fn median(v: &mut [f64]) -> f64 {
 
 /// The world bounds of object `index`'s entity as the session's scene holds it.
 fn bounds(session: &Session, index: usize) -> (Vec3, Vec3) {
+    bounds_in(session.scene().clone(), index)
+}
+
+/// The world bounds of the entity at `index` in `scene`.
+fn bounds_in(scene: texel_render::input::SceneInput, index: usize) -> (Vec3, Vec3) {
     let id = texel_runtime::frame_plan::entity_id(index);
     let mut lo = Vec3::splat(f32::INFINITY);
     let mut hi = Vec3::splat(f32::NEG_INFINITY);
-    for o in session.scene().objects.iter().filter(|o| o.id == id) {
+    for o in scene.objects.iter().filter(|o| o.id == id) {
         for p in &o.mesh.positions {
             let w = o.transform.transform_point3(*p);
             lo = lo.min(w);

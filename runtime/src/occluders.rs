@@ -15,13 +15,18 @@ use texel_render::input::{ObjectInput, PointLightInput, SceneInput, SunInput};
 pub struct SceneRays {
     scene: SceneInput,
     bvh: OnceLock<RayTree>,
+    /// The objects appended after the tree was built, in a tree of their own
+    /// ([`SceneRays::append_objects`]).
+    extra: OnceLock<RayTree>,
 }
 
 /// The tree over the still objects' triangles, and where each object's start among them.
 #[derive(Debug, Clone)]
 struct RayTree {
     bvh: GpuBvh,
-    /// Each object's triangles among the tree's inputs (`None`: animated, not in the tree).
+    /// Each object's triangles among the tree's inputs (`None`: animated, or before the
+    /// objects a small tree of appended ones starts at; not in the tree). A blank's are
+    /// points.
     spans: Vec<Option<std::ops::Range<u32>>>,
     /// The tree's inputs.
     inputs: usize,
@@ -35,6 +40,7 @@ impl SceneRays {
         SceneRays {
             scene,
             bvh: OnceLock::new(),
+            extra: OnceLock::new(),
         }
     }
 
@@ -60,6 +66,11 @@ impl SceneRays {
         };
         let mut moved = Vec::new();
         for i in range {
+            if i >= tree.spans.len() {
+                // Appended since the tree was built: in the small tree.
+                self.extra = OnceLock::new();
+                continue;
+            }
             let Some(span) = tree.spans.get(i).cloned().flatten() else {
                 continue;
             };
@@ -79,18 +90,73 @@ impl SceneRays {
         }
     }
 
+    /// Gives objects other ids (`(index, id)` pairs): the tree stays.
+    pub fn set_ids(&mut self, ids: &[(usize, u32)]) {
+        for &(k, id) in ids {
+            self.scene.objects[k].id = id;
+        }
+    }
+
+    /// Appends `objects` after the last. A tree built already stays; the appended objects
+    /// get a small tree of their own, built on the next query (and again after each append).
+    pub fn append_objects(&mut self, objects: Vec<ObjectInput>) {
+        self.scene.objects.extend(objects);
+        self.extra = OnceLock::new();
+    }
+
+    /// Replaces the objects in `range` by `blank` (a removed entity's, with no triangles).
+    /// In a tree built already, their triangles shrink to points, which no ray hits and no
+    /// box query returns, and the boxes above them are refit.
+    pub fn blank_objects(&mut self, range: std::ops::Range<usize>, blank: ObjectInput) {
+        let old: Vec<Vec<[glam::Vec3; 3]>> = (self.scene.objects[range.clone()].iter())
+            .map(world_triangles)
+            .collect();
+        self.scene.objects[range.clone()].fill(blank);
+        let Some(tree) = self.bvh.get_mut() else {
+            return;
+        };
+        let mut moved = Vec::new();
+        for (i, old) in range.zip(old) {
+            match tree.spans.get_mut(i) {
+                // Kept: an object that takes the blank again is refit back.
+                Some(span) => {
+                    let span = span.clone().unwrap_or_default();
+                    moved.extend(span.zip(old.into_iter().map(|t| [t[0]; 3])));
+                }
+                // Appended since the tree was built: in the small tree.
+                None => self.extra = OnceLock::new(),
+            }
+        }
+        let inputs = tree.inputs;
+        let refitted = (tree.refit)
+            .get_or_insert_with(|| RefitIndex::new(&tree.bvh, inputs))
+            .refit(&mut tree.bvh, &moved);
+        if refitted.is_none() {
+            self.bvh = OnceLock::new();
+        }
+    }
+
     fn bvh(&self) -> &GpuBvh {
-        &self.bvh.get_or_init(|| build(&self.scene)).bvh
+        &self.bvh.get_or_init(|| build(&self.scene, 0)).bvh
+    }
+
+    /// The small tree over the objects appended since the main tree was built (`None`
+    /// when there are none).
+    fn extra(&self) -> Option<&GpuBvh> {
+        let from = self.bvh.get()?.spans.len();
+        (from < self.scene.objects.len())
+            .then(|| &self.extra.get_or_init(|| build(&self.scene, from)).bvh)
     }
 }
 
-/// The BVH over every triangle of `scene`, world-space, wound as its meshes are, with where
-/// each object's triangles start.
-fn build(scene: &SceneInput) -> RayTree {
+/// The BVH over every triangle of `scene`'s objects from `from` on, world-space, wound as
+/// their meshes are, with where each object's triangles start (`None` before `from`).
+fn build(scene: &SceneInput, from: usize) -> RayTree {
     let mut triangles = Vec::new();
-    let mut spans = Vec::with_capacity(scene.objects.len());
+    let mut spans = vec![None; from];
+    spans.reserve(scene.objects.len() - from);
     let animated: std::collections::HashSet<usize> = scene.animated.iter().copied().collect();
-    for (i, object) in scene.objects.iter().enumerate() {
+    for (i, object) in scene.objects.iter().enumerate().skip(from) {
         // Moving objects are left out: a probe's place is a function of the static scene.
         if animated.contains(&i) {
             spans.push(None);
@@ -128,11 +194,22 @@ fn world_triangles(object: &ObjectInput) -> Vec<[glam::Vec3; 3]> {
 
 impl RayQuery for SceneRays {
     fn triangles_in(&self, min: glam::Vec3, max: glam::Vec3) -> Vec<[glam::Vec3; 3]> {
-        triangles_in_box_cpu(self.bvh(), min, max)
+        let mut out = triangles_in_box_cpu(self.bvh(), min, max);
+        // Blanked triangles are points (a box query may meet them): left out.
+        out.retain(|t| t[0] != t[1] || t[0] != t[2]);
+        if let Some(extra) = self.extra() {
+            out.extend(triangles_in_box_cpu(extra, min, max));
+        }
+        out
     }
 
     fn first_hit(&self, origin: glam::Vec3, dir: glam::Vec3, max: f32) -> Option<RayHit> {
-        first_hit_cpu(self.bvh(), origin, dir, max).map(|(t, tri)| RayHit {
+        let mut hit = first_hit_cpu(self.bvh(), origin, dir, max);
+        if let Some(extra) = self.extra() {
+            let reach = hit.map_or(max, |h| h.0);
+            hit = first_hit_cpu(extra, origin, dir, reach).or(hit);
+        }
+        hit.map(|(t, tri)| RayHit {
             t,
             back_face: tri.normal().dot(dir) > 0.0,
         })
@@ -147,6 +224,42 @@ mod tests {
     use glam::{IVec3, Vec3};
     use texel_probes::grid::GridCell;
     use texel_probes::placement::{near_faces, place_probe};
+
+    /// A box blanked after the tree was built is no longer hit, a box appended is (through
+    /// the small tree), as by a tree built afresh.
+    #[test]
+    fn blanked_and_appended_objects_answer_as_a_tree_built_afresh() {
+        let boxed = |x: f32, id: u32| ObjectInput {
+            mesh: std::sync::Arc::new(texel_scene::primitives::box_mesh(Vec3::ONE)),
+            transform: glam::Mat4::from_translation(Vec3::new(x, 0.0, 0.0)),
+            material: Default::default(),
+            id,
+        };
+        let scene = SceneInput {
+            objects: vec![boxed(2.0, 1), boxed(5.0, 2)],
+            ..SceneInput::default()
+        };
+        let mut rays = SceneRays::new(scene);
+        let hit = |r: &SceneRays| r.first_hit(Vec3::ZERO, Vec3::X, 100.0).map(|h| h.t);
+        assert_eq!(hit(&rays), Some(1.5));
+        let blank = ObjectInput {
+            mesh: Default::default(),
+            ..boxed(0.0, 0)
+        };
+        rays.blank_objects(0..1, blank);
+        assert_eq!(hit(&rays), Some(4.5), "the first box is gone");
+        let (lo, hi) = (Vec3::new(1.4, -0.6, -0.6), Vec3::new(2.45, 0.6, 0.6));
+        assert!(
+            rays.triangles_in(lo, hi).is_empty(),
+            "its triangles are points"
+        );
+        rays.append_objects(vec![boxed(3.0, 3)]);
+        assert_eq!(hit(&rays), Some(2.5), "the appended box is hit");
+        let (lo, hi) = (Vec3::new(2.45, -0.6, -0.6), Vec3::new(3.55, 0.6, 0.6));
+        assert_eq!(rays.triangles_in(lo, hi).len(), 12);
+        let fresh = SceneRays::new(rays.scene().clone());
+        assert_eq!(hit(&fresh), hit(&rays));
+    }
 
     /// The textured level's brick wall (its back face at z = −4.75, its top at y = 2.5): the
     /// probes of the cells above and behind it stand 0.25 off the back face's plane, where

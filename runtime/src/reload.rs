@@ -1,7 +1,7 @@
 //! A level file changed on disk, taken in the way an editor edit is: the rows that differ
-//! from the level being drawn go through [`Session::update_entities`] (each extracted alone,
-//! rewritten in place, only the faces that may see them captured again); a level that gained
-//! or lost entities, or changed its settings, is drawn afresh. `texel-run play` watches its
+//! from the level being drawn, and the rows added or removed, go through
+//! [`Session::edit_rows`] (each extracted alone, only the faces that may see them captured
+//! again); a level that changed its settings is drawn afresh. `texel-run play` watches its
 //! level file with [`LevelWatch`].
 
 use std::path::{Path, PathBuf};
@@ -10,6 +10,7 @@ use std::time::{Duration, Instant, SystemTime};
 use texel_render::context::GpuContext;
 use texel_scene::Scene;
 
+use crate::frame_plan::RowEdit;
 use crate::load::LoadedLevel;
 use crate::session::{EditUpdate, Session, SessionError};
 
@@ -30,19 +31,43 @@ pub fn changed_rows(old: &Scene, new: &Scene) -> Option<Vec<usize>> {
     )
 }
 
+/// The edits that turn `old`'s entities into `new`'s, when the two have the same settings
+/// (`None` otherwise): past the rows both start and end with, the rows between are set one
+/// for one, and the rest of the longer run removed or inserted.
+pub fn row_edits(old: &Scene, new: &Scene) -> Option<Vec<RowEdit>> {
+    if old.settings != new.settings {
+        return None;
+    }
+    let a: Vec<_> = old.entities().filter_map(|e| old.row(e)).collect();
+    let b: Vec<_> = new.entities().filter_map(|e| new.row(e)).collect();
+    let head = a.iter().zip(&b).take_while(|(x, y)| x == y).count();
+    let tail = (a[head..].iter().rev().zip(b[head..].iter().rev()))
+        .take_while(|(x, y)| x == y)
+        .count();
+    let (a, b) = (&a[head..a.len() - tail], &b[head..b.len() - tail]);
+    let both = a.len().min(b.len());
+    let mut edits: Vec<RowEdit> = (0..both)
+        .filter(|&i| a[i] != b[i])
+        .map(|i| RowEdit::Set(head + i))
+        .collect();
+    edits.extend((both..a.len()).map(|_| RowEdit::Remove(head + both)));
+    edits.extend((both..b.len()).map(|i| RowEdit::Insert(head + i)));
+    Some(edits)
+}
+
 impl Session {
     /// Takes in `new`, the session's level `old` read again (a file changed on disk): only
-    /// the rows that changed, as edits ([`Session::update_entities`]), or the whole level
-    /// when its entities or settings changed ([`Session::set_level`]).
+    /// the rows that changed, were added or were removed, as edits ([`Session::edit_rows`],
+    /// [`row_edits`]), or the whole level when its settings changed ([`Session::set_level`]).
     pub fn reload(
         &mut self,
         ctx: &GpuContext,
         old: &LoadedLevel,
         new: &LoadedLevel,
     ) -> Result<EditUpdate, SessionError> {
-        match changed_rows(&old.scene, &new.scene) {
-            Some(rows) if rows.is_empty() => Ok(EditUpdate::InPlace { faces_marked: 0 }),
-            Some(rows) => self.update_entities(ctx, new, &rows),
+        match row_edits(&old.scene, &new.scene) {
+            Some(edits) if edits.is_empty() => Ok(EditUpdate::InPlace { faces_marked: 0 }),
+            Some(edits) => self.edit_rows(ctx, new, &edits),
             None => {
                 self.set_level(ctx, new)?;
                 Ok(EditUpdate::Rebuilt)
@@ -124,5 +149,31 @@ mod tests {
         let mut other = scene(4);
         other.settings.cell_size *= 2.0;
         assert_eq!(changed_rows(&old, &other), None);
+    }
+
+    /// A row removed, added or changed is one edit at its position; other settings are
+    /// `None`.
+    #[test]
+    fn row_edits_name_rows_removed_added_and_set() {
+        let old = scene(5);
+        assert_eq!(row_edits(&old, &scene(5)), Some(vec![]));
+        let mut fewer = scene(5);
+        let e = fewer.entities().nth(2).expect("entity");
+        fewer.despawn(e).expect("despawn");
+        assert_eq!(row_edits(&old, &fewer), Some(vec![RowEdit::Remove(2)]));
+        assert_eq!(row_edits(&fewer, &old), Some(vec![RowEdit::Insert(2)]));
+        assert_eq!(
+            row_edits(&old, &scene(7)),
+            Some(vec![RowEdit::Insert(5), RowEdit::Insert(6)])
+        );
+        let mut moved = scene(5);
+        let e = moved.entities().nth(1).expect("entity");
+        let mut row = moved.row(e).expect("row");
+        row.transform.as_mut().expect("transform").translation.x = 1.0;
+        moved.set_row(e, row).expect("set");
+        assert_eq!(row_edits(&old, &moved), Some(vec![RowEdit::Set(1)]));
+        let mut other = scene(5);
+        other.settings.cell_size *= 2.0;
+        assert_eq!(row_edits(&old, &other), None);
     }
 }

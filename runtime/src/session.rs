@@ -12,7 +12,7 @@ use texel_render::stats::FrameStats;
 use texel_scene::PixelScale;
 use texel_scene::limits::{FACE_RESOLUTIONS, face_resolution_error};
 
-use crate::frame_plan::{DriverError, EditArea, FrameDriver, PreparedLevel};
+use crate::frame_plan::{DriverError, FrameDriver, PreparedLevel, RowEdit};
 use crate::load::LoadedLevel;
 
 /// Why a session could not draw.
@@ -68,17 +68,18 @@ pub enum EditUpdate {
         /// Faces marked.
         faces_marked: u32,
     },
-    /// The entities were extracted alone, but the GPU scene was uploaded again (another
-    /// mesh, other textures, shadows turned on or off: see
-    /// [`texel_render::gpu_scene::NotInPlace`]); only the faces that may see the change
-    /// were marked.
+    /// The entities were extracted alone, but the GPU scene was uploaded again (an entity
+    /// added, removed or given other geometry, another mesh, other textures, shadows turned
+    /// on or off: see [`texel_render::gpu_scene::NotInPlace`]), every other object where it
+    /// was; only the faces that may see the change were marked.
     Uploaded {
         /// Faces marked.
         faces_marked: u32,
     },
     /// The level was planned afresh: prepared and uploaded too ([`Session::set_level`]) when
-    /// an entity gained or lost geometry, is a terrain, a sprite or animated, or was added or
-    /// removed; rewritten as above when a sun or a probe-grid override changed.
+    /// an entity is a terrain, a sprite or animated, or was added or removed in a level with
+    /// sprites or animated objects; rewritten as above when a sun or a probe-grid override
+    /// changed.
     Rebuilt,
 }
 
@@ -204,49 +205,51 @@ impl Session {
 
     /// Takes in an edit of the entities at `indices` of `level` (which is the session's
     /// level but for them: a gizmo drag step, an inspector change, a row reloaded from
-    /// disk) at the cost of what changed: each entity is extracted alone, its vertices,
-    /// record and shadow triangles rewritten in place on the GPU with the lights, and only
-    /// the probe faces that may see its old or new bounds, their shadows or a changed
-    /// light's reach are captured again ([`EditUpdate`] says how it went). What cannot be
-    /// taken so (an entity added or removed, gaining geometry, a terrain, a sprite, an
-    /// animated one) falls back to [`Session::set_level`]; a sun or a probe-grid override
-    /// changed plans afresh.
-    ///
-    /// Should the scene fail to upload, the session keeps drawing the scene it had while
-    /// planning for the new one; call [`Session::set_level`] to recover.
+    /// disk) at the cost of what changed: [`Session::edit_rows`] with each a
+    /// [`RowEdit::Set`].
     pub fn update_entities(
         &mut self,
         ctx: &GpuContext,
         level: &LoadedLevel,
         indices: &[usize],
     ) -> Result<EditUpdate, SessionError> {
-        let mut changed = Vec::new();
-        let mut area: Option<EditArea> = None;
-        let mut grid_changed = false;
-        for &index in indices {
-            match self.driver.level_mut().update_entity(level, index) {
-                Ok(edit) => {
-                    changed.extend(edit.objects);
-                    grid_changed |= edit.grid_changed;
-                    if let Some(region) = edit.region {
-                        let this = EditArea {
-                            region,
-                            changed: edit.changed,
-                            filter: edit.filter,
-                        };
-                        area = Some(area.map_or(this.clone(), |a| a.union(&this)));
-                    }
-                }
-                Err(_) => {
-                    self.set_level(ctx, level)?;
-                    return Ok(EditUpdate::Rebuilt);
-                }
+        let edits: Vec<RowEdit> = indices.iter().map(|&i| RowEdit::Set(i)).collect();
+        self.edit_rows(ctx, level, &edits)
+    }
+
+    /// Takes in `edits` of the session's level, in order, whose result is `level` (entities
+    /// edited, added, removed: an editor command, a level file reloaded) at the cost of what
+    /// changed: each entity touched is extracted alone ([`PreparedLevel::edit_rows`]); one
+    /// edited in place has its vertices, record and shadow triangles rewritten on the GPU
+    /// with the lights, one removed has its objects blanked in place (nothing drawn or cast,
+    /// the later rows' ids rewritten), while one added or given more objects has the scene
+    /// uploaded again with every other object where it was; either way only the probe faces
+    /// that may see its old or new bounds, their shadows or a changed light's reach are
+    /// captured again ([`EditUpdate`] says how it went). What cannot be taken so (a terrain,
+    /// a sprite or an animated entity, or one added or removed in a level that has sprites
+    /// or animated objects) falls back to [`Session::set_level`]; a sun or a probe-grid
+    /// override changed plans afresh.
+    ///
+    /// Should the scene fail to upload, the session keeps drawing the scene it had while
+    /// planning for the new one; call [`Session::set_level`] to recover.
+    pub fn edit_rows(
+        &mut self,
+        ctx: &GpuContext,
+        level: &LoadedLevel,
+        edits: &[RowEdit],
+    ) -> Result<EditUpdate, SessionError> {
+        let edit = match self.driver.level_mut().edit_rows(level, edits) {
+            Ok(edit) => edit,
+            Err(_) => {
+                self.set_level(ctx, level)?;
+                return Ok(EditUpdate::Rebuilt);
             }
-        }
+        };
         let scene = self.driver.level().scene();
+        let changed = [edit.objects, edit.blanked].concat();
         let in_place = self.renderer.update_scene(ctx, scene, &changed)?.is_some();
-        let faces_marked = match area {
-            _ if grid_changed => None,
+        let faces_marked = match edit.area {
+            _ if edit.grid_changed => None,
             None => Some(self.driver.level_edited(None)),
             Some(a) if a.region.0.is_finite() && a.region.1.is_finite() => {
                 Some(self.driver.level_edited(Some(a)))

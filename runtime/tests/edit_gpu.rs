@@ -8,6 +8,7 @@ use anyhow::Context as _;
 use glam::{UVec2, Vec3};
 use texel_render::context::{GpuContext, test_context};
 use texel_render::input::{Camera, Schedule};
+use texel_runtime::frame_plan::RowEdit;
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{
     EditUpdate, FrameRequest, Session, SessionError, set_face_resolution,
@@ -25,6 +26,8 @@ const PILLAR: usize = 3;
 const BALL: usize = 4;
 const LAMP: usize = 5;
 const FAR: usize = 6;
+/// The crate's twin in [`yard_and_boxes`].
+const TWIN: usize = 7;
 
 /// A ground, a sun, boxes and a sphere before the camera, a point light among them, and a
 /// box far behind the camera.
@@ -386,5 +389,154 @@ fn a_smaller_frame_from_the_same_probes_captures_nothing_anew() -> anyhow::Resul
             ),
         }
     }
+    Ok(())
+}
+
+/// [`yard`], a twin of its crate and `n` small boxes in rows behind it (a level of a few
+/// hundred entities, so a row removed near its start renumbers many).
+fn yard_and_boxes(n: usize) -> anyhow::Result<LoadedLevel> {
+    let mut level = yard()?;
+    // The crate's twin, in view: the two (and the far box) draw one shared mesh, whose
+    // vertices the first of them, the crate, holds.
+    level.scene.spawn(EntityRow {
+        name: Some(Name("Twin".into())),
+        transform: Some(Transform {
+            translation: Vec3::new(-2.8, 0.5, -1.5),
+            ..Transform::default()
+        }),
+        geometry: Some(Geometry::Box { size: Vec3::ONE }),
+        ..EntityRow::default()
+    });
+    for i in 0..n {
+        let (x, z) = ((i % 20) as f32 - 10.0, -8.0 - (i / 20) as f32 * 1.5);
+        level.scene.spawn(EntityRow {
+            name: Some(Name(format!("Box {i}"))),
+            transform: Some(Transform {
+                translation: Vec3::new(x * 1.2, 0.25, z),
+                ..Transform::default()
+            }),
+            geometry: Some(Geometry::Box {
+                size: Vec3::splat(0.5),
+            }),
+            ..EntityRow::default()
+        });
+    }
+    Ok(level)
+}
+
+/// Asserts that `session` (settled) shows what a session made afresh on `level` shows,
+/// byte for byte, and names the same entity at every pixel; that picking the pixel
+/// showing `row` names it; returns the settled picture.
+fn assert_fresh_draws_and_picks(
+    ctx: &GpuContext,
+    session: &mut Session,
+    level: &LoadedLevel,
+    row: usize,
+) -> anyhow::Result<Vec<u8>> {
+    let (after, _) = frames(ctx, session, 20)?;
+    assert_full_rebuild_draws(ctx, level, &after)?;
+    let ids = session.renderer().read_frame_ids(ctx)?;
+    let mut fresh = Session::headless(ctx, level, SIZE, camera().fov_y)?;
+    frames(ctx, &mut fresh, 30)?;
+    let fresh_ids = fresh.renderer().read_frame_ids(ctx)?;
+    assert!(ids.entity == fresh_ids.entity, "the entity at every pixel");
+    let id = texel_runtime::frame_plan::entity_id(row);
+    let at = (ids.entity.iter().position(|&e| e == id)).context("the row shows")?;
+    let pixel = UVec2::new(at as u32 % SIZE.x, at as u32 / SIZE.x);
+    let picked = session.renderer().pick(ctx, pixel)?;
+    let picked = picked.and_then(texel_runtime::frame_plan::entity_index);
+    assert_eq!(picked, Some(row), "picking the pixel {pixel}");
+    Ok(after)
+}
+
+/// An entity added in the middle of a level of 207 (a box before the camera), another
+/// given geometry (the lamp made a lamp post) and a second lamp added: taken in by
+/// extracting them alone (the scene uploaded again, every other object where it was, only
+/// the faces that may see them captured again), the frames are a fresh session's.
+#[test]
+fn an_entity_added_draws_as_a_fresh_session() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard_and_boxes(199)?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (before, _) = frames(&ctx, &mut session, 10)?;
+    let added = EntityRow {
+        name: Some(Name("Added".into())),
+        transform: Some(Transform {
+            translation: Vec3::new(-0.8, 0.4, 1.6),
+            ..Transform::default()
+        }),
+        geometry: Some(Geometry::Box {
+            size: Vec3::new(0.6, 0.8, 0.6),
+        }),
+        ..EntityRow::default()
+    };
+    level.scene.spawn_at(PILLAR, added);
+    let update = session.edit_rows(&ctx, &level, &[RowEdit::Insert(PILLAR)])?;
+    assert!(
+        matches!(update, EditUpdate::Uploaded { faces_marked } if faces_marked > 0),
+        "{update:?}"
+    );
+    let after = assert_fresh_draws_and_picks(&ctx, &mut session, &level, PILLAR)?;
+    assert!(after != before, "the box shows");
+    // The lamp (one row later now) gains a post; a second lamp is added at the end.
+    let lamp = LAMP + 1;
+    edit(&mut level, lamp, |r| {
+        r.geometry = Some(Geometry::Box {
+            size: Vec3::new(0.3, 1.5, 0.3),
+        })
+    });
+    let mut second = level
+        .scene
+        .row(level.scene.entities().nth(lamp).context("lamp")?);
+    if let Some(r) = second.as_mut() {
+        r.transform.as_mut().expect("transform").translation.x += 1.5;
+        r.geometry = None;
+    }
+    let end = level.scene.len();
+    level.scene.spawn_at(end, second.context("lamp row")?);
+    let edits = [RowEdit::Set(lamp), RowEdit::Insert(end)];
+    let update = session.edit_rows(&ctx, &level, &edits)?;
+    assert!(matches!(update, EditUpdate::Uploaded { .. }), "{update:?}");
+    assert_fresh_draws_and_picks(&ctx, &mut session, &level, lamp)?;
+    Ok(())
+}
+
+/// The crate deleted from the middle of a level of 207 (every later entity renumbered), its
+/// removal taken in alone and in place (its objects blanked, the later records' ids
+/// rewritten): the frames are a fresh session's on the edited level, and a pick names the
+/// right row; the delete undone (the row inserted again, taking its blank again in place)
+/// likewise; the lamp deleted (a point light removed: uploaded again) likewise.
+#[test]
+fn an_entity_deleted_and_restored_draws_as_a_fresh_session() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard_and_boxes(199)?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (before, _) = frames(&ctx, &mut session, 10)?;
+    let e = level.scene.entities().nth(CRATE).context("crate")?;
+    let row = level.scene.despawn(e).context("crate row")?;
+    let update = session.edit_rows(&ctx, &level, &[RowEdit::Remove(CRATE)])?;
+    assert!(
+        matches!(update, EditUpdate::InPlace { faces_marked } if faces_marked > 0),
+        "blanked in place: {update:?}"
+    );
+    // The crate's twin, drawn from the vertices the crate held, one row earlier now.
+    let deleted = assert_fresh_draws_and_picks(&ctx, &mut session, &level, TWIN - 1)?;
+    assert!(deleted != before, "the crate is gone");
+    level.scene.spawn_at(CRATE, row);
+    let update = session.edit_rows(&ctx, &level, &[RowEdit::Insert(CRATE)])?;
+    assert!(
+        matches!(update, EditUpdate::InPlace { .. }),
+        "the crate takes its blank again: {update:?}"
+    );
+    assert_fresh_draws_and_picks(&ctx, &mut session, &level, CRATE)?;
+    let e = level.scene.entities().nth(LAMP).context("lamp")?;
+    level.scene.despawn(e).context("lamp row")?;
+    let update = session.edit_rows(&ctx, &level, &[RowEdit::Remove(LAMP)])?;
+    assert!(matches!(update, EditUpdate::Uploaded { .. }), "{update:?}");
+    assert_fresh_draws_and_picks(&ctx, &mut session, &level, PILLAR)?;
     Ok(())
 }

@@ -17,7 +17,7 @@ use texel_render::input::{Camera, ProbeView, Schedule};
 use texel_render::passes::lines::LineVertex;
 use texel_render::readback::FrameIds;
 use texel_render::stats::FrameStats;
-use texel_runtime::frame_plan::level_palettes;
+use texel_runtime::frame_plan::{RowEdit, level_palettes};
 use texel_runtime::load::LoadedLevel;
 use texel_runtime::session::{DrawnFrame, EditUpdate, FrameRequest, Session, SessionError};
 
@@ -50,7 +50,7 @@ pub struct RenderReport {
     /// Palette changes taken in by mapping colours again (no upload, nothing shaded again)
     /// since the renderer started.
     pub palette_updates: u64,
-    /// How the last edit of entities was taken in ([`Session::update_entities`]; `None`
+    /// How the last edit of entities was taken in ([`Session::edit_rows`]; `None`
     /// before one, and after a rebuild or a terrain stroke's region update).
     pub last_edit: Option<EditUpdate>,
 }
@@ -83,7 +83,7 @@ pub struct GpuView {
     region: Option<(glam::Vec3, glam::Vec3)>,
     /// The entities every change since the session's revision was confined to (a gizmo
     /// drag, an inspector change): the next render takes in those alone.
-    entities: Option<Vec<usize>>,
+    entities: Option<Vec<RowEdit>>,
     /// Whether every change since the session's revision was the palette's alone.
     palette: bool,
     /// Whether frames map to the level's alternate palette (kept for a session made later).
@@ -198,7 +198,14 @@ impl GpuView {
     /// only the entities at these positions (or not: `None`), so it can take in those alone
     /// ([`Session::update_entities`]) instead of rebuilding the session.
     pub fn use_entities(&mut self, entities: Option<Vec<usize>>) {
-        self.entities = entities;
+        self.entities = entities.map(|e| e.into_iter().map(RowEdit::Set).collect());
+    }
+
+    /// Tells the next render that every change since [`GpuView::session_revision`] was
+    /// these changes of entities, in order (set, added, removed; or not: `None`), so it can
+    /// take in those alone ([`Session::edit_rows`]) instead of rebuilding the session.
+    pub fn use_rows(&mut self, edits: Option<Vec<RowEdit>>) {
+        self.entities = edits;
     }
 
     /// Tells the next render whether every change since [`GpuView::session_revision`] was
@@ -291,7 +298,7 @@ impl GpuView {
             }
             Some((session, r)) => {
                 let edit = match (self.entities.take(), self.region.take()) {
-                    (Some(entities), _) => (session.update_entities(&self.ctx, level, &entities))
+                    (Some(edits), _) => (session.edit_rows(&self.ctx, level, &edits))
                         .map(Some)
                         .map_err(err)?,
                     (None, Some((min, max))) => {

@@ -28,6 +28,7 @@ use egui::ColorImage;
 use glam::{UVec2, Vec2, Vec3};
 use texel_render::input::{Camera, ProbeView, Schedule};
 use texel_render::readback::FrameIds;
+use texel_runtime::frame_plan::RowEdit;
 use texel_runtime::load::LoadedLevel;
 use texel_scene::assets::AssetLibrary;
 use texel_scene::{Level, Scene};
@@ -51,10 +52,10 @@ pub struct LevelSnapshot {
     /// The number of the snapshot before it and a box every change since then fell in (a
     /// terrain stroke), so only the probe faces that see it are updated.
     pub since: Option<(u64, (Vec3, Vec3))>,
-    /// The number of the snapshot before it and the entities (by position) every change
-    /// since then touched alone (gizmo drags, inspector changes), so only they are taken in
-    /// ([`GpuView::use_entities`]).
-    pub entities: Option<(u64, Vec<usize>)>,
+    /// The number of the snapshot before it and the changes of entities (by position) every
+    /// change since then was (gizmo drags, inspector changes, entities added or deleted), so
+    /// only they are taken in ([`GpuView::use_rows`]).
+    pub entities: Option<(u64, Vec<RowEdit>)>,
     /// The number of the snapshot before it, when every change since then was the palette's
     /// alone: the session then maps colours again ([`GpuView::use_palette`]) and nothing
     /// is uploaded or shaded again.
@@ -583,7 +584,7 @@ impl Worker {
             let region = (since.filter(|(base, _)| shown == Some(*base))).map(|(_, r)| r);
             self.gpu.use_region(region);
             let entities = (entities.filter(|(base, _)| shown == Some(*base))).map(|(_, e)| e);
-            self.gpu.use_entities(entities);
+            self.gpu.use_rows(entities);
             self.gpu.use_palette(palette.is_some() && palette == shown);
             self.level = Some((level, number, document));
         }

@@ -60,8 +60,10 @@ impl PreparedLevel {
         add_entity(level, index, e, &mut one);
         let id = entity_id(index);
         let scene = self.scene();
-        let at = scene.objects.partition_point(|o| o.id < id);
-        let end = at + scene.objects[at..].partition_point(|o| o.id == id);
+        // Where its objects lie (`PreparedLevel::rows`: level order until a row is added).
+        let Some(std::ops::Range { start: at, end }) = self.rows.get(index).cloned() else {
+            return not("it is not in the level");
+        };
         if one.objects.len() != end - at {
             return not("it gained or lost geometry");
         }
@@ -139,7 +141,7 @@ impl PreparedLevel {
 }
 
 /// The level's suns and point lights, in its order (as [`super::scene_input`] reads them).
-fn lights(level: &LoadedLevel) -> (Vec<SunInput>, Vec<PointLightInput>) {
+pub(super) fn lights(level: &LoadedLevel) -> (Vec<SunInput>, Vec<PointLightInput>) {
     let w = level.scene.world();
     let (mut suns, mut points) = (Vec::new(), Vec::new());
     for e in level.scene.entities() {
@@ -179,7 +181,7 @@ fn changed_objects(old: &[ObjectInput], new: &[ObjectInput]) -> Option<(Vec3, Ve
 }
 
 /// World bounds of `objects` (`None` for no vertices).
-fn bounds(objects: &[ObjectInput]) -> Option<(Vec3, Vec3)> {
+pub(super) fn bounds(objects: &[ObjectInput]) -> Option<(Vec3, Vec3)> {
     (objects.iter())
         .filter_map(|o| {
             o.mesh
@@ -191,7 +193,7 @@ fn bounds(objects: &[ObjectInput]) -> Option<(Vec3, Vec3)> {
 
 /// The box `lo..hi` grown by where its contents may cast shadows: along every sun down to
 /// `floor`, and away from every point light that reaches it out to that light's reach.
-fn shadow_region(
+pub(super) fn shadow_region(
     suns: &[SunInput],
     points: &[PointLightInput],
     floor: f32,
@@ -208,7 +210,7 @@ fn shadow_region(
 }
 
 /// What a point light can light.
-fn light_reach(p: &PointLightInput) -> (Vec3, Vec3) {
+pub(super) fn light_reach(p: &PointLightInput) -> (Vec3, Vec3) {
     (
         p.position - Vec3::splat(p.radius),
         p.position + Vec3::splat(p.radius),
@@ -216,7 +218,7 @@ fn light_reach(p: &PointLightInput) -> (Vec3, Vec3) {
 }
 
 /// `a` and `b` in one box.
-fn union(a: Option<(Vec3, Vec3)>, b: (Vec3, Vec3)) -> Option<(Vec3, Vec3)> {
+pub(super) fn union(a: Option<(Vec3, Vec3)>, b: (Vec3, Vec3)) -> Option<(Vec3, Vec3)> {
     Some(a.map_or(b, |a| (a.0.min(b.0), a.1.max(b.1))))
 }
 

@@ -44,6 +44,14 @@ pub struct PreparedLevel {
     pub palettes: Vec<PaletteInput>,
     /// The level's bloom, as the renderer takes it.
     pub bloom: Option<BloomInput>,
+    /// Where each entity's objects lie in the scene, by the entity's position in the level
+    /// (empty for one without geometry). In level order as extracted; an entity added or
+    /// given other geometry since has its objects at the end, one removed leaves blanks
+    /// (`splice`).
+    pub(super) rows: Vec<std::ops::Range<usize>>,
+    /// The blanks left by deleted entities (in the order deleted) and the objects they
+    /// held, which an entity added with the same objects takes again (`splice`).
+    pub(super) graves: Vec<(std::ops::Range<usize>, Vec<ObjectInput>)>,
 }
 
 impl PreparedLevel {
@@ -52,7 +60,10 @@ impl PreparedLevel {
         let s = &level.scene.settings;
         let scene = scene_input(level);
         let animation = Animation::new(level, &scene);
+        let rows = object_rows(&scene, level.scene.len());
         PreparedLevel {
+            rows,
+            graves: Vec::new(),
             animation,
             floor: scene_floor(&scene),
             rays: SceneRays::new(scene),
@@ -91,6 +102,19 @@ impl PreparedLevel {
             face_resolution: face_resolution(self.pixel_scale, viewport),
         }
     }
+}
+
+/// Where each of `count` entities' objects lie in `scene` (extracted in level order).
+fn object_rows(scene: &SceneInput, count: usize) -> Vec<std::ops::Range<usize>> {
+    let mut rows = vec![0..0; count];
+    let mut at = 0;
+    for (row, range) in rows.iter_mut().enumerate() {
+        let id = entity_id(row);
+        let end = at + scene.objects[at..].partition_point(|o| o.id == id);
+        *range = at..end;
+        at = end;
+    }
+    rows
 }
 
 /// The level's look: sky, ambient light, bands and haze (what every method draws with).

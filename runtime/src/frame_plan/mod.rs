@@ -16,6 +16,10 @@
 //! within 103° (98° for the eye) of the view direction ([`reference_faces`](texel_probes::visibility::reference_faces)), plus any our
 //! frustum test keeps, so it never draws less than ours.
 //!
+//! An edit of entities is taken in without extracting the level again: an entity edited
+//! alone (`edit`), added or removed (`splice`: renderer objects keep their index, a removed
+//! entity's become blanks, ids follow the rows).
+//!
 //! Moving objects and sprites keep one clock (`animation`): a pose is a function of the
 //! frame's time, and a moved object's shadow marks the stable faces it may have changed.
 //! An orthographic camera's probes are planes of texels, not points (`ortho`); a crossing's
@@ -28,6 +32,7 @@ mod fade;
 mod ortho;
 mod partial;
 mod planning;
+mod splice;
 #[cfg(test)]
 mod tests;
 
@@ -44,3 +49,4 @@ pub use planning::{
     CAPTURE_FAR, CROSSING_STABLE_FACES, DriverError, FACE_BUDGET, FrameDriver,
     PREFETCH_FACES_PER_FRAME, PREFETCH_LOOKAHEAD_S, STABLE_FACES_PER_FRAME,
 };
+pub use splice::{RowEdit, RowsEdit};

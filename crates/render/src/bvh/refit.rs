@@ -71,6 +71,11 @@ impl RefitIndex {
         index
     }
 
+    /// Where input triangle `id` lies in `GpuBvh::triangles` (`None`: not in the tree).
+    pub fn position(&self, id: u32) -> Option<u32> {
+        (self.position.get(id as usize).copied()).filter(|&p| p != u32::MAX)
+    }
+
     /// Rewrites the input triangles `moved` (`(input index, world vertices)`) in `bvh` and
     /// refits the boxes above them. `None`, with `bvh` untouched, when a triangle is not in
     /// the tree (it was left out, or the index is past the input) or a new one is not

@@ -3,9 +3,14 @@
 //! object's vertices are made again (as the upload makes them) and written over its old
 //! ones, its record and draw ranges replaced, its shadow-casting triangles rewritten in the
 //! shadow tree and the boxes above them refit ([`crate::bvh::refit`]), the point lights
-//! rewritten. What changes the size or the layout of a buffer (another mesh, other
-//! textures, shadows turned on or off, an animated object, a terrain, sprites, a light more
-//! or less) is [`NotInPlace`]: the caller uploads the scene again.
+//! rewritten. An object blanked (a deleted entity's: its mesh now empty) keeps its slot:
+//! its draw ranges are emptied, its shadow triangles shrink to points (no ray hits them) and
+//! its shadow instance casts nothing; an object of the same mesh, maps and shadow casting
+//! may take the slot again (a delete undone), made as any edited object is; objects whose
+//! entity id changed (the rows after a deleted one) have the id rewritten in their records. What changes the size or the layout
+//! of a buffer (an object more, another mesh, other textures, shadows turned on or off, an
+//! animated object, a terrain, sprites, a light more or less) is [`NotInPlace`]: the caller
+//! uploads the scene again.
 
 use std::ops::Range;
 use std::sync::Arc;
@@ -43,6 +48,10 @@ pub struct InPlaceEdit {
     pub nodes: usize,
     /// Top-level nodes refit (still instances moved: their meshes' trees stay).
     pub top_nodes: usize,
+    /// Objects blanked (their entity deleted).
+    pub blanked: usize,
+    /// Object records whose entity id was rewritten.
+    pub renumbered: usize,
 }
 
 /// One object as uploaded: where its data lies and what it was made from.
@@ -63,6 +72,9 @@ pub(super) struct ObjectSlot {
     casts: bool,
     /// An animated object or a terrain: never edited in place.
     fixed: bool,
+    /// Blanked (its entity deleted): drawn and cast by nothing until an object of the same
+    /// mesh, maps and shadow casting takes the slot again (a delete undone).
+    blank: bool,
     /// Its instance record, when it draws a shared mesh (its vertices are the mesh's).
     instance: Option<u32>,
 }
@@ -92,6 +104,7 @@ impl ObjectSlot {
             maps: o.material.maps.clone(),
             casts: o.material.casts_shadows,
             fixed,
+            blank: false,
             instance,
         }
     }
@@ -114,6 +127,8 @@ pub(super) struct InPlace {
     /// ([`GpuScene::range_index`]), refit by an edit.
     range_index: std::sync::OnceLock<super::RangeIndex>,
     shapes: ShadowShapes,
+    /// Every object's record as uploaded (their ids are rewritten when rows renumber).
+    records_cpu: Vec<GpuObject>,
 }
 
 impl InPlace {
@@ -129,6 +144,15 @@ impl InPlace {
             record_of: Vec::new(),
             range_index: std::sync::OnceLock::new(),
             shapes: ShadowShapes::default(),
+            records_cpu: Vec::new(),
+        }
+    }
+
+    /// With every object's record as uploaded.
+    pub(super) fn with_records(self, records_cpu: Vec<GpuObject>) -> Self {
+        InPlace {
+            records_cpu,
+            ..self
         }
     }
 
@@ -192,21 +216,35 @@ impl GpuScene {
         if std::mem::size_of_val(light_words.as_slice()) as u64 > self.points.size() {
             return not("the point lights' grid grew");
         }
+        let (blanks, changed): (Vec<usize>, Vec<usize>) =
+            changed.iter().partition(|&&i| self.is_blanking(scene, i));
+        if let Some(&i) = blanks.iter().find(|&&i| self.edits.objects[i].fixed) {
+            return not(&format!("object {i} is animated or a terrain"));
+        }
         let remade = (changed.iter())
             .map(|&i| self.remake(scene, i))
             .collect::<Result<Vec<Remade>, NotInPlace>>()?;
-        let moved: Vec<(u32, [Vec3; 3])> = (remade.iter())
+        let mut moved: Vec<(u32, [Vec3; 3])> = (remade.iter())
             .flat_map(|r| {
                 let first = self.edits.objects[r.index].casters.start;
                 (r.meshes.casters.iter().enumerate()).map(move |(k, t)| (first + k as u32, *t))
             })
             .collect();
         let edits = &mut self.edits;
-        let refit = match moved.is_empty() {
+        let blank_casters = (blanks.iter()).flat_map(|&i| edits.objects[i].casters.clone());
+        let blank_casters: Vec<u32> = blank_casters.collect();
+        let refit = match moved.is_empty() && blank_casters.is_empty() {
             true => None,
             false => {
                 let index = (edits.refit)
                     .get_or_insert_with(|| RefitIndex::new(&edits.bvh, edits.static_casters));
+                // A blanked object's triangles shrink to a point of their own: no ray hits
+                // them, and the boxes above stay where they were.
+                for id in blank_casters {
+                    let p = (index.position(id))
+                        .ok_or_else(|| NotInPlace("a shadow triangle is not in the tree".into()))?;
+                    moved.push((id, [Vec3::from(edits.bvh.triangles[p as usize].v0); 3]));
+                }
                 let refitted = (index.refit(&mut edits.bvh, &moved))
                     .ok_or_else(|| NotInPlace("a shadow triangle is not in the tree".into()))?;
                 let (nodes, triangles) = (&self.bvh_nodes, &self.bvh_triangles);
@@ -221,7 +259,16 @@ impl GpuScene {
             ..InPlaceEdit::default()
         };
         for r in &remade {
-            cost.top_nodes += self.move_shadow_instance(queue, r.index, scene);
+            cost.top_nodes += self.move_shadow_instance(queue, r.index, Some(scene));
+        }
+        for &i in &blanks {
+            cost.top_nodes += self.move_shadow_instance(queue, i, None);
+            let slot = &mut self.edits.objects[i];
+            for r in &mut self.ranges[slot.ranges.start as usize..slot.ranges.end as usize] {
+                r.count = 0;
+            }
+            slot.blank = true;
+            cost.blanked += 1;
         }
         for r in remade {
             let slot = &self.edits.objects[r.index];
@@ -239,8 +286,14 @@ impl GpuScene {
             self.ranges[at].copy_from_slice(&r.meshes.ranges);
             let offset = (r.index * size_of::<GpuObject>()) as u64;
             queue.write_buffer(&self.objects, offset, bytemuck::bytes_of(&r.record));
+            if let Some(record) = self.edits.records_cpu.get_mut(r.index) {
+                *record = r.record;
+            }
+            // A blank taken again: drawn and cast as the object it now is.
+            self.edits.objects[r.index].blank = false;
             cost.vertices += r.meshes.vertices.len();
         }
+        cost.renumbered = self.renumber(queue, scene);
         if let Some(index) = self.edits.range_index.get_mut() {
             index.refit(&self.ranges);
         }
@@ -253,25 +306,73 @@ impl GpuScene {
         Ok(cost)
     }
 
-    /// Moves object `index`'s shadow instance, if it is one, to where `scene` places it: its
-    /// record rewritten, the top-level boxes above it refit. Returns the nodes refit.
+    /// Whether object `index` of `scene` blanks an object that was drawn (its entity was
+    /// deleted: its mesh is now empty).
+    fn is_blanking(&self, scene: &SceneInput, index: usize) -> bool {
+        let (Some(o), Some(slot)) = (scene.objects.get(index), self.edits.objects.get(index))
+        else {
+            return false;
+        };
+        o.mesh.indices.is_empty() && !slot.mesh.indices.is_empty() && !slot.blank
+    }
+
+    /// Gives every object the entity id `scene` gives it: in [`GpuScene::object_ids`] and in
+    /// the records, written in one span. Returns the records rewritten.
+    fn renumber(&mut self, queue: &wgpu::Queue, scene: &SceneInput) -> usize {
+        let records = &mut self.edits.records_cpu;
+        let mut span: Option<(usize, usize)> = None;
+        let mut count = 0;
+        for (i, o) in scene.objects.iter().enumerate() {
+            let (Some(id), Some(record)) = (self.object_ids.get_mut(i), records.get_mut(i)) else {
+                break;
+            };
+            if *id != o.id || record.id != o.id {
+                *id = o.id;
+                record.id = o.id;
+                span = Some(span.map_or((i, i + 1), |(a, _)| (a, i + 1)));
+                count += 1;
+            }
+        }
+        if let Some((a, b)) = span {
+            let offset = (a * size_of::<GpuObject>()) as u64;
+            queue.write_buffer(&self.objects, offset, bytemuck::cast_slice(&records[a..b]));
+        }
+        count
+    }
+
+    /// Moves object `index`'s shadow instance, if it is one, to where `scene` places it (or,
+    /// for `None`, makes it cast nothing): its record rewritten, the top-level boxes above
+    /// it refit. Returns the nodes refit.
     fn move_shadow_instance(
         &mut self,
         queue: &wgpu::Queue,
         index: usize,
-        scene: &SceneInput,
+        scene: Option<&SceneInput>,
     ) -> usize {
         let e = &mut self.edits;
         let (Some(Some(k)), Some(top)) = (e.record_of.get(index).copied(), e.top.as_mut()) else {
+            return 0;
+        };
+        let old = e.records[k as usize];
+        let record_size = size_of::<GpuBvhInstance>() as u64;
+        let Some(scene) = scene else {
+            // Blanked: the GPU's record names no tree (the CPU's keeps its tree and box, for
+            // an object that takes the slot again; the top level's boxes stay).
+            let none = GpuBvhInstance {
+                min: old.min,
+                max: old.max,
+                ..GpuBvhInstance::NONE
+            };
+            let at = u64::from(k) * record_size;
+            queue.write_buffer(&self.bvh_instances, at, bytemuck::bytes_of(&none));
             return 0;
         };
         let transform = scene.objects[index].transform;
         let Some((_, model)) = e.shapes.placement(index, transform) else {
             return 0;
         };
-        let record = instance_record(&e.bvh, e.records[k as usize].root, model);
+        let record = instance_record(&e.bvh, old.root, model);
         e.records[k as usize] = record;
-        let record_size = size_of::<GpuBvhInstance>() as u64;
         queue.write_buffer(
             &self.bvh_instances,
             u64::from(k) * record_size,

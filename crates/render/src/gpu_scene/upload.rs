@@ -176,11 +176,9 @@ impl GpuScene {
             bvh_fields,
             field_data,
             shadow_fields: meshes.cast_fields.len(),
-            edits: InPlace::new(slots, trees.bvh, static_casters).with_instances(
-                trees.top,
-                trees.instances.clone(),
-                (bvh_records, shapes),
-            ),
+            edits: InPlace::new(slots, trees.bvh, static_casters)
+                .with_instances(trees.top, trees.instances.clone(), (bvh_records, shapes))
+                .with_records(meshes.objects.clone()),
         };
         // The casters at their base poses until a frame says otherwise.
         gpu.set_poses(&ctx.queue, &[]);
