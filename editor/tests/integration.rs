@@ -24,5 +24,6 @@ mod sprite;
 mod sprite_gpu;
 mod terrain;
 mod textures;
+mod town_edits;
 mod viewport_gpu;
 mod views_and_handles;
