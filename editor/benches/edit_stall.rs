@@ -1,7 +1,8 @@
 //! The editor's edit stall: the first render after an edit (a stone moved, taken in alone as
 //! a gizmo step is: `Session::update_entities`, the faces that may see it captured again,
 //! then the frame) at the viewport's still and moving resolutions for a 1280×800 window,
-//! then the frame that refines it at the still resolution. The same on a generated town
+//! then the frame that refines it at the still resolution, and the first frame after its
+//! colour changed (the inspector). The same on a generated town
 //! (`texel-run gen`'s generator) of 10,000 entities, a box beside its street moved (issue 58's
 //! target: a drag step to the next finished frame within 100 ms at the moving resolution).
 //! On both, the first frame after that entity is deleted or the delete undone, in turn
@@ -59,6 +60,26 @@ impl Bench {
             -0.1
         };
         row.transform = Some(t);
+        scene.set_row(e, row).expect("set row");
+    }
+
+    /// Changes the stone's colour (as the inspector does): its material alone.
+    fn recolour(&mut self) {
+        self.revision += 1;
+        self.gpu.use_entities(Some(vec![self.row]));
+        let scene = &mut self.level.scene;
+        let e = scene
+            .entities()
+            .nth(self.row)
+            .expect("the recoloured entity");
+        let mut row = scene.row(e).expect("row");
+        let mut m = row.material.unwrap_or_default();
+        m.albedo.x = if self.revision.is_multiple_of(2) {
+            0.8
+        } else {
+            0.3
+        };
+        row.material = Some(m);
         scene.set_row(e, row).expect("set row");
     }
 
@@ -185,6 +206,12 @@ fn stall_cases(c: &mut Criterion, group: &str, b: &mut Bench) {
     group.bench_function("first frame after an edit, moving", |bench| {
         bench.iter(|| {
             b.edit();
+            b.render(moving);
+        })
+    });
+    group.bench_function("first frame after a colour change, moving", |bench| {
+        bench.iter(|| {
+            b.recolour();
             b.render(moving);
         })
     });

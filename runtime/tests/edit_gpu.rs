@@ -257,6 +257,43 @@ fn moving_one_object_relights_only_where_it_and_its_shadows_fall() -> anyhow::Re
     assert_full_rebuild_draws(&ctx, &level, &after)
 }
 
+/// The ball recoloured alone: its shadows and silhouettes stay, so the stable faces are
+/// captured and lit again only where it shows, no more, and the picture is a full
+/// rebuild's, byte for byte.
+#[test]
+fn a_colour_changed_alone_is_lit_again_only_where_it_shows() -> anyhow::Result<()> {
+    let Some(ctx) = test_context() else {
+        return Ok(());
+    };
+    let mut level = yard()?;
+    let mut session = Session::headless(&ctx, &level, SIZE, camera().fov_y)?;
+    let (before, _) = frames(&ctx, &mut session, 10)?;
+    edit(&mut level, BALL, |r| {
+        r.material.as_mut().expect("material").albedo = Vec3::new(0.2, 0.3, 0.9);
+    });
+    let update = session.update_entities(&ctx, &level, &[BALL])?;
+    assert!(matches!(update, EditUpdate::InPlace { .. }), "{update:?}");
+    let request = FrameRequest {
+        camera: camera(),
+        dt: 1.0 / 30.0,
+        schedule: Schedule::Ours,
+        size: SIZE,
+    };
+    let (drawn, _) = session.draw_offscreen(&ctx, &request)?;
+    let part = &drawn.input.partial;
+    assert!(!part.is_empty(), "stable faces captured in part");
+    for p in part {
+        assert_eq!(p.light, p.rect, "lit only where the ball may show");
+        assert!(p.filter.casters.is_empty() && p.filter.lit.is_empty());
+    }
+    let c = &drawn.stats.counters;
+    let shown: u64 = part.iter().map(|p| p.rect.area()).sum();
+    assert!(c.texels_shaded - c.eye_texels_shaded <= shown);
+    let (after, _) = frames(&ctx, &mut session, 9)?;
+    assert!(after != before, "the ball's colour shows");
+    assert_full_rebuild_draws(&ctx, &level, &after)
+}
+
 /// Asserts that a session made afresh on `level` draws `after` (an edited session's frame),
 /// byte for byte, once settled.
 fn assert_full_rebuild_draws(

@@ -94,12 +94,19 @@ impl PreparedLevel {
             }
         }
         let changed = changed_objects(old, &objects);
-        let mut region = changed.map(|(lo, hi)| {
-            let floor = self.floor.min(lo.y);
-            shadow_region(&suns, &points, floor, lo, hi)
+        // A material changed alone (colours, maps, outlines: not whether it casts shadows)
+        // changes only where the objects show: their shadows and silhouette rays stay.
+        let casts_alike = old.iter().zip(&objects).all(|(a, b)| {
+            Arc::ptr_eq(&a.mesh, &b.mesh)
+                && a.transform == b.transform
+                && a.material.casts_shadows == b.material.casts_shadows
+        });
+        let mut region = changed.map(|(lo, hi)| match casts_alike {
+            true => (lo, hi),
+            false => shadow_region(&suns, &points, self.floor.min(lo.y), lo, hi),
         });
         let mut filter = LightFilter::default();
-        if changed.is_some() {
+        if changed.is_some() && !casts_alike {
             filter.casters.extend(bounds(old));
             filter.casters.extend(bounds(&objects));
         }
