@@ -352,10 +352,13 @@ fn print_passes(stats: &texel_render::stats::FrameStats) {
         .map(|p| format!("{} {:.0}", p.pass, p.ms))
         .collect();
     println!(
-        "  passes: {} (renderer {:.0} ms, texels shaded {})",
+        "  passes: {} (renderer {:.0} ms, texels shaded {}, of them the eye's {}; objects drawn {}, of them the eye's {})",
         passes.join(", "),
         stats.frame_ms,
-        stats.counters.texels_shaded
+        stats.counters.texels_shaded,
+        stats.counters.eye_texels_shaded,
+        stats.counters.objects_captured,
+        stats.counters.eye_objects_captured
     );
 }
 
