@@ -89,6 +89,19 @@ fn near_points(p: vec3<f32>) -> vec2<u32> {
     return vec2(light_words[at], light_words[at + 1u]);
 }
 
+// Where a shadow ray from `offset` off its surface toward light `light` (an index among all
+// lights) walks the still instances' top level: a point light's caster root
+// (`gpu_scene/light_grid.rs`, after the grid's lists), if the grid has them and the ray
+// starts within their ball; else the whole top level.
+fn light_casters(light: u32, offset: f32) -> u32 {
+    let h = 8u * max(globals.point_count, 1u);
+    let roots = light_words[h + 5u];
+    if light < globals.sun_count || roots == 0u || offset > LIGHT_CASTERS_PAD {
+        return BVH_STATICS_ALL;
+    }
+    return light_words[roots + light - globals.sun_count];
+}
+
 // Light `k` of the suns and then the point lights `near` lists: its index among all lights.
 fn near_light(near: vec2<u32>, k: u32) -> u32 {
     if k < globals.sun_count {
@@ -692,6 +705,7 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
         // The edge search's step on its side (from `lights` on).
         let step = select(0u, i - lights, i >= lights) % EDGE_STEPS;
         var light = 0u;
+        var statics = BVH_STATICS_ALL;
         if i < lights {
             light = near_light(near, i);
             r = light_ray(light, x.p);
@@ -699,13 +713,14 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
                 continue;
             }
             shot = CastRay(start, r.dir, light_reach(r, offset));
+            statics = light_casters(light, offset);
         } else if i >= lights + side_rays {
             shot = corner_ray(&e, x, out.similar, ky, skip);
         } else {
             shot = side_ray(&e, x, out.similar, hidden, step, skip, offset);
         }
         // An edge ray's hit, if any, lies near the silhouette, at its far end.
-        let hit = bvh_any_hit_from(shot.origin, shot.dir, shot.t_max, i >= lights);
+        let hit = bvh_any_hit_from(shot.origin, shot.dir, shot.t_max, i >= lights, statics);
         if i < lights {
             if !hit {
                 out.light += r.colour * dot(lit_normal, r.dir) * r.fall * r.fall;

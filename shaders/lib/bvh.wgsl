@@ -262,13 +262,15 @@ fn field_hit(f: BvhField, origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_fir
 // scene's, a terrain's, or an animated object's where it is now. `dir` need not be unit length (t is in
 // units of it); `t_max` must be finite (1e30 for "no limit").
 fn bvh_any_hit(origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
-    return bvh_any_hit_from(origin, dir, t_max, false);
+    return bvh_any_hit_from(origin, dir, t_max, false, BVH_STATICS_ALL);
 }
 
 // `bvh_any_hit`, the terrains walked from the ray's far end first when `far_first`: the
 // same answer, found sooner for a ray that expects its hit near `t_max` (an edge ray
-// toward a silhouette).
-fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool) -> bool {
+// toward a silhouette). The still instances are walked from node `statics` of their top
+// level, which must hold every one the ray may meet (a point light's caster root,
+// `gpu_scene/light_grid.rs`); BVH_STATICS_ALL: from its root; BVH_STATICS_NONE: not at all.
+fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool, statics: u32) -> bool {
     if bvh_tree_hit(0u, origin, dir, t_max) {
         return true;
     }
@@ -280,7 +282,8 @@ fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bo
     // Record 0 is the header: its `root` is the top-level tree over the animated casters'
     // bounds now, its `statics_root` the one over the still objects sharing meshes.
     let header = bvh_instances[0];
-    if header.statics != 0u && bvh_top_hit(header.statics_root, origin, dir, t_max) {
+    let statics_root = select(statics, header.statics_root, statics == BVH_STATICS_ALL);
+    if header.statics != 0u && statics != BVH_STATICS_NONE && bvh_top_hit(statics_root, origin, dir, t_max) {
         return true;
     }
     return header.root != 0xffffffffu && bvh_top_hit(header.root, origin, dir, t_max);

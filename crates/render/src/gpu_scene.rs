@@ -392,6 +392,9 @@ pub struct GpuScene {
     /// The still instances' top level, as the header carries it: `[records, root]`
     /// (`[0, 0]`: none; `bvh::instances`).
     pub static_top: [u32; 2],
+    /// Where the point lights' own caster trees start in `bvh_nodes`
+    /// (`light_grid::caster_nodes`).
+    pub caster_nodes_at: u32,
     /// Animated objects' motion records, one per [`GpuScene::animated`] (at least one).
     pub motions: wgpu::Buffer,
     /// The animated objects, in motion record order.

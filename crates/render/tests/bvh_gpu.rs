@@ -54,7 +54,7 @@ fn trace_far(@builtin(global_invocation_id) id: vec3<u32>) {
         return;
     }
     let r = rays[id.x];
-    out[id.x] = select(0u, 1u, bvh_any_hit_from(r.origin, r.dir, r.t_max, true));
+    out[id.x] = select(0u, 1u, bvh_any_hit_from(r.origin, r.dir, r.t_max, true, BVH_STATICS_ALL));
 }
 
 // Writes back every field of node i and triangle i (nodes first, 8 words each, then

@@ -173,7 +173,7 @@ fn moving_an_instance_rewrites_its_record_and_refits_the_top_level_only() {
 /// copies, drawn from one mesh; 40 balls of radii of their own, drawn from their own
 /// world-space vertices: each kind past `SHARED_TRIANGLES`), turned, a third of them tilted
 /// and scaled unevenly; every box and every ball casts through its kind's one shape.
-fn primitives_scene() -> SceneInput {
+pub(crate) fn primitives_scene() -> SceneInput {
     let mut scene = common::boxes_scene();
     for i in 0..400 {
         let k = i as f32;

@@ -1,7 +1,9 @@
 //! The point lights' grid (`gpu_scene::light_grid`) changes what the shade pass traces, not
 //! what it finds: a scene lit by 40 point lights of many sizes, some overlapping, some far
 //! away, draws the same frames, byte for byte, with the grid and with one cell listing every
-//! light (`Renderer::set_light_grid(false)`, as `TEXEL_NO_LIGHT_GRID` does).
+//! light (`Renderer::set_light_grid(false)`, as `TEXEL_NO_LIGHT_GRID` does). Among 400
+//! primitives casting through shared shapes the grid's lights walk only their caster roots
+//! of the still instances' top level (`light_grid::caster_nodes`), and find the same.
 
 use crate::common;
 
@@ -11,7 +13,10 @@ use texel_render::frame::Renderer;
 use texel_render::input::{Camera, PointLightInput, SceneInput, Schedule};
 
 fn lit_scene() -> SceneInput {
-    let mut scene = common::boxes_scene();
+    with_lights(common::boxes_scene())
+}
+
+fn with_lights(mut scene: SceneInput) -> SceneInput {
     let mut rng = fastrand::Rng::with_seed(11);
     for _ in 0..40 {
         scene.points.push(PointLightInput {
@@ -58,5 +63,19 @@ fn frames_with_the_light_grid_equal_frames_tracing_every_light() {
         assert_eq!(differ, 0, "view {k}: {differ} pixels differ");
         let lit = a.chunks(4).filter(|p| p[..3] != [0, 0, 0]).count();
         assert!(lit > a.len() / 8, "view {k} shows something: {lit} pixels");
+    }
+}
+
+#[test]
+fn shadows_through_the_lights_caster_roots_equal_those_through_the_whole_top_level() {
+    if test_context().is_none() {
+        return;
+    }
+    let scene = with_lights(crate::instancing::primitives_scene());
+    let grid = render(&scene, true);
+    let every = render(&scene, false);
+    for (k, (a, b)) in grid.iter().zip(&every).enumerate() {
+        let differ = common::differing_pixels(a, b);
+        assert_eq!(differ, 0, "view {k}: {differ} pixels differ");
     }
 }

@@ -83,6 +83,40 @@ impl TopLevel {
         })
     }
 
+    /// At most `most` nodes (absolute indices) whose subtrees together hold every record
+    /// whose box may meet the ball around `centre` of `radius` (a ray within the ball can
+    /// meet no other record's triangles): from the root, a node is replaced by the children
+    /// whose boxes meet the ball while that keeps to `most`; none where no box meets it.
+    pub fn ball_cut(&self, centre: Vec3, radius: f32, most: usize) -> Vec<u32> {
+        let meets = |i: usize| {
+            let n = &self.nodes[i];
+            let nearest = centre.max(Vec3::from(n.min)).min(Vec3::from(n.max));
+            let d = nearest.distance_squared(centre);
+            // NaN bounds or centre: met, so the answer stays the whole tree's.
+            d.is_nan() || d <= radius * radius
+        };
+        let mut cut: Vec<usize> = if meets(0) { vec![0] } else { Vec::new() };
+        let mut k = 0;
+        while k < cut.len() {
+            let n = self.nodes[cut[k]];
+            if n.count != INNER {
+                k += 1;
+                continue;
+            }
+            let c = (n.first - self.node_offset) as usize;
+            let children: Vec<usize> = [c, c + 1].into_iter().filter(|&i| meets(i)).collect();
+            if children.len() == 2 && cut.len() + 1 > most {
+                k += 1;
+                continue;
+            }
+            // Replaced by its children that meet the ball, which are looked at next.
+            cut.splice(k..=k, children);
+        }
+        cut.into_iter()
+            .map(|i| self.node_offset + i as u32)
+            .collect()
+    }
+
     /// Gives the record at `position` the bounds `min..max` and refits the boxes above it;
     /// returns the local indices of the nodes it changed (leaf first, root last).
     pub fn refit(&mut self, records: &[GpuBvhInstance], position: usize) -> Vec<u32> {

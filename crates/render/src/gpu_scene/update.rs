@@ -212,8 +212,18 @@ impl GpuScene {
         if point_count != self.point_count {
             return not("point lights were added or removed");
         }
-        let light_words = super::light_grid::light_words(&points, point_count, self.light_grid);
-        if std::mem::size_of_val(light_words.as_slice()) as u64 > self.points.size() {
+        let (grid, caster_at) = (self.light_grid, self.caster_nodes_at);
+        let words = |top: Option<&crate::bvh::instances::TopLevel>| {
+            let (roots, nodes) =
+                super::light_grid::caster_nodes(&points, point_count, top, caster_at);
+            (
+                super::light_grid::light_words(&points, point_count, grid, &roots),
+                nodes,
+            )
+        };
+        if std::mem::size_of_val(words(self.edits.top.as_ref()).0.as_slice()) as u64
+            > self.points.size()
+        {
             return not("the point lights' grid grew");
         }
         let (blanks, changed): (Vec<usize>, Vec<usize>) =
@@ -297,7 +307,13 @@ impl GpuScene {
         if let Some(index) = self.edits.range_index.get_mut() {
             index.refit(&self.ranges);
         }
+        // The lights' caster roots and trees from the top level as the moves left it.
+        let (light_words, caster_nodes) = words(self.edits.top.as_ref());
         queue.write_buffer(&self.points, 0, bytemuck::cast_slice(&light_words));
+        if !caster_nodes.is_empty() {
+            let at = u64::from(caster_at) * size_of::<crate::bvh::BvhNode>() as u64;
+            queue.write_buffer(&self.bvh_nodes, at, bytemuck::cast_slice(&caster_nodes));
+        }
         self.suns = suns(scene);
         // Only moving casters and terrain pixels ask where a shadow may fall.
         if !self.animated.is_empty() || self.terrain_count > 0 {

@@ -85,7 +85,6 @@ impl GpuScene {
         let vertex_count = meshes.vertices.len() as u32;
         meshes.pad();
         let (points, point_count) = point_lights(scene);
-        let lights = super::light_grid::light_words(&points, point_count, choices.light_grid);
         let suns = suns(scene);
         let (gpu_terrains, terrain_data) = terrain_records(scene, &mut textures);
         let textures = textures.upload(ctx)?;
@@ -95,13 +94,24 @@ impl GpuScene {
             (meshes.casters).extend(crate::gpu_sprites::shadow_triangles(sprite, toward_sun));
         }
         let sprites = crate::gpu_sprites::GpuSprites::upload(ctx, &scene.sprites)?;
-        let trees = ShadowTrees::build(
+        let mut trees = ShadowTrees::build(
             &meshes.casters,
             &meshes.animated_casters,
             shapes.triangles(),
             &meshes.casting_instances,
         );
         let static_top = trees.static_top();
+        // The lights' caster trees after the other trees (`light_grid::caster_nodes`).
+        let caster_nodes_at = trees.bvh.nodes.len() as u32;
+        let (roots, caster_nodes) = super::light_grid::caster_nodes(
+            &points,
+            point_count,
+            trees.top.as_ref(),
+            caster_nodes_at,
+        );
+        trees.bvh.nodes.extend(caster_nodes);
+        let lights =
+            super::light_grid::light_words(&points, point_count, choices.light_grid, &roots);
         let bvh_records = trees.record_of(&meshes.casting_objects, scene.objects.len());
         for (&(i, _), &root) in meshes.animated_casters.iter().zip(&trees.animated_roots) {
             meshes.animated[i].bvh_root = root;
@@ -160,6 +170,7 @@ impl GpuScene {
             animated: meshes.animated,
             tlas_root: trees.tlas_root,
             static_top,
+            caster_nodes_at,
             casters: std::sync::Mutex::new(Vec::new()),
             shadow_lights: crate::shadow_region::ShadowLights::new(scene),
             terrain_count: scene.terrains.len(),
