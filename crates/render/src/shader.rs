@@ -31,6 +31,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/shade_globals.wgsl"),
     ),
     (
+        "lib/light_words.wgsl",
+        include_str!("../../../shaders/lib/light_words.wgsl"),
+    ),
+    (
         "lib/edit_filter.wgsl",
         include_str!("../../../shaders/lib/edit_filter.wgsl"),
     ),

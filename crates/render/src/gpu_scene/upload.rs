@@ -101,17 +101,8 @@ impl GpuScene {
             &meshes.casting_instances,
         );
         let static_top = trees.static_top();
-        // The lights' caster trees after the other trees (`light_grid::caster_nodes`).
-        let caster_nodes_at = trees.bvh.nodes.len() as u32;
-        let (roots, caster_nodes) = super::light_grid::caster_nodes(
-            &points,
-            point_count,
-            trees.top.as_ref(),
-            caster_nodes_at,
-        );
-        trees.bvh.nodes.extend(caster_nodes);
-        let lights =
-            super::light_grid::light_words(&points, point_count, choices.light_grid, &roots);
+        let (lights, caster_nodes_at) =
+            light_words_with_casters(&mut trees, &points, point_count, choices.light_grid);
         let bvh_records = trees.record_of(&meshes.casting_objects, scene.objects.len());
         for (&(i, _), &root) in meshes.animated_casters.iter().zip(&trees.animated_roots) {
             meshes.animated[i].bvh_root = root;
@@ -195,6 +186,22 @@ impl GpuScene {
         gpu.set_poses(&ctx.queue, &[]);
         Ok(gpu)
     }
+}
+
+/// The lights' words (`light_grid::light_words`) with each point light's caster root, its
+/// trees appended after `trees`' nodes (`light_grid::caster_nodes`); and where they start.
+fn light_words_with_casters(
+    trees: &mut ShadowTrees,
+    points: &[GpuPointLight],
+    point_count: u32,
+    light_grid: bool,
+) -> (Vec<u32>, u32) {
+    let at = trees.bvh.nodes.len() as u32;
+    let (roots, nodes) =
+        super::light_grid::caster_nodes(points, point_count, trees.top.as_ref(), at);
+    trees.bvh.nodes.extend(nodes);
+    let words = super::light_grid::light_words(points, point_count, light_grid, &roots);
+    (words, at)
 }
 
 /// Every object's vertices, draw ranges, record and shadow casters, as the upload walks the
