@@ -184,11 +184,26 @@ pub fn any_hit_instances_cpu(
 }
 
 #[cfg(test)]
-mod tests {
+pub(crate) mod tests {
     use super::*;
     use crate::bvh::tests::Rng;
     use crate::bvh::{any_hit_cpu, build_bvh};
     use glam::Quat;
+
+    /// A top level over `records`' boxes, its nodes appended to `bvh`'s; and the records in
+    /// its order.
+    pub(crate) fn top_over(
+        bvh: &mut GpuBvh,
+        records: &[GpuBvhInstance],
+    ) -> (TopLevel, Vec<GpuBvhInstance>) {
+        let bounds: Vec<(Vec3, Vec3)> = (records.iter())
+            .map(|r| (Vec3::from_slice(&r.min[..3]), Vec3::from_slice(&r.max[..3])))
+            .collect();
+        let top = TopLevel::build(&bounds, bvh.nodes.len() as u32, 0).unwrap();
+        bvh.nodes.extend_from_slice(&top.nodes);
+        let placed = top.order.iter().map(|&k| records[k as usize]).collect();
+        (top, placed)
+    }
 
     /// A lumpy closed-ish mesh: a ring of quads around the Y axis with a wobble.
     fn mesh() -> Vec<[Vec3; 3]> {
@@ -392,12 +407,7 @@ mod tests {
                 instance_record(&bvh, roots[s as usize], model)
             })
             .collect();
-        let bounds: Vec<(Vec3, Vec3)> = (records.iter())
-            .map(|r| (Vec3::from_slice(&r.min[..3]), Vec3::from_slice(&r.max[..3])))
-            .collect();
-        let top = TopLevel::build(&bounds, bvh.nodes.len() as u32, 0).unwrap();
-        bvh.nodes.extend_from_slice(&top.nodes);
-        let placed: Vec<GpuBvhInstance> = top.order.iter().map(|&k| records[k as usize]).collect();
+        let (top, placed) = top_over(&mut bvh, &records);
         let world: Vec<[Vec3; 3]> = (scene.objects.iter())
             .flat_map(|o| {
                 let p = |i: u32| o.transform.transform_point3(o.mesh.positions[i as usize]);

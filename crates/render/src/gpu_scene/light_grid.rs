@@ -386,12 +386,7 @@ mod tests {
                 )
             })
             .collect();
-        let bounds: Vec<(Vec3, Vec3)> = (records.iter())
-            .map(|r| (Vec3::from_slice(&r.min[..3]), Vec3::from_slice(&r.max[..3])))
-            .collect();
-        let top = TopLevel::build(&bounds, bvh.nodes.len() as u32, 0).unwrap();
-        bvh.nodes.extend_from_slice(&top.nodes);
-        let placed: Vec<_> = top.order.iter().map(|&k| records[k as usize]).collect();
+        let (top, placed) = crate::bvh::instances::tests::top_over(&mut bvh, &records);
         let mut lights: Vec<GpuPointLight> = (0..40)
             .map(|_| {
                 light(
