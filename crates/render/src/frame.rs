@@ -442,6 +442,9 @@ impl Renderer {
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.cell_probe().origin;
             self.capture.far = input.far_field.filter(|_| self.far_field);
+            self.capture.edited = (input.partial.iter())
+                .filter_map(|p| Some((p.slot, p.face, p.edited.clone()?)))
+                .collect();
             captured = (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         self.captured = captured;
@@ -673,6 +676,7 @@ impl Renderer {
                 far_faces_captured: self.captured.far_faces,
                 eye_objects_captured: self.captured.eye_ranges,
                 eye_triangles_captured: self.captured.eye_triangles,
+                objects_occluded: self.captured.occluded,
                 texels_shaded,
                 eye_texels_shaded,
                 quads_splatted,

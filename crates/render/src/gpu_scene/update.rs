@@ -469,3 +469,12 @@ impl GpuScene {
         })
     }
 }
+
+impl GpuScene {
+    /// Where object `object`'s draw ranges lie in [`GpuScene::ranges`], and whether it is a
+    /// terrain or animated (drawn at a level of detail or by the moving pass); `None` for
+    /// an object the scene does not hold.
+    pub fn object_draws(&self, object: usize) -> Option<(Range<u32>, bool)> {
+        (self.edits.objects.get(object)).map(|o| (o.ranges.clone(), o.fixed))
+    }
+}
