@@ -117,6 +117,31 @@ impl FarField {
         self.captured = [None; 6];
     }
 
+    /// Forgets the far faces an edit in place can have changed: those where some corner of
+    /// one of `boxes` (each edited object's draw ranges, as they were and as they are) lies
+    /// beyond the face's distance along its axis. A far face draws only the ranges whose
+    /// every corner does (`CapturePass::record`), and a range lies within its object's box,
+    /// so of an object whose box lies wholly within the distance it drew nothing, and draws
+    /// nothing: the face is what a capture afresh would make.
+    pub(crate) fn forget_reaching(&mut self, boxes: &[(Vec3, Vec3)]) {
+        for (face, captured) in Face::ALL.into_iter().zip(&mut self.captured) {
+            let Some((at, key)) = *captured else {
+                continue;
+            };
+            let beyond = FarFieldInput { cell: key.cell }.distance(key.n);
+            let axis = face.axis();
+            let reaches = |&(lo, hi): &(Vec3, Vec3)| {
+                // The box's farthest corner along the axis (a unit axis: one coordinate).
+                let far = Vec3::select(axis.cmpgt(Vec3::ZERO), hi, lo);
+                let depth = (far - at).dot(axis);
+                !(depth <= beyond)
+            };
+            if boxes.iter().any(reaches) {
+                *captured = None;
+            }
+        }
+    }
+
     /// The textures, once made.
     pub(crate) fn drawn(&self) -> Option<&FarTextures> {
         self.textures.as_ref()

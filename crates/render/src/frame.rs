@@ -256,7 +256,9 @@ impl Renderer {
     /// transforms or materials) and of the lights: in place when it can be
     /// ([`GpuScene::update_objects`], returning what it wrote), else by uploading `scene`
     /// again ([`Renderer::set_scene`], returning `None`). The terrain splats' cache is
-    /// forgotten, as a new scene's is: an object moved may shadow terrain pixels.
+    /// forgotten, as a new scene's is: an object moved may shadow terrain pixels; of the
+    /// eye's far faces, those the edited objects reach into, before or after
+    /// ([`crate::far_field`]: a far face draws only what lies wholly beyond its distance).
     pub fn update_scene(
         &mut self,
         ctx: &GpuContext,
@@ -266,10 +268,13 @@ impl Renderer {
         let Some(uploaded) = self.scene.as_mut() else {
             return self.set_scene(ctx, scene).map(|()| None);
         };
+        let drawn = |s: &GpuScene| changed.iter().filter_map(|&i| s.drawn_bounds(i)).collect();
+        let mut boxes: Vec<_> = drawn(uploaded);
         match uploaded.update_objects(&ctx.queue, scene, changed) {
             Ok(edit) => {
                 self.terrain_splat.forget();
-                self.capture.forget_far_field();
+                boxes.extend(drawn(uploaded));
+                self.capture.forget_far_faces_reaching(&boxes);
                 Ok(Some(edit))
             }
             Err(_) => self.set_scene(ctx, scene).map(|()| None),

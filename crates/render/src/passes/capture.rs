@@ -175,6 +175,13 @@ impl CapturePass {
         self.far_field.forget();
     }
 
+    /// Forgets the far faces an edit in place can have changed: those some corner of one of
+    /// `boxes` (the edited objects' draw ranges before and after) lies beyond
+    /// ([`FarField::forget_reaching`]).
+    pub fn forget_far_faces_reaching(&mut self, boxes: &[(glam::Vec3, glam::Vec3)]) {
+        self.far_field.forget_reaching(boxes);
+    }
+
     /// GPU bytes of the far faces.
     pub fn far_field_bytes(&self) -> u64 {
         self.far_field.bytes()
