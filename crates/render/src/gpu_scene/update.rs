@@ -481,7 +481,9 @@ impl GpuScene {
     /// The box holding object `object`'s draw ranges (`None`: it has none).
     pub fn drawn_bounds(&self, object: usize) -> Option<(Vec3, Vec3)> {
         let (ranges, _) = self.object_draws(object)?;
-        let ranges = self.ranges.get(ranges.start as usize..ranges.end as usize)?;
+        let ranges = self
+            .ranges
+            .get(ranges.start as usize..ranges.end as usize)?;
         (ranges.iter()).fold(None, |b, r| match b {
             None => Some((r.min, r.max)),
             Some((lo, hi)) => Some((r.min.min(lo), r.max.max(hi))),

@@ -20,7 +20,7 @@
 //! times [`DEPTH_MARGIN`]. A fragment of a range lies between its triangle's vertices' depths,
 //! so at least at the nearest corner of its box; its texels are those whose centres its
 //! box's projection may cover, widened by [`FOOTPRINT_MARGIN_TEXELS`] for the rasterizer's
-//! vertex snapping.
+//! vertex snapping (to a sixteenth of a texel at the coarsest, SwiftShader's 4 bits).
 
 use std::ops::Range;
 
@@ -37,8 +37,9 @@ use crate::target::read_texture_region;
 /// tested there (`4/3`: see the module's notes), with room for rounding.
 pub const DEPTH_MARGIN: f32 = 4.0 / 3.0 * 1.001;
 
-/// Texels around a box's projection counted as covered by it.
-pub const FOOTPRINT_MARGIN_TEXELS: f32 = 2.0;
+/// How far around a box's projection a texel's centre is counted as covered by it (eight
+/// times the rasterizer's coarsest snapping).
+pub const FOOTPRINT_MARGIN_TEXELS: f32 = 0.5;
 
 /// The depths and ids a stable face held over the rectangle it is captured again in, as
 /// bounds on what the objects an edit left alone can show there.
@@ -78,7 +79,10 @@ impl HeldFace {
         };
         let (at, size) = (
             glam::UVec2::new(rect.x0, rect.y0),
-            glam::UVec2::new(rect.x1.saturating_sub(rect.x0), rect.y1.saturating_sub(rect.y0)),
+            glam::UVec2::new(
+                rect.x1.saturating_sub(rect.x0),
+                rect.y1.saturating_sub(rect.y0),
+            ),
         );
         let layer = face.index() as u32;
         let (geo, ids) = match size.x * size.y {
@@ -149,10 +153,12 @@ impl HeldFace {
         if !(lo.is_finite() && hi.is_finite()) {
             return false;
         }
-        // Texels whose centres (at half-integers) the widened projection may reach.
+        // Texels whose centres (at half-integers) the widened projection may reach: `i`
+        // with `lo - margin <= i + 0.5 <= hi + margin`.
         let span = |lo: f32, hi: f32, from: u32, to: u32| {
-            let a = (lo - FOOTPRINT_MARGIN_TEXELS - 0.5).floor().max(from as f32) as u32;
-            let b = (hi + FOOTPRINT_MARGIN_TEXELS + 0.5).ceil().min(to as f32) as u32;
+            let m = FOOTPRINT_MARGIN_TEXELS;
+            let a = (lo - m - 0.5).ceil().max(from as f32) as u32;
+            let b = ((hi + m - 0.5).floor() + 1.0).clamp(0.0, to as f32) as u32;
             a..b.max(a)
         };
         let xs = span(lo.x, hi.x, self.rect.x0, self.rect.x1);
