@@ -134,7 +134,7 @@ impl FarField {
                 // The box's farthest corner along the axis (a unit axis: one coordinate).
                 let far = Vec3::select(axis.cmpgt(Vec3::ZERO), hi, lo);
                 let depth = (far - at).dot(axis);
-                !(depth <= beyond)
+                depth.is_nan() || depth > beyond
             };
             if boxes.iter().any(reaches) {
                 *captured = None;

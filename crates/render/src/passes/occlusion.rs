@@ -137,14 +137,14 @@ impl HeldFace {
             .map(|&p| (p - self.origin).dot(self.axis))
             .fold(f32::INFINITY, f32::min);
         // A box reaching the probe's plane (or not a box) may cover anything.
-        if !(near > 0.0) {
+        if near.is_nan() || near <= 0.0 {
             return false;
         }
         let (mut lo, mut hi) = (glam::Vec2::splat(f32::INFINITY), glam::Vec2::NEG_INFINITY);
         let n = self.n as f32;
         for p in corners {
             let clip = self.view_proj * p.extend(1.0);
-            if !(clip.w > 0.0) {
+            if clip.w.is_nan() || clip.w <= 0.0 {
                 return false;
             }
             let t = glam::Vec2::new(clip.x / clip.w + 1.0, 1.0 - clip.y / clip.w) * (0.5 * n);
