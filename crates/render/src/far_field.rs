@@ -8,7 +8,8 @@
 //! beyond `D` are drawn into far faces of its own (these textures), captured at the camera
 //! too, but again only once the camera is [`REFRESH_CELLS`] of a cell away from where they
 //! were (one face a frame, the farthest first; at once past [`LIMIT_CELLS`], the overlap, or
-//! when the scene, the face size or the capture mode changed). Each frame an eye face takes
+//! when the scene, the face size or the capture mode changed: of an edit in place, only the
+//! faces its objects reach into, `FarField::forget_reaching`). Each frame an eye face takes
 //! its part of the view and its depth from its far face, and what is near is drawn over it,
 //! depth-tested against it (`passes::capture`).
 //!
