@@ -20,7 +20,8 @@
 //! (stable faces captured in part draw everything that may cover their rectangle, not
 //! leaving out what lies behind what they hold: `Renderer::set_capture_occlusion`),
 //! `--occlusion-ab` (occlusion on for steps 0 and 1, off for 2 and 3, and so on: medians of
-//! each printed apart).
+//! each printed apart), `--far-ab` (likewise, an edit keeping the eye's far faces it does not
+//! reach, or forgetting them all: `Renderer::set_edit_keeps_far_faces`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -46,6 +47,8 @@ struct Options {
     occlusion: bool,
     /// Occlusion on and off by pairs of steps.
     occlusion_ab: bool,
+    /// Far faces kept through the edit and not by pairs of steps.
+    far_ab: bool,
 }
 
 /// How the edit reaches the session.
@@ -71,6 +74,7 @@ fn options() -> Result<Options> {
         add_delete: false,
         occlusion: true,
         occlusion_ab: false,
+        far_ab: false,
     };
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -86,13 +90,14 @@ fn options() -> Result<Options> {
             "--add-delete" => o.add_delete = true,
             "--no-occlusion" => o.occlusion = false,
             "--occlusion-ab" => o.occlusion_ab = true,
+            "--far-ab" => o.far_ab = true,
             _ if a.starts_with("--") => bail!("unknown option {a}"),
             _ => o.level = PathBuf::from(a),
         }
     }
     if o.level.as_os_str().is_empty() {
         bail!(
-            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete] [--no-occlusion | --occlusion-ab]"
+            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete] [--no-occlusion | --occlusion-ab] [--far-ab]"
         );
     }
     Ok(o)
@@ -192,8 +197,10 @@ fn main() -> Result<()> {
     let mut ab: [Vec<f64>; 2] = Default::default();
     for step in 0..o.steps {
         let at = (index, step);
-        let occlusion = o.occlusion && (!o.occlusion_ab || (step / 2).is_multiple_of(2));
+        let a = (step / 2).is_multiple_of(2);
+        let occlusion = o.occlusion && (!o.occlusion_ab || a);
         session.renderer_mut().set_capture_occlusion(occlusion);
+        session.renderer_mut().set_edit_keeps_far_faces(!o.far_ab || a);
         let (edit, stats) = edit_step(
             &ctx,
             &mut session,
@@ -204,7 +211,7 @@ fn main() -> Result<()> {
             &mut removed,
         )?;
         edits.push(edit);
-        ab[usize::from(!occlusion)].push(edit);
+        ab[usize::from(!(step / 2).is_multiple_of(2))].push(edit);
         edit_passes.push(stats);
         // Settle again, then time a frame with nothing to catch up on.
         for _ in 0..4 {
@@ -221,9 +228,9 @@ fn main() -> Result<()> {
         median(&mut edits),
         median(&mut settled)
     );
-    if o.occlusion_ab {
+    if o.occlusion_ab || o.far_ab {
         println!(
-            "  occlusion on: edit to frame {:.0} ms (median of {}); off: {:.0} ms (median of {})",
+            "  A (steps 0, 1, 4, 5, ...): edit to frame {:.0} ms (median of {}); B: {:.0} ms (median of {})",
             median(&mut ab[0]),
             ab[0].len(),
             median(&mut ab[1]),

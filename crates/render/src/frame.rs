@@ -140,6 +140,8 @@ pub struct Renderer {
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
     runs_on: bool,
+    /// An edit in place forgets only the far faces it reaches (else all of them).
+    far_kept: bool,
     /// Whether scenes grid their point lights ([`Renderer::set_light_grid`]).
     light_grid: bool,
     /// Whether the eye draws over far faces when a frame asks for them
@@ -202,6 +204,7 @@ impl Renderer {
             offscreen: None,
             queries,
             runs_on: true,
+            far_kept: true,
             light_grid: std::env::var_os("TEXEL_NO_LIGHT_GRID").is_none(),
             far_field: std::env::var_os("TEXEL_NO_FAR_FIELD").is_none(),
             display: Display::Splat,
@@ -274,7 +277,10 @@ impl Renderer {
             Ok(edit) => {
                 self.terrain_splat.forget();
                 boxes.extend(drawn(uploaded));
-                self.capture.forget_far_faces_reaching(&boxes);
+                match self.far_kept {
+                    true => self.capture.forget_far_faces_reaching(&boxes),
+                    false => self.capture.forget_far_field(),
+                }
                 Ok(Some(edit))
             }
             Err(_) => self.set_scene(ctx, scene).map(|()| None),

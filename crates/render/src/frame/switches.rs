@@ -51,6 +51,12 @@ impl Renderer {
         self.capture.occlusion = on;
     }
 
+    /// Whether an edit in place keeps the eye's far faces its objects do not reach (on by
+    /// default; off forgets them all, as a new scene does, for comparison).
+    pub fn set_edit_keeps_far_faces(&mut self, on: bool) {
+        self.far_kept = on;
+    }
+
     /// Whether captures store a texture-density colour instead of the albedo (a debug view:
     /// green where one texture pixel is one probe texel, blue where textures are magnified,
     /// red where minified, grey untextured). Only faces captured from now on change: start
