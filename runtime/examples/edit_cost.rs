@@ -200,7 +200,9 @@ fn main() -> Result<()> {
         let a = (step / 2).is_multiple_of(2);
         let occlusion = o.occlusion && (!o.occlusion_ab || a);
         session.renderer_mut().set_capture_occlusion(occlusion);
-        session.renderer_mut().set_edit_keeps_far_faces(!o.far_ab || a);
+        session
+            .renderer_mut()
+            .set_edit_keeps_far_faces(!o.far_ab || a);
         let (edit, stats) = edit_step(
             &ctx,
             &mut session,
