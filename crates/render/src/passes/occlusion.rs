@@ -34,8 +34,10 @@ use crate::probe_store::SlotTextures;
 use crate::target::read_texture_region;
 
 /// What the stored depth of a texel is multiplied by to bound the depth the rasterizer
-/// tested there (`4/3`: see the module's notes), with room for rounding.
-pub const DEPTH_MARGIN: f32 = 4.0 / 3.0 * 1.001;
+/// tested there (`4/3`: see the module's notes), with room for rounding and for the depth
+/// buffer's resolution (32-bit float depth from `CAPTURE_NEAR`: 0.15 % of the depth at
+/// `CAPTURE_FAR`), so that what is skipped lies strictly behind, never level with it.
+pub const DEPTH_MARGIN: f32 = 4.0 / 3.0 * 1.01;
 
 /// How far around a box's projection a texel's centre is counted as covered by it (eight
 /// times the rasterizer's coarsest snapping).
