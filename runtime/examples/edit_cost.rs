@@ -16,7 +16,12 @@
 //! and uploaded again, the faces that may see it marked; the editor's path before
 //! `Session::update_entities`), `--full` (through `Session::set_level`), `--add-delete`
 //! (the entity deleted on even steps and put back on odd ones, as an editor's delete and
-//! its undo: `Session::edit_rows`, or `Session::set_level` with `--full`).
+//! its undo: `Session::edit_rows`, or `Session::set_level` with `--full`), `--no-occlusion`
+//! (stable faces captured in part draw everything that may cover their rectangle, not
+//! leaving out what lies behind what they hold: `Renderer::set_capture_occlusion`),
+//! `--occlusion-ab` (occlusion on for steps 0 and 1, off for 2 and 3, and so on: medians of
+//! each printed apart), `--far-ab` (likewise, an edit keeping the eye's far faces it does not
+//! reach, or forgetting them all: `Renderer::set_edit_keeps_far_faces`).
 
 use std::path::PathBuf;
 use std::time::Instant;
@@ -38,6 +43,12 @@ struct Options {
     lit: bool,
     /// Deletes and puts back the entity instead of moving and recolouring it.
     add_delete: bool,
+    /// Stable faces captured in part leave out what lies behind what they hold.
+    occlusion: bool,
+    /// Occlusion on and off by pairs of steps.
+    occlusion_ab: bool,
+    /// Far faces kept through the edit and not by pairs of steps.
+    far_ab: bool,
 }
 
 /// How the edit reaches the session.
@@ -61,6 +72,9 @@ fn options() -> Result<Options> {
         mode: Mode::Entity,
         lit: false,
         add_delete: false,
+        occlusion: true,
+        occlusion_ab: false,
+        far_ab: false,
     };
     while let Some(a) = args.next() {
         match a.as_str() {
@@ -74,13 +88,16 @@ fn options() -> Result<Options> {
             "--region" => o.mode = Mode::Region,
             "--lit" => o.lit = true,
             "--add-delete" => o.add_delete = true,
+            "--no-occlusion" => o.occlusion = false,
+            "--occlusion-ab" => o.occlusion_ab = true,
+            "--far-ab" => o.far_ab = true,
             _ if a.starts_with("--") => bail!("unknown option {a}"),
             _ => o.level = PathBuf::from(a),
         }
     }
     if o.level.as_os_str().is_empty() {
         bail!(
-            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete]"
+            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete] [--no-occlusion | --occlusion-ab] [--far-ab]"
         );
     }
     Ok(o)
@@ -177,8 +194,15 @@ fn main() -> Result<()> {
     let (mut edits, mut settled) = (Vec::new(), Vec::new());
     let (mut edit_passes, mut settled_passes) = (Vec::new(), Vec::new());
     let mut removed = None;
+    let mut ab: [Vec<f64>; 2] = Default::default();
     for step in 0..o.steps {
         let at = (index, step);
+        let a = (step / 2).is_multiple_of(2);
+        let occlusion = o.occlusion && (!o.occlusion_ab || a);
+        session.renderer_mut().set_capture_occlusion(occlusion);
+        session
+            .renderer_mut()
+            .set_edit_keeps_far_faces(!o.far_ab || a);
         let (edit, stats) = edit_step(
             &ctx,
             &mut session,
@@ -189,6 +213,7 @@ fn main() -> Result<()> {
             &mut removed,
         )?;
         edits.push(edit);
+        ab[usize::from(!(step / 2).is_multiple_of(2))].push(edit);
         edit_passes.push(stats);
         // Settle again, then time a frame with nothing to catch up on.
         for _ in 0..4 {
@@ -205,6 +230,15 @@ fn main() -> Result<()> {
         median(&mut edits),
         median(&mut settled)
     );
+    if o.occlusion_ab || o.far_ab {
+        println!(
+            "  A (steps 0, 1, 4, 5, ...): edit to frame {:.0} ms (median of {}); B: {:.0} ms (median of {})",
+            median(&mut ab[0]),
+            ab[0].len(),
+            median(&mut ab[1]),
+            ab[1].len()
+        );
+    }
     for pass in ["capture", "shade"] {
         let mut e: Vec<f64> = edit_passes.iter().map(|s| s.pass_ms(pass)).collect();
         let mut q: Vec<f64> = settled_passes.iter().map(|s| s.pass_ms(pass)).collect();
@@ -352,13 +386,14 @@ fn print_passes(stats: &texel_render::stats::FrameStats) {
         .map(|p| format!("{} {:.0}", p.pass, p.ms))
         .collect();
     println!(
-        "  passes: {} (renderer {:.0} ms, texels shaded {}, of them the eye's {}; objects drawn {}, of them the eye's {})",
+        "  passes: {} (renderer {:.0} ms, texels shaded {}, of them the eye's {}; objects drawn {}, of them the eye's {}; left out behind what stable faces held {})",
         passes.join(", "),
         stats.frame_ms,
         stats.counters.texels_shaded,
         stats.counters.eye_texels_shaded,
         stats.counters.objects_captured,
-        stats.counters.eye_objects_captured
+        stats.counters.eye_objects_captured,
+        stats.counters.objects_occluded
     );
 }
 

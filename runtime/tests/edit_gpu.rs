@@ -18,7 +18,7 @@ use texel_scene::{
     DirectionalLight, EntityRow, Geometry, Material, Name, PointLight, Scene, Transform,
 };
 
-const SIZE: UVec2 = UVec2::new(96, 64);
+pub(crate) const SIZE: UVec2 = UVec2::new(96, 64);
 
 /// Entities of [`yard`] by position.
 const CRATE: usize = 2;
@@ -115,12 +115,12 @@ fn yard() -> anyhow::Result<LoadedLevel> {
     Ok(level)
 }
 
-fn camera() -> Camera {
+pub(crate) fn camera() -> Camera {
     Camera::from_yaw_pitch(Vec3::new(0.0, 2.5, 6.0), 0.0, -15.0)
 }
 
 /// Draws `n` frames; returns the last picture and how many faces were captured in each.
-fn frames(
+pub(crate) fn frames(
     ctx: &GpuContext,
     session: &mut Session,
     n: usize,
@@ -151,7 +151,7 @@ fn frames_at(
 }
 
 /// Changes the row of the entity at `index` with `f`.
-fn edit(level: &mut LoadedLevel, index: usize, f: impl FnOnce(&mut EntityRow)) {
+pub(crate) fn edit(level: &mut LoadedLevel, index: usize, f: impl FnOnce(&mut EntityRow)) {
     let e = level.scene.entities().nth(index).expect("entity");
     let mut row = level.scene.row(e).expect("row");
     f(&mut row);
@@ -296,7 +296,7 @@ fn a_colour_changed_alone_is_lit_again_only_where_it_shows() -> anyhow::Result<(
 
 /// Asserts that a session made afresh on `level` draws `after` (an edited session's frame),
 /// byte for byte, once settled.
-fn assert_full_rebuild_draws(
+pub(crate) fn assert_full_rebuild_draws(
     ctx: &GpuContext,
     level: &LoadedLevel,
     after: &[u8],

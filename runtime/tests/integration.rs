@@ -7,6 +7,7 @@ mod cli;
 mod edit_gpu;
 mod hostile;
 mod look_gpu;
+mod occlusion_gpu;
 mod play_window;
 mod sculpt_gpu;
 mod sprites;

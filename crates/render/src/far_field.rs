@@ -8,7 +8,8 @@
 //! beyond `D` are drawn into far faces of its own (these textures), captured at the camera
 //! too, but again only once the camera is [`REFRESH_CELLS`] of a cell away from where they
 //! were (one face a frame, the farthest first; at once past [`LIMIT_CELLS`], the overlap, or
-//! when the scene, the face size or the capture mode changed). Each frame an eye face takes
+//! when the scene, the face size or the capture mode changed: of an edit in place, only the
+//! faces its objects reach into, `FarField::forget_reaching`). Each frame an eye face takes
 //! its part of the view and its depth from its far face, and what is near is drawn over it,
 //! depth-tested against it (`passes::capture`).
 //!
@@ -115,6 +116,31 @@ impl FarField {
     /// Forgets every far face (the scene changed).
     pub(crate) fn forget(&mut self) {
         self.captured = [None; 6];
+    }
+
+    /// Forgets the far faces an edit in place can have changed: those where some corner of
+    /// one of `boxes` (each edited object's draw ranges, as they were and as they are) lies
+    /// beyond the face's distance along its axis. A far face draws only the ranges whose
+    /// every corner does (`CapturePass::record`), and a range lies within its object's box,
+    /// so of an object whose box lies wholly within the distance it drew nothing, and draws
+    /// nothing: the face is what a capture afresh would make.
+    pub(crate) fn forget_reaching(&mut self, boxes: &[(Vec3, Vec3)]) {
+        for (face, captured) in Face::ALL.into_iter().zip(&mut self.captured) {
+            let Some((at, key)) = *captured else {
+                continue;
+            };
+            let beyond = FarFieldInput { cell: key.cell }.distance(key.n);
+            let axis = face.axis();
+            let reaches = |&(lo, hi): &(Vec3, Vec3)| {
+                // The box's farthest corner along the axis (a unit axis: one coordinate).
+                let far = Vec3::select(axis.cmpgt(Vec3::ZERO), hi, lo);
+                let depth = (far - at).dot(axis);
+                depth.is_nan() || depth > beyond
+            };
+            if boxes.iter().any(reaches) {
+                *captured = None;
+            }
+        }
     }
 
     /// The textures, once made.

@@ -140,6 +140,8 @@ pub struct Renderer {
     offscreen: Option<OffscreenTarget>,
     queries: Option<wgpu::QuerySet>,
     runs_on: bool,
+    /// An edit in place forgets only the far faces it reaches (else all of them).
+    far_kept: bool,
     /// Whether scenes grid their point lights ([`Renderer::set_light_grid`]).
     light_grid: bool,
     /// Whether the eye draws over far faces when a frame asks for them
@@ -202,6 +204,7 @@ impl Renderer {
             offscreen: None,
             queries,
             runs_on: true,
+            far_kept: true,
             light_grid: std::env::var_os("TEXEL_NO_LIGHT_GRID").is_none(),
             far_field: std::env::var_os("TEXEL_NO_FAR_FIELD").is_none(),
             display: Display::Splat,
@@ -256,7 +259,9 @@ impl Renderer {
     /// transforms or materials) and of the lights: in place when it can be
     /// ([`GpuScene::update_objects`], returning what it wrote), else by uploading `scene`
     /// again ([`Renderer::set_scene`], returning `None`). The terrain splats' cache is
-    /// forgotten, as a new scene's is: an object moved may shadow terrain pixels.
+    /// forgotten, as a new scene's is: an object moved may shadow terrain pixels; of the
+    /// eye's far faces, those the edited objects reach into, before or after
+    /// ([`crate::far_field`]: a far face draws only what lies wholly beyond its distance).
     pub fn update_scene(
         &mut self,
         ctx: &GpuContext,
@@ -266,10 +271,16 @@ impl Renderer {
         let Some(uploaded) = self.scene.as_mut() else {
             return self.set_scene(ctx, scene).map(|()| None);
         };
+        let drawn = |s: &GpuScene| changed.iter().filter_map(|&i| s.drawn_bounds(i)).collect();
+        let mut boxes: Vec<_> = drawn(uploaded);
         match uploaded.update_objects(&ctx.queue, scene, changed) {
             Ok(edit) => {
                 self.terrain_splat.forget();
-                self.capture.forget_far_field();
+                boxes.extend(drawn(uploaded));
+                match self.far_kept {
+                    true => self.capture.forget_far_faces_reaching(&boxes),
+                    false => self.capture.forget_far_field(),
+                }
                 Ok(Some(edit))
             }
             Err(_) => self.set_scene(ctx, scene).map(|()| None),
@@ -442,6 +453,9 @@ impl Renderer {
         stages.run("capture", |enc| {
             self.capture.eye_band_origin = input.cell_probe().origin;
             self.capture.far = input.far_field.filter(|_| self.far_field);
+            self.capture.edited = (input.partial.iter())
+                .filter_map(|p| Some((p.slot, p.face, p.edited.clone()?)))
+                .collect();
             captured = (self.capture).record(ctx, enc, &input.captures, &rects, store, scene);
         });
         self.captured = captured;
@@ -673,6 +687,7 @@ impl Renderer {
                 far_faces_captured: self.captured.far_faces,
                 eye_objects_captured: self.captured.eye_ranges,
                 eye_triangles_captured: self.captured.eye_triangles,
+                objects_occluded: self.captured.occluded,
                 texels_shaded,
                 eye_texels_shaded,
                 quads_splatted,

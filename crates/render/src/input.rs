@@ -466,6 +466,12 @@ pub struct PartialFace {
     pub light: texel_probes::visibility::TexelRect,
     /// Which texels of `light` outside `rect` are lit again.
     pub filter: LightFilter,
+    /// The objects (by index in the scene) the edits since the face was last captured
+    /// rewrote in place: where the face showed none of them, what it holds bounds what the
+    /// rest can show, and the capture leaves out what lies behind it
+    /// ([`crate::passes::occlusion`]). `None`: not known (objects added or removed), every
+    /// object that may cover `rect` is drawn.
+    pub edited: Option<Vec<u32>>,
 }
 
 /// Where an edit can have changed the light on surfaces it did not move: a texel whose

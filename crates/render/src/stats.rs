@@ -21,6 +21,9 @@ pub struct Counters {
     pub eye_objects_captured: u64,
     /// Of `triangles_captured`, those the eye's faces drew.
     pub eye_triangles_captured: u64,
+    /// Objects and terrain chunks the stable faces captured in part left out, lying behind
+    /// what the faces held (`texel_render::passes::occlusion`; not in `objects_captured`).
+    pub objects_occluded: u64,
     /// Texels lit by the shade pass.
     pub texels_shaded: u64,
     /// Of `texels_shaded`, the eye probe's (those no stable probe shows, and silhouettes).

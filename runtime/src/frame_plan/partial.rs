@@ -26,15 +26,20 @@ pub struct EditArea {
     pub changed: Option<(Vec3, Vec3)>,
     /// Which texels of the region outside `changed` are lit again.
     pub filter: LightFilter,
+    /// The objects (by index in the scene) rewritten in place: the rest stayed where they
+    /// were ([`PartialFace::edited`]). `None`: not known (objects added or removed).
+    pub objects: Option<Vec<u32>>,
 }
 
 impl EditArea {
-    /// An edit anywhere in `region`: all of it captured and lit again.
+    /// An edit anywhere in `region`: all of it captured and lit again (which objects it
+    /// changed not known).
     pub fn whole(region: (Vec3, Vec3)) -> Self {
         EditArea {
             region,
             changed: Some(region),
             filter: LightFilter::default(),
+            objects: None,
         }
     }
 
@@ -48,8 +53,18 @@ impl EditArea {
                 (a, b) => a.or(b),
             },
             filter: self.filter.union(&other.filter),
+            objects: objects_union(&self.objects, &other.objects),
         }
     }
+}
+
+/// The objects of two edits: all of both, unless either is not known.
+fn objects_union(a: &Option<Vec<u32>>, b: &Option<Vec<u32>>) -> Option<Vec<u32>> {
+    let (a, b) = (a.as_ref()?, b.as_ref()?);
+    let mut all: Vec<u32> = a.iter().chain(b).copied().collect();
+    all.sort_unstable();
+    all.dedup();
+    Some(all)
 }
 
 /// A stable face an edit marked stale, and the texels it can have changed.
@@ -65,6 +80,8 @@ struct EditedFace {
     /// May be lit again, as `filter` says.
     light: TexelRect,
     filter: LightFilter,
+    /// The objects rewritten since the face was last captured (`None`: not known).
+    edited: Option<Vec<u32>>,
 }
 
 /// The stable faces edits have changed in part since they were last captured.
@@ -115,11 +132,13 @@ impl EditedFaces {
                 rect,
                 light: union(light, rect),
                 filter: area.filter.clone(),
+                edited: area.objects.clone(),
             };
             if let Some(e) = old {
                 edited.rect = union(e.rect, edited.rect);
                 edited.light = union(e.light, edited.light);
                 edited.filter = e.filter.union(&edited.filter);
+                edited.edited = objects_union(&e.edited, &edited.edited);
             }
             if slot == Slot::Eye || edited.rect == whole {
                 continue;
@@ -155,6 +174,7 @@ impl EditedFaces {
                     rect: e.rect,
                     light: e.light,
                     filter: e.filter,
+                    edited: e.edited,
                 });
             }
         }
@@ -245,6 +265,7 @@ mod tests {
             region: (Vec3::splat(-12.0), Vec3::splat(12.0)),
             changed: Some(object),
             filter: filter.clone(),
+            objects: Some(vec![3]),
         };
         edited.mark(&marked, &area);
         let e = &edited.faces[0];

@@ -160,6 +160,7 @@ impl PreparedLevel {
         for f in sets {
             match self.update_entity(level, f) {
                 Ok(edit) => {
+                    let objects = Some(edit.objects.clone().map(|o| o as u32).collect());
                     out.objects.extend(edit.objects);
                     out.grid_changed |= edit.grid_changed;
                     if let Some(region) = edit.region {
@@ -167,6 +168,7 @@ impl PreparedLevel {
                             region,
                             changed: edit.changed,
                             filter: edit.filter,
+                            objects,
                         });
                     }
                 }
@@ -206,6 +208,7 @@ impl PreparedLevel {
                         casters: Vec::new(),
                         lit: vec![reach],
                     },
+                    objects: Some(Vec::new()),
                 });
             }
         }

@@ -43,6 +43,20 @@ impl Renderer {
         self.capture.cull = cull;
     }
 
+    /// Whether a stable face captured again in part leaves out the objects lying behind what
+    /// it already holds (on by default: the face comes out the same; off draws every
+    /// object that may cover its rectangle, for comparison). See
+    /// [`crate::passes::occlusion`].
+    pub fn set_capture_occlusion(&mut self, on: bool) {
+        self.capture.occlusion = on;
+    }
+
+    /// Whether an edit in place keeps the eye's far faces its objects do not reach (on by
+    /// default; off forgets them all, as a new scene does, for comparison).
+    pub fn set_edit_keeps_far_faces(&mut self, on: bool) {
+        self.far_kept = on;
+    }
+
     /// Whether captures store a texture-density colour instead of the albedo (a debug view:
     /// green where one texture pixel is one probe texel, blue where textures are magnified,
     /// red where minified, grey untextured). Only faces captured from now on change: start

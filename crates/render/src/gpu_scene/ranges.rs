@@ -242,7 +242,8 @@ pub enum CaptureCull {
     Footprint,
 }
 
-/// The ranges a face draws under `cull` of those `keep` keeps, in the order it draws them;
+/// The ranges a face draws under `cull` of those `keep` keeps (asked last, of the ranges
+/// the rest keeps), in the order it draws them;
 /// with `index` (over `ranges`), only those it leaves are tested, the same ones drawn.
 pub(super) fn ranges_drawn_by<'a>(
     ranges: &'a [DrawRange],
@@ -260,9 +261,9 @@ pub(super) fn ranges_drawn_by<'a>(
     };
     let drawn = |r: &&DrawRange| {
         wanted(r)
-            && keep(r)
             && (cull != CaptureCull::Footprint || spans_a_texel(r, lod))
             && (cull == CaptureCull::Nothing || r.may_be_visible(view_proj))
+            && keep(r)
     };
     let mut visible: Vec<&DrawRange> = match index {
         Some(index) => (index.candidates(view_proj, lod, cull).into_iter())

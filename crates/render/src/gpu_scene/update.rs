@@ -469,3 +469,24 @@ impl GpuScene {
         })
     }
 }
+
+impl GpuScene {
+    /// Where object `object`'s draw ranges lie in [`GpuScene::ranges`], and whether it is a
+    /// terrain or animated (drawn at a level of detail or by the moving pass); `None` for
+    /// an object the scene does not hold.
+    pub fn object_draws(&self, object: usize) -> Option<(Range<u32>, bool)> {
+        (self.edits.objects.get(object)).map(|o| (o.ranges.clone(), o.fixed))
+    }
+
+    /// The box holding object `object`'s draw ranges (`None`: it has none).
+    pub fn drawn_bounds(&self, object: usize) -> Option<(Vec3, Vec3)> {
+        let (ranges, _) = self.object_draws(object)?;
+        let ranges = self
+            .ranges
+            .get(ranges.start as usize..ranges.end as usize)?;
+        (ranges.iter()).fold(None, |b, r| match b {
+            None => Some((r.min, r.max)),
+            Some((lo, hi)) => Some((r.min.min(lo), r.max.max(hi))),
+        })
+    }
+}

@@ -6,6 +6,7 @@ use crate::passes::LazyRender;
 use bytemuck::{Pod, Zeroable};
 use texel_probes::cube::face_view_projection;
 
+use super::occlusion::HeldFace;
 use super::raster::{self, RasterDraw, RasterTargets};
 use super::{
     FLOAT, UINT, UNIFORM_STRIDE, bind_group, entry, storage_texture, texture, uniform,
@@ -79,6 +80,13 @@ pub struct CapturePass {
     pub cull: crate::gpu_scene::CaptureCull,
     /// The eye's far field this frame (`None`: the eye draws everything every frame).
     pub far: Option<FarFieldInput>,
+    /// Of the stable faces captured in part this frame, the objects the edits since their
+    /// last capture rewrote ([`crate::input::PartialFace::edited`]): those faces leave out
+    /// what lies behind what they hold ([`super::occlusion`]) when `occlusion` is on.
+    pub edited: Vec<(Slot, Face, Vec<u32>)>,
+    /// Whether a stable face captured in part leaves out what lies behind what it holds
+    /// (on unless a test or a measure compares against drawing it all).
+    pub occlusion: bool,
     far_field: FarField,
     pipeline: LazyRender,
     /// Plain terrain chunks (`vs_terrain`, `fs_terrain`): the point and object alone pass
@@ -150,6 +158,8 @@ impl CapturePass {
             eye_band_origin: glam::Vec3::ZERO,
             cull: crate::gpu_scene::CaptureCull::default(),
             far: None,
+            edited: Vec::new(),
+            occlusion: true,
             far_field: FarField::default(),
             pipeline,
             terrain_raster,
@@ -163,6 +173,13 @@ impl CapturePass {
     /// Forgets the far faces (the scene changed).
     pub fn forget_far_field(&mut self) {
         self.far_field.forget();
+    }
+
+    /// Forgets the far faces an edit in place can have changed: those some corner of one of
+    /// `boxes` (the edited objects' draw ranges before and after) lies beyond
+    /// ([`FarField::forget_reaching`]).
+    pub fn forget_far_faces_reaching(&mut self, boxes: &[(glam::Vec3, glam::Vec3)]) {
+        self.far_field.forget_reaching(boxes);
     }
 
     /// GPU bytes of the far faces.
@@ -227,6 +244,8 @@ impl CapturePass {
             })
             .collect();
         let far_textures = far.as_ref().and_then(|_| self.far_field.drawn());
+        let held = self.held_faces(ctx, captures, rects, store, scene);
+        work.held_faces = held.iter().flatten().count() as u32;
         for (i, c) in captures.iter().enumerate() {
             let slot = store.slot(c.slot);
             let f = c.face.index();
@@ -244,6 +263,7 @@ impl CapturePass {
                 offset: (i as u64 * UNIFORM_STRIDE) as u32,
                 scissor: rect_of(i),
                 beyond: None,
+                held: held.get(i).and_then(Option::as_ref),
                 n: slot.n,
                 colour: targets(slot).map(|t| &t.layer_views[f]),
                 depth: &slot.depth.layer_views[f],
@@ -261,6 +281,7 @@ impl CapturePass {
                         offset: ((captures.len() + i) as u64 * UNIFORM_STRIDE) as u32,
                         scissor: None,
                         beyond: Some(far.beyond),
+                        held: None,
                         colour: ft.targets().map(|t| &t.layer_views[f]),
                         depth: &ft.depth.layer_views[f],
                         keep_depth: true,
@@ -296,6 +317,33 @@ impl CapturePass {
             k.restore(encoder, store.slot(k.slot));
         }
         work
+    }
+
+    /// What each stable face captured in part with its edited objects known holds over its
+    /// rectangle ([`HeldFace`]; `None` for the other captures, and for every one with
+    /// [`CapturePass::occlusion`] off or when it cannot be read: those draw all that may
+    /// cover their rectangle).
+    fn held_faces(
+        &self,
+        ctx: &GpuContext,
+        captures: &[CaptureInput],
+        rects: &[Option<TexelRect>],
+        store: &ProbeStore,
+        scene: &GpuScene,
+    ) -> Vec<Option<HeldFace>> {
+        (captures.iter().enumerate())
+            .map(|(i, c)| {
+                let rect = rects.get(i).copied().flatten()?;
+                let known = (self.edited.iter()).find(|e| e.0 == c.slot && e.1 == c.face);
+                let (_, _, edited) = known.filter(|_| self.occlusion && c.ortho.is_none())?;
+                if c.slot == Slot::Eye || rect.area() == 0 || self.cull == CaptureCull::Nothing {
+                    return None;
+                }
+                let view = (c.face, c.origin, capture_view_projection(c));
+                let slot = store.slot(c.slot);
+                HeldFace::read(ctx, slot, view, rect, scene, edited).ok()
+            })
+            .collect()
     }
 
     /// The far field's distances and the eye faces whose far face is captured this frame
@@ -389,16 +437,22 @@ impl CapturePass {
                 })
             })
         };
+        // Asked last, of the ranges every other cull keeps: those it leaves out are counted.
+        let occluded = std::cell::Cell::new(0u64);
+        let keep = |r: &crate::gpu_scene::DrawRange| {
+            let hidden = d.held.is_some_and(|h| h.hides(&scene.ranges, r));
+            occluded.set(occluded.get() + u64::from(hidden));
+            beyond(r) && !hidden
+        };
         let ([terrain_runs, runs], count) = match d.scissor.is_some_and(|r| r.area() == 0) {
             true => ([Vec::new(), Vec::new()], 0),
             false => {
                 let ranges = &scene.ranges;
                 let index = Some(scene.range_index());
-                crate::gpu_scene::visible_runs_where(
-                    ranges, index, &d.cull, lod, self.cull, &beyond,
-                )
+                crate::gpu_scene::visible_runs_where(ranges, index, &d.cull, lod, self.cull, &keep)
             }
         };
+        work.occluded += occluded.get();
         let triangles = (terrain_runs.iter().chain(&runs))
             .map(|&(_, n, _)| u64::from(n / 3))
             .sum::<u64>();
@@ -500,6 +554,8 @@ struct FaceDraw<'a> {
     scissor: Option<TexelRect>,
     /// Only the ranges wholly beyond this depth along the face's axis (a far face).
     beyond: Option<f32>,
+    /// What a stable face captured in part holds there: the ranges behind it are left out.
+    held: Option<&'a HeldFace>,
     /// Texels per face edge.
     n: u32,
     /// Geo, ids, albedo and shading.
@@ -673,6 +729,11 @@ pub struct CaptureWork {
     pub eye_ranges: u64,
     /// See `eye_faces`.
     pub eye_triangles: u64,
+    /// Stable faces captured in part whose held depths and ids were read back to leave out
+    /// what lies behind them ([`super::occlusion`]).
+    pub held_faces: u32,
+    /// Ranges those faces left out, lying behind what they held (not counted in `ranges`).
+    pub occluded: u64,
 }
 
 /// The texels a capture draws, `[x0, y0, x1, y1]`: its rectangle, or the whole face.

@@ -13,6 +13,7 @@ pub mod cull;
 pub mod lines;
 pub mod march;
 pub mod moving;
+pub mod occlusion;
 pub mod present;
 pub mod raster;
 pub mod runs;
