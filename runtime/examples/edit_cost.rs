@@ -16,9 +16,9 @@
 //! and uploaded again, the faces that may see it marked; the editor's path before
 //! `Session::update_entities`), `--full` (through `Session::set_level`), `--add-delete`
 //! (the entity deleted on even steps and put back on odd ones, as an editor's delete and
-//! its undo: `Session::edit_rows`, or `Session::set_level` with `--full`), `--no-occlusion`
-//! (stable faces captured in part draw everything that may cover their rectangle, not
-//! leaving out what lies behind what they hold: `Renderer::set_capture_occlusion`),
+//! its undo: `Session::edit_rows`, or `Session::set_level` with `--full`), `--occlusion`
+//! (stable faces captured in part leave out what lies behind what they hold, instead of
+//! drawing everything that may cover their rectangle: `Renderer::set_capture_occlusion`),
 //! `--occlusion-ab` (occlusion on for steps 0 and 1, off for 2 and 3, and so on: medians of
 //! each printed apart), `--far-ab` (likewise, an edit keeping the eye's far faces it does not
 //! reach, or forgetting them all: `Renderer::set_edit_keeps_far_faces`).
@@ -72,7 +72,7 @@ fn options() -> Result<Options> {
         mode: Mode::Entity,
         lit: false,
         add_delete: false,
-        occlusion: true,
+        occlusion: false,
         occlusion_ab: false,
         far_ab: false,
     };
@@ -88,7 +88,7 @@ fn options() -> Result<Options> {
             "--region" => o.mode = Mode::Region,
             "--lit" => o.lit = true,
             "--add-delete" => o.add_delete = true,
-            "--no-occlusion" => o.occlusion = false,
+            "--occlusion" => o.occlusion = true,
             "--occlusion-ab" => o.occlusion_ab = true,
             "--far-ab" => o.far_ab = true,
             _ if a.starts_with("--") => bail!("unknown option {a}"),
@@ -97,7 +97,7 @@ fn options() -> Result<Options> {
     }
     if o.level.as_os_str().is_empty() {
         bail!(
-            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete] [--no-occlusion | --occlusion-ab] [--far-ab]"
+            "usage: edit_cost LEVEL [--size WxH] [--steps N] [--full | --region] [--lit] [--add-delete] [--occlusion | --occlusion-ab] [--far-ab]"
         );
     }
     Ok(o)
