@@ -575,7 +575,7 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
     let skip = 0.5 * x.d;
     // They walk the still instances from one subtree that holds all they may meet.
     var edge_root = BVH_STATICS_ALL;
-    if search {
+    if search && globals.edge_roots != 0u {
         edge_root = edge_statics(x, out.similar, e.left, hidden, skip);
     }
     let side_rays = EDGE_STEPS * countOneBits(e.left);
