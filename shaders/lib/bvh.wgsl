@@ -269,7 +269,8 @@ fn bvh_any_hit(origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
 // same answer, found sooner for a ray that expects its hit near `t_max` (an edge ray
 // toward a silhouette). The still instances are walked from node `statics` of their top
 // level, which must hold every one the ray may meet (a point light's caster root,
-// `gpu_scene/light_grid.rs`); BVH_STATICS_ALL: from its root; BVH_STATICS_NONE: not at all.
+// `gpu_scene/light_grid.rs`; an edge ray's texel's subtree, `bvh_statics_within`);
+// BVH_STATICS_ALL: from its root; BVH_STATICS_NONE: not at all.
 fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool, statics: u32) -> bool {
     if bvh_tree_hit(0u, origin, dir, t_max) {
         return true;
