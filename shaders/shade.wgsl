@@ -12,6 +12,7 @@
 #include "lib/shade_globals.wgsl"
 #include "lib/light_words.wgsl"
 #include "lib/edit_filter.wgsl"
+#include "lib/edge_rays.wgsl"
 
 struct ShadeFace {
     origin: vec3<f32>,
@@ -529,79 +530,6 @@ fn texel_sides(x: Texel, object_flags: u32) -> Sides {
     return s;
 }
 
-// A shadow or edge ray: from `origin` along `dir`, up to `t_max`.
-struct CastRay {
-    origin: vec3<f32>,
-    dir: vec3<f32>,
-    t_max: f32,
-}
-
-// The silhouette edges' search as `trace_rays` walks it: the sides left to search (bit k:
-// side k), the one searched now, its bisection's interval and far limit, the corners left
-// (bit j: side j's corner with `ky`), and the edges found so far (`SIMILAR_EDGE_AT`).
-struct EdgeSearch {
-    left: u32,
-    k: u32,
-    lo: f32,
-    hi: f32,
-    reach: f32,
-    corners_left: u32,
-    edges: u32,
-}
-
-// A ray three quarters of the way from the centre of `x` to the corner where the edges of
-// the search's next corner side and of side `ky` meet: a slanting edge through the two
-// edges' crossings passes nearer the centre (at half the way), a box's corner lies at the
-// corner. Starts `skip` along the way (`trace_rays`).
-fn corner_ray(e: ptr<function, EdgeSearch>, x: Texel, similar: u32, ky: u32, skip: f32) -> CastRay {
-    (*e).k = firstTrailingBit((*e).corners_left);
-    (*e).corners_left &= (*e).corners_left - 1u;
-    let k = (*e).k;
-    let at = vec2(side_edge((*e).edges, k), side_edge((*e).edges, ky));
-    let toward = vec2(f32(NEIGHBOURS[k].x), f32(NEIGHBOURS[ky].y));
-    let cr = probe_ray(x.fr, x.uv + toward * at * (1.5 / f32(sf.n)));
-    let dir = cr.dir;
-    let t_max = min(edge_reach(x.t, x.d, similar, k), edge_reach(x.t, x.d, similar, ky)) - skip;
-    return CastRay(cr.start + dir * skip, dir, t_max);
-}
-
-// Step `step` of the bisection on the search's side (the next side at step 0): the ray
-// through the middle of its interval, up to its far limit, or for a hidden side up to the
-// plane, short of the surface itself where it is in the BVH (`offset`).
-fn side_ray(e: ptr<function, EdgeSearch>, x: Texel, similar: u32, hidden: u32, step: u32, skip: f32, offset: f32) -> CastRay {
-    if step == 0u {
-        (*e).k = firstTrailingBit((*e).left);
-        (*e).left &= (*e).left - 1u;
-        (*e).lo = 0.0;
-        (*e).hi = 1.0;
-        (*e).reach = edge_reach(x.t, x.d, similar, (*e).k);
-    }
-    let k = (*e).k;
-    let er = toward_ray(x.fr, x.uv, k, 0.5 * ((*e).lo + (*e).hi));
-    let dir = er.dir;
-    var t_max = (*e).reach - skip;
-    if ((hidden >> k) & 1u) != 0u {
-        t_max = plane_depth(x.me.geo.xyz, x.p, er) - skip - offset / length(dir);
-    }
-    return CastRay(er.start + dir * skip, dir, t_max);
-}
-
-// Narrows the search's side by one step's `hit`: on this side the ray meets this surface (a
-// silhouette) or nothing before its plane (a hidden side); the last step stores the edge.
-fn settle_side(e: ptr<function, EdgeSearch>, hit: bool, hidden: u32, step: u32) {
-    let k = (*e).k;
-    if hit != (((hidden >> k) & 1u) != 0u) {
-        (*e).lo = 0.5 * ((*e).lo + (*e).hi);
-    } else {
-        (*e).hi = 0.5 * ((*e).lo + (*e).hi);
-    }
-    if step == EDGE_STEPS - 1u {
-        let at = SIMILAR_EDGE_AT + 3u * k;
-        let c = u32(clamp(round(4.0 * ((*e).lo + (*e).hi)), 1.0, 8.0));
-        (*e).edges = ((*e).edges & ~(7u << at)) | ((c - 1u) << at);
-    }
-}
-
 // What `trace_rays` found: the light reaching the texel, the lights not shadowed (bit i:
 // light i, or not traced: behind the texel's normal, out of a point light's reach, which a
 // terrain pixel decides by its own normal), the similar bits with the edges and corner
@@ -645,6 +573,11 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
     // Edge rays start halfway to the surface (nothing nearer lies on this texel's ray, and
     // the traversal skips the boxes before it).
     let skip = 0.5 * x.d;
+    // They walk the still instances from one subtree that holds all they may meet.
+    var edge_root = BVH_STATICS_ALL;
+    if search && globals.edge_roots != 0u {
+        edge_root = edge_statics(x, out.similar, e.left, hidden, skip);
+    }
     let side_rays = EDGE_STEPS * countOneBits(e.left);
     // Corner rays (`CORNER_CUT_LEFT`), after the sides' search: bit j where the corner of
     // side j (left, right) with `corner_side` has both sides searched as silhouettes (not
@@ -661,7 +594,7 @@ fn trace_rays(x: Texel, sides: Sides, emissive: bool) -> Traced {
         // The edge search's step on its side (from `lights` on).
         let step = select(0u, i - lights, i >= lights) % EDGE_STEPS;
         var light = 0u;
-        var statics = BVH_STATICS_ALL;
+        var statics = edge_root;
         if i < lights {
             light = near_light(near, i);
             r = light_ray(light, x.p);

@@ -269,7 +269,8 @@ fn bvh_any_hit(origin: vec3<f32>, dir: vec3<f32>, t_max: f32) -> bool {
 // same answer, found sooner for a ray that expects its hit near `t_max` (an edge ray
 // toward a silhouette). The still instances are walked from node `statics` of their top
 // level, which must hold every one the ray may meet (a point light's caster root,
-// `gpu_scene/light_grid.rs`); BVH_STATICS_ALL: from its root; BVH_STATICS_NONE: not at all.
+// `gpu_scene/light_grid.rs`; an edge ray's texel's subtree, `bvh_statics_within`);
+// BVH_STATICS_ALL: from its root; BVH_STATICS_NONE: not at all.
 fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bool, statics: u32) -> bool {
     if bvh_tree_hit(0u, origin, dir, t_max) {
         return true;
@@ -287,6 +288,42 @@ fn bvh_any_hit_from(origin: vec3<f32>, dir: vec3<f32>, t_max: f32, far_first: bo
         return true;
     }
     return header.root != 0xffffffffu && bvh_top_hit(header.root, origin, dir, t_max);
+}
+
+// Whether box `a` meets the box `lo..hi` (NaN counts as meeting).
+fn bvh_box_meets(a: BvhNode, lo: vec3<f32>, hi: vec3<f32>) -> bool {
+    return !(any(a.min > hi) || any(a.max < lo));
+}
+
+// Where rays that stay within the box `lo..hi` walk the still instances' top level
+// (`bvh_any_hit_from`'s `statics`): from its root, down while only one child's box meets
+// the box (a ray within it cannot enter the other, so the walk from the root would take the
+// same way down, and go on from there step for step: the same answer); BVH_STATICS_NONE
+// where no box meets it; BVH_STATICS_ALL for a box that is not a number.
+fn bvh_statics_within(lo: vec3<f32>, hi: vec3<f32>) -> u32 {
+    let header = bvh_instances[0];
+    if header.statics == 0u || !all(lo <= hi) {
+        return BVH_STATICS_ALL;
+    }
+    var at = header.statics_root;
+    if !bvh_box_meets(bvh_nodes[at], lo, hi) {
+        return BVH_STATICS_NONE;
+    }
+    // Deeper than the traversal's stack the builder makes no tree; stopping sooner is
+    // only slower.
+    for (var depth = 0u; depth < BVH_STACK_SIZE; depth++) {
+        let node = bvh_nodes[at];
+        if node.count != BVH_INNER {
+            break;
+        }
+        let a = bvh_box_meets(bvh_nodes[node.first], lo, hi);
+        let b = bvh_box_meets(bvh_nodes[node.first + 1u], lo, hi);
+        if a == b {
+            return select(BVH_STATICS_NONE, at, a);
+        }
+        at = select(node.first + 1u, node.first, a);
+    }
+    return at;
 }
 
 // Whether the ray hits instance `i`'s tree, carried into the object's base pose (an affine

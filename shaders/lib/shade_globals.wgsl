@@ -16,7 +16,9 @@ struct ShadeGlobals {
     // 1: the frame is mapped to a dithered palette: lit texels carry their surface's
     // dither rank (lib/common.wgsl `lit_with_dither`).
     dither: u32,
-    _pad0: u32,
+    // 1: edge rays walk the still instances from their texel's subtree (lib/edge_rays.wgsl
+    // `edge_statics`); 0: from the root.
+    edge_roots: u32,
     _pad1: u32,
     _pad2: u32,
 }

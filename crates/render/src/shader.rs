@@ -39,6 +39,10 @@ pub const SOURCES: &[(&str, &str)] = &[
         include_str!("../../../shaders/lib/edit_filter.wgsl"),
     ),
     (
+        "lib/edge_rays.wgsl",
+        include_str!("../../../shaders/lib/edge_rays.wgsl"),
+    ),
+    (
         "lib/texture.wgsl",
         include_str!("../../../shaders/lib/texture.wgsl"),
     ),

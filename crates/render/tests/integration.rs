@@ -9,6 +9,7 @@ mod baselines;
 mod bvh_gpu;
 mod convention;
 mod culling;
+mod edge_roots;
 mod editor_support;
 mod far_field;
 mod first_light;

@@ -11,6 +11,13 @@ impl Renderer {
         self.light_grid = on;
     }
 
+    /// Whether a texel's edge rays walk the still instances from a subtree that holds all
+    /// they may meet (on by default, off under `TEXEL_NO_EDGE_ROOTS`): off, from the top
+    /// level's root (the same frames, to compare against).
+    pub fn set_edge_roots(&mut self, on: bool) {
+        self.shade.edge_roots = on;
+    }
+
     /// Caps the terrain splats' record cache at `slots` slots (at most
     /// [`crate::passes::terrain_splat::CACHE_SLOTS_MAX`]), so that a test's small faces share
     /// slots by hash as large faces' keys do; the next frame lays the cache out again, empty.

@@ -185,7 +185,10 @@ pub struct ShadeGlobals {
     queue_base: [u32; 4],
     /// 1: lit texels carry their surface's dither rank ([`ShadePass::dither`]).
     dither: u32,
-    _pad: [u32; 3],
+    /// 1: edge rays walk the still instances from their texel's subtree
+    /// ([`ShadePass::edge_roots`]).
+    edge_roots: u32,
+    _pad: [u32; 2],
 }
 
 /// The shade pass.
@@ -213,6 +216,10 @@ pub struct ShadePass {
     /// surface's dither rank (`lib/common.wgsl` `surface_dither_rank`). Only texels lit from
     /// then on change.
     pub dither: bool,
+    /// Whether a texel's edge rays walk the still instances' top level from a subtree that
+    /// holds all they may meet (`lib/edge_rays.wgsl` `edge_statics`; on by default, off
+    /// under `TEXEL_NO_EDGE_ROOTS`), or from its root (the same frames, to compare against).
+    pub edge_roots: bool,
 }
 
 /// Bytes of one slot's record in `job_args`: x, y, z workgroups and padding.
@@ -305,6 +312,7 @@ impl ShadePass {
             globals: buffer("shade::globals", size_of::<ShadeGlobals>() as u64),
             globals_key: ShadeGlobals::zeroed(),
             dither: false,
+            edge_roots: std::env::var_os("TEXEL_NO_EDGE_ROOTS").is_none(),
         })
     }
 
@@ -392,6 +400,7 @@ impl ShadePass {
         self.globals_key = g;
         g.queue_base = queue_base;
         g.edges = u32::from(edges);
+        g.edge_roots = u32::from(self.edge_roots);
         queue.write_buffer(&self.globals, 0, bytemuck::bytes_of(&g));
         if jobs.is_empty() {
             return;
@@ -560,7 +569,8 @@ fn globals(scene: &GpuScene, look: &Look) -> ShadeGlobals {
         edges: 0,
         queue_base: [0; 4],
         dither: 0,
-        _pad: [0; 3],
+        edge_roots: 0,
+        _pad: [0; 2],
     }
 }
 
